@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// Reading triangle meshes from OBJ, OFF, PLY (ASCII and binary) and STL (ASCII and binary), and
+/// writing files atomically. The readers are strict: a malformed file throws an error naming the
+/// file and the line (or byte offset) instead of dropping what it cannot read. (OpenMesh's own
+/// readers silently drop faces on non-manifold edges and on bad indices, which is why ricci parses
+/// these simple formats itself.)
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/validate.hpp"
+
+namespace ricci {
+
+/// File formats ricci reads.
+enum class MeshFormat { Obj, Off, Ply, Stl };
+
+/// Options of read_mesh.
+struct ReadOptions {
+  bool validate = true;  ///< run validate_mesh on the result and throw on the first defect
+  /// Faces are dropped? Never: polygons with more than three corners are triangulated (fan from
+  /// their first corner, or ear clipping for non-convex planar polygons) and reported as warnings.
+};
+
+/// What read_mesh returns.
+struct ReadResult {
+  Mesh mesh;                          ///< the triangles, unreferenced vertices removed
+  MeshFormat format = MeshFormat::Obj;
+  std::vector<std::string> warnings;  ///< e.g. "bunny.obj: 12 polygons triangulated"
+  int polygons_triangulated = 0;      ///< faces with more than three corners in the file
+  std::vector<int> dropped_vertices;  ///< file indices (0-based) of unreferenced vertices dropped
+  std::vector<int> vertex_map;        ///< #V: file index (0-based) of each output vertex
+  ValidationReport validation;        ///< defects found (empty when validate threw nothing)
+};
+
+/// Format from the file extension (case-insensitive: .obj .off .ply .stl).
+/// \throw IoError naming the file when the extension is none of these
+MeshFormat format_from_path(const std::string& path);
+
+/// Reads a mesh file.
+/// \throw IoError naming the file (and line or byte offset) when the file is missing, empty,
+///        truncated or malformed, or its format is unknown
+/// \throw InvalidInput naming the file and line when a face index is out of range
+/// \throw InvalidInput / TopologyError (from validate_mesh, with the file name as context) when
+///        options.validate is set and the mesh has a defect
+ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
+
+/// Writes a mesh as OBJ, atomically (see write_file_atomically).
+void write_obj(const std::string& path, const Mesh& mesh);
+
+/// Writes a file through a temporary file in the same folder, renamed into place only when
+/// write succeeded; on any error the temporary is removed and the target is left untouched.
+/// \throw IoError naming the file when it cannot be written
+void write_file_atomically(const std::string& path,
+                           const std::function<void(std::ostream&)>& write);
+
+}  // namespace ricci

@@ -1,0 +1,219 @@
+#include "ricci/mesh/topology.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <string>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+/// Union-find with path halving; small enough to keep private to this file.
+class DisjointSets {
+ public:
+  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int find(int x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+std::string edge_name(int a, int b) {
+  return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
+}
+
+}  // namespace
+
+int Topology::euler_characteristic() const {
+  return num_referenced_vertices() - num_edges + num_faces;
+}
+
+int Topology::num_referenced_vertices() const {
+  int count = 0;
+  for (int c : vertex_component) count += (c >= 0);
+  return count;
+}
+
+Topology build_topology(const Triangles& triangles, int num_vertices) {
+  Topology t;
+  const int nf = static_cast<int>(triangles.rows());
+  t.num_vertices = num_vertices;
+  t.num_faces = nf;
+  t.triangles = triangles;
+
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = triangles(f, k);
+      if (v < 0 || v >= num_vertices) {
+        throw InvalidInput("build_topology: face " + std::to_string(f) + " uses vertex " +
+                           std::to_string(v) + ", outside [0, " + std::to_string(num_vertices) +
+                           ")");
+      }
+    }
+    if (triangles(f, 0) == triangles(f, 1) || triangles(f, 1) == triangles(f, 2) ||
+        triangles(f, 0) == triangles(f, 2)) {
+      throw InvalidInput("build_topology: face " + std::to_string(f) + " uses a vertex twice");
+    }
+  }
+
+  // Pair halfedges by sorting them on their undirected edge key.
+  const int nh = 3 * nf;
+  std::vector<std::pair<std::uint64_t, int>> keyed(nh);
+  for (int h = 0; h < nh; ++h) {
+    const auto a = static_cast<std::uint64_t>(t.tail(h));
+    const auto b = static_cast<std::uint64_t>(t.head(h));
+    keyed[h] = {(std::min(a, b) << 32) | std::max(a, b), h};
+  }
+  std::sort(keyed.begin(), keyed.end());
+
+  t.halfedge_twin.assign(nh, -1);
+  t.halfedge_edge.assign(nh, -1);
+  std::vector<std::pair<int, int>> edges;  // (halfedge, twin)
+  edges.reserve(nh / 2 + 1);
+  for (int i = 0; i < nh;) {
+    int j = i + 1;
+    while (j < nh && keyed[j].first == keyed[i].first) ++j;
+    const int h0 = keyed[i].second;
+    if (j - i > 2) {
+      throw TopologyError("build_topology: non-manifold edge " +
+                          edge_name(t.tail(h0), t.head(h0)) + " is shared by " +
+                          std::to_string(j - i) + " faces (" + std::to_string(h0 / 3) + ", " +
+                          std::to_string(keyed[i + 1].second / 3) + ", " +
+                          std::to_string(keyed[i + 2].second / 3) + ", ...)");
+    }
+    const int e = static_cast<int>(edges.size());
+    if (j - i == 2) {
+      const int h1 = keyed[i + 1].second;
+      if (t.tail(h0) == t.tail(h1)) {
+        throw TopologyError("build_topology: inconsistent orientation: faces " +
+                            std::to_string(h0 / 3) + " and " + std::to_string(h1 / 3) +
+                            " traverse edge " + edge_name(t.tail(h0), t.head(h0)) +
+                            " in the same direction");
+      }
+      t.halfedge_twin[h0] = h1;
+      t.halfedge_twin[h1] = h0;
+      t.halfedge_edge[h1] = e;
+      edges.emplace_back(h0, h1);
+    } else {
+      edges.emplace_back(h0, -1);
+    }
+    t.halfedge_edge[h0] = e;
+    i = j;
+  }
+
+  const int ne = static_cast<int>(edges.size());
+  t.num_edges = ne;
+  t.edge_vertices.resize(ne, 2);
+  t.edge_halfedges.resize(ne, 2);
+  t.is_boundary_edge.assign(ne, 0);
+  t.vertex_degree.assign(num_vertices, 0);
+  t.is_boundary_vertex.assign(num_vertices, 0);
+  for (int e = 0; e < ne; ++e) {
+    const int h = edges[e].first;
+    const int a = t.tail(h), b = t.head(h);
+    t.edge_vertices(e, 0) = std::min(a, b);
+    t.edge_vertices(e, 1) = std::max(a, b);
+    t.edge_halfedges(e, 0) = h;
+    t.edge_halfedges(e, 1) = edges[e].second;
+    ++t.vertex_degree[a];
+    ++t.vertex_degree[b];
+    if (edges[e].second < 0) {
+      t.is_boundary_edge[e] = 1;
+      t.is_boundary_vertex[a] = 1;
+      t.is_boundary_vertex[b] = 1;
+    }
+  }
+  t.face_edges.resize(nf, 3);
+  for (int h = 0; h < nh; ++h) t.face_edges(h / 3, h % 3) = t.halfedge_edge[h];
+
+  // Fans: corners around a vertex joined across interior edges. A manifold vertex has one fan.
+  // Corner c = 3f + k sits at triangles(f, k); halfedge h runs tail -> head, so its tail corner
+  // is next(h) and its head corner is prev(h).
+  DisjointSets fans(nh);
+  for (int h = 0; h < nh; ++h) {
+    const int g = t.halfedge_twin[h];
+    if (g < h) continue;
+    fans.unite(Topology::next(h), Topology::prev(g));  // corners at tail(h) == head(g)
+    fans.unite(Topology::prev(h), Topology::next(g));  // corners at head(h) == tail(g)
+  }
+  std::vector<int> fan_of_vertex(num_vertices, -1);
+  for (int c = 0; c < nh; ++c) {
+    const int v = triangles(c / 3, c % 3);
+    const int root = fans.find(c);
+    if (fan_of_vertex[v] < 0) {
+      fan_of_vertex[v] = root;
+    } else if (fan_of_vertex[v] != root) {
+      throw TopologyError("build_topology: non-manifold vertex " + std::to_string(v) +
+                          ": its faces form more than one fan");
+    }
+  }
+
+  // Boundary loops: at a manifold vertex at most one boundary halfedge leaves.
+  std::vector<int> outgoing_boundary(num_vertices, -1);
+  for (int h = 0; h < nh; ++h) {
+    if (t.halfedge_twin[h] < 0) outgoing_boundary[t.tail(h)] = h;
+  }
+  std::vector<char> visited(nh, 0);
+  for (int h = 0; h < nh; ++h) {
+    if (t.halfedge_twin[h] >= 0 || visited[h]) continue;
+    std::vector<int> loop;
+    int g = h;
+    while (!visited[g]) {
+      visited[g] = 1;
+      loop.push_back(t.tail(g));
+      g = outgoing_boundary[t.head(g)];
+    }
+    t.boundary_loops.push_back(std::move(loop));
+  }
+
+  // Connected components through interior edges.
+  DisjointSets faces(std::max(nf, 1));
+  for (int h = 0; h < nh; ++h) {
+    if (t.halfedge_twin[h] > h) faces.unite(h / 3, t.halfedge_twin[h] / 3);
+  }
+  t.face_component.assign(nf, -1);
+  std::vector<int> component_of_root(nf, -1);
+  for (int f = 0; f < nf; ++f) {
+    const int r = faces.find(f);
+    if (component_of_root[r] < 0) {
+      component_of_root[r] = static_cast<int>(t.components.size());
+      t.components.emplace_back();
+    }
+    t.face_component[f] = component_of_root[r];
+    t.components[t.face_component[f]].faces.push_back(f);
+  }
+  t.vertex_component.assign(num_vertices, -1);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) t.vertex_component[triangles(f, k)] = t.face_component[f];
+  }
+  for (int v = 0; v < num_vertices; ++v) {
+    if (t.vertex_component[v] >= 0) t.components[t.vertex_component[v]].vertices.push_back(v);
+  }
+  for (int e = 0; e < ne; ++e) {
+    ++t.components[t.face_component[t.edge_halfedges(e, 0) / 3]].num_edges;
+  }
+  for (const auto& loop : t.boundary_loops) {
+    ++t.components[t.vertex_component[loop.front()]].num_boundary_loops;
+  }
+  for (auto& c : t.components) {
+    c.euler_characteristic = static_cast<int>(c.vertices.size()) - c.num_edges +
+                             static_cast<int>(c.faces.size());
+    c.genus = (2 - c.euler_characteristic - c.num_boundary_loops) / 2;
+  }
+  return t;
+}
+
+}  // namespace ricci
