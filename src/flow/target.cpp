@@ -1,1 +1,366 @@
-// placeholder: filled in by its owner
+#include "ricci/flow/target.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "ricci/errors.hpp"
+#include "ricci/metric/curvature.hpp"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+std::string format_value(double x) {
+  std::ostringstream out;
+  out.precision(12);
+  out << x;
+  return out.str();
+}
+
+std::string trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return "";
+  const auto end = s.find_last_not_of(" \t\r\n");
+  return s.substr(begin, end - begin + 1);
+}
+
+/// Strict number parse: the whole text must be a finite number.
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  std::size_t used = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size() && std::isfinite(value);
+}
+
+int parse_vertex_index(const std::string& text, const std::string& where) {
+  std::size_t used = 0;
+  long long value = -1;
+  try {
+    value = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || value < 0 || value > 2147483647LL) {
+    throw InvalidInput(where + ": '" + text + "' is not a vertex index");
+  }
+  return static_cast<int>(value);
+}
+
+/// Total boundary length around each boundary vertex: half of each of its two boundary edges.
+Eigen::VectorXd boundary_vertex_lengths(const Topology& t, const Eigen::VectorXd& lengths) {
+  Eigen::VectorXd share = Eigen::VectorXd::Zero(t.num_vertices);
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (!t.is_boundary_edge[e]) continue;
+    share[t.edge_vertices(e, 0)] += 0.5 * lengths[e];
+    share[t.edge_vertices(e, 1)] += 0.5 * lengths[e];
+  }
+  return share;
+}
+
+}  // namespace
+
+bool Target::has_fixed_vertices() const {
+  for (char f : fixed) {
+    if (f) return true;
+  }
+  return false;
+}
+
+BoundaryMode parse_boundary_mode(const std::string& name) {
+  if (name == "free") return BoundaryMode::Free;
+  if (name == "disk") return BoundaryMode::DiskUniform;
+  if (name == "disk-length") return BoundaryMode::DiskLength;
+  throw InvalidInput("parse_boundary_mode: unknown boundary '" + name +
+                     "'; expected free, disk or disk-length");
+}
+
+const char* boundary_mode_name(BoundaryMode mode) {
+  switch (mode) {
+    case BoundaryMode::Free: return "free";
+    case BoundaryMode::DiskUniform: return "disk";
+    case BoundaryMode::DiskLength: return "disk-length";
+  }
+  return "unknown";
+}
+
+Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMode boundary,
+                   const Eigen::VectorXd& input_lengths) {
+  Target target;
+  target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
+  target.fixed.assign(t.num_vertices, 0);
+  std::vector<char> is_cone(t.num_vertices, 0);
+  std::vector<double> cone_total(t.components.size(), 0.0);
+  for (const Cone& cone : cones) {
+    if (cone.vertex < 0 || cone.vertex >= t.num_vertices || t.vertex_component[cone.vertex] < 0) {
+      throw InvalidInput("flat_target: cone at vertex " + std::to_string(cone.vertex) +
+                         ", which is not a vertex of the mesh (it has " +
+                         std::to_string(t.num_vertices) + ")");
+    }
+    if (is_cone[cone.vertex]) {
+      throw InvalidInput("flat_target: vertex " + std::to_string(cone.vertex) +
+                         " is given two cones");
+    }
+    if (!std::isfinite(cone.curvature)) {
+      throw InvalidInput("flat_target: cone at vertex " + std::to_string(cone.vertex) +
+                         " has curvature " + format_value(cone.curvature));
+    }
+    if (t.is_boundary_vertex[cone.vertex] && boundary == BoundaryMode::Free) {
+      throw InvalidInput("flat_target: cone at boundary vertex " + std::to_string(cone.vertex) +
+                         ", whose log radius the free boundary keeps fixed; use a disk boundary "
+                         "or an interior vertex");
+    }
+    is_cone[cone.vertex] = 1;
+    target.curvature[cone.vertex] = cone.curvature;
+    cone_total[t.vertex_component[cone.vertex]] += cone.curvature;
+  }
+
+  if (t.num_boundary_loops() > 0) {
+    if (boundary == BoundaryMode::Free) {
+      for (int v = 0; v < t.num_vertices; ++v) target.fixed[v] = t.is_boundary_vertex[v];
+    } else {
+      if (boundary == BoundaryMode::DiskLength && input_lengths.size() != t.num_edges) {
+        throw InvalidInput("flat_target: the disk-length boundary needs the #E input lengths");
+      }
+      const Eigen::VectorXd share = boundary == BoundaryMode::DiskLength
+                                        ? boundary_vertex_lengths(t, input_lengths)
+                                        : Eigen::VectorXd();
+      for (std::size_t c = 0; c < t.components.size(); ++c) {
+        const Component& comp = t.components[c];
+        double total_weight = 0;
+        for (int v : comp.vertices) {
+          if (t.is_boundary_vertex[v] && !is_cone[v]) {
+            total_weight += boundary == BoundaryMode::DiskLength ? share[v] : 1.0;
+          }
+        }
+        if (total_weight <= 0) continue;
+        const double remaining = 2 * kPi * comp.euler_characteristic - cone_total[c];
+        for (int v : comp.vertices) {
+          if (t.is_boundary_vertex[v] && !is_cone[v]) {
+            const double w = boundary == BoundaryMode::DiskLength ? share[v] : 1.0;
+            target.curvature[v] = remaining * w / total_weight;
+          }
+        }
+      }
+    }
+  }
+  std::ostringstream d;
+  d << "flat with " << cones.size() << (cones.size() == 1 ? " cone" : " cones");
+  if (t.num_boundary_loops() > 0) d << ", " << boundary_mode_name(boundary) << " boundary";
+  target.description = d.str();
+  return target;
+}
+
+Target uniform_target(const Topology& t) {
+  Target target;
+  target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
+  target.fixed.assign(t.num_vertices, 0);
+  for (const Component& comp : t.components) {
+    const double k = 2 * kPi * comp.euler_characteristic / static_cast<double>(comp.vertices.size());
+    for (int v : comp.vertices) target.curvature[v] = k;
+  }
+  target.description = "uniform curvature 2 pi chi / n";
+  return target;
+}
+
+Target values_target(const Topology& t, const Eigen::VectorXd& values) {
+  if (values.size() != t.num_vertices) {
+    throw InvalidInput("values_target: " + std::to_string(values.size()) +
+                       " curvature values given for " + std::to_string(t.num_vertices) +
+                       " vertices");
+  }
+  for (int v = 0; v < t.num_vertices; ++v) {
+    if (!std::isfinite(values[v])) {
+      throw InvalidInput("values_target: vertex " + std::to_string(v) + " has curvature " +
+                         format_value(values[v]));
+    }
+  }
+  Target target;
+  target.curvature = values;
+  target.fixed.assign(t.num_vertices, 0);
+  target.description = "per-vertex values";
+  return target;
+}
+
+void check_admissible(const Topology& t, const ConformalStructure& structure,
+                      const Target& target, const AdmissibilityOptions& options) {
+  if (target.curvature.size() != t.num_vertices ||
+      static_cast<int>(target.fixed.size()) != t.num_vertices) {
+    throw InvalidInput("check_admissible: the target has " +
+                       std::to_string(target.curvature.size()) + " values for " +
+                       std::to_string(t.num_vertices) + " vertices");
+  }
+  const bool packing =
+      structure.scheme == Scheme::Thurston || structure.scheme == Scheme::Tangential;
+
+  // Sum over the faces of each vertex of (pi - Phi of the opposite edge).
+  Eigen::VectorXd bound_sum = Eigen::VectorXd::Zero(t.num_vertices);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const double phi =
+          packing ? std::acos(std::clamp(structure.eta[t.face_edges(f, k)], -1.0, 1.0)) : 0.0;
+      bound_sum[t.triangles(f, k)] += kPi - phi;
+    }
+  }
+  for (int v = 0; v < t.num_vertices; ++v) {
+    if (t.vertex_component[v] < 0 || target.fixed[v]) continue;
+    const double k = target.curvature[v];
+    const double top = t.is_boundary_vertex[v] ? kPi : 2 * kPi;
+    const double lower = top - bound_sum[v];
+    const char* where = t.is_boundary_vertex[v] ? "boundary vertex " : "vertex ";
+    if (!std::isfinite(k)) {
+      throw InvalidInput("check_admissible: " + std::string(where) + std::to_string(v) +
+                         " has target curvature " + format_value(k));
+    }
+    if (!(k < top)) {
+      throw InvalidInput("check_admissible: " + std::string(where) + std::to_string(v) +
+                         " has target curvature " + format_value(k) + ", which must be below " +
+                         format_value(top) + " (its angle sum must stay positive)");
+    }
+    if (!(k > lower)) {
+      throw InvalidInput(
+          "check_admissible: " + std::string(where) + std::to_string(v) + " (valence " +
+          std::to_string(t.vertex_degree[v]) + ") has target curvature " + format_value(k) +
+          ", which breaks the single-vertex bound K > " + format_value(lower) +
+          (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
+          "; split edges around it to raise its valence");
+    }
+  }
+  for (std::size_t c = 0; c < t.components.size(); ++c) {
+    const Component& comp = t.components[c];
+    bool any_fixed = false;
+    double sum = 0, compensation = 0, magnitude = 0;
+    for (int v : comp.vertices) {
+      any_fixed = any_fixed || target.fixed[v];
+      const double x = target.curvature[v];
+      const double s = sum + x;
+      compensation += std::abs(sum) >= std::abs(x) ? (sum - s) + x : (x - s) + sum;
+      sum = s;
+      magnitude += std::abs(x);
+    }
+    if (any_fixed) continue;
+    sum += compensation;
+    const double expected = 2 * kPi * comp.euler_characteristic;
+    if (std::abs(sum - expected) >
+        options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
+      throw InvalidInput("check_admissible: component " + std::to_string(c) +
+                         " breaks Gauss-Bonnet: its target curvatures sum to " +
+                         format_value(sum) + " but must sum to 2 pi chi = " +
+                         format_value(expected) + " (chi = " +
+                         std::to_string(comp.euler_characteristic) + ")");
+    }
+  }
+}
+
+double parse_curvature(const std::string& raw) {
+  const std::string text = trim(raw);
+  double value = 0;
+  if (parse_number(text, value)) return value;
+  // Forms with pi: [sign][number][*]pi[/number]
+  const auto at = text.find("pi");
+  if (at != std::string::npos) {
+    std::string before = trim(text.substr(0, at));
+    std::string after = trim(text.substr(at + 2));
+    if (!before.empty() && before.back() == '*') before = trim(before.substr(0, before.size() - 1));
+    double factor = 1;
+    if (before == "-") {
+      factor = -1;
+    } else if (before == "+" || before.empty()) {
+      factor = 1;
+    } else if (!parse_number(before, factor)) {
+      factor = NAN;
+    }
+    double divisor = 1;
+    if (!after.empty()) {
+      if (after[0] != '/' || !parse_number(trim(after.substr(1)), divisor) || divisor == 0) {
+        divisor = NAN;
+      }
+    }
+    value = factor * kPi / divisor;
+    if (std::isfinite(value)) return value;
+  }
+  throw InvalidInput("parse_curvature: '" + raw +
+                     "' is not a curvature (examples: 1.5708, pi/2, -0.5pi, 3*pi/4)");
+}
+
+std::vector<Cone> parse_cone_list(const std::string& text) {
+  std::vector<Cone> cones;
+  std::stringstream items(text);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    item = trim(item);
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    if (colon == std::string::npos) {
+      throw InvalidInput("parse_cone_list: '" + item +
+                         "' is not VERTEX:CURVATURE (for example 17:pi/2)");
+    }
+    Cone cone;
+    cone.vertex = parse_vertex_index(trim(item.substr(0, colon)), "parse_cone_list");
+    cone.curvature = parse_curvature(item.substr(colon + 1));
+    cones.push_back(cone);
+  }
+  return cones;
+}
+
+std::vector<Cone> read_cone_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open the cone file");
+  std::vector<Cone> cones;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::stringstream fields(line);
+    std::string vertex, curvature, extra;
+    if (!(fields >> vertex)) continue;
+    const std::string where = path + ":" + std::to_string(number);
+    if (!(fields >> curvature) || (fields >> extra)) {
+      throw InvalidInput(where + ": expected 'vertex curvature', got '" + trim(line) + "'");
+    }
+    Cone cone;
+    cone.vertex = parse_vertex_index(vertex, where);
+    try {
+      cone.curvature = parse_curvature(curvature);
+    } catch (const InvalidInput&) {
+      throw InvalidInput(where + ": '" + curvature + "' is not a curvature");
+    }
+    cones.push_back(cone);
+  }
+  return cones;
+}
+
+Eigen::VectorXd read_values_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open the curvature file");
+  std::vector<double> values;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    const std::string text = trim(line);
+    if (text.empty()) continue;
+    try {
+      values.push_back(parse_curvature(text));
+    } catch (const InvalidInput&) {
+      throw InvalidInput(path + ":" + std::to_string(number) + ": '" + text +
+                         "' is not a curvature value");
+    }
+  }
+  if (values.empty()) throw IoError(path + ": no curvature values in the file");
+  return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+}  // namespace ricci

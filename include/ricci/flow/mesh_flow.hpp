@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// The whole job on a mesh: conformal structure, target, admissibility, and the Ricci flow on
+/// every connected component, one by one, with the results gathered on the whole mesh.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/ricci_flow.hpp"
+#include "ricci/flow/target.hpp"
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/topology.hpp"
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+
+/// Kinds of target the mesh-level driver builds.
+enum class TargetKind {
+  Flat,     ///< zero curvature but at cones; boundary as TargetSpec::boundary says
+  Uniform,  ///< 2 pi chi / n on every vertex of each component
+  Values,   ///< one value per vertex, given
+};
+
+/// The target, in whole-mesh vertex indices.
+struct TargetSpec {
+  TargetKind kind = TargetKind::Flat;
+  std::vector<Cone> cones;                   ///< Flat: cone vertices and curvatures
+  BoundaryMode boundary = BoundaryMode::Free;///< Flat on meshes with boundary
+  Eigen::VectorXd values;                    ///< Values: #V curvatures
+};
+
+/// Options of flow_mesh.
+struct MeshFlowOptions {
+  StructureOptions structure;  ///< scheme and initial packing
+  TargetSpec target;           ///< what curvature to reach
+  FlowOptions flow;            ///< solver, tolerance, progress
+};
+
+/// Result of one component.
+struct ComponentFlow {
+  std::vector<int> vertices;  ///< whole-mesh index of each component vertex
+  int euler_characteristic = 0, genus = 0, boundary_loops = 0;
+  FlowResult flow;            ///< in component-local indices
+};
+
+/// What flow_mesh returns, gathered on the whole mesh.
+struct MeshFlowResult {
+  bool converged = false;  ///< every component converged
+  double max_error = 0;    ///< over all components
+  StructureResult structure;        ///< whole-mesh structure and fit error
+  Target target;                    ///< whole-mesh target
+  Topology topology;                ///< whole-mesh connectivity (edges for `lengths`)
+  Eigen::VectorXd u;                ///< #V final log radii
+  Eigen::VectorXd curvature;        ///< #V final curvature
+  Eigen::VectorXd target_curvature; ///< #V target (final curvature where u was fixed)
+  Eigen::VectorXd lengths;          ///< #E final lengths, edges as topology.edge_vertices
+  std::vector<ComponentFlow> components;
+  double setup_seconds = 0;  ///< topology, structure, target, checks
+  double total_seconds = 0;
+};
+
+/// Builds the target of a spec on a whole mesh.
+/// \throw InvalidInput on bad cones or values
+Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
+                    const TargetSpec& spec);
+
+/// Runs the flow on every component of a mesh.
+/// \pre the mesh passed validate_mesh
+/// \throw TopologyError, InvalidInput (inadmissible target, naming the vertex), SolverError
+MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options = {});
+
+}  // namespace ricci

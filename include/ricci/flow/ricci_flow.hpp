@@ -1,0 +1,134 @@
+#pragma once
+/// \file
+/// The discrete Ricci flow solvers (THEORY.md section 5) on one connected component: Newton's
+/// method on the convex Ricci energy, and the tutorial's gradient flow. Both find log radii u with
+/// K(u) = K-bar at every vertex with a target, u fixed where the target says so.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/target.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+
+/// Which solver runs the flow.
+enum class FlowSolver {
+  Newton,    ///< Newton's method with a backtracking line search (quadratic convergence)
+  Gradient,  ///< the tutorial's explicit flow u += dt (K-bar - K) (exponential convergence)
+};
+
+/// "newton" or "gradient". \throw InvalidInput on any other string
+FlowSolver parse_flow_solver(const std::string& name);
+const char* flow_solver_name(FlowSolver solver);
+
+/// One iteration of a flow, as reported in the history and to the progress callback.
+struct IterationRecord {
+  int iteration = 0;         ///< 0 is the initial state
+  double max_error = 0;      ///< max |K-bar - K| over vertices with a target after the step
+  double rms_error = 0;      ///< root mean square of the same
+  double step_length = 0;    ///< alpha of u += alpha delta (gradient flow: alpha dt)
+  int backtracks = 0;        ///< step halvings of the line search
+  int triangle_failures = 0; ///< trial steps rejected because a triangle inequality broke
+  double seconds = 0;        ///< wall time since the solve started
+};
+
+/// Called after every iteration; return false to stop the flow (status Cancelled).
+using FlowProgress = std::function<bool(const IterationRecord&)>;
+
+/// Options of ricci_flow.
+struct FlowOptions {
+  FlowSolver solver = FlowSolver::Newton;  ///< Newton or gradient flow
+  double tolerance = 1e-10;  ///< stop when max |K-bar - K| <= tolerance (radians)
+  int max_iterations = 0;    ///< 0: 200 for Newton, 1'000'000 for the gradient flow
+  /// Gradient flow time step dt (radians^-1... a dimensionless factor on the curvature error);
+  /// 0 picks 1 / (largest diagonal entry of the Hessian), the stable explicit step.
+  double gradient_step = 0;
+  double armijo = 1e-4;      ///< sufficient decrease of |K-bar - K|^2 in the line search
+  int max_backtracks = 50;   ///< line search halvings before the flow gives up
+  bool use_cholmod = true;   ///< CHOLMOD when available, Eigen's solver otherwise
+  /// Newton: solve with the previous factorisation as a preconditioner (conjugate gradients)
+  /// and refactorise only when that needs more than this many iterations; 0 refactorises at
+  /// every Newton step.
+  int reuse_factorization_cg_iterations = 0;
+  FlowProgress progress;     ///< optional callback after each iteration
+};
+
+/// Why a flow stopped.
+enum class FlowStatus {
+  Converged,          ///< max error <= tolerance
+  MaxIterations,      ///< iteration limit reached first
+  LineSearchFailed,   ///< no step length reduced the error (target not reachable from here)
+  Cancelled,          ///< the progress callback asked to stop
+};
+const char* flow_status_name(FlowStatus status);
+
+/// Wall time spent in each phase, seconds.
+struct FlowTimings {
+  double setup = 0;          ///< index maps, sparsity pattern
+  double assembly = 0;       ///< Hessian weights and matrix values
+  double analysis = 0;       ///< symbolic factorisation (once)
+  double factorization = 0;  ///< numeric factorisations
+  double solve = 0;          ///< triangular solves (and conjugate gradients)
+  double line_search = 0;    ///< lengths, angles and curvature of trial steps
+  double total = 0;
+};
+
+/// What ricci_flow returns.
+struct FlowResult {
+  bool converged = false;
+  FlowStatus status = FlowStatus::MaxIterations;
+  std::string message;             ///< why it stopped, in words
+  Eigen::VectorXd u;               ///< #V final log radii
+  Eigen::VectorXd curvature;       ///< #V final curvature K
+  Eigen::VectorXd target_curvature;///< #V K-bar (the final K where the vertex is fixed)
+  Eigen::VectorXd lengths;         ///< #E final edge lengths
+  int iterations = 0;
+  double max_error = 0;            ///< final max |K-bar - K| over vertices with a target
+  std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
+  FlowTimings timings;
+  int analyses = 0, factorizations = 0, cg_iterations = 0;
+  std::string linear_solver;       ///< backend of the Cholesky factorisation (Newton)
+  double gauss_bonnet_relative_error = 0;  ///< of the final curvature
+};
+
+/// A flow in progress, one iteration per step(); ricci_flow runs it to the end.
+class RicciFlow {
+ public:
+  /// \pre topology has one connected component; target and structure belong to it
+  /// \throw InvalidInput when the target is not admissible (check_admissible) or the initial
+  ///        metric breaks a triangle inequality
+  RicciFlow(const Topology& topology, const ConformalStructure& structure, const Target& target,
+            const FlowOptions& options = {});
+  ~RicciFlow();
+  RicciFlow(const RicciFlow&) = delete;
+  RicciFlow& operator=(const RicciFlow&) = delete;
+
+  /// Starts the flow from these log radii instead of structure.initial_u.
+  void set_u(const Eigen::VectorXd& u);
+  /// One iteration; returns false once the flow has stopped (converged or failed).
+  bool step();
+  bool finished() const;
+  const Eigen::VectorXd& u() const;
+  const Eigen::VectorXd& curvature() const;
+  double max_error() const;
+  /// The result so far (complete once finished()).
+  FlowResult result() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// Runs the flow to convergence or failure.
+/// \throw InvalidInput as RicciFlow's constructor
+/// \throw SolverError when the linear algebra breaks down (not positive definite, NaN)
+FlowResult ricci_flow(const Topology& topology, const ConformalStructure& structure,
+                      const Target& target, const FlowOptions& options = {});
+
+}  // namespace ricci

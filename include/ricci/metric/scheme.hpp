@@ -1,0 +1,75 @@
+#pragma once
+/// \file
+/// Discrete conformal structures in the unified form of THEORY.md section 2: every vertex carries
+/// a radius gamma_i = exp(u_i) and a scheme constant epsilon_i, every edge a constant eta_ij, and
+///     l_ij^2 = epsilon_i gamma_i^2 + epsilon_j gamma_j^2 + 2 eta_ij gamma_i gamma_j.
+/// Changing u with epsilon and eta fixed is a discrete conformal deformation.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/topology.hpp"
+
+namespace ricci {
+
+/// The discrete metrics ricci supports.
+enum class Scheme {
+  Tangential,         ///< epsilon = 1, eta = 1: circles touch (Phi = 0)
+  Thurston,           ///< epsilon = 1, eta = cos Phi, Phi in [0, pi/2]: the tutorial's packing
+  InversiveDistance,  ///< epsilon = 1, eta = inversive distance of the input circles
+  VertexScaling,      ///< epsilon = 0, eta = lbar^2 / 2: discrete Yamabe flow
+  VirtualRadius,      ///< epsilon = -1, eta = (lbar^2 + g_i^2 + g_j^2) / (2 g_i g_j)
+};
+
+/// "tangential", "thurston", "inversive-distance", "vertex-scaling", "virtual-radius".
+const char* scheme_name(Scheme scheme);
+/// Inverse of scheme_name (also accepts "yamabe" for vertex scaling).
+/// \throw InvalidInput naming the string and listing the valid names
+Scheme parse_scheme(const std::string& name);
+
+/// One conformal class of metrics on a mesh: the constants of the unified form and the log radii
+/// that best reproduce the input mesh's edge lengths.
+struct ConformalStructure {
+  Scheme scheme = Scheme::Thurston;
+  Eigen::VectorXd epsilon;    ///< #V scheme constants
+  Eigen::VectorXd eta;        ///< #E edge constants
+  Eigen::VectorXd initial_u;  ///< #V log radii of the initial (fitted) metric
+};
+
+/// How the initial circle packing is chosen.
+enum class PackingInit {
+  Fit,        ///< least-squares fit of the input lengths (tutorial eq. 1)
+  UnitRadii,  ///< the tutorial's shortcut: gamma = 1, Phi = 0 (no conformality to the input)
+};
+
+/// Options of make_conformal_structure.
+struct StructureOptions {
+  Scheme scheme = Scheme::Thurston;      ///< which discrete metric
+  PackingInit packing_init = PackingInit::Fit;  ///< Thurston and tangential only
+  int fit_sweeps = 30;          ///< Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
+  double fit_tolerance = 1e-10; ///< stop the fit when a sweep improves the RMS error less than this
+};
+
+/// What make_conformal_structure returns.
+struct StructureResult {
+  ConformalStructure structure;
+  /// sqrt(sum (l - lbar)^2 / sum lbar^2) of the initial metric against the input lengths: 0 for
+  /// the schemes that reproduce them exactly; the price of Thurston's and tangential's robustness.
+  double fit_rms_relative_error = 0;
+  double fit_max_relative_error = 0;  ///< max |l - lbar| / lbar
+  int fit_sweeps = 0;                 ///< sweeps the fit used
+};
+
+/// Edge lengths of the mesh in R^3, #E in the order of topology.edge_vertices.
+Eigen::VectorXd input_edge_lengths(const Mesh& mesh, const Topology& topology);
+
+/// Builds the conformal structure of a scheme from the input edge lengths.
+/// \param input_lengths #E positive edge lengths (input_edge_lengths)
+/// \throw InvalidInput when a length is not positive and finite
+StructureResult make_conformal_structure(const Topology& topology,
+                                         const Eigen::VectorXd& input_lengths,
+                                         const StructureOptions& options = {});
+
+}  // namespace ricci

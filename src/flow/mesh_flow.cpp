@@ -1,0 +1,124 @@
+#include "ricci/flow/mesh_flow.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// A component as a topology of its own, with the maps back to the whole mesh.
+struct ComponentView {
+  Topology topology;
+  std::vector<int> vertex_map;  // local -> whole
+  std::vector<int> edge_map;    // local -> whole
+};
+
+ComponentView restrict_to(const Topology& whole, const Component& comp) {
+  ComponentView view;
+  view.vertex_map = comp.vertices;
+  std::vector<int> local(whole.num_vertices, -1);
+  for (std::size_t i = 0; i < comp.vertices.size(); ++i) {
+    local[comp.vertices[i]] = static_cast<int>(i);
+  }
+  Triangles triangles(static_cast<Eigen::Index>(comp.faces.size()), 3);
+  for (std::size_t f = 0; f < comp.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      triangles(static_cast<Eigen::Index>(f), k) = local[whole.triangles(comp.faces[f], k)];
+    }
+  }
+  view.topology = build_topology(triangles, static_cast<int>(comp.vertices.size()));
+  // Faces keep their corner order, so halfedge 3 f + k of the component is halfedge
+  // 3 faces[f] + k of the whole mesh.
+  view.edge_map.resize(view.topology.num_edges);
+  for (int e = 0; e < view.topology.num_edges; ++e) {
+    const int h = view.topology.edge_halfedges(e, 0);
+    view.edge_map[e] = whole.halfedge_edge[3 * comp.faces[h / 3] + h % 3];
+  }
+  return view;
+}
+
+}  // namespace
+
+Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
+                    const TargetSpec& spec) {
+  switch (spec.kind) {
+    case TargetKind::Flat: return flat_target(topology, spec.cones, spec.boundary, input_lengths);
+    case TargetKind::Uniform: return uniform_target(topology);
+    case TargetKind::Values: return values_target(topology, spec.values);
+  }
+  throw InvalidInput("build_target: unknown target kind");
+}
+
+MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
+  const auto start = Clock::now();
+  MeshFlowResult result;
+  result.topology = build_topology(mesh.triangles, mesh.num_vertices());
+  const Topology& whole = result.topology;
+  const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
+  result.structure = make_conformal_structure(whole, lbar, options.structure);
+  const ConformalStructure& structure = result.structure.structure;
+  result.target = build_target(whole, lbar, options.target);
+  // Checked on the whole mesh so that messages name whole-mesh vertices.
+  check_admissible(whole, structure, result.target);
+  result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  result.u = structure.initial_u;
+  result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
+  result.target_curvature = result.target.curvature;
+  result.lengths = lbar;
+  result.converged = true;
+
+  for (const Component& comp : whole.components) {
+    ComponentFlow out;
+    out.vertices = comp.vertices;
+    out.euler_characteristic = comp.euler_characteristic;
+    out.genus = comp.genus;
+    out.boundary_loops = comp.num_boundary_loops;
+    if (whole.components.size() == 1) {
+      out.flow = ricci_flow(whole, structure, result.target, options.flow);
+      result.u = out.flow.u;
+      result.curvature = out.flow.curvature;
+      result.target_curvature = out.flow.target_curvature;
+      result.lengths = out.flow.lengths;
+    } else {
+      const ComponentView view = restrict_to(whole, comp);
+      const int nv = view.topology.num_vertices, ne = view.topology.num_edges;
+      ConformalStructure local;
+      local.scheme = structure.scheme;
+      local.epsilon.resize(nv);
+      local.initial_u.resize(nv);
+      local.eta.resize(ne);
+      Target target;
+      target.curvature.resize(nv);
+      target.fixed.resize(nv);
+      target.description = result.target.description;
+      for (int i = 0; i < nv; ++i) {
+        const int v = view.vertex_map[i];
+        local.epsilon[i] = structure.epsilon[v];
+        local.initial_u[i] = structure.initial_u[v];
+        target.curvature[i] = result.target.curvature[v];
+        target.fixed[i] = result.target.fixed[v];
+      }
+      for (int e = 0; e < ne; ++e) local.eta[e] = structure.eta[view.edge_map[e]];
+      out.flow = ricci_flow(view.topology, local, target, options.flow);
+      for (int i = 0; i < nv; ++i) {
+        const int v = view.vertex_map[i];
+        result.u[v] = out.flow.u[i];
+        result.curvature[v] = out.flow.curvature[i];
+        result.target_curvature[v] = out.flow.target_curvature[i];
+      }
+      for (int e = 0; e < ne; ++e) result.lengths[view.edge_map[e]] = out.flow.lengths[e];
+    }
+    result.converged = result.converged && out.flow.converged;
+    result.max_error = std::max(result.max_error, out.flow.max_error);
+    result.components.push_back(std::move(out));
+  }
+  result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+}  // namespace ricci

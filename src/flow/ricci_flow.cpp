@@ -1,0 +1,450 @@
+#include "ricci/flow/ricci_flow.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/SparseCore>
+
+#include "ricci/errors.hpp"
+#include "ricci/flow/cholesky.hpp"
+#include "ricci/metric/curvature.hpp"
+#include "ricci/metric/hessian.hpp"
+#include "ricci/metric/lengths.hpp"
+
+namespace ricci {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Outcome of evaluating the metric at trial log radii.
+enum class Evaluation { Valid, BadLength, TriangleInequality };
+
+}  // namespace
+
+FlowSolver parse_flow_solver(const std::string& name) {
+  if (name == "newton") return FlowSolver::Newton;
+  if (name == "gradient") return FlowSolver::Gradient;
+  throw InvalidInput("parse_flow_solver: unknown solver '" + name +
+                     "'; expected newton or gradient");
+}
+
+const char* flow_solver_name(FlowSolver solver) {
+  return solver == FlowSolver::Newton ? "newton" : "gradient";
+}
+
+const char* flow_status_name(FlowStatus status) {
+  switch (status) {
+    case FlowStatus::Converged: return "converged";
+    case FlowStatus::MaxIterations: return "max-iterations";
+    case FlowStatus::LineSearchFailed: return "line-search-failed";
+    case FlowStatus::Cancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+struct RicciFlow::State {
+  const Topology& topology;
+  ConformalStructure structure;
+  Target target;
+  FlowOptions options;
+  Clock::time_point start;
+
+  Eigen::VectorXd u, lengths, curvature;
+  CornerAngles angles;
+  // Trial buffers of the line search, swapped in on acceptance.
+  Eigen::VectorXd trial_u, trial_lengths, trial_curvature;
+  CornerAngles trial_angles;
+
+  std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
+  std::vector<int> vertex_of_row;
+  bool closed = true;               // no fixed vertex: angles invariant under u += c
+  int pinned_vertex = -1;           // gauge of a closed component
+  double gauge_mean = 0;            // mean of u held on a closed component
+
+  Eigen::SparseMatrix<double> H;    // reduced Hessian, both triangles
+  std::vector<int> edge_slots;      // #E x 4: (ij, ji, ii, jj) value indices or -1
+  std::vector<int> diagonal_slot;   // per row
+  SparseCholesky cholesky;
+  Eigen::VectorXd halfedge_w, edge_w;
+
+  double gradient_dt = 0;
+  int iteration = 0;
+  bool finished = false;
+  FlowStatus status = FlowStatus::MaxIterations;
+  std::string message;
+  std::vector<IterationRecord> history;
+  FlowTimings timings;
+  int analyses = 0, factorizations = 0, cg_iterations = 0;
+
+  State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
+      : topology(t), structure(s), target(tg), options(o), start(Clock::now()),
+        cholesky(o.use_cholmod) {}
+
+  Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
+                      Eigen::VectorXd& k) const {
+    if (edge_lengths(topology, structure, at, l) > 0) return Evaluation::BadLength;
+    if (corner_angles(topology, l, a) >= 0) return Evaluation::TriangleInequality;
+    vertex_curvature(topology, a, k);
+    return Evaluation::Valid;
+  }
+
+  /// max and sum of squares of |K-bar - K| over the vertices with a target.
+  void errors(const Eigen::VectorXd& k, double& max_error, double& sum_sq, int& count) const {
+    max_error = 0;
+    sum_sq = 0;
+    count = 0;
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (target.fixed[v] || topology.vertex_component[v] < 0) continue;
+      const double d = target.curvature[v] - k[v];
+      max_error = std::max(max_error, std::abs(d));
+      sum_sq += d * d;
+      ++count;
+    }
+  }
+
+  void record(double step, int backtracks, int triangle_failures) {
+    double max_error, sum_sq;
+    int count;
+    errors(curvature, max_error, sum_sq, count);
+    IterationRecord r;
+    r.iteration = iteration;
+    r.max_error = max_error;
+    r.rms_error = count > 0 ? std::sqrt(sum_sq / count) : 0.0;
+    r.step_length = step;
+    r.backtracks = backtracks;
+    r.triangle_failures = triangle_failures;
+    r.seconds = seconds_since(start);
+    history.push_back(r);
+    if (finished) {
+      // status already set (a failed line search)
+    } else if (max_error <= options.tolerance) {
+      finish(FlowStatus::Converged, "reached max |K-bar - K| = " + format(max_error) + " <= " +
+                                        format(options.tolerance));
+    } else if (iteration >= options.max_iterations) {
+      finish(FlowStatus::MaxIterations, "stopped after " + std::to_string(iteration) +
+                                            " iterations at max |K-bar - K| = " +
+                                            format(max_error));
+    }
+    if (options.progress && !options.progress(r) && !finished) {
+      finish(FlowStatus::Cancelled, "cancelled by the progress callback");
+    }
+  }
+
+  static std::string format(double x) {
+    std::ostringstream out;
+    out.precision(3);
+    out << x;
+    return out.str();
+  }
+
+  void finish(FlowStatus s, const std::string& why) {
+    finished = true;
+    status = s;
+    message = why;
+  }
+
+  void build_system() {
+    const auto t0 = Clock::now();
+    const int nv = topology.num_vertices;
+    row_of_vertex.assign(nv, -1);
+    vertex_of_row.clear();
+    closed = !target.has_fixed_vertices();
+    for (int v = 0; v < nv; ++v) {
+      if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
+      if (closed && pinned_vertex < 0) {
+        pinned_vertex = v;  // the gauge: u of one vertex stays put during the solve
+        continue;
+      }
+      row_of_vertex[v] = static_cast<int>(vertex_of_row.size());
+      vertex_of_row.push_back(v);
+    }
+    const int n = static_cast<int>(vertex_of_row.size());
+    std::vector<Eigen::Triplet<double>> pattern;
+    pattern.reserve(n + 2 * topology.num_edges);
+    for (int r = 0; r < n; ++r) pattern.emplace_back(r, r, 0.0);
+    for (int e = 0; e < topology.num_edges; ++e) {
+      const int ri = row_of_vertex[topology.edge_vertices(e, 0)];
+      const int rj = row_of_vertex[topology.edge_vertices(e, 1)];
+      if (ri >= 0 && rj >= 0) {
+        pattern.emplace_back(ri, rj, 0.0);
+        pattern.emplace_back(rj, ri, 0.0);
+      }
+    }
+    H.resize(n, n);
+    H.setFromTriplets(pattern.begin(), pattern.end());
+    H.makeCompressed();
+    auto slot = [&](int r, int c) -> int {
+      if (r < 0 || c < 0) return -1;
+      const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[c];
+      const int* end = H.innerIndexPtr() + H.outerIndexPtr()[c + 1];
+      return static_cast<int>(std::lower_bound(begin, end, r) - H.innerIndexPtr());
+    };
+    diagonal_slot.resize(n);
+    for (int r = 0; r < n; ++r) diagonal_slot[r] = slot(r, r);
+    edge_slots.assign(4 * static_cast<std::size_t>(topology.num_edges), -1);
+    for (int e = 0; e < topology.num_edges; ++e) {
+      const int ri = row_of_vertex[topology.edge_vertices(e, 0)];
+      const int rj = row_of_vertex[topology.edge_vertices(e, 1)];
+      edge_slots[4 * e + 0] = slot(ri, rj);
+      edge_slots[4 * e + 1] = slot(rj, ri);
+      edge_slots[4 * e + 2] = ri >= 0 ? diagonal_slot[ri] : -1;
+      edge_slots[4 * e + 3] = rj >= 0 ? diagonal_slot[rj] : -1;
+    }
+    timings.setup += seconds_since(t0);
+  }
+
+  void compute_edge_weights() {
+    halfedge_weights(topology, structure, u, lengths, angles, halfedge_w);
+    edge_weights(topology, halfedge_w, edge_w);
+  }
+
+  void assemble() {
+    const auto t0 = Clock::now();
+    compute_edge_weights();
+    double* values = H.valuePtr();
+    std::fill(values, values + H.nonZeros(), 0.0);
+    for (int e = 0; e < topology.num_edges; ++e) {
+      const double w = edge_w[e];
+      const int* s = &edge_slots[4 * e];
+      if (s[0] >= 0) values[s[0]] -= w;
+      if (s[1] >= 0) values[s[1]] -= w;
+      if (s[2] >= 0) values[s[2]] += w;
+      if (s[3] >= 0) values[s[3]] += w;
+    }
+    timings.assembly += seconds_since(t0);
+  }
+
+  void normalise_gauge() {
+    if (!closed) return;
+    double mean = 0;
+    int count = 0;
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (topology.vertex_component[v] < 0) continue;
+      mean += u[v];
+      ++count;
+    }
+    const double shift = gauge_mean - mean / std::max(count, 1);
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (topology.vertex_component[v] >= 0) u[v] += shift;
+    }
+    lengths *= std::exp(shift);  // every scheme's lengths scale with a common factor on gamma
+  }
+
+  void newton_step() {
+    assemble();
+    const int n = static_cast<int>(vertex_of_row.size());
+    if (!cholesky.analyzed()) {
+      const auto t0 = Clock::now();
+      cholesky.analyze(H);
+      ++analyses;
+      timings.analysis += seconds_since(t0);
+    }
+    auto t0 = Clock::now();
+    cholesky.factorize(H);
+    ++factorizations;
+    timings.factorization += seconds_since(t0);
+
+    t0 = Clock::now();
+    Eigen::VectorXd rhs(n);
+    for (int r = 0; r < n; ++r) {
+      const int v = vertex_of_row[r];
+      rhs[r] = target.curvature[v] - curvature[v];
+    }
+    const Eigen::VectorXd delta_rows = cholesky.solve(rhs);
+    if (!delta_rows.allFinite()) {
+      throw SolverError("ricci_flow: the Newton system gave a non-finite step at iteration " +
+                        std::to_string(iteration + 1));
+    }
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology.num_vertices);
+    for (int r = 0; r < n; ++r) delta[vertex_of_row[r]] = delta_rows[r];
+    timings.solve += seconds_since(t0);
+    line_search(delta, 1.0);
+  }
+
+  void gradient_step() {
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology.num_vertices);
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
+      delta[v] = target.curvature[v] - curvature[v];
+    }
+    line_search(delta, gradient_dt);
+  }
+
+  /// Tries u + alpha delta from alpha = initial, halving while a triangle inequality breaks or
+  /// (for Newton) while |K-bar - K|^2 does not decrease enough.
+  void line_search(const Eigen::VectorXd& delta, double initial) {
+    const auto t0 = Clock::now();
+    double max0, sum0;
+    int count;
+    errors(curvature, max0, sum0, count);
+    const bool newton = options.solver == FlowSolver::Newton;
+    double alpha = initial;
+    int backtracks = 0, triangle_failures = 0;
+    for (;; alpha *= 0.5, ++backtracks) {
+      if (backtracks > options.max_backtracks) {
+        timings.line_search += seconds_since(t0);
+        ++iteration;
+        std::ostringstream why;
+        why << "no step along the " << (newton ? "Newton" : "gradient") << " direction in "
+            << backtracks << " halvings reduced max |K-bar - K| = " << format(max0);
+        if (triangle_failures > 0) {
+          why << " (" << triangle_failures
+              << " trial steps broke a triangle inequality: the target may need edge flips or "
+                 "another scheme)";
+        }
+        finish(FlowStatus::LineSearchFailed, why.str());
+        record(0.0, backtracks, triangle_failures);
+        return;
+      }
+      trial_u = u + alpha * delta;
+      const Evaluation ev = evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
+      if (ev != Evaluation::Valid) {
+        ++triangle_failures;  // a step that breaks a triangle is shortened, never accepted
+        continue;
+      }
+      if (!newton) break;
+      double max1, sum1;
+      errors(trial_curvature, max1, sum1, count);
+      if (sum1 <= (1.0 - 2.0 * options.armijo * alpha) * sum0 || max1 <= options.tolerance) break;
+    }
+    std::swap(u, trial_u);
+    std::swap(lengths, trial_lengths);
+    std::swap(angles, trial_angles);
+    std::swap(curvature, trial_curvature);
+    normalise_gauge();
+    timings.line_search += seconds_since(t0);
+    ++iteration;
+    record(alpha, backtracks, triangle_failures);
+  }
+};
+
+RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structure,
+                     const Target& target, const FlowOptions& options)
+    : state_(std::make_unique<State>(topology, structure, target, options)) {
+  State& s = *state_;
+  if (topology.components.size() > 1) {
+    throw InvalidInput("RicciFlow: the mesh has " + std::to_string(topology.components.size()) +
+                       " connected components; solve them one by one (flow_mesh does)");
+  }
+  if (structure.epsilon.size() != topology.num_vertices ||
+      structure.eta.size() != topology.num_edges ||
+      structure.initial_u.size() != topology.num_vertices) {
+    throw InvalidInput("RicciFlow: the conformal structure does not belong to this mesh");
+  }
+  if (!(options.tolerance > 0)) {
+    throw InvalidInput("RicciFlow: tolerance must be positive, got " + State::format(options.tolerance));
+  }
+  check_admissible(topology, structure, target);
+  if (s.options.max_iterations <= 0) {
+    s.options.max_iterations = options.solver == FlowSolver::Newton ? 200 : 1000000;
+  }
+  set_u(structure.initial_u);
+}
+
+RicciFlow::~RicciFlow() = default;
+
+void RicciFlow::set_u(const Eigen::VectorXd& u) {
+  State& s = *state_;
+  if (u.size() != s.topology.num_vertices || !u.allFinite()) {
+    throw InvalidInput("RicciFlow::set_u: expected " + std::to_string(s.topology.num_vertices) +
+                       " finite log radii");
+  }
+  s.u = u;
+  const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
+  if (ev == Evaluation::BadLength) {
+    throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
+  }
+  if (ev == Evaluation::TriangleInequality) {
+    const int f = corner_angles(s.topology, s.lengths, s.angles);
+    throw InvalidInput("RicciFlow: face " + std::to_string(f) +
+                       " of the initial metric breaks a triangle inequality");
+  }
+  s.gauge_mean = 0;
+  int count = 0;
+  for (int v = 0; v < s.topology.num_vertices; ++v) {
+    if (s.topology.vertex_component[v] < 0) continue;
+    s.gauge_mean += s.u[v];
+    ++count;
+  }
+  s.gauge_mean /= std::max(count, 1);
+  s.iteration = 0;
+  s.history.clear();
+  s.finished = false;
+  s.pinned_vertex = -1;
+  s.build_system();
+  if (s.options.solver == FlowSolver::Gradient) {
+    s.gradient_dt = s.options.gradient_step;
+    if (s.gradient_dt <= 0) {
+      // Explicit Euler on du/dt = K-bar - K is stable for dt < 2 / lambda_max(L) and
+      // lambda_max <= 2 max L_ii (Gershgorin): dt = 1 / max L_ii is safe.
+      s.compute_edge_weights();
+      Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(s.topology.num_vertices);
+      for (int e = 0; e < s.topology.num_edges; ++e) {
+        diagonal[s.topology.edge_vertices(e, 0)] += std::abs(s.edge_w[e]);
+        diagonal[s.topology.edge_vertices(e, 1)] += std::abs(s.edge_w[e]);
+      }
+      const double top = diagonal.maxCoeff();
+      s.gradient_dt = top > 0 ? 1.0 / top : 0.1;
+    }
+  }
+  s.record(0.0, 0, 0);
+}
+
+bool RicciFlow::step() {
+  State& s = *state_;
+  if (s.finished) return false;
+  if (s.options.solver == FlowSolver::Newton) {
+    s.newton_step();
+  } else {
+    s.gradient_step();
+  }
+  s.timings.total = seconds_since(s.start);
+  return !s.finished;
+}
+
+bool RicciFlow::finished() const { return state_->finished; }
+const Eigen::VectorXd& RicciFlow::u() const { return state_->u; }
+const Eigen::VectorXd& RicciFlow::curvature() const { return state_->curvature; }
+double RicciFlow::max_error() const { return state_->history.back().max_error; }
+
+FlowResult RicciFlow::result() const {
+  const State& s = *state_;
+  FlowResult r;
+  r.status = s.status;
+  r.converged = s.finished && s.status == FlowStatus::Converged;
+  r.message = s.finished ? s.message : "running";
+  r.u = s.u;
+  r.curvature = s.curvature;
+  r.target_curvature = s.target.curvature;
+  for (int v = 0; v < s.topology.num_vertices; ++v) {
+    if (s.target.fixed[v]) r.target_curvature[v] = s.curvature[v];
+  }
+  r.lengths = s.lengths;
+  r.iterations = s.iteration;
+  r.max_error = s.history.back().max_error;
+  r.history = s.history;
+  r.timings = s.timings;
+  r.timings.total = seconds_since(s.start);
+  r.analyses = s.analyses;
+  r.factorizations = s.factorizations;
+  r.cg_iterations = s.cg_iterations;
+  r.linear_solver = s.options.solver == FlowSolver::Newton ? s.cholesky.backend() : "none";
+  r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(s.topology, s.curvature);
+  return r;
+}
+
+FlowResult ricci_flow(const Topology& topology, const ConformalStructure& structure,
+                      const Target& target, const FlowOptions& options) {
+  RicciFlow flow(topology, structure, target, options);
+  while (flow.step()) {
+  }
+  return flow.result();
+}
+
+}  // namespace ricci
