@@ -254,9 +254,13 @@ void smooth_taubin(Positions& positions, const std::vector<std::array<int, 4>>& 
   }
 }
 
-/// Iterations of smooth_taubin for every plate: enough to round the edges of the box over about
-/// two cells, few enough to keep every triangle well shaped even at the coarsest resolution.
-constexpr int kPlateSmoothing = 6;
+/// Iterations of smooth_taubin: enough to round the edges of the solid over about two cells, few
+/// enough to keep every triangle well shaped. Plates of one cube per cell stay unsmoothed: with
+/// no cell inside a face, smoothing would shrink the whole solid (a cube to half its size)
+/// instead of rounding its edges.
+int plate_smoothing(const Plate& plate) {
+  return plate.cell > 1 ? 6 : 0;
+}
 
 /// Lower-left pixels of the blocks of size x size top pixels that could become holes: each has a
 /// ring of inside pixels around it, so that the hole lies inside the top face, and the blocks lie
@@ -544,7 +548,7 @@ Mesh make_grid(int nx, int ny, double width, double height) {
 Mesh make_closed_surface(int genus, int resolution) {
   const Plate plate = make_plate("make_closed_surface", genus, resolution, 1);
   QuadSurface s = build_plate_surface(plate);
-  smooth_taubin(s.positions, s.quads, kPlateSmoothing);
+  smooth_taubin(s.positions, s.quads, plate_smoothing(plate));
   return triangulate_quads(s, {});
 }
 
@@ -553,7 +557,7 @@ Mesh make_surface_with_holes(int genus, int holes, int resolution) {
   // Three pixels per coarse cell leave room for a one-pixel hole inside a ring of top pixels.
   const Plate plate = make_plate("make_surface_with_holes", genus, resolution, holes > 0 ? 3 : 1);
   QuadSurface s = build_plate_surface(plate);
-  smooth_taubin(s.positions, s.quads, kPlateSmoothing);
+  smooth_taubin(s.positions, s.quads, plate_smoothing(plate));
   if (holes == 0) return triangulate_quads(s, {});
 
   // Holes a third of a coarse cell wide, smaller when that leaves no room for all of them.

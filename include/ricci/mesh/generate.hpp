@@ -41,8 +41,8 @@ Mesh make_torus(int major_segments, int minor_segments, double major_radius = 1.
 /// cubes (2i+1, 1) are removed to make the tunnels; centred at the origin. Each unit cube is cut
 /// into k^3 small cubes, k = round(resolution / columns) but at least 1 (columns = 1 for genus 0,
 /// else 2g+1), and the boundary of the solid is meshed by their faces split along the shorter
-/// diagonal. A few steps of Taubin smoothing round its edges over about two cells, so that the
-/// curvature is not all on the corners. Smallest corner angle above 32 degrees at every
+/// diagonal. For k >= 2, a few steps of Taubin smoothing round its edges over about two cells, so
+/// that the curvature is not all on the corners. Smallest corner angle above 37 degrees at every
 /// resolution; one component, outward-oriented, free of self-intersections.
 /// \throw InvalidInput when genus < 0, resolution < 1 or the face count overflows int
 Mesh make_closed_surface(int genus, int resolution = 12);
