@@ -1,1 +1,434 @@
-// placeholder: filled in by its owner
+#include "ricci/mesh/validate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <numeric>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
+
+/// The order in which defects are checked and reported; throw_first_defect relies on it.
+constexpr std::array<DefectKind, kNumKinds> kCheckOrder = {
+    DefectKind::NonFiniteCoordinate,     DefectKind::IndexOutOfRange, DefectKind::RepeatedVertex,
+    DefectKind::DuplicateFace,           DefectKind::NonManifoldEdge, DefectKind::NonManifoldVertex,
+    DefectKind::InconsistentOrientation, DefectKind::NonOrientable,   DefectKind::ZeroAreaFace,
+    DefectKind::UnreferencedVertex,
+};
+
+/// Collects defects, building a message only for the first max_defects_per_kind of each kind so
+/// that a mesh with a million bad faces is still summarised quickly.
+class DefectCollector {
+ public:
+  explicit DefectCollector(int max_per_kind) : max_per_kind_(max_per_kind) { counts_.fill(0); }
+
+  template <class MessageFn>
+  void add(DefectKind kind, int element, MessageFn&& message) {
+    const int k = static_cast<int>(kind);
+    if (counts_[k]++ < max_per_kind_) defects_.push_back({kind, element, message()});
+  }
+
+  ValidationReport finish() {
+    ValidationReport report;
+    report.defects = std::move(defects_);
+    // Stable by check order: the defects were added kind after kind, so this only guarantees it.
+    std::stable_sort(report.defects.begin(), report.defects.end(),
+                     [](const Defect& a, const Defect& b) { return rank(a.kind) < rank(b.kind); });
+    for (DefectKind kind : kCheckOrder) {
+      const int count = counts_[static_cast<int>(kind)];
+      if (count > 0) report.counts.emplace_back(kind, count);
+    }
+    return report;
+  }
+
+  static int rank(DefectKind kind) {
+    for (int i = 0; i < kNumKinds; ++i) {
+      if (kCheckOrder[i] == kind) return i;
+    }
+    return kNumKinds;
+  }
+
+ private:
+  int max_per_kind_;
+  std::array<int, kNumKinds> counts_;
+  std::vector<Defect> defects_;
+};
+
+/// Union-find with path halving over corners.
+class DisjointSets {
+ public:
+  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int find(int x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+std::string edge_name(int a, int b) {
+  return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
+}
+
+std::string face_vertices(const Triangles& t, int f) {
+  return "(" + std::to_string(t(f, 0)) + ", " + std::to_string(t(f, 1)) + ", " +
+         std::to_string(t(f, 2)) + ")";
+}
+
+std::string format_number(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+bool is_topological(DefectKind kind) {
+  return kind == DefectKind::NonManifoldEdge || kind == DefectKind::NonManifoldVertex ||
+         kind == DefectKind::InconsistentOrientation || kind == DefectKind::NonOrientable;
+}
+
+// Halfedge h = 3 f + k of face f runs from corner (k+1)%3 to corner (k+2)%3 (as in topology.hpp).
+int next_corner(int h) {
+  return h % 3 == 2 ? h - 2 : h + 1;
+}
+int prev_corner(int h) {
+  return h % 3 == 0 ? h + 2 : h - 1;
+}
+
+}  // namespace
+
+const char* defect_name(DefectKind kind) {
+  switch (kind) {
+    case DefectKind::NonFiniteCoordinate:
+      return "non-finite-coordinate";
+    case DefectKind::IndexOutOfRange:
+      return "index-out-of-range";
+    case DefectKind::RepeatedVertex:
+      return "repeated-vertex";
+    case DefectKind::ZeroAreaFace:
+      return "zero-area-face";
+    case DefectKind::DuplicateFace:
+      return "duplicate-face";
+    case DefectKind::NonManifoldEdge:
+      return "non-manifold-edge";
+    case DefectKind::NonManifoldVertex:
+      return "non-manifold-vertex";
+    case DefectKind::InconsistentOrientation:
+      return "inconsistent-orientation";
+    case DefectKind::NonOrientable:
+      return "non-orientable";
+    case DefectKind::UnreferencedVertex:
+      return "unreferenced-vertex";
+  }
+  return "unknown";
+}
+
+bool ValidationReport::ok() const {
+  for (const auto& [kind, count] : counts) {
+    if (kind != DefectKind::UnreferencedVertex && count > 0) return false;
+  }
+  return true;
+}
+
+ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options) {
+  const Positions& P = mesh.positions;
+  const Triangles& T = mesh.triangles;
+  const int nv = mesh.num_vertices();
+  const int nf = mesh.num_faces();
+  DefectCollector out(options.max_defects_per_kind);
+
+  std::vector<char> finite(nv, 1);
+  for (int v = 0; v < nv; ++v) {
+    if (std::isfinite(P(v, 0)) && std::isfinite(P(v, 1)) && std::isfinite(P(v, 2))) continue;
+    finite[v] = 0;
+    out.add(DefectKind::NonFiniteCoordinate, v, [&] {
+      return "vertex " + std::to_string(v) + " has a non-finite coordinate (" +
+             format_number(P(v, 0)) + ", " + format_number(P(v, 1)) + ", " +
+             format_number(P(v, 2)) + ")";
+    });
+  }
+
+  // A face is "usable" for the connectivity checks when its indices are valid, distinct and it
+  // is not a repeat of an earlier face; otherwise one bad face would be reported many times over.
+  std::vector<char> usable(nf, 1);
+  std::vector<char> referenced(nv, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = T(f, k);
+      if (v >= 0 && v < nv) {
+        referenced[v] = 1;
+      } else if (usable[f]) {
+        usable[f] = 0;
+        out.add(DefectKind::IndexOutOfRange, f, [&] {
+          return "face " + std::to_string(f) + " uses vertex " + std::to_string(v) +
+                 ", outside [0, " + std::to_string(nv) + ")";
+        });
+      }
+    }
+  }
+  for (int f = 0; f < nf; ++f) {
+    if (!usable[f]) continue;
+    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    if (a != b && b != c && a != c) continue;
+    usable[f] = 0;
+    out.add(DefectKind::RepeatedVertex, f, [&] {
+      const int twice = (a == b || a == c) ? a : b;
+      return "face " + std::to_string(f) + " uses vertex " + std::to_string(twice) +
+             " more than once " + face_vertices(T, f);
+    });
+  }
+
+  // Duplicate faces: sort faces by their sorted vertex triple; equal neighbours are duplicates.
+  {
+    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
+    keyed.reserve(nf);
+    for (int f = 0; f < nf; ++f) {
+      if (!usable[f]) continue;
+      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
+      std::sort(key.begin(), key.begin() + 3);
+      keyed.push_back(key);
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<int> first_copy(nf, -1);
+    for (std::size_t i = 1; i < keyed.size(); ++i) {
+      if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[i - 1].begin())) {
+        const int earlier =
+            first_copy[keyed[i - 1][3]] >= 0 ? first_copy[keyed[i - 1][3]] : keyed[i - 1][3];
+        first_copy[keyed[i][3]] = earlier;
+      }
+    }
+    for (int f = 0; f < nf; ++f) {
+      if (first_copy[f] < 0) continue;
+      usable[f] = 0;
+      out.add(DefectKind::DuplicateFace, f, [&] {
+        return "face " + std::to_string(f) + " " + face_vertices(T, f) +
+               " has the same vertices as face " + std::to_string(first_copy[f]) + " " +
+               face_vertices(T, first_copy[f]);
+      });
+    }
+  }
+
+  // Edges: sort the halfedges of usable faces on their undirected edge key.
+  const int nh = 3 * nf;
+  auto tail = [&](int h) { return T(h / 3, (h % 3 + 1) % 3); };
+  auto head = [&](int h) { return T(h / 3, (h % 3 + 2) % 3); };
+  std::vector<std::pair<std::uint64_t, int>> keyed;
+  keyed.reserve(nh);
+  for (int h = 0; h < nh; ++h) {
+    if (!usable[h / 3]) continue;
+    const auto a = static_cast<std::uint64_t>(tail(h));
+    const auto b = static_cast<std::uint64_t>(head(h));
+    keyed.emplace_back((std::min(a, b) << 32) | std::max(a, b), h);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<int> twin(nh, -1);  // only across edges with exactly two faces
+  {
+    std::vector<std::pair<int, std::size_t>> non_manifold;  // (first face, start in keyed)
+    for (std::size_t i = 0; i < keyed.size();) {
+      std::size_t j = i + 1;
+      while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+      if (j - i == 2) {
+        twin[keyed[i].second] = keyed[i + 1].second;
+        twin[keyed[i + 1].second] = keyed[i].second;
+      } else if (j - i > 2) {
+        non_manifold.emplace_back(keyed[i].second / 3, i);
+      }
+      i = j;
+    }
+    std::sort(non_manifold.begin(), non_manifold.end());
+    for (const auto& [face, start] : non_manifold) {
+      out.add(DefectKind::NonManifoldEdge, face, [&] {
+        std::size_t end = start;
+        while (end < keyed.size() && keyed[end].first == keyed[start].first) ++end;
+        const int h = keyed[start].second;
+        std::string faces;
+        for (std::size_t i = start; i < end && i < start + 6; ++i) {
+          faces += (i == start ? "" : ", ") + std::to_string(keyed[i].second / 3);
+        }
+        if (end - start > 6) faces += ", ...";
+        return "non-manifold edge " + edge_name(tail(h), head(h)) + " is shared by " +
+               std::to_string(end - start) + " faces (" + faces + ")";
+      });
+    }
+  }
+
+  // Fans: join the corners at each end of every two-faced edge. A manifold vertex has one fan.
+  {
+    DisjointSets fans(nh);
+    for (int h = 0; h < nh; ++h) {
+      const int g = twin[h];
+      if (g < h) continue;
+      if (tail(h) == head(g)) {
+        fans.unite(next_corner(h), prev_corner(g));
+        fans.unite(prev_corner(h), next_corner(g));
+      } else {  // same direction: corners at the same vertex sit at the same relative place
+        fans.unite(next_corner(h), next_corner(g));
+        fans.unite(prev_corner(h), prev_corner(g));
+      }
+    }
+    std::vector<int> fan_count(nv, 0), first_fan_face(nv, -1), second_fan_face(nv, -1);
+    for (int c = 0; c < nh; ++c) {
+      if (!usable[c / 3] || fans.find(c) != c) continue;
+      const int v = T(c / 3, c % 3);
+      if (fan_count[v]++ == 0) {
+        first_fan_face[v] = c / 3;
+      } else if (fan_count[v] == 2) {
+        second_fan_face[v] = c / 3;
+      }
+    }
+    for (int v = 0; v < nv; ++v) {
+      if (fan_count[v] < 2) continue;
+      out.add(DefectKind::NonManifoldVertex, v, [&] {
+        return "non-manifold vertex " + std::to_string(v) + ": its faces form " +
+               std::to_string(fan_count[v]) + " fans that meet only at the vertex (e.g. faces " +
+               std::to_string(first_fan_face[v]) + " and " + std::to_string(second_fan_face[v]) +
+               ")";
+      });
+    }
+  }
+
+  // Orientation: breadth-first search across two-faced edges assigns each face a flip bit so
+  // that neighbours traverse their shared edge in opposite directions. A contradiction means no
+  // consistent orientation exists (non-orientable); otherwise every same-direction edge is an
+  // inconsistency that flipping the faces with the minority bit of the component would fix.
+  {
+    std::vector<signed char> flip(nf, -1);
+    std::vector<int> queue;
+    queue.reserve(nf);
+    struct Inconsistency {
+      int face;     // the face on the minority side of its component: reversing it helps
+      int other;    // the face across the edge
+      int h;        // one halfedge of the shared edge, for the vertex names
+      int to_flip;  // faces of the component on the minority side
+      bool operator<(const Inconsistency& o) const {
+        return std::tie(face, other) < std::tie(o.face, o.other);
+      }
+    };
+    std::vector<Inconsistency> inconsistent;
+    for (int seed = 0; seed < nf; ++seed) {
+      if (!usable[seed] || flip[seed] >= 0) continue;
+      queue.clear();
+      queue.push_back(seed);
+      flip[seed] = 0;
+      int conflict = -1;  // a halfedge where the bits contradict
+      for (std::size_t q = 0; q < queue.size(); ++q) {
+        const int f = queue[q];
+        for (int k = 0; k < 3; ++k) {
+          const int h = 3 * f + k, g = twin[h];
+          if (g < 0) continue;
+          const int wanted = flip[f] ^ (tail(h) == tail(g) ? 1 : 0);
+          if (flip[g / 3] < 0) {
+            flip[g / 3] = static_cast<signed char>(wanted);
+            queue.push_back(g / 3);
+          } else if (flip[g / 3] != wanted && conflict < 0) {
+            conflict = h;
+          }
+        }
+      }
+      if (conflict >= 0) {
+        out.add(DefectKind::NonOrientable, seed, [&] {
+          const int h = conflict, g = twin[h];
+          return "non-orientable surface (like a Moebius strip): the " +
+                 std::to_string(queue.size()) + " faces connected to face " + std::to_string(seed) +
+                 " cannot be oriented consistently (the contradiction closes at edge " +
+                 edge_name(tail(h), head(h)) + " between faces " + std::to_string(h / 3) + " and " +
+                 std::to_string(g / 3) + ")";
+        });
+        continue;
+      }
+      std::size_t flipped = 0;
+      for (int f : queue) flipped += static_cast<std::size_t>(flip[f]);
+      const int minority = 2 * flipped <= queue.size() ? 1 : 0;
+      const int to_flip = static_cast<int>(minority ? flipped : queue.size() - flipped);
+      for (int f : queue) {
+        for (int k = 0; k < 3; ++k) {
+          const int h = 3 * f + k, g = twin[h];
+          if (g < h || tail(h) != tail(g)) continue;
+          const int reported = flip[f] == minority ? f : g / 3;
+          inconsistent.push_back({reported, reported == f ? g / 3 : f, h, to_flip});
+        }
+      }
+    }
+    std::sort(inconsistent.begin(), inconsistent.end());
+    for (const Inconsistency& bad : inconsistent) {
+      out.add(DefectKind::InconsistentOrientation, bad.face, [&] {
+        return "inconsistent orientation: faces " + std::to_string(bad.face) + " and " +
+               std::to_string(bad.other) + " traverse edge " + edge_name(tail(bad.h), head(bad.h)) +
+               " in the same direction (from " + std::to_string(tail(bad.h)) + " to " +
+               std::to_string(head(bad.h)) + "); the surface is orientable: reversing face " +
+               std::to_string(bad.face) +
+               (bad.to_flip > 1
+                    ? " and the other " + std::to_string(bad.to_flip - 1) + " faces on its side"
+                    : std::string()) +
+               " makes it consistent";
+      });
+    }
+  }
+
+  // Zero area: twice the area against the longest edge squared, i.e. the sine of the largest
+  // angle, so that the test does not depend on the mesh's scale.
+  for (int f = 0; f < nf; ++f) {
+    if (!usable[f]) continue;
+    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    if (!finite[a] || !finite[b] || !finite[c]) continue;
+    const Eigen::Vector3d pa = P.row(a).transpose(), pb = P.row(b).transpose(),
+                          pc = P.row(c).transpose();
+    const double twice_area = (pb - pa).cross(pc - pa).norm();
+    const double longest_squared =
+        std::max({(pb - pa).squaredNorm(), (pc - pb).squaredNorm(), (pa - pc).squaredNorm()});
+    if (twice_area > options.zero_area_tolerance * longest_squared) continue;
+    out.add(DefectKind::ZeroAreaFace, f, [&] {
+      return "face " + std::to_string(f) + " " + face_vertices(T, f) +
+             " has zero area (twice its area is " + format_number(twice_area) +
+             ", its longest edge squared " + format_number(longest_squared) + ")";
+    });
+  }
+
+  for (int v = 0; v < nv; ++v) {
+    if (referenced[v]) continue;
+    out.add(DefectKind::UnreferencedVertex, v,
+            [&] { return "vertex " + std::to_string(v) + " is not used by any face"; });
+  }
+  return out.finish();
+}
+
+void throw_first_defect(const ValidationReport& report, const std::string& context) {
+  for (const Defect& defect : report.defects) {
+    if (defect.kind == DefectKind::UnreferencedVertex) continue;
+    std::string message =
+        (context.empty() ? std::string("validate_mesh") : context) + ": " + defect.message;
+    for (const auto& [kind, count] : report.counts) {
+      if (kind == defect.kind && count > 1) {
+        message += " (and " + std::to_string(count - 1) + " more " + defect_name(kind) + " defect" +
+                   (count > 2 ? "s" : "") + ")";
+      }
+    }
+    if (is_topological(defect.kind)) throw TopologyError(message);
+    throw InvalidInput(message);
+  }
+}
+
+void validate_mesh(const Mesh& mesh, const std::string& context, const ValidationOptions& options) {
+  throw_first_defect(find_defects(mesh, options), context);
+}
+
+}  // namespace ricci
