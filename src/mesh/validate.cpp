@@ -167,8 +167,9 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
     });
   }
 
-  // A face is "usable" for the connectivity checks when its indices are valid, distinct and it
-  // is not a repeat of an earlier face; otherwise one bad face would be reported many times over.
+  // A face is "usable" for the connectivity checks when its indices are valid and distinct.
+  // Duplicate faces stay usable: their edges really are shared by more than two faces, and
+  // counting them so agrees with how other tools count non-manifold edges and vertices.
   std::vector<char> usable(nf, 1);
   std::vector<char> referenced(nv, 0);
   for (int f = 0; f < nf; ++f) {
@@ -218,7 +219,6 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
     }
     for (int f = 0; f < nf; ++f) {
       if (first_copy[f] < 0) continue;
-      usable[f] = 0;
       out.add(DefectKind::DuplicateFace, f, [&] {
         return "face " + std::to_string(f) + " " + face_vertices(T, f) +
                " has the same vertices as face " + std::to_string(first_copy[f]) + " " +
