@@ -21,6 +21,10 @@ struct SparseCholesky::Impl {
 
 SparseCholesky::SparseCholesky(bool use_cholmod) : impl_(std::make_unique<Impl>()) {
   impl_->use_cholmod = use_cholmod && cholmod_available();
+#ifdef RICCI_HAVE_CHOLMOD
+  // The library never prints: CHOLMOD reports through info(), not on stderr.
+  impl_->cholmod.cholmod().print = 0;
+#endif
 }
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;

@@ -43,6 +43,7 @@ const char* flow_status_name(FlowStatus status) {
     case FlowStatus::Converged: return "converged";
     case FlowStatus::MaxIterations: return "max-iterations";
     case FlowStatus::LineSearchFailed: return "line-search-failed";
+    case FlowStatus::SolverFailed: return "solver-failed";
     case FlowStatus::Cancelled: return "cancelled";
   }
   return "unknown";
@@ -246,7 +247,20 @@ struct RicciFlow::State {
       timings.analysis += seconds_since(t0);
     }
     auto t0 = Clock::now();
-    cholesky.factorize(H);
+    try {
+      cholesky.factorize(H);
+    } catch (const SolverError& e) {
+      timings.factorization += seconds_since(t0);
+      ++iteration;
+      const auto [lo, hi] = std::minmax_element(u.data(), u.data() + u.size());
+      finish(FlowStatus::SolverFailed,
+             std::string(e.what()) + " at iteration " + std::to_string(iteration) +
+                 "; log radii span [" + format(*lo) + ", " + format(*hi) +
+                 "]: the metric is degenerating, so the target is probably not reachable "
+                 "with this mesh (raise the valence around strong cones)");
+      record(0.0, 0, 0);
+      return;
+    }
     ++factorizations;
     timings.factorization += seconds_since(t0);
 
@@ -285,7 +299,7 @@ struct RicciFlow::State {
     errors(curvature, max0, sum0, count);
     const bool newton = options.solver == FlowSolver::Newton;
     double alpha = initial;
-    int backtracks = 0, triangle_failures = 0;
+    int backtracks = 0, triangle_failures = 0, length_failures = 0;
     for (;; alpha *= 0.5, ++backtracks) {
       if (backtracks > options.max_backtracks) {
         timings.line_search += seconds_since(t0);
@@ -298,14 +312,19 @@ struct RicciFlow::State {
               << " trial steps broke a triangle inequality: the target may need edge flips or "
                  "another scheme)";
         }
+        if (length_failures > 0) {
+          why << " (" << length_failures
+              << " trial steps gave an edge a non-positive or overflowing length)";
+        }
         finish(FlowStatus::LineSearchFailed, why.str());
-        record(0.0, backtracks, triangle_failures);
+        record(0.0, backtracks, triangle_failures + length_failures);
         return;
       }
       trial_u = u + alpha * delta;
       const Evaluation ev = evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
       if (ev != Evaluation::Valid) {
-        ++triangle_failures;  // a step that breaks a triangle is shortened, never accepted
+        // A step that breaks a triangle is shortened, never accepted.
+        ++(ev == Evaluation::TriangleInequality ? triangle_failures : length_failures);
         continue;
       }
       if (!newton) break;
@@ -320,7 +339,7 @@ struct RicciFlow::State {
     normalise_gauge();
     timings.line_search += seconds_since(t0);
     ++iteration;
-    record(alpha, backtracks, triangle_failures);
+    record(alpha, backtracks, triangle_failures + length_failures);
   }
 };
 

@@ -1,21 +1,38 @@
 #include "ricci/metric/angles.hpp"
 
 #include <cmath>
+#include <utility>
 #include <limits>
 
 namespace ricci {
 
+namespace {
+
+/// Twice (s, s - l0, s - l1, s - l2) of a triangle with sides l0, l1, l2, computed as Kahan
+/// ("Miscalculating area and angles of a needle-like triangle") does: sort the sides and group
+/// the sums so that no subtraction cancels catastrophically. Returns false when a triangle
+/// inequality fails (or a side is not positive).
+bool half_perimeter_terms(const double l[3], double& two_s, double two_s_minus[3]) {
+  int order[3] = {0, 1, 2};  // order[0] longest
+  if (l[order[0]] < l[order[1]]) std::swap(order[0], order[1]);
+  if (l[order[1]] < l[order[2]]) std::swap(order[1], order[2]);
+  if (l[order[0]] < l[order[1]]) std::swap(order[0], order[1]);
+  const double a = l[order[0]], b = l[order[1]], c = l[order[2]];
+  if (!(c > 0)) return false;
+  two_s = a + (b + c);
+  two_s_minus[order[0]] = c - (a - b);
+  two_s_minus[order[1]] = c + (a - b);
+  two_s_minus[order[2]] = a + (b - c);
+  return two_s_minus[order[0]] > 0 && std::isfinite(two_s);
+}
+
+}  // namespace
+
 double angle_from_lengths(double a, double b, double c) {
-  // Differences are formed from the sides directly ((b + c - a) / 2 rather than s - a) so that
-  // a needle triangle keeps its tiny angle to full relative precision.
-  const double s = 0.5 * (a + b + c);
-  const double sa = 0.5 * (b + c - a);
-  const double sb = 0.5 * (a + c - b);
-  const double sc = 0.5 * (a + b - c);
-  if (!(a > 0 && b > 0 && c > 0 && sa > 0 && sb > 0 && sc > 0)) {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-  return 2.0 * std::atan2(std::sqrt(sb * sc), std::sqrt(s * sa));
+  const double l[3] = {a, b, c};
+  double two_s, d[3];
+  if (!half_perimeter_terms(l, two_s, d)) return std::numeric_limits<double>::quiet_NaN();
+  return 2.0 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
 }
 
 int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles) {
@@ -23,17 +40,21 @@ int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, Corn
   angles.resize(nf, 3);
   int first_bad = -1;
   for (int f = 0; f < nf; ++f) {
-    // Edge opposite corner k has index face_edges(f, k).
-    const double l0 = lengths[topology.face_edges(f, 0)];
-    const double l1 = lengths[topology.face_edges(f, 1)];
-    const double l2 = lengths[topology.face_edges(f, 2)];
-    const double a0 = angle_from_lengths(l0, l1, l2);
-    const double a1 = angle_from_lengths(l1, l2, l0);
-    const double a2 = angle_from_lengths(l2, l0, l1);
-    angles(f, 0) = a0;
-    angles(f, 1) = a1;
-    angles(f, 2) = a2;
-    if (first_bad < 0 && std::isnan(a0)) first_bad = f;
+    // Edge opposite corner k has index face_edges(f, k); the half-angle formula
+    // tan(theta_k / 2) = sqrt((s - l_{k+1})(s - l_{k+2}) / (s (s - l_k))) keeps full relative
+    // accuracy for tiny and for near-pi angles.
+    const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
+                         lengths[topology.face_edges(f, 2)]};
+    double two_s, d[3];
+    if (!half_perimeter_terms(l, two_s, d)) {
+      angles.row(f).setConstant(std::numeric_limits<double>::quiet_NaN());
+      if (first_bad < 0) first_bad = f;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      angles(f, k) = 2.0 * std::atan2(std::sqrt(d[(k + 1) % 3] * d[(k + 2) % 3]),
+                                      std::sqrt(two_s * d[k]));
+    }
   }
   return first_bad;
 }

@@ -1,1 +1,115 @@
-// placeholder: filled in by its owner
+#include "ricci/metric/scheme.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/curvature.hpp"
+#include "ricci/metric/lengths.hpp"
+#include "support/test_meshes.hpp"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
+                              Scheme::VertexScaling, Scheme::VirtualRadius};
+
+// The tutorial's fig. 5: a tetrahedron with radii 0.5 and Phi = 0 has every edge 1 and K = pi.
+TEST(Scheme, TutorialFigure5Tetrahedron) {
+  const Mesh mesh = make_tetrahedron(1.0);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  ConformalStructure s;
+  s.scheme = Scheme::Thurston;
+  s.epsilon = Eigen::VectorXd::Ones(4);
+  s.eta = Eigen::VectorXd::Ones(t.num_edges);  // cos(Phi) with Phi = 0
+  s.initial_u = Eigen::VectorXd::Constant(4, std::log(0.5));
+  Eigen::VectorXd lengths;
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, lengths), 0);
+  for (int e = 0; e < t.num_edges; ++e) EXPECT_NEAR(lengths[e], 1.0, 1e-15);
+  CornerAngles angles;
+  ASSERT_EQ(corner_angles(t, lengths, angles), -1);
+  const Eigen::VectorXd k = vertex_curvature(t, angles);
+  for (int v = 0; v < 4; ++v) EXPECT_NEAR(k[v], kPi, 1e-14);
+  // The Thurston fit of the regular tetrahedron finds an exact packing.
+  const StructureResult fit = make_conformal_structure(t, input_edge_lengths(mesh, t));
+  EXPECT_LT(fit.fit_rms_relative_error, 1e-14);
+}
+
+TEST(Scheme, ExactSchemesReproduceTheInputLengths) {
+  for (const auto& [name, mesh] : testing::generated_meshes()) {
+    const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+    const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
+    for (Scheme scheme : {Scheme::InversiveDistance, Scheme::VertexScaling, Scheme::VirtualRadius}) {
+      StructureOptions options;
+      options.scheme = scheme;
+      const StructureResult r = make_conformal_structure(t, lbar, options);
+      Eigen::VectorXd l;
+      ASSERT_EQ(edge_lengths(t, r.structure, r.structure.initial_u, l), 0);
+      EXPECT_LT(((l - lbar).array() / lbar.array()).abs().maxCoeff(), 1e-13)
+          << name << " " << scheme_name(scheme);
+      EXPECT_LT(r.fit_rms_relative_error, 1e-13);
+    }
+  }
+}
+
+TEST(Scheme, ThurstonFitIsBetterThanTangentialAndWithinItsBounds) {
+  const Mesh mesh = make_disk(6, 0.7);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
+  StructureOptions options;
+  options.scheme = Scheme::Tangential;
+  const StructureResult tangential = make_conformal_structure(t, lbar, options);
+  options.scheme = Scheme::Thurston;
+  const StructureResult thurston = make_conformal_structure(t, lbar, options);
+  EXPECT_LE(thurston.fit_rms_relative_error, tangential.fit_rms_relative_error);
+  EXPECT_LT(thurston.fit_rms_relative_error, 0.1);
+  EXPECT_GT(tangential.fit_rms_relative_error, 0.0);  // touching circles cannot fit this disk
+  for (int e = 0; e < t.num_edges; ++e) {
+    EXPECT_GE(thurston.structure.eta[e], 0.0);  // Phi in [0, pi/2]
+    EXPECT_LE(thurston.structure.eta[e], 1.0);
+  }
+  // The reported RMS matches the lengths of the fitted metric.
+  Eigen::VectorXd l;
+  edge_lengths(t, thurston.structure, thurston.structure.initial_u, l);
+  EXPECT_NEAR(std::sqrt((l - lbar).squaredNorm() / lbar.squaredNorm()),
+              thurston.fit_rms_relative_error, 1e-14);
+}
+
+TEST(Scheme, UnitRadiiShortcutGivesEqualEdges) {
+  const Mesh mesh = make_icosphere(1);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  StructureOptions options;
+  options.packing_init = PackingInit::UnitRadii;
+  const StructureResult r = make_conformal_structure(t, input_edge_lengths(mesh, t), options);
+  Eigen::VectorXd l;
+  edge_lengths(t, r.structure, r.structure.initial_u, l);
+  EXPECT_NEAR(l.minCoeff(), 2.0, 1e-15);
+  EXPECT_NEAR(l.maxCoeff(), 2.0, 1e-15);
+}
+
+TEST(Scheme, NamesRoundTripAndBadNamesAreRejected) {
+  for (Scheme s : kAllSchemes) EXPECT_EQ(parse_scheme(scheme_name(s)), s);
+  EXPECT_EQ(parse_scheme("yamabe"), Scheme::VertexScaling);
+  try {
+    parse_scheme("circle");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'circle'"), std::string::npos);
+  }
+}
+
+TEST(Scheme, NonPositiveInputLengthIsRejected) {
+  const Mesh mesh = make_tetrahedron(1.0);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
+  lbar[3] = 0;
+  EXPECT_THROW(make_conformal_structure(t, lbar), InvalidInput);
+}
+
+}  // namespace
+}  // namespace ricci

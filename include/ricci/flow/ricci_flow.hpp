@@ -34,7 +34,8 @@ struct IterationRecord {
   double rms_error = 0;      ///< root mean square of the same
   double step_length = 0;    ///< alpha of u += alpha delta (gradient flow: alpha dt)
   int backtracks = 0;        ///< step halvings of the line search
-  int triangle_failures = 0; ///< trial steps rejected because a triangle inequality broke
+  int triangle_failures = 0; ///< trial steps rejected: a triangle inequality broke or a
+                             ///< length became non-positive or overflowed
   double seconds = 0;        ///< wall time since the solve started
 };
 
@@ -64,6 +65,8 @@ enum class FlowStatus {
   Converged,          ///< max error <= tolerance
   MaxIterations,      ///< iteration limit reached first
   LineSearchFailed,   ///< no step length reduced the error (target not reachable from here)
+  SolverFailed,       ///< the Hessian lost positive definiteness in floating point (the metric
+                      ///< is degenerating: radii spanning many orders of magnitude)
   Cancelled,          ///< the progress callback asked to stop
 };
 const char* flow_status_name(FlowStatus status);

@@ -22,19 +22,23 @@ enum class MeshFormat { Obj, Off, Ply, Stl };
 /// Options of read_mesh.
 struct ReadOptions {
   bool validate = true;  ///< run validate_mesh on the result and throw on the first defect
+  ValidationOptions validation_options;  ///< tolerances of that validation
   /// Faces are dropped? Never: polygons with more than three corners are triangulated (fan from
   /// their first corner, or ear clipping for non-convex planar polygons) and reported as warnings.
 };
 
 /// What read_mesh returns.
 struct ReadResult {
-  Mesh mesh;                          ///< the triangles, unreferenced vertices removed
+  Mesh mesh;  ///< the triangles, unreferenced vertices removed
   MeshFormat format = MeshFormat::Obj;
   std::vector<std::string> warnings;  ///< e.g. "bunny.obj: 12 polygons triangulated"
   int polygons_triangulated = 0;      ///< faces with more than three corners in the file
   std::vector<int> dropped_vertices;  ///< file indices (0-based) of unreferenced vertices dropped
   std::vector<int> vertex_map;        ///< #V: file index (0-based) of each output vertex
-  ValidationReport validation;        ///< defects found (empty when validate threw nothing)
+  /// Defects found when options.validate is set (then only warnings such as unreferenced
+  /// vertices, since errors throw); empty otherwise. Its vertex elements are file indices
+  /// (0-based, before unreferenced vertices were dropped), its face elements triangle indices.
+  ValidationReport validation;
 };
 
 /// Format from the file extension (case-insensitive: .obj .off .ply .stl).
