@@ -1208,7 +1208,7 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   file_mesh.triangles = std::move(triangulation.triangles);
 
   if (options.validate) {
-    result.validation = find_defects(file_mesh, options.validation_options);
+    result.validation = find_defects(file_mesh);
     for (const Defect& defect : result.validation.defects) {
       if (defect.kind == DefectKind::UnreferencedVertex) continue;
       const Where where = element_is_vertex(defect.kind)

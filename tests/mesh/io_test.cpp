@@ -592,17 +592,6 @@ TEST(BadInput, ZeroAreaFace) {
   expect_mentions(message, {"collinear.obj", "line 6", "face 1", "zero area"});
 }
 
-TEST(BadInput, ZeroAreaToleranceComesFromTheOptions) {
-  // Twice the area over the longest edge squared is 2.5e-11: fine by default, degenerate at 1e-9.
-  const std::string path =
-      write_test_file("sliver.obj", "v 0 0 0\nv 4e6 0 0\nv 2e6 1e-4 0\nf 1 2 3\n");
-  EXPECT_NO_THROW(read_mesh(path));
-  ReadOptions strict;
-  strict.validation_options.zero_area_tolerance = 1e-9;
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(path, strict); }),
-                  {"sliver.obj", "line 4", "face 0", "zero area"});
-}
-
 TEST(BadInput, MalformedStructure) {
   const std::string short_face = write_test_file("short.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
   expect_mentions(message_of<IoError>([&] { read_mesh(short_face); }),

@@ -22,7 +22,6 @@ enum class MeshFormat { Obj, Off, Ply, Stl };
 /// Options of read_mesh.
 struct ReadOptions {
   bool validate = true;  ///< run validate_mesh on the result and throw on the first defect
-  ValidationOptions validation_options;  ///< tolerances of that validation
   /// Faces are dropped? Never: polygons with more than three corners are triangulated (fan from
   /// their first corner, or ear clipping for non-convex planar polygons) and reported as warnings.
 };
