@@ -146,7 +146,7 @@ class LineReader {
     if (end == std::string_view::npos) end = data_.size();
     line = data_.substr(pos_, end - pos_);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
+    pos_ = std::min(end + 1, data_.size());
     ++line_number_;
     return true;
   }

@@ -434,6 +434,18 @@ TEST(BadInput, TruncatedBinaryPly) {
   expect_mentions(message, {"truncated.ply", "truncated", "face 2 of 4", "byte "});
 }
 
+TEST(BadInput, EveryTruncationOfABinaryFileIsAnIoError) {
+  for (const bool big_endian : {false, true}) {
+    const std::string full =
+        tetrahedron_ply(big_endian ? "binary_big_endian" : "binary_little_endian", big_endian, true,
+                        "vertex_index");
+    for (std::size_t cut = 1; cut < full.size(); ++cut) {
+      const std::string path = write_test_file("cut.ply", full.substr(0, cut));
+      EXPECT_THROW(read_mesh(path), IoError) << "cut after " << cut << " bytes";
+    }
+  }
+}
+
 TEST(BadInput, TruncatedOffWithFewerFacesThanDeclared) {
   const std::string path = write_test_file(
       "truncated.off", "OFF\n4 6 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 2 3\n");
