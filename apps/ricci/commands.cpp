@@ -1,1 +1,230 @@
-// placeholder: filled in by its owner
+#include "commands.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+
+#include "json_output.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/info.hpp"
+#include "ricci/mesh/io.hpp"
+
+namespace ricci::cli {
+namespace {
+
+/// Refuses to write a result over one of the inputs.
+void check_output_is_not_input(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(output, input, ec)) {
+    throw InvalidInput(output + ": the output would overwrite the input mesh; choose another -o");
+  }
+}
+
+void print_warnings(const ReadResult& read) {
+  for (const std::string& w : read.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+/// File vertex index -> mesh vertex index (-1 for vertices the reader dropped).
+std::vector<int> inverse_map(const std::vector<int>& vertex_map) {
+  int top = -1;
+  for (int v : vertex_map) top = std::max(top, v);
+  std::vector<int> inverse(top + 1, -1);
+  for (std::size_t i = 0; i < vertex_map.size(); ++i) inverse[vertex_map[i]] = static_cast<int>(i);
+  return inverse;
+}
+
+std::vector<Cone> read_cones(const std::string& spec) {
+  if (spec.empty()) return {};
+  if (std::filesystem::is_regular_file(spec)) return read_cone_file(spec);
+  if (spec.find(':') == std::string::npos) {
+    throw InvalidInput("--cones: '" + spec +
+                       "' is neither a file nor a list VERTEX:CURVATURE,... (e.g. 12:pi/2,40:pi/2)");
+  }
+  return parse_cone_list(spec);
+}
+
+}  // namespace
+
+int run_info(const InfoArgs& args) {
+  ReadOptions options;
+  options.validate = false;  // info reports every defect instead of stopping at the first
+  const ReadResult read = read_mesh(args.mesh, options);
+  const MeshInfo info = mesh_info(read.mesh);
+  if (args.json) {
+    nlohmann::json j = to_json(info);
+    j["file"] = args.mesh;
+    j["warnings"] = read.warnings;
+    j["dropped_vertices"] = read.dropped_vertices.size();
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_warnings(read);
+    std::cout << args.mesh << "\n"
+              << "  vertices             " << info.vertices;
+    if (!read.dropped_vertices.empty()) {
+      std::cout << " (" << read.dropped_vertices.size() << " unreferenced dropped)";
+    }
+    std::cout << "\n  edges                " << info.edges << "\n"
+              << "  faces                " << info.faces << "\n"
+              << "  components           " << info.components << "\n"
+              << "  boundary loops       " << info.boundary_loops << "\n"
+              << "  Euler characteristic " << info.euler_characteristic << "\n"
+              << "  genus                " << info.genus << "\n"
+              << "  smallest angle       " << std::setprecision(4) << info.min_angle_degrees
+              << " deg\n"
+              << "  largest angle        " << info.max_angle_degrees << " deg\n";
+    if (info.component_info.size() > 1) {
+      for (std::size_t c = 0; c < info.component_info.size(); ++c) {
+        const ComponentInfo& ci = info.component_info[c];
+        std::cout << "  component " << c << ": V " << ci.vertices << ", F " << ci.faces
+                  << ", boundary loops " << ci.boundary_loops << ", chi "
+                  << ci.euler_characteristic << ", genus " << ci.genus << "\n";
+      }
+    }
+    if (info.validation.defects.empty()) {
+      std::cout << "  defects              none\n";
+    } else {
+      std::cout << "  defects:\n";
+      for (const auto& [kind, count] : info.validation.counts) {
+        std::cout << "    " << defect_name(kind) << ": " << count << "\n";
+      }
+      for (const Defect& d : info.validation.defects) std::cout << "    - " << d.message << "\n";
+    }
+  }
+  return info.validation.ok() ? kOk : kBadInput;
+}
+
+int run_flow(const FlowArgs& args) {
+  MeshFlowOptions options;
+  options.structure.scheme = parse_scheme(args.scheme);
+  if (args.init == "fit") {
+    options.structure.packing_init = PackingInit::Fit;
+  } else if (args.init == "unit") {
+    options.structure.packing_init = PackingInit::UnitRadii;
+  } else {
+    throw InvalidInput("--init: unknown value '" + args.init + "'; expected fit or unit");
+  }
+  options.flow.solver = parse_flow_solver(args.solver);
+  options.flow.tolerance = args.tolerance;
+  options.flow.max_iterations = args.max_iterations;
+  options.flow.gradient_step = args.step;
+  if (!args.output.empty()) check_output_is_not_input(args.output, args.mesh);
+
+  const ReadResult read = read_mesh(args.mesh);
+  print_warnings(read);
+  const Mesh& mesh = read.mesh;
+
+  TargetSpec& spec = options.target;
+  spec.boundary = parse_boundary_mode(args.boundary);
+  if (args.target == "flat") {
+    spec.kind = TargetKind::Flat;
+  } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length") {
+    spec.kind = TargetKind::Flat;
+    spec.boundary = parse_boundary_mode(args.target);
+  } else if (args.target == "uniform") {
+    spec.kind = TargetKind::Uniform;
+  } else if (std::filesystem::is_regular_file(args.target)) {
+    // Values are listed per vertex of the file; drop the rows of unreferenced vertices.
+    const Eigen::VectorXd file_values = read_values_file(args.target);
+    const auto file_vertices =
+        static_cast<Eigen::Index>(read.vertex_map.size() + read.dropped_vertices.size());
+    const bool per_file_vertex = file_values.size() == file_vertices;
+    if (!per_file_vertex && file_values.size() != mesh.num_vertices()) {
+      throw InvalidInput(args.target + ": " + std::to_string(file_values.size()) +
+                         " curvature values for the " + std::to_string(file_vertices) +
+                         " vertices of " + args.mesh);
+    }
+    spec.kind = TargetKind::Values;
+    spec.values.resize(mesh.num_vertices());
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      spec.values[v] = file_values[per_file_vertex ? read.vertex_map[v] : v];
+    }
+  } else {
+    throw InvalidInput("--target: '" + args.target +
+                       "' is neither flat, free, disk, disk-length, uniform nor a file of "
+                       "per-vertex curvatures");
+  }
+  // Cone vertices are numbered as in the file (0-based).
+  const std::vector<int> to_mesh = inverse_map(read.vertex_map);
+  for (Cone cone : read_cones(args.cones)) {
+    if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
+      throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) + " is not a vertex of " +
+                         args.mesh + " used by any face");
+    }
+    cone.vertex = to_mesh[cone.vertex];
+    spec.cones.push_back(cone);
+  }
+  if (!spec.cones.empty() && spec.kind != TargetKind::Flat) {
+    throw InvalidInput("--cones needs a flat target (--target flat, free, disk or disk-length)");
+  }
+
+  if (args.progress) {
+    options.flow.progress = [](const IterationRecord& r) {
+      std::cerr << "  iteration " << std::setw(4) << r.iteration << "  max |K-bar - K| "
+                << std::scientific << std::setprecision(3) << r.max_error << "  step "
+                << std::defaultfloat << std::setprecision(4) << r.step_length << "  "
+                << std::fixed << std::setprecision(2) << r.seconds << " s" << std::defaultfloat
+                << "\n";
+      return true;
+    };
+  }
+  const MeshFlowResult result = flow_mesh(mesh, options);
+
+  nlohmann::json summary = flow_summary(result, options);
+  summary["input"] = args.mesh;
+  summary["warnings"] = read.warnings;
+  if (!args.output.empty()) {
+    nlohmann::json full = summary;
+    full["vertex_data"] = flow_arrays(result, read.vertex_map);
+    write_file_atomically(args.output, [&](std::ostream& out) { out << full.dump(1) << "\n"; });
+  }
+  if (args.json) {
+    std::cout << summary.dump(2) << "\n";
+  } else {
+    std::cout << args.mesh << ": " << (result.converged ? "converged" : "NOT converged") << ", max |K-bar - K| = "
+              << std::scientific << std::setprecision(3) << result.max_error << std::defaultfloat
+              << " (" << scheme_name(options.structure.scheme) << ", "
+              << flow_solver_name(options.flow.solver) << ", " << result.target.description
+              << ")\n";
+    for (std::size_t c = 0; c < result.components.size(); ++c) {
+      const ComponentFlow& comp = result.components[c];
+      std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
+                << comp.genus << ", " << comp.boundary_loops << " boundary loops): "
+                << comp.flow.iterations << " iterations, " << std::fixed << std::setprecision(3)
+                << comp.flow.timings.total << " s: " << comp.flow.message << std::defaultfloat
+                << "\n";
+    }
+    if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
+  }
+  return result.converged ? kOk : kNotConverged;
+}
+
+int run_generate(const GenerateArgs& args) {
+  const int r = args.resolution;
+  Mesh mesh;
+  if (args.kind == "tetrahedron") {
+    mesh = make_tetrahedron(1.0);
+  } else if (args.kind == "icosphere") {
+    mesh = make_icosphere(r > 0 ? r : 3);
+  } else if (args.kind == "disk") {
+    mesh = make_disk(r > 0 ? r : 16, 0.5);
+  } else if (args.kind == "torus") {
+    mesh = make_torus(r > 0 ? 2 * r : 64, r > 0 ? r : 32);
+  } else if (args.kind == "surface") {
+    mesh = args.holes > 0 ? make_surface_with_holes(args.genus, args.holes, r > 0 ? r : 24)
+                          : make_closed_surface(args.genus, r > 0 ? r : 24);
+  } else {
+    throw InvalidInput("generate: unknown kind '" + args.kind +
+                       "'; expected tetrahedron, icosphere, disk, torus or surface");
+  }
+  write_obj(args.output, mesh);
+  std::cout << "wrote " << args.output << ": " << mesh.num_vertices() << " vertices, "
+            << mesh.num_faces() << " faces\n";
+  return kOk;
+}
+
+}  // namespace ricci::cli

@@ -1,1 +1,115 @@
-// placeholder: filled in by its owner
+#include "json_output.hpp"
+
+#include <cmath>
+
+namespace ricci::cli {
+namespace {
+
+nlohmann::json to_json(const IterationRecord& r) {
+  return {{"iteration", r.iteration},   {"max_error", r.max_error},
+          {"rms_error", r.rms_error},   {"step_length", r.step_length},
+          {"backtracks", r.backtracks}, {"triangle_failures", r.triangle_failures},
+          {"seconds", r.seconds}};
+}
+
+nlohmann::json to_json(const FlowTimings& t) {
+  return {{"setup", t.setup},         {"assembly", t.assembly},       {"analysis", t.analysis},
+          {"factorization", t.factorization}, {"solve", t.solve}, {"line_search", t.line_search},
+          {"total", t.total}};
+}
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+}  // namespace
+
+nlohmann::json to_json(const MeshInfo& info) {
+  nlohmann::json j = {{"vertices", info.vertices},
+                      {"unreferenced_vertices", info.unreferenced_vertices},
+                      {"edges", info.edges},
+                      {"faces", info.faces},
+                      {"components", info.components},
+                      {"boundary_loops", info.boundary_loops},
+                      {"euler_characteristic", info.euler_characteristic},
+                      {"genus", info.genus},
+                      {"min_angle_degrees", info.min_angle_degrees},
+                      {"max_angle_degrees", info.max_angle_degrees},
+                      {"bounding_box_diagonal", info.bounding_box_diagonal},
+                      {"valid", info.validation.ok()}};
+  nlohmann::json comps = nlohmann::json::array();
+  for (const ComponentInfo& c : info.component_info) {
+    comps.push_back({{"vertices", c.vertices},
+                     {"edges", c.edges},
+                     {"faces", c.faces},
+                     {"boundary_loops", c.boundary_loops},
+                     {"euler_characteristic", c.euler_characteristic},
+                     {"genus", c.genus}});
+  }
+  j["component_info"] = comps;
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [kind, count] : info.validation.counts) counts[defect_name(kind)] = count;
+  j["defect_counts"] = counts;
+  nlohmann::json defects = nlohmann::json::array();
+  for (const Defect& d : info.validation.defects) {
+    defects.push_back({{"kind", defect_name(d.kind)}, {"element", d.element}, {"message", d.message}});
+  }
+  j["defects"] = defects;
+  return j;
+}
+
+nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions& options) {
+  nlohmann::json j;
+  j["converged"] = result.converged;
+  j["max_error"] = result.max_error;
+  j["tolerance"] = options.flow.tolerance;
+  j["scheme"] = scheme_name(options.structure.scheme);
+  j["solver"] = flow_solver_name(options.flow.solver);
+  j["target"] = result.target.description;
+  j["fit_rms_relative_error"] = result.structure.fit_rms_relative_error;
+  j["fit_max_relative_error"] = result.structure.fit_max_relative_error;
+  j["vertices"] = result.topology.num_referenced_vertices();
+  j["edges"] = result.topology.num_edges;
+  j["faces"] = result.topology.num_faces;
+  j["setup_seconds"] = result.setup_seconds;
+  j["total_seconds"] = result.total_seconds;
+  nlohmann::json comps = nlohmann::json::array();
+  for (const ComponentFlow& c : result.components) {
+    nlohmann::json history = nlohmann::json::array();
+    for (const IterationRecord& r : c.flow.history) history.push_back(to_json(r));
+    comps.push_back({{"vertices", c.vertices.size()},
+                     {"euler_characteristic", c.euler_characteristic},
+                     {"genus", c.genus},
+                     {"boundary_loops", c.boundary_loops},
+                     {"converged", c.flow.converged},
+                     {"status", flow_status_name(c.flow.status)},
+                     {"message", c.flow.message},
+                     {"iterations", c.flow.iterations},
+                     {"max_error", c.flow.max_error},
+                     {"gauss_bonnet_relative_error", c.flow.gauss_bonnet_relative_error},
+                     {"linear_solver", c.flow.linear_solver},
+                     {"factorizations", c.flow.factorizations},
+                     {"timings", to_json(c.flow.timings)},
+                     {"history", history}});
+  }
+  j["components"] = comps;
+  return j;
+}
+
+nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>& file_index) {
+  nlohmann::json j;
+  j["file_index"] = file_index;
+  j["u"] = to_vector(result.u);
+  j["curvature"] = to_vector(result.curvature);
+  j["target_curvature"] = to_vector(result.target_curvature);
+  std::vector<int> fixed(result.target.fixed.begin(), result.target.fixed.end());
+  j["fixed"] = fixed;
+  const auto& ev = result.topology.edge_vertices;
+  nlohmann::json edges = nlohmann::json::array();
+  for (int e = 0; e < result.topology.num_edges; ++e) edges.push_back({ev(e, 0), ev(e, 1)});
+  j["edges"] = edges;
+  j["lengths"] = to_vector(result.lengths);
+  return j;
+}
+
+}  // namespace ricci::cli

@@ -1,1 +1,112 @@
-int main() { return 0; }
+// The `ricci` command line: discrete surface Ricci flow on triangle meshes.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+#include "ricci/errors.hpp"
+
+#ifndef RICCI_VERSION
+#define RICCI_VERSION "unknown"
+#endif
+
+int main(int argc, char** argv) {
+  using namespace ricci::cli;
+  CLI::App app{
+      "ricci: discrete surface Ricci flow and conformal metrics on triangle meshes.\n"
+      "Reads OBJ, OFF, PLY and STL. Exit codes: 0 ok, 2 bad input, 3 not converged, 4 internal "
+      "error."};
+  app.set_version_flag("--version", std::string("ricci ") + RICCI_VERSION);
+  app.require_subcommand(1);
+
+  InfoArgs info;
+  CLI::App* info_cmd = app.add_subcommand(
+      "info", "Print counts, topology (components, boundary loops, Euler characteristic, genus), "
+              "the smallest angle and every defect of a mesh; exit 2 when it has defects.");
+  info_cmd->add_option("MESH", info.mesh, "mesh file (.obj .off .ply .stl)")->required();
+  info_cmd->add_flag("--json", info.json, "print the summary as JSON");
+
+  FlowArgs flow;
+  CLI::App* flow_cmd = app.add_subcommand(
+      "flow", "Find the discrete conformal metric that realises a target curvature (Ricci flow).");
+  flow_cmd->add_option("MESH", flow.mesh, "mesh file (.obj .off .ply .stl)")->required();
+  flow_cmd
+      ->add_option("--scheme", flow.scheme,
+                   "discrete metric: thurston, tangential, inversive-distance, vertex-scaling, "
+                   "virtual-radius")
+      ->capture_default_str();
+  flow_cmd
+      ->add_option("--init", flow.init,
+                   "initial circle packing (thurston, tangential): fit (least squares, tutorial "
+                   "eq. 1) or unit (radii 1, Phi 0)")
+      ->capture_default_str();
+  flow_cmd
+      ->add_option("--target", flow.target,
+                   "target curvature: flat (zero but at --cones), free (flat, boundary radii "
+                   "fixed), disk (boundary curvature 2 pi chi / m), disk-length (boundary "
+                   "curvature by length), uniform (2 pi chi / n), or a file with one value per "
+                   "vertex")
+      ->capture_default_str();
+  flow_cmd
+      ->add_option("--boundary", flow.boundary,
+                   "boundary of a flat target: free, disk or disk-length")
+      ->capture_default_str();
+  flow_cmd->add_option("--cones", flow.cones,
+                       "cone vertices (0-based, as in the file) and curvatures: a list such as "
+                       "'12:pi/2,40:-pi' or a file of 'vertex curvature' lines");
+  flow_cmd->add_option("--solver", flow.solver, "newton or gradient")->capture_default_str();
+  flow_cmd->add_option("--tol", flow.tolerance, "stop at max |K-bar - K| <= tol (radians)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  flow_cmd
+      ->add_option("--max-iterations", flow.max_iterations,
+                   "iteration limit (0: 200 for newton, 1000000 for gradient)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  flow_cmd
+      ->add_option("--step", flow.step,
+                   "gradient flow time step (0: 1 / largest Hessian diagonal, the stable step)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  flow_cmd->add_option("-o,--output", flow.output,
+                       "write the result (per-vertex u, K, target; per-edge lengths; history) as "
+                       "JSON");
+  flow_cmd->add_flag("--json", flow.json, "print the summary as JSON");
+  flow_cmd->add_flag("--progress", flow.progress, "print every iteration on stderr");
+
+  GenerateArgs generate;
+  CLI::App* generate_cmd = app.add_subcommand(
+      "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
+  generate_cmd->add_option("KIND", generate.kind, "tetrahedron, icosphere, disk, torus, surface")
+      ->required();
+  generate_cmd->add_option("-o,--output", generate.output, "output .obj file")->required();
+  generate_cmd
+      ->add_option("--resolution", generate.resolution,
+                   "detail (icosphere: subdivisions; disk: rings; torus: minor segments; "
+                   "surface: cells along its length); 0 for the default")
+      ->capture_default_str();
+  generate_cmd->add_option("--genus", generate.genus, "genus of `surface`")->capture_default_str();
+  generate_cmd->add_option("--holes", generate.holes, "boundary loops cut into `surface`")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kOk : kBadInput;
+  }
+  try {
+    if (*info_cmd) return run_info(info);
+    if (*flow_cmd) return run_flow(flow);
+    if (*generate_cmd) return run_generate(generate);
+  } catch (const ricci::InvalidInput& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const ricci::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "internal error: " << e.what() << "\n";
+    return kInternalError;
+  }
+  return kInternalError;
+}

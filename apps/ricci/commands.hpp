@@ -1,0 +1,51 @@
+#pragma once
+/// \file
+/// The subcommands of the `ricci` program. Each fills its options from the command line, runs the
+/// library and returns an exit code; errors propagate as ricci exceptions to main.
+
+#include <string>
+#include <vector>
+
+namespace ricci::cli {
+
+/// Exit codes of the `ricci` program (documented in README.md).
+enum ExitCode : int {
+  kOk = 0,
+  kBadInput = 2,        ///< unreadable or defective mesh, inadmissible target, bad option
+  kNotConverged = 3,    ///< the flow stopped before reaching the tolerance
+  kInternalError = 4,   ///< a numerical breakdown or a bug
+};
+
+struct InfoArgs {
+  std::string mesh;
+  bool json = false;
+};
+int run_info(const InfoArgs& args);
+
+struct FlowArgs {
+  std::string mesh;
+  std::string scheme = "thurston";
+  std::string init = "fit";
+  std::string target = "flat";
+  std::string boundary = "free";
+  std::string cones;
+  std::string solver = "newton";
+  double tolerance = 1e-10;
+  int max_iterations = 0;
+  double step = 0;
+  std::string output;
+  bool json = false;
+  bool progress = false;
+};
+int run_flow(const FlowArgs& args);
+
+struct GenerateArgs {
+  std::string kind;
+  std::string output;
+  int resolution = 0;  ///< 0: the kind's default
+  int genus = 2;
+  int holes = 0;
+};
+int run_generate(const GenerateArgs& args);
+
+}  // namespace ricci::cli

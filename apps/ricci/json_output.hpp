@@ -1,0 +1,22 @@
+#pragma once
+/// \file
+/// JSON views of ricci's result structs, for `--json` summaries and result files.
+
+#include <nlohmann/json.hpp>
+
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/info.hpp"
+
+namespace ricci::cli {
+
+/// Summary of a mesh (ricci info).
+nlohmann::json to_json(const MeshInfo& info);
+
+/// Summary of a flow: status, errors, timings, per-component history; no per-vertex arrays.
+nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions& options);
+
+/// Per-vertex and per-edge arrays of a flow; vertex rows in mesh order, with file_index giving
+/// each row's 0-based vertex index in the input file.
+nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>& file_index);
+
+}  // namespace ricci::cli
