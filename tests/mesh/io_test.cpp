@@ -29,9 +29,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// This file's own folder under the shared test folder, so that names cannot clash with other
+/// suites running at the same time.
+fs::path io_tmp_dir() {
+  const fs::path folder = fs::path(testing::test_tmp_dir()) / "mesh_io";
+  fs::create_directories(folder);
+  return folder;
+}
+
 /// Writes `content` to a fresh file of the given name in the test folder; returns its path.
 std::string write_test_file(const std::string& name, const std::string& content) {
-  const std::string path = (fs::path(testing::test_tmp_dir()) / name).string();
+  const std::string path = (io_tmp_dir() / name).string();
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
   return path;
@@ -351,7 +359,7 @@ TEST(WriteObj, RoundTripIsExact) {
       std::sqrt(2.0), -1, 1e-5;
   mesh.triangles.resize(4, 3);
   mesh.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2;
-  const std::string path = (fs::path(testing::test_tmp_dir()) / "roundtrip.obj").string();
+  const std::string path = (io_tmp_dir() / "roundtrip.obj").string();
   write_obj(path, mesh);
   const ReadResult result = read_mesh(path, {.validate = false});
   EXPECT_EQ(result.mesh.positions, mesh.positions);  // %.17g round-trips every double exactly
@@ -364,7 +372,7 @@ TEST(WriteObj, RoundTripIsExact) {
 }
 
 TEST(WriteAtomically, ReplacesTheFileAndLeavesNoTemporary) {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "atomic_ok";
+  const fs::path folder = io_tmp_dir() / "atomic_ok";
   fs::remove_all(folder);
   fs::create_directories(folder);
   const std::string path = (folder / "out.txt").string();
@@ -378,7 +386,7 @@ TEST(WriteAtomically, ReplacesTheFileAndLeavesNoTemporary) {
 }
 
 TEST(WriteAtomically, ThrowingWriterLeavesTheOldFileAndNoTemporary) {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "atomic_fail";
+  const fs::path folder = io_tmp_dir() / "atomic_fail";
   fs::remove_all(folder);
   fs::create_directories(folder);
   const std::string path = (folder / "keep.obj").string();
@@ -398,7 +406,7 @@ TEST(WriteAtomically, ThrowingWriterLeavesTheOldFileAndNoTemporary) {
 }
 
 TEST(WriteAtomically, UnwritableFolderIsAnIoError) {
-  const std::string path = (fs::path(testing::test_tmp_dir()) / "no_such_dir" / "x.obj").string();
+  const std::string path = (io_tmp_dir() / "no_such_dir" / "x.obj").string();
   const std::string message =
       message_of<IoError>([&] { write_file_atomically(path, [](std::ostream&) {}); });
   expect_mentions(message, {"x.obj", "temporary"});
@@ -408,7 +416,7 @@ TEST(WriteAtomically, UnwritableFolderIsAnIoError) {
 // One test per class of bad input: the exception class, the file name and the element.
 
 TEST(BadInput, MissingFile) {
-  const std::string path = (fs::path(testing::test_tmp_dir()) / "does_not_exist.obj").string();
+  const std::string path = (io_tmp_dir() / "does_not_exist.obj").string();
   const std::string message = message_of<IoError>([&] { read_mesh(path); });
   expect_mentions(message, {"does_not_exist.obj", "no such file"});
 }
