@@ -1177,7 +1177,9 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   result.format = format;
   result.warnings = std::move(raw.warnings);
   const int nv = raw.num_vertices();
-  if (raw.num_polygons() == 0) io_error(path, "no faces");
+  if (raw.num_polygons() == 0) {
+    io_error(path, "no faces (the file holds " + std::to_string(nv) + " vertices and no face)");
+  }
   // OBJ may name vertices defined further down; now that all are known, check every index.
   for (int p = 0; p < raw.num_polygons(); ++p) {
     for (int i = raw.polygon_start[p]; i < raw.polygon_start[p + 1]; ++i) {

@@ -42,7 +42,8 @@ class DefectCollector {
   ValidationReport finish() {
     ValidationReport report;
     report.defects = std::move(defects_);
-    // Stable by check order: the defects were added kind after kind, so this only guarantees it.
+    // The checks add their defects kind after kind, except that one search finds both
+    // orientation kinds; a stable sort by rank restores the check order within each kind's order.
     std::stable_sort(report.defects.begin(), report.defects.end(),
                      [](const Defect& a, const Defect& b) { return rank(a.kind) < rank(b.kind); });
     for (DefectKind kind : kCheckOrder) {

@@ -44,7 +44,9 @@ struct ReadResult {
 /// \throw IoError naming the file when the extension is none of these
 MeshFormat format_from_path(const std::string& path);
 
-/// Reads a mesh file.
+/// Reads a mesh file. Every error message starts with the path and the line (text formats) or
+/// byte offset (binary formats) of the offending element; vertices and faces are numbered from 0
+/// in file order, while index values quoted from the file appear as written (1-based in OBJ).
 /// \throw IoError naming the file (and line or byte offset) when the file is missing, empty,
 ///        truncated or malformed, or its format is unknown
 /// \throw InvalidInput naming the file and line when a face index is out of range
