@@ -1,7 +1,6 @@
 #include "ricci/mesh/topology.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <numeric>
 #include <string>
 
@@ -69,49 +68,60 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
     }
   }
 
-  // Pair halfedges by sorting them on their undirected edge key.
+  // Pair halfedges: bucket them by their smaller end (a counting sort, linear time), then sort
+  // each small bucket by the larger end. Edges come out ordered by (smaller, larger) vertex.
   const int nh = 3 * nf;
-  std::vector<std::pair<std::uint64_t, int>> keyed(nh);
-  for (int h = 0; h < nh; ++h) {
-    const auto a = static_cast<std::uint64_t>(t.tail(h));
-    const auto b = static_cast<std::uint64_t>(t.head(h));
-    keyed[h] = {(std::min(a, b) << 32) | std::max(a, b), h};
+  std::vector<int> bucket_start(num_vertices + 1, 0);
+  for (int h = 0; h < nh; ++h) ++bucket_start[std::min(t.tail(h), t.head(h)) + 1];
+  for (int v = 0; v < num_vertices; ++v) bucket_start[v + 1] += bucket_start[v];
+  std::vector<int> bucket(nh);
+  {
+    std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
+    for (int h = 0; h < nh; ++h) bucket[fill[std::min(t.tail(h), t.head(h))]++] = h;
   }
-  std::sort(keyed.begin(), keyed.end());
+  auto larger_end = [&](int h) { return std::max(t.tail(h), t.head(h)); };
 
   t.halfedge_twin.assign(nh, -1);
   t.halfedge_edge.assign(nh, -1);
   std::vector<std::pair<int, int>> edges;  // (halfedge, twin)
   edges.reserve(nh / 2 + 1);
-  for (int i = 0; i < nh;) {
-    int j = i + 1;
-    while (j < nh && keyed[j].first == keyed[i].first) ++j;
-    const int h0 = keyed[i].second;
-    if (j - i > 2) {
-      throw TopologyError("build_topology: non-manifold edge " +
-                          edge_name(t.tail(h0), t.head(h0)) + " is shared by " +
-                          std::to_string(j - i) + " faces (" + std::to_string(h0 / 3) + ", " +
-                          std::to_string(keyed[i + 1].second / 3) + ", " +
-                          std::to_string(keyed[i + 2].second / 3) + ", ...)");
-    }
-    const int e = static_cast<int>(edges.size());
-    if (j - i == 2) {
-      const int h1 = keyed[i + 1].second;
-      if (t.tail(h0) == t.tail(h1)) {
-        throw TopologyError("build_topology: inconsistent orientation: faces " +
-                            std::to_string(h0 / 3) + " and " + std::to_string(h1 / 3) +
-                            " traverse edge " + edge_name(t.tail(h0), t.head(h0)) +
-                            " in the same direction");
+  for (int v = 0; v < num_vertices; ++v) {
+    int* first = bucket.data() + bucket_start[v];
+    int* last = bucket.data() + bucket_start[v + 1];
+    std::sort(first, last, [&](int a, int b) {
+      const int ka = larger_end(a), kb = larger_end(b);
+      return ka != kb ? ka < kb : a < b;
+    });
+    for (int* i = first; i < last;) {
+      int* j = i + 1;
+      while (j < last && larger_end(*j) == larger_end(*i)) ++j;
+      const int h0 = *i;
+      if (j - i > 2) {
+        throw TopologyError("build_topology: non-manifold edge " +
+                            edge_name(t.tail(h0), t.head(h0)) + " is shared by " +
+                            std::to_string(j - i) + " faces (" + std::to_string(h0 / 3) + ", " +
+                            std::to_string(i[1] / 3) + ", " + std::to_string(i[2] / 3) +
+                            ", ...)");
       }
-      t.halfedge_twin[h0] = h1;
-      t.halfedge_twin[h1] = h0;
-      t.halfedge_edge[h1] = e;
-      edges.emplace_back(h0, h1);
-    } else {
-      edges.emplace_back(h0, -1);
+      const int e = static_cast<int>(edges.size());
+      if (j - i == 2) {
+        const int h1 = i[1];
+        if (t.tail(h0) == t.tail(h1)) {
+          throw TopologyError("build_topology: inconsistent orientation: faces " +
+                              std::to_string(h0 / 3) + " and " + std::to_string(h1 / 3) +
+                              " traverse edge " + edge_name(t.tail(h0), t.head(h0)) +
+                              " in the same direction");
+        }
+        t.halfedge_twin[h0] = h1;
+        t.halfedge_twin[h1] = h0;
+        t.halfedge_edge[h1] = e;
+        edges.emplace_back(h0, h1);
+      } else {
+        edges.emplace_back(h0, -1);
+      }
+      t.halfedge_edge[h0] = e;
+      i = j;
     }
-    t.halfedge_edge[h0] = e;
-    i = j;
   }
 
   const int ne = static_cast<int>(edges.size());

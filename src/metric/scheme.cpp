@@ -1,7 +1,6 @@
 #include "ricci/metric/scheme.hpp"
 
 #include <algorithm>
-#include <functional>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -55,7 +54,7 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
         d1 += -2.0 * (target - y - g);
         d2 += 2.0;
       } else if (y * y + g * g > target * target) {
-        const double r = std::hypot(y, g);
+        const double r = std::sqrt(y * y + g * g);
         const double slope = y / r;
         d1 += 2.0 * (r - target) * slope;
         d2 += 2.0 * (slope * slope + (r - target) * g * g / (r * r * r));
@@ -80,11 +79,10 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
 }
 
 /// Gauss-Seidel sweeps of the per-vertex fit; returns the sweeps used.
-template <class FitVertex>
+template <class FittedLength, class FitVertex>
 int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& lbar,
                Eigen::VectorXd& gamma, const StructureOptions& options,
-               const std::function<double(double, double, double)>& fitted_length,
-               FitVertex fit_vertex) {
+               FittedLength fitted_length, FitVertex fit_vertex) {
   auto residual = [&]() {
     double sum = 0;
     for (int e = 0; e < t.num_edges; ++e) {

@@ -56,7 +56,7 @@ struct FlowOptions {
   /// Newton: solve with the previous factorisation as a preconditioner (conjugate gradients)
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
-  int reuse_factorization_cg_iterations = 0;
+  int reuse_factorization_cg_iterations = 25;
   FlowProgress progress;     ///< optional callback after each iteration
 };
 

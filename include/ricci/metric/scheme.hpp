@@ -48,8 +48,10 @@ enum class PackingInit {
 struct StructureOptions {
   Scheme scheme = Scheme::Thurston;      ///< which discrete metric
   PackingInit packing_init = PackingInit::Fit;  ///< Thurston and tangential only
-  int fit_sweeps = 30;          ///< Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
-  double fit_tolerance = 1e-10; ///< stop the fit when a sweep improves the RMS error less than this
+  int fit_sweeps = 30;  ///< most Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
+  /// Stop the fit when a sweep lowers the sum of squared length errors by less than this
+  /// fraction (the RMS error then changes in its fifth digit).
+  double fit_tolerance = 1e-4;
 };
 
 /// What make_conformal_structure returns.

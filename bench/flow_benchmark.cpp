@@ -1,0 +1,112 @@
+// Newton Ricci flow on generated tori of about 10k, 100k and 1M faces, flattened to 1e-10.
+// Prints per size: set-up time, Newton iterations, time per phase, total, peak memory, and, in
+// the same run, one analyse-plus-factorise of the same Hessian alone with the ratio of the two
+// (the target: flow total <= 3 x that, peak memory <= 2 GB at 1M faces).
+//
+//   build/bench/ricci_flow_benchmark                      # all sizes
+//   build/bench/ricci_flow_benchmark --benchmark_filter=/1000/   # the 1M-face torus only
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+#include "ricci/flow/cholesky.hpp"
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/metric/hessian.hpp"
+#include "ricci/metric/lengths.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+/// Resets the kernel's peak resident set size of this process (Linux >= 4.0).
+void reset_peak_memory() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+}
+
+/// Peak resident set size of this process since the last reset, in MB.
+double peak_memory_mb() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kb = 0;
+      status >> kb;
+      return kb / 1024.0;
+    }
+    std::getline(status, key);
+  }
+  return -1;
+}
+
+void BM_FlatTorusNewton(benchmark::State& state) {
+  const int major = static_cast<int>(state.range(0));
+  const int minor = major / 2;
+  for (auto _ : state) {
+    reset_peak_memory();
+    auto t0 = Clock::now();
+    const ricci::Mesh mesh = ricci::make_torus(major, minor);
+    const double generate = seconds_since(t0);
+
+    ricci::MeshFlowOptions options;  // Thurston packing fitted to the torus, flat target
+    const ricci::MeshFlowResult r = ricci::flow_mesh(mesh, options);
+    const double peak = peak_memory_mb();
+    if (!r.converged) state.SkipWithError(r.components[0].flow.message.c_str());
+    const ricci::FlowResult& f = r.components[0].flow;
+
+    // The same Hessian (at the solution, gauge vertex removed) analysed and factorised alone.
+    Eigen::VectorXd hw, ew;
+    ricci::CornerAngles angles;
+    Eigen::VectorXd lengths;
+    const auto& s = r.structure.structure;
+    ricci::edge_lengths(r.topology, s, r.u, lengths);
+    ricci::corner_angles(r.topology, lengths, angles);
+    ricci::halfedge_weights(r.topology, s, r.u, lengths, angles, hw);
+    ricci::edge_weights(r.topology, hw, ew);
+    const Eigen::SparseMatrix<double> L = ricci::curvature_hessian(r.topology, ew);
+    const Eigen::Index n = L.rows() - 1;
+    const Eigen::SparseMatrix<double> H = L.bottomRightCorner(n, n);
+    ricci::SparseCholesky alone;
+    t0 = Clock::now();
+    alone.analyze(H);
+    alone.factorize(H);
+    const double analyse_factorise = seconds_since(t0);
+
+    const double flow_seconds = r.total_seconds;
+    state.SetIterationTime(flow_seconds);
+    state.counters["faces"] = mesh.num_faces();
+    state.counters["generate_s"] = generate;
+    state.counters["setup_s"] = r.setup_seconds + f.timings.setup;
+    state.counters["newton_iterations"] = f.iterations;
+    state.counters["assembly_s"] = f.timings.assembly;
+    state.counters["analysis_s"] = f.timings.analysis;
+    state.counters["factorization_s"] = f.timings.factorization;
+    state.counters["solve_s"] = f.timings.solve;
+    state.counters["line_search_s"] = f.timings.line_search;
+    state.counters["flow_total_s"] = flow_seconds;
+    state.counters["analyse_factorise_alone_s"] = analyse_factorise;
+    state.counters["ratio"] = flow_seconds / analyse_factorise;
+    state.counters["peak_MB"] = peak;
+    state.counters["final_error"] = r.max_error;
+  }
+}
+
+BENCHMARK(BM_FlatTorusNewton)
+    ->ArgName("major")
+    ->Arg(100)    // 10,000 faces
+    ->Arg(316)    // 99,856 faces
+    ->Arg(1000)   // 1,000,000 faces
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
