@@ -231,7 +231,10 @@ void check_admissible(const Topology& t, const ConformalStructure& structure,
           std::to_string(t.vertex_degree[v]) + ") has target curvature " + format_value(k) +
           ", which breaks the single-vertex bound K > " + format_value(lower) +
           (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
-          "; split edges around it to raise its valence");
+          "; split edges around it to raise its valence" +
+          (structure.scheme == Scheme::Thurston
+               ? ", or use the tangential scheme (Phi = 0 gives the widest bound)"
+               : ""));
     }
   }
   for (std::size_t c = 0; c < t.components.size(); ++c) {
