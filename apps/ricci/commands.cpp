@@ -190,6 +190,12 @@ int run_flow(const FlowArgs& args) {
               << " (" << scheme_name(options.structure.scheme) << ", "
               << flow_solver_name(options.flow.solver) << ", " << result.target.description
               << ")\n";
+    if (options.structure.scheme == Scheme::Thurston ||
+        options.structure.scheme == Scheme::Tangential) {
+      std::cout << "  initial packing fits the input lengths with RMS relative error "
+                << std::setprecision(3) << result.structure.fit_rms_relative_error << " (max "
+                << result.structure.fit_max_relative_error << ")" << std::defaultfloat << "\n";
+    }
     for (std::size_t c = 0; c < result.components.size(); ++c) {
       const ComponentFlow& comp = result.components[c];
       std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
