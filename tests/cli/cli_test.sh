@@ -1,2 +1,419 @@
 #!/usr/bin/env bash
-echo "cli tests: placeholder"
+# End-to-end tests of the `ricci` program: help and version, `generate` and `info` on every
+# built-in mesh, `flow` with every target, scheme and solver, and the refusal of bad input
+# (exit code 2, a message naming the file and the element, no output written).
+#
+# Usage: RICCI=/path/to/ricci bash tests/cli/cli_test.sh [SCRATCH_DIR]
+# Needs bash, coreutils, grep and /usr/bin/python3 (for the JSON checks). Prints one line per
+# failed check and finally "N passed, M failed"; exits 1 when a check failed. The working folder
+# under SCRATCH_DIR is removed when every check passed and kept for inspection otherwise.
+set -u
+
+if [[ -z "${RICCI:-}" || ! -x "${RICCI}" ]]; then
+  echo "cli_test.sh: set RICCI to the ricci executable (got '${RICCI:-}')" >&2
+  exit 2
+fi
+PYTHON=/usr/bin/python3
+[[ -x "$PYTHON" ]] || PYTHON=python3
+
+scratch="${1:-${TMPDIR:-/tmp}}"
+mkdir -p "$scratch" || exit 2
+WORK="$(mktemp -d "$scratch/cli.XXXXXX")" || exit 2
+cd "$WORK" || exit 2
+
+# --- check framework -------------------------------------------------------------------------
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+fail() {  # fail NAME REASON
+  failed=$((failed + 1))
+  echo "FAIL: $1: $2"
+}
+
+# ricci ARGS...: runs the program; stdout in $WORK/out.txt, stderr in $WORK/err.txt, code in $rc.
+rc=0
+ricci() {
+  "$RICCI" "$@" >"$WORK/out.txt" 2>"$WORK/err.txt"
+  rc=$?
+}
+first_error() { head -n 3 "$WORK/err.txt" | tr '\n' ' '; }
+
+# expect_rc NAME WANT: the last ricci run exited with WANT.
+expect_rc() {
+  if [[ "$rc" == "$2" ]]; then ok; else fail "$1" "exit code $rc, expected $2; stderr: $(first_error)"; fi
+}
+
+# expect_in NAME FILE TEXT...: FILE contains every TEXT (fixed strings).
+expect_in() {
+  local name="$1" file="$2" text
+  shift 2
+  for text in "$@"; do
+    if grep -qF -- "$text" "$file"; then ok; else
+      fail "$name" "'$text' not in $(basename "$file"): $(head -c 300 "$file" | tr '\n' ' ')"
+    fi
+  done
+}
+expect_err() { local name="$1"; shift; expect_in "$name" "$WORK/err.txt" "$@"; }
+expect_out() { local name="$1"; shift; expect_in "$name" "$WORK/out.txt" "$@"; }
+
+# expect_json NAME FILE PYTHON_EXPR: the expression is true with `d` the parsed JSON of FILE.
+expect_json() {
+  local reason
+  if reason="$("$PYTHON" - "$2" "$3" 2>&1 <<'EOF'
+import json, math, sys
+try:
+    with open(sys.argv[1]) as f:
+        d = json.load(f)
+except Exception as e:
+    print(f"cannot read JSON: {e}")
+    sys.exit(1)
+if not eval(sys.argv[2], {"d": d, "math": math}):
+    print(f"false: {sys.argv[2]}")
+    sys.exit(1)
+EOF
+  )"; then ok; else fail "$1" "$reason"; fi
+}
+
+expect_file() { if [[ -f "$2" ]]; then ok; else fail "$1" "$2 was not written"; fi; }
+expect_no_file() { if [[ ! -e "$2" ]]; then ok; else fail "$1" "$2 exists but must not"; fi; }
+checksum() { if [[ -f "$1" ]]; then sha256sum <"$1"; else echo "missing"; fi; }
+expect_same() {  # expect_same NAME FILE CHECKSUM
+  local now
+  now="$(checksum "$2")"
+  if [[ "$now" == "$3" ]]; then ok; elif [[ "$now" == missing ]]; then fail "$1" "$2 was removed"
+  else fail "$1" "$2 was modified"; fi
+}
+# expect_no_temporaries NAME DIR: no temporary files of the atomic writer are left in DIR.
+expect_no_temporaries() {
+  local left
+  left="$(find "$2" -maxdepth 1 -name '.*.tmp*' | head -n 3 | tr '\n' ' ')"
+  if [[ -z "$left" ]]; then ok; else fail "$1" "temporary files left: $left"; fi
+}
+
+# --- help, version, parse errors ---------------------------------------------------------------
+ricci --version
+expect_rc "--version" 0
+expect_out "--version" "ricci 0.1.0"
+
+ricci --help
+expect_rc "--help" 0
+expect_out "--help" "info" "flow" "generate" "--version" "Exit codes"
+
+ricci info --help
+expect_rc "info --help" 0
+expect_out "info --help" "MESH" "--json"
+
+ricci flow --help
+expect_rc "flow --help" 0
+expect_out "flow --help" "--scheme" "=thurston" "tangential" "inversive-distance" "vertex-scaling" \
+  "virtual-radius" "--init" "=fit" "--target" "=flat" "disk-length" "uniform" "--boundary" \
+  "=free" "--cones" "--solver" "=newton" "--tol" "1e-10" "--max-iterations" "--step" \
+  "-o,--output" "--json" "--progress"
+
+ricci generate --help
+expect_rc "generate --help" 0
+expect_out "generate --help" "KIND" "tetrahedron" "icosphere" "disk" "torus" "surface" \
+  "--resolution" "--genus" "=2" "--holes" "-o,--output"
+
+ricci
+expect_rc "no subcommand" 2
+ricci frobnicate
+expect_rc "unknown subcommand" 2
+ricci --frobnicate
+expect_rc "unknown global option" 2
+ricci info --frobnicate x.obj
+expect_rc "unknown info option" 2
+ricci flow
+expect_rc "flow without MESH" 2
+ricci generate torus
+expect_rc "generate without -o" 2
+ricci generate blob -o blob.obj
+expect_rc "generate unknown kind" 2
+expect_err "generate unknown kind" "blob"
+expect_no_file "generate unknown kind writes nothing" blob.obj
+
+# --- generate + info on every built-in mesh ----------------------------------------------------
+mkdir -p meshes
+# gen NAME ARGS...: writes meshes/NAME.obj.
+gen() {
+  local name="$1"
+  shift
+  ricci generate "$@" -o "meshes/$name.obj"
+  expect_rc "generate $name" 0
+  expect_file "generate $name" "meshes/$name.obj"
+}
+gen tetrahedron tetrahedron
+gen icosphere icosphere
+gen disk disk
+gen torus torus
+gen genus2 surface --genus 2
+gen genus1_holes2 surface --genus 1 --holes 2
+gen small_torus torus --resolution 6
+gen small_icosphere icosphere --resolution 1
+gen small_disk disk --resolution 4
+expect_no_temporaries "generate leaves no temporaries" meshes
+
+# info_json NAME EXPR: `info --json` on meshes/NAME.obj succeeds and satisfies EXPR.
+info_json() {
+  ricci info "meshes/$1.obj" --json
+  expect_rc "info $1" 0
+  cp "$WORK/out.txt" "info_$1.json"
+  expect_json "info $1 is consistent" "info_$1.json" \
+    'd["valid"] is True and d["defects"] == [] and d["components"] == 1 and d["vertices"] - d["edges"] + d["faces"] == d["euler_characteristic"] == 2 - 2 * d["genus"] - d["boundary_loops"]'
+  expect_json "info $1" "info_$1.json" "$2"
+}
+info_json tetrahedron 'd["vertices"] == 4 and d["edges"] == 6 and d["faces"] == 4 and d["genus"] == 0 and d["boundary_loops"] == 0 and d["euler_characteristic"] == 2'
+# Icosphere of 3 subdivisions: 10 * 4^3 + 2 vertices, 20 * 4^3 faces.
+info_json icosphere 'd["vertices"] == 642 and d["edges"] == 1920 and d["faces"] == 1280 and d["genus"] == 0 and d["boundary_loops"] == 0'
+# Disk of 16 rings: 1 + 3 * 16 * 17 vertices, 6 * 16^2 faces.
+info_json disk 'd["vertices"] == 817 and d["faces"] == 1536 and d["genus"] == 0 and d["boundary_loops"] == 1 and d["euler_characteristic"] == 1'
+# Torus of 64 x 32 quads, each split in two.
+info_json torus 'd["vertices"] == 2048 and d["edges"] == 6144 and d["faces"] == 4096 and d["genus"] == 1 and d["boundary_loops"] == 0 and d["euler_characteristic"] == 0'
+info_json genus2 'd["genus"] == 2 and d["boundary_loops"] == 0 and d["euler_characteristic"] == -2'
+info_json genus1_holes2 'd["genus"] == 1 and d["boundary_loops"] == 2 and d["euler_characteristic"] == -2'
+info_json small_torus 'd["vertices"] == 72 and d["faces"] == 144 and d["genus"] == 1'
+info_json small_icosphere 'd["vertices"] == 42 and d["faces"] == 80 and d["genus"] == 0'
+info_json small_disk 'd["vertices"] == 61 and d["faces"] == 96 and d["boundary_loops"] == 1'
+
+ricci info meshes/torus.obj
+expect_rc "info text" 0
+expect_out "info text" "meshes/torus.obj" "vertices" "2048" "Euler characteristic" "genus" "defects" "none"
+
+# --- flow ------------------------------------------------------------------------------------
+# flow_ok NAME MESH ARGS...: `flow --json` converges to the default tolerance 1e-10.
+flow_ok() {
+  local name="$1"
+  shift
+  ricci flow "$@" --json
+  expect_rc "flow $name" 0
+  cp "$WORK/out.txt" "flow.json"
+  expect_json "flow $name converges" flow.json \
+    'd["converged"] is True and d["max_error"] <= 1e-10 and all(c["converged"] for c in d["components"])'
+}
+
+flow_ok "torus flat" meshes/torus.obj
+expect_json "flow torus flat summary" flow.json \
+  'd["scheme"] == "thurston" and d["solver"] == "newton" and d["vertices"] == 2048 and d["edges"] == 6144 and d["faces"] == 4096 and d["tolerance"] == 1e-10 and d["components"][0]["genus"] == 1'
+
+for target in free disk disk-length; do
+  flow_ok "disk --target $target" meshes/disk.obj --target "$target"
+done
+flow_ok "disk --boundary disk-length" meshes/small_disk.obj --boundary disk-length
+
+flow_ok "genus 2 uniform" meshes/genus2.obj --target uniform
+flow_ok "genus 1 with 2 holes, free boundary" meshes/genus1_holes2.obj --target free
+
+# Four cones of curvature pi on a sphere satisfy Gauss-Bonnet (4 pi = 2 pi chi).
+flow_ok "icosphere --cones list" meshes/icosphere.obj --cones '0:pi,3:pi,5:pi,9:pi'
+expect_json "icosphere --cones list" flow.json '"4 cones" in d["target"]'
+printf '# vertex curvature\n0 pi\n3 3.141592653589793\n5 pi\n9 pi  # last\n' >cones.txt
+flow_ok "icosphere --cones file" meshes/icosphere.obj --cones cones.txt
+# A torus: a cone pair of opposite curvature.
+flow_ok "torus --cones pair" meshes/torus.obj --cones '0:pi/2,1000:-pi/2'
+
+# --target FILE: the uniform curvature 2 pi chi / n written out per vertex.
+"$PYTHON" -c '
+import math, sys
+n = 42
+with open(sys.argv[1], "w") as f:
+    f.write("# 4 pi / 42 at every vertex\n")
+    f.writelines(f"{4 * math.pi / n!r}\n" for _ in range(n))
+' target_values.txt
+flow_ok "--target FILE" meshes/small_icosphere.obj --target target_values.txt -o target_result.json
+expect_json "--target FILE reached" target_result.json \
+  'all(abs(k - 4 * math.pi / 42) < 1e-9 for k in d["vertex_data"]["curvature"]) and all(abs(k - 4 * math.pi / 42) < 1e-15 for k in d["vertex_data"]["target_curvature"])'
+
+flow_ok "gradient solver" meshes/small_icosphere.obj --solver gradient --target uniform
+expect_json "gradient solver" flow.json 'd["solver"] == "gradient"'
+flow_ok "gradient solver with cones" meshes/small_icosphere.obj --solver gradient --cones '0:pi,3:pi,5:pi,9:pi'
+
+for scheme in thurston tangential inversive-distance vertex-scaling virtual-radius; do
+  flow_ok "--scheme $scheme" meshes/small_torus.obj --scheme "$scheme"
+  expect_json "--scheme $scheme" flow.json "d[\"scheme\"] == \"$scheme\""
+done
+flow_ok "--init unit" meshes/small_torus.obj --init unit
+
+ricci flow meshes/small_torus.obj --progress
+expect_rc "--progress" 0
+expect_err "--progress" "iteration    0" "max |K-bar - K|"
+expect_out "flow text" "converged" "component 0"
+
+# -o writes the full result atomically.
+mkdir -p results
+ricci flow meshes/small_torus.obj -o results/torus.json
+expect_rc "flow -o" 0
+expect_file "flow -o" results/torus.json
+expect_out "flow -o" "wrote results/torus.json"
+expect_json "flow -o vertex_data" results/torus.json \
+  'd["converged"] is True and all(len(d["vertex_data"][k]) == d["vertices"] == 72 for k in ("u", "curvature", "target_curvature", "file_index")) and len(d["vertex_data"]["edges"]) == len(d["vertex_data"]["lengths"]) == d["edges"] == 216'
+expect_json "flow -o values" results/torus.json \
+  'all(abs(k) < 1e-9 for k in d["vertex_data"]["curvature"]) and all(l > 0 for l in d["vertex_data"]["lengths"]) and all(len(e) == 2 and 0 <= min(e) and max(e) < 72 for e in d["vertex_data"]["edges"])'
+expect_no_temporaries "flow -o leaves no temporaries" results
+
+# Not converged: exit 3.
+ricci flow meshes/torus.obj --solver gradient --max-iterations 1 --json
+expect_rc "not converged" 3
+cp "$WORK/out.txt" not_converged.json
+expect_json "not converged" not_converged.json 'd["converged"] is False and d["max_error"] > 1e-10'
+
+# --- bad meshes --------------------------------------------------------------------------------
+mkdir -p bad
+: >bad/empty.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >bad/triangle.xyz
+# A tetrahedron with the header of each defect; the defective element is on the line noted.
+printf 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >bad/nan.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 1000000000\nf 1 4 3\nf 2 3 4\n' >bad/index.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 4 4\nf 1 4 3\nf 2 3 4\n' >bad/repeated.obj
+# Three triangles on the edge (1, 2).
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n' >bad/nonmanifold_edge.obj
+# A bowtie: two triangles that share only vertex 1.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 -1 0\nf 1 2 3\nf 1 4 5\n' >bad/bowtie.obj
+# Both triangles traverse the edge (2, 3) from 2 to 3.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n' >bad/orientation.obj
+# Three collinear vertices.
+printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 3 2\n' >bad/zero_area.obj
+"$PYTHON" - <<'EOF'
+import math, struct
+# A Moebius strip: a band of 10 quads whose last quad joins the first with a half twist.
+n = 10
+with open("bad/moebius.obj", "w") as f:
+    for i in range(n):
+        angle = 2 * math.pi * i / n
+        for s in (-0.3, 0.3):
+            r = 1 + s * math.cos(angle / 2)
+            f.write(f"v {r * math.cos(angle):.9f} {r * math.sin(angle):.9f} {s * math.sin(angle / 2):.9f}\n")
+    for i in range(n):
+        top, bottom = 1 + 2 * i, 2 + 2 * i
+        next_top, next_bottom = (top + 2, bottom + 2) if i < n - 1 else (2, 1)
+        f.write(f"f {top} {bottom} {next_bottom}\nf {top} {next_bottom} {next_top}\n")
+# A binary little-endian PLY tetrahedron, whole and cut inside its last face.
+header = ("ply\nformat binary_little_endian 1.0\nelement vertex 4\n"
+          "property float x\nproperty float y\nproperty float z\n"
+          "element face 4\nproperty list uchar int vertex_indices\nend_header\n").encode()
+vertices = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+faces = [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]
+body = b"".join(struct.pack("<3f", *v) for v in vertices)
+body += b"".join(struct.pack("<B3i", 3, *f) for f in faces)
+with open("bad/tetrahedron.ply", "wb") as f:
+    f.write(header + body)
+with open("bad/cut.ply", "wb") as f:
+    f.write(header + body[:-7])
+EOF
+
+ricci info bad/tetrahedron.ply --json
+expect_rc "binary PLY reads" 0
+cp "$WORK/out.txt" ply.json
+expect_json "binary PLY reads" ply.json 'd["vertices"] == 4 and d["faces"] == 4 and d["genus"] == 0 and d["valid"] is True'
+
+# bad_mesh NAME FILE TEXT...: flow refuses FILE with exit 2, a message naming the file and every
+# TEXT, and writes no -o file.
+bad_mesh() {
+  local name="$1" file="$2"
+  shift 2
+  rm -f bad_out.json
+  ricci flow "$file" -o bad_out.json
+  expect_rc "$name" 2
+  expect_err "$name" "$(basename "$file")" "$@"
+  expect_no_file "$name writes no output" bad_out.json
+}
+bad_mesh "missing file" bad/missing.obj "no such file"
+bad_mesh "0-byte file" bad/empty.obj "empty"
+bad_mesh "unknown extension" bad/triangle.xyz ".xyz"
+bad_mesh "NaN coordinate" bad/nan.obj "line 3" "vertex 2" "non-finite"
+bad_mesh "face index out of range" bad/index.obj "line 6" "1000000000"
+bad_mesh "face repeats a vertex" bad/repeated.obj "line 6" "face 1" "more than once"
+bad_mesh "non-manifold edge" bad/nonmanifold_edge.obj "line 6" "non-manifold edge" "(0, 1)"
+bad_mesh "non-manifold vertex" bad/bowtie.obj "non-manifold vertex 0"
+bad_mesh "inconsistent orientation" bad/orientation.obj "line 6" "inconsistent orientation" "faces 1 and 0"
+bad_mesh "Moebius strip" bad/moebius.obj "line" "non-orientable"
+bad_mesh "zero-area face" bad/zero_area.obj "line 6" "face 1" "zero area"
+bad_mesh "truncated binary PLY" bad/cut.ply "byte" "truncated"
+expect_no_temporaries "bad input leaves no temporaries" .
+
+# info lists the defects of a defective mesh and exits 2.
+ricci info bad/nonmanifold_edge.obj
+expect_rc "info on a defective mesh" 2
+expect_out "info on a defective mesh" "defects:" "non-manifold-edge: 1" "non-manifold edge (0, 1) is shared by 3 faces"
+ricci info bad/moebius.obj --json
+expect_rc "info --json on a Moebius strip" 2
+cp "$WORK/out.txt" moebius.json
+expect_json "info --json on a Moebius strip" moebius.json \
+  'd["valid"] is False and d["defect_counts"].get("non-orientable") == 1 and any(x["kind"] == "non-orientable" for x in d["defects"])'
+ricci info bad/orientation.obj --json
+expect_rc "info --json on inconsistent orientation" 2
+cp "$WORK/out.txt" orientation.json
+expect_json "info --json on inconsistent orientation" orientation.json \
+  'd["valid"] is False and [x["kind"] for x in d["defects"]] == ["inconsistent-orientation"]'
+
+# --- bad targets and options -------------------------------------------------------------------
+# bad_flow NAME TEXT... -- ARGS...: flow ARGS -o bad_out.json exits 2 naming every TEXT, no output.
+bad_flow() {
+  local name="$1"
+  shift
+  local texts=()
+  while [[ "$1" != "--" ]]; do texts+=("$1"); shift; done
+  shift
+  rm -f bad_out.json
+  ricci flow "$@" -o bad_out.json
+  expect_rc "$name" 2
+  expect_err "$name" "${texts[@]}"
+  expect_no_file "$name writes no output" bad_out.json
+}
+ico=meshes/icosphere.obj
+bad_flow "no cones on a sphere" "Gauss-Bonnet" -- "$ico"
+bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" -- "$ico" --cones '0:pi'
+# -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, the bound fails.
+bad_flow "cone breaking the vertex bound" "vertex 0" "bound" -- \
+  "$ico" --cones '0:-4pi,1:pi,2:pi,3:pi,4:pi,5:pi,6:pi,7:pi,8:pi'
+bad_flow "cone of -20 pi" "vertex 0" "bound" -- "$ico" --cones '0:-20pi,3:pi,5:pi,9:pi'
+bad_flow "malformed --cones curvature" "pix" -- "$ico" --cones '0:pi,3:pix'
+bad_flow "malformed --cones item" "0pi" -- "$ico" --cones '0pi'
+bad_flow "malformed --cones vertex" "-1" -- "$ico" --cones='-1:pi,0:pi,3:pi,5:pi,9:pi'
+bad_flow "--cones vertex out of range" "vertex 5000" -- "$ico" --cones '5000:pi,0:pi,3:pi,5:pi'
+bad_flow "--cones given twice at a vertex" "vertex 0" -- "$ico" --cones '0:pi,3:pi,5:pi,9:pi,0:pi'
+printf '0 pi\n3 pi\n5 pi\n9 pi extra\n' >bad/cones.txt
+bad_flow "malformed cone file" "cones.txt:4" -- "$ico" --cones bad/cones.txt
+bad_flow "--cones with a non-flat target" "--cones" -- "$ico" --cones '0:pi,3:pi,5:pi,9:pi' --target uniform
+bad_flow "--target neither name nor file" "--target" "nosuch" -- "$ico" --target nosuch
+printf '1\n2\n' >bad/two_values.txt
+bad_flow "--target FILE of the wrong length" "two_values.txt" "2 curvature values" -- \
+  meshes/small_icosphere.obj --target bad/two_values.txt
+printf '0\n0\nnot-a-number\n' >bad/word_values.txt
+bad_flow "--target FILE with a word" "word_values.txt:3" -- meshes/small_icosphere.obj --target bad/word_values.txt
+bad_flow "--scheme unknown" "foo" -- meshes/small_torus.obj --scheme foo
+bad_flow "--solver unknown" "foo" -- meshes/small_torus.obj --solver foo
+bad_flow "--init unknown" "foo" -- meshes/small_torus.obj --init foo
+bad_flow "--boundary unknown" "foo" -- meshes/small_torus.obj --boundary foo
+bad_flow "--tol negative" "--tol" -- meshes/small_torus.obj --tol -1
+bad_flow "unknown flow option" "--frobnicate" -- meshes/small_torus.obj --frobnicate
+
+# -o naming the input mesh is refused and leaves the mesh byte-identical.
+cp meshes/small_torus.obj own.obj
+own_sum="$(checksum own.obj)"
+ricci flow own.obj -o own.obj
+expect_rc "-o equal to the input" 2
+expect_err "-o equal to the input" "own.obj" "overwrite"
+expect_same "-o equal to the input leaves it untouched" own.obj "$own_sum"
+ricci flow own.obj -o "./results/../own.obj"
+expect_rc "-o equal to the input, spelled differently" 2
+expect_same "-o equal to the input, spelled differently" own.obj "$own_sum"
+
+# An existing result survives later failed runs that name it.
+result_sum="$(checksum results/torus.json)"
+for args in "bad/nonmanifold_edge.obj" "bad/cut.ply" "bad/missing.obj" "$ico --cones 0:pi" \
+  "meshes/small_torus.obj --target nosuch"; do
+  # shellcheck disable=SC2086  # the arguments are split on purpose
+  ricci flow $args -o results/torus.json
+  expect_rc "failed run over an existing output ($args)" 2
+  expect_same "failed run over an existing output ($args)" results/torus.json "$result_sum"
+done
+expect_no_temporaries "failed runs leave no temporaries" results
+
+# --- summary -----------------------------------------------------------------------------------
+echo "$passed passed, $failed failed"
+if ((failed > 0)); then
+  echo "scratch files kept in $WORK" >&2
+  exit 1
+fi
+cd / && rm -rf "$WORK"
+exit 0
