@@ -1,0 +1,319 @@
+#include "reader_support.hpp"
+
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <numeric>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+
+namespace ricci::io_detail {
+
+// ---------------------------------------------------------------------------------------------
+// Error formatting
+
+std::string describe(Where where) {
+  return (where.is_byte ? "byte " : "line ") + std::to_string(where.value);
+}
+
+std::string quote(std::string_view token) {
+  std::string out = "'";
+  for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (std::isprint(c)) {
+      out += static_cast<char>(c);
+    } else {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\x%02x", c);
+      out += buffer;
+    }
+  }
+  if (token.size() > 40) out += "...";
+  return out + "'";
+}
+
+void io_error(const std::string& path, const std::string& what) {
+  throw IoError(path + ": " + what);
+}
+
+void io_error(const std::string& path, Where where, const std::string& what) {
+  throw IoError(path + ": " + describe(where) + ": " + what);
+}
+
+void bad_vertex_index(const std::string& path, Where where, std::int64_t face,
+                      std::string_view index, const std::string& range) {
+  throw InvalidInput(path + ": " + describe(where) + ": face " + std::to_string(face) +
+                     " uses vertex index " + std::string(index) + ", " + range);
+}
+
+void too_few_corners(const std::string& path, Where where, std::int64_t face, std::int64_t count) {
+  io_error(path, where,
+           "face " + std::to_string(face) + " has " + std::to_string(count) +
+               " corners, need at least 3");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Number parsing
+
+std::optional<double> parse_double(std::string_view token) {
+  if (token.size() > 1 && token[0] == '+' && token[1] != '-') token.remove_prefix(1);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (end != token.data() + token.size() || token.empty()) return std::nullopt;
+  if (ec == std::errc::result_out_of_range) {
+    // Overflow or underflow: strtod gives the limit value (inf or 0), which is what the number
+    // means; validation rejects the infinite ones.
+    return std::strtod(std::string(token).c_str(), nullptr);
+  }
+  if (ec != std::errc()) return std::nullopt;
+  return value;
+}
+
+std::optional<std::int64_t> parse_integer(std::string_view token) {
+  if (token.size() > 1 && token[0] == '+' && token[1] != '-') token.remove_prefix(1);
+  std::int64_t value = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (end != token.data() + token.size() || token.empty()) return std::nullopt;
+  if (ec == std::errc::result_out_of_range) {
+    return token[0] == '-' ? std::numeric_limits<std::int64_t>::min()
+                           : std::numeric_limits<std::int64_t>::max();
+  }
+  if (ec != std::errc()) return std::nullopt;
+  return value;
+}
+
+void add_text_vertex(const std::string& path, Where here, std::string_view rest, RawMesh& raw) {
+  double x[3];
+  int count = 0;
+  for (std::string_view token = next_token(rest); !token.empty(); token = next_token(rest)) {
+    const auto value = parse_double(token);
+    if (!value) {
+      io_error(
+          path, here,
+          "malformed number " + quote(token) + " in vertex " + std::to_string(raw.num_vertices()));
+    }
+    if (count < 3) x[count] = *value;
+    ++count;
+  }
+  if (count < 3) {
+    io_error(path, here,
+             "vertex " + std::to_string(raw.num_vertices()) + " has " + std::to_string(count) +
+                 " coordinates, need 3");
+  }
+  raw.add_vertex(x[0], x[1], x[2], here.value);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Triangulation and assembly
+
+namespace {
+
+/// Triangulates one planar-ish polygon by ear clipping in the plane of its Newell normal.
+/// Returns false (leaving `out` untouched) when no ear can be found, e.g. for a self-intersecting
+/// polygon.
+bool ear_clip(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
+              std::vector<std::array<int, 3>>& out) {
+  const int n = static_cast<int>(points.size());
+  Eigen::Vector3d u = normal.unitOrthogonal();
+  Eigen::Vector3d w = normal.normalized().cross(u);
+  std::vector<Eigen::Vector2d> plane(n);
+  for (int i = 0; i < n; ++i) plane[i] = {points[i].dot(u), points[i].dot(w)};
+  auto cross = [&](int a, int b, int c) {
+    return (plane[b] - plane[a]).x() * (plane[c] - plane[a]).y() -
+           (plane[b] - plane[a]).y() * (plane[c] - plane[a]).x();
+  };
+  std::vector<int> remaining(n);
+  std::iota(remaining.begin(), remaining.end(), 0);
+  std::vector<std::array<int, 3>> triangles;
+  while (remaining.size() > 3) {
+    const int m = static_cast<int>(remaining.size());
+    bool clipped = false;
+    for (int i = 0; i < m && !clipped; ++i) {
+      const int a = remaining[(i + m - 1) % m], b = remaining[i], c = remaining[(i + 1) % m];
+      if (cross(a, b, c) <= 0) continue;  // reflex or degenerate corner
+      bool empty = true;
+      for (int j : remaining) {
+        if (j == a || j == b || j == c) continue;
+        if (cross(a, b, j) >= 0 && cross(b, c, j) >= 0 && cross(c, a, j) >= 0) {
+          empty = false;
+          break;
+        }
+      }
+      if (!empty) continue;
+      triangles.push_back({a, b, c});
+      remaining.erase(remaining.begin() + i);
+      clipped = true;
+    }
+    if (!clipped) return false;
+  }
+  if (cross(remaining[0], remaining[1], remaining[2]) <= 0) return false;
+  triangles.push_back({remaining[0], remaining[1], remaining[2]});
+  out = std::move(triangles);
+  return true;
+}
+
+struct Triangulation {
+  Triangles triangles;
+  std::vector<int> polygon_of_triangle;
+  int polygons_triangulated = 0;
+  int ear_clipped = 0;
+};
+
+/// Splits polygons into triangles: a fan from the first corner when every fan triangle is
+/// non-degenerate and turns like the polygon, otherwise ear clipping.
+Triangulation triangulate(const RawMesh& raw) {
+  Triangulation out;
+  const int np = raw.num_polygons();
+  std::vector<std::array<int, 3>> triangles;
+  triangles.reserve(raw.corners.size() / 3 + 1);
+  out.polygon_of_triangle.reserve(triangles.capacity());
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> local;
+  auto point = [&](int v) {
+    return Eigen::Vector3d(raw.xyz[3 * v], raw.xyz[3 * v + 1], raw.xyz[3 * v + 2]);
+  };
+  for (int p = 0; p < np; ++p) {
+    const int* corner = raw.corners.data() + raw.polygon_start[p];
+    const int n = raw.polygon_start[p + 1] - raw.polygon_start[p];
+    if (n == 3) {
+      triangles.push_back({corner[0], corner[1], corner[2]});
+      out.polygon_of_triangle.push_back(p);
+      continue;
+    }
+    ++out.polygons_triangulated;
+    points.resize(n);
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // Newell's normal
+    for (int i = 0; i < n; ++i) points[i] = point(corner[i]);
+    for (int i = 0; i < n; ++i) normal += points[i].cross(points[(i + 1) % n]);
+    bool fan = true;
+    if (normal.allFinite() && normal.squaredNorm() > 0) {
+      for (int i = 1; i + 1 < n && fan; ++i) {
+        const Eigen::Vector3d a = points[i] - points[0], b = points[i + 1] - points[0];
+        const Eigen::Vector3d c = a.cross(b);
+        const double longest = std::max({a.squaredNorm(), b.squaredNorm(), (b - a).squaredNorm()});
+        fan = c.dot(normal) > 0 && c.norm() > 1e-12 * longest;
+      }
+      if (!fan && ear_clip(points, normal, local)) {
+        ++out.ear_clipped;
+        for (const auto& t : local) {
+          triangles.push_back({corner[t[0]], corner[t[1]], corner[t[2]]});
+          out.polygon_of_triangle.push_back(p);
+        }
+        continue;
+      }
+    }
+    for (int i = 1; i + 1 < n; ++i) {  // the fan, also the fallback when ear clipping fails
+      triangles.push_back({corner[0], corner[i], corner[i + 1]});
+      out.polygon_of_triangle.push_back(p);
+    }
+  }
+  out.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) out.triangles(static_cast<Eigen::Index>(t), k) = triangles[t][k];
+  }
+  return out;
+}
+
+bool element_is_vertex(DefectKind kind) {
+  return kind == DefectKind::NonFiniteCoordinate || kind == DefectKind::NonManifoldVertex ||
+         kind == DefectKind::UnreferencedVertex;
+}
+
+/// Moves `file_mesh` into result.mesh without the vertices no triangle uses, filling
+/// result.dropped_vertices and result.vertex_map and warning about the dropped ones.
+void drop_unreferenced_vertices(const std::string& path, const RawMesh& raw, Mesh file_mesh,
+                                ReadResult& result) {
+  const int nv = raw.num_vertices();
+  std::vector<int> new_index(nv, -1);
+  for (Eigen::Index f = 0; f < file_mesh.triangles.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) new_index[file_mesh.triangles(f, k)] = 0;
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (new_index[v] < 0) {
+      result.dropped_vertices.push_back(v);
+    } else {
+      new_index[v] = static_cast<int>(result.vertex_map.size());
+      result.vertex_map.push_back(v);
+    }
+  }
+  if (result.dropped_vertices.empty()) {
+    result.mesh = std::move(file_mesh);
+    return;
+  }
+  const int first = result.dropped_vertices.front();
+  result.warnings.push_back(path + ": " + std::to_string(result.dropped_vertices.size()) +
+                            " unreferenced vertices dropped (the first is vertex " +
+                            std::to_string(first) + " at " + describe(raw.vertex_at(first)) + ")");
+  result.mesh.positions.resize(static_cast<Eigen::Index>(result.vertex_map.size()), 3);
+  for (std::size_t v = 0; v < result.vertex_map.size(); ++v) {
+    result.mesh.positions.row(static_cast<Eigen::Index>(v)) =
+        file_mesh.positions.row(result.vertex_map[v]);
+  }
+  result.mesh.triangles = std::move(file_mesh.triangles);
+  for (Eigen::Index f = 0; f < result.mesh.triangles.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      result.mesh.triangles(f, k) = new_index[result.mesh.triangles(f, k)];
+    }
+  }
+}
+
+}  // namespace
+
+ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
+                    const ReadOptions& options) {
+  ReadResult result;
+  result.format = format;
+  result.warnings = std::move(raw.warnings);
+  const int nv = raw.num_vertices();
+  if (raw.num_polygons() == 0) {
+    io_error(path, "no faces (the file holds " + std::to_string(nv) + " vertices and no face)");
+  }
+  // OBJ may name vertices defined further down; now that all are known, check every index.
+  for (int p = 0; p < raw.num_polygons(); ++p) {
+    for (int i = raw.polygon_start[p]; i < raw.polygon_start[p + 1]; ++i) {
+      if (raw.corners[i] < nv) continue;
+      bad_vertex_index(path, raw.polygon_at(p), p,
+                       std::to_string(static_cast<std::int64_t>(raw.corners[i]) + raw.index_base),
+                       "but the file has only " + std::to_string(nv) + " vertices");
+    }
+  }
+
+  Triangulation triangulation = triangulate(raw);
+  result.polygons_triangulated = triangulation.polygons_triangulated;
+  if (triangulation.polygons_triangulated > 0) {
+    std::string warning = path + ": " + std::to_string(triangulation.polygons_triangulated) +
+                          " polygons with more than 3 corners triangulated";
+    if (triangulation.ear_clipped > 0) {
+      warning += " (" + std::to_string(triangulation.ear_clipped) +
+                 " by ear clipping, where a fan would fold or degenerate)";
+    }
+    result.warnings.push_back(warning);
+  }
+
+  Mesh file_mesh;
+  file_mesh.positions = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      raw.xyz.data(), nv, 3);
+  file_mesh.triangles = std::move(triangulation.triangles);
+
+  if (options.validate) {
+    result.validation = find_defects(file_mesh);
+    for (const Defect& defect : result.validation.defects) {
+      if (defect.kind == DefectKind::UnreferencedVertex) continue;
+      const Where where = element_is_vertex(defect.kind)
+                              ? raw.vertex_at(defect.element)
+                              : raw.polygon_at(triangulation.polygon_of_triangle[defect.element]);
+      throw_first_defect(result.validation, path + ": " + describe(where));
+    }
+  }
+
+  drop_unreferenced_vertices(path, raw, std::move(file_mesh), result);
+  return result;
+}
+
+}  // namespace ricci::io_detail

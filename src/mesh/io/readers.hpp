@@ -1,0 +1,28 @@
+#pragma once
+/// \file
+/// Private to the mesh readers: one parser per format, each turning a whole file's bytes into the
+/// raw polygon soup that read_mesh assembles. Every parser throws IoError (or InvalidInput for an
+/// index out of range) naming `path` and the line or byte offset of the offending element.
+
+#include <string>
+#include <string_view>
+
+#include "reader_support.hpp"
+
+namespace ricci::io_detail {
+
+/// Wavefront OBJ: v and f statements (1-based or negative indices); texture coordinates,
+/// normals, groups and materials are ignored, free-form geometry is refused.
+RawMesh parse_obj(const std::string& path, std::string_view data);
+
+/// OFF and its [ST][C][N]OFF variants; the extra per-vertex and per-face numbers are skipped.
+RawMesh parse_off(const std::string& path, std::string_view data);
+
+/// PLY 1.0, ASCII or binary of either byte order: the vertex element's x, y, z and the face
+/// element's vertex_indices (or vertex_index) list; other elements are skipped with a warning.
+RawMesh parse_ply(const std::string& path, std::string_view data);
+
+/// STL, ASCII or binary; corners at exactly equal positions become one vertex.
+RawMesh parse_stl(const std::string& path, std::string_view data);
+
+}  // namespace ricci::io_detail
