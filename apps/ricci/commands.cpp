@@ -18,10 +18,15 @@ namespace ricci::cli {
 namespace {
 
 /// Refuses to write a result over one of the inputs.
-void check_output_is_not_input(const std::string& output, const std::string& input) {
+void check_output_is_not_input(const std::string& output, const std::vector<std::string>& inputs) {
   std::error_code ec;
-  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(output, input, ec)) {
-    throw InvalidInput(output + ": the output would overwrite the input mesh; choose another -o");
+  if (!std::filesystem::exists(output, ec)) return;
+  for (const std::string& input : inputs) {
+    if (!input.empty() && std::filesystem::exists(input, ec) &&
+        std::filesystem::equivalent(output, input, ec)) {
+      throw InvalidInput(output + ": the output would overwrite the input " + input +
+                         "; choose another -o");
+    }
   }
 }
 
@@ -112,7 +117,9 @@ int run_flow(const FlowArgs& args) {
   options.flow.tolerance = args.tolerance;
   options.flow.max_iterations = args.max_iterations;
   options.flow.gradient_step = args.step;
-  if (!args.output.empty()) check_output_is_not_input(args.output, args.mesh);
+  if (!args.output.empty()) {
+    check_output_is_not_input(args.output, {args.mesh, args.cones, args.target});
+  }
 
   const ReadResult read = read_mesh(args.mesh);
   print_warnings(read);
@@ -172,7 +179,13 @@ int run_flow(const FlowArgs& args) {
       return true;
     };
   }
-  const MeshFlowResult result = flow_mesh(mesh, options);
+  options.vertex_labels = read.vertex_map;  // messages number vertices as the file does
+  MeshFlowResult result;
+  try {
+    result = flow_mesh(mesh, options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(args.mesh + ": " + e.what());
+  }
 
   nlohmann::json summary = flow_summary(result, options);
   summary["input"] = args.mesh;

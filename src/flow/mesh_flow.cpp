@@ -44,9 +44,10 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
 }  // namespace
 
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
-                    const TargetSpec& spec) {
+                    const TargetSpec& spec, const std::vector<int>& vertex_labels) {
   switch (spec.kind) {
-    case TargetKind::Flat: return flat_target(topology, spec.cones, spec.boundary, input_lengths);
+    case TargetKind::Flat:
+      return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
     case TargetKind::Uniform: return uniform_target(topology);
     case TargetKind::Values: return values_target(topology, spec.values);
   }
@@ -61,9 +62,11 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);
   const ConformalStructure& structure = result.structure.structure;
-  result.target = build_target(whole, lbar, options.target);
+  result.target = build_target(whole, lbar, options.target, options.vertex_labels);
   // Checked on the whole mesh so that messages name whole-mesh vertices.
-  check_admissible(whole, structure, result.target);
+  AdmissibilityOptions admissibility;
+  admissibility.vertex_labels = options.vertex_labels;
+  check_admissible(whole, structure, result.target, admissibility);
   result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   result.u = structure.initial_u;

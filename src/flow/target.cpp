@@ -22,6 +22,12 @@ std::string format_value(double x) {
   return out.str();
 }
 
+/// The number a message shows for vertex v: its label when labels are given (e.g. its index in
+/// the file the mesh came from), else v.
+std::string vertex_label(int v, const std::vector<int>& labels) {
+  return std::to_string(v >= 0 && v < static_cast<int>(labels.size()) ? labels[v] : v);
+}
+
 std::string trim(const std::string& s) {
   const auto begin = s.find_first_not_of(" \t\r\n");
   if (begin == std::string::npos) return "";
@@ -93,7 +99,7 @@ const char* boundary_mode_name(BoundaryMode mode) {
 }
 
 Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMode boundary,
-                   const Eigen::VectorXd& input_lengths) {
+                   const Eigen::VectorXd& input_lengths, const std::vector<int>& labels) {
   Target target;
   target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
   target.fixed.assign(t.num_vertices, 0);
@@ -101,20 +107,20 @@ Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMo
   std::vector<double> cone_total(t.components.size(), 0.0);
   for (const Cone& cone : cones) {
     if (cone.vertex < 0 || cone.vertex >= t.num_vertices || t.vertex_component[cone.vertex] < 0) {
-      throw InvalidInput("flat_target: cone at vertex " + std::to_string(cone.vertex) +
+      throw InvalidInput("flat_target: cone at vertex " + vertex_label(cone.vertex, labels) +
                          ", which is not a vertex of the mesh (it has " +
                          std::to_string(t.num_vertices) + ")");
     }
     if (is_cone[cone.vertex]) {
-      throw InvalidInput("flat_target: vertex " + std::to_string(cone.vertex) +
+      throw InvalidInput("flat_target: vertex " + vertex_label(cone.vertex, labels) +
                          " is given two cones");
     }
     if (!std::isfinite(cone.curvature)) {
-      throw InvalidInput("flat_target: cone at vertex " + std::to_string(cone.vertex) +
+      throw InvalidInput("flat_target: cone at vertex " + vertex_label(cone.vertex, labels) +
                          " has curvature " + format_value(cone.curvature));
     }
     if (t.is_boundary_vertex[cone.vertex] && boundary == BoundaryMode::Free) {
-      throw InvalidInput("flat_target: cone at boundary vertex " + std::to_string(cone.vertex) +
+      throw InvalidInput("flat_target: cone at boundary vertex " + vertex_label(cone.vertex, labels) +
                          ", whose log radius the free boundary keeps fixed; use a disk boundary "
                          "or an interior vertex");
     }
@@ -217,17 +223,17 @@ void check_admissible(const Topology& t, const ConformalStructure& structure,
     const double lower = top - bound_sum[v];
     const char* where = t.is_boundary_vertex[v] ? "boundary vertex " : "vertex ";
     if (!std::isfinite(k)) {
-      throw InvalidInput("check_admissible: " + std::string(where) + std::to_string(v) +
+      throw InvalidInput("check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
                          " has target curvature " + format_value(k));
     }
     if (!(k < top)) {
-      throw InvalidInput("check_admissible: " + std::string(where) + std::to_string(v) +
+      throw InvalidInput("check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
                          " has target curvature " + format_value(k) + ", which must be below " +
                          format_value(top) + " (its angle sum must stay positive)");
     }
     if (!(k > lower)) {
       throw InvalidInput(
-          "check_admissible: " + std::string(where) + std::to_string(v) + " (valence " +
+          "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) + " (valence " +
           std::to_string(t.vertex_degree[v]) + ") has target curvature " + format_value(k) +
           ", which breaks the single-vertex bound K > " + format_value(lower) +
           (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +

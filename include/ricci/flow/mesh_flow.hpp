@@ -35,6 +35,9 @@ struct MeshFlowOptions {
   StructureOptions structure;  ///< scheme and initial packing
   TargetSpec target;           ///< what curvature to reach
   FlowOptions flow;            ///< solver, tolerance, progress
+  /// Numbers messages show for vertices (e.g. their index in the file, when the reader dropped
+  /// unreferenced vertices); empty: the mesh's own indices.
+  std::vector<int> vertex_labels;
 };
 
 /// Result of one component.
@@ -63,7 +66,7 @@ struct MeshFlowResult {
 /// Builds the target of a spec on a whole mesh.
 /// \throw InvalidInput on bad cones or values
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
-                    const TargetSpec& spec);
+                    const TargetSpec& spec, const std::vector<int>& vertex_labels = {});
 
 /// Runs the flow on every component of a mesh.
 /// \pre the mesh passed validate_mesh

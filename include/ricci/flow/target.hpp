@@ -41,10 +41,13 @@ const char* boundary_mode_name(BoundaryMode mode);
 
 /// Flat metric with cones: K-bar = 0 except at the cones; boundary vertices as `boundary` says.
 /// \param input_lengths #E lengths used by DiskLength (input_edge_lengths)
+/// \param vertex_labels numbers shown for vertices in messages (e.g. file indices); empty: the
+///        vertex index
 /// \throw InvalidInput when a cone names a vertex out of range, twice, or on the boundary
 Target flat_target(const Topology& topology, const std::vector<Cone>& cones,
                    BoundaryMode boundary = BoundaryMode::Free,
-                   const Eigen::VectorXd& input_lengths = {});
+                   const Eigen::VectorXd& input_lengths = {},
+                   const std::vector<int>& vertex_labels = {});
 
 /// K-bar_i = 2 pi chi / n on every vertex of each component (surface fairing).
 Target uniform_target(const Topology& topology);
@@ -57,6 +60,9 @@ Target values_target(const Topology& topology, const Eigen::VectorXd& values);
 struct AdmissibilityOptions {
   /// |sum K-bar - 2 pi chi| allowed, relative to max(2 pi, sum |K-bar|).
   double gauss_bonnet_tolerance = 1e-9;
+  /// Numbers shown for vertices in messages (e.g. their index in the input file); empty: the
+  /// vertex index.
+  std::vector<int> vertex_labels;
 };
 
 /// Rejects a target that cannot be reached: on every component without fixed vertices the target
