@@ -100,9 +100,9 @@ void BM_FlatTorusNewton(benchmark::State& state) {
 
 BENCHMARK(BM_FlatTorusNewton)
     ->ArgName("major")
-    ->Arg(100)    // 10,000 faces
-    ->Arg(316)    // 99,856 faces
-    ->Arg(1000)   // 1,000,000 faces
+    ->Arg(100)   // 10,000 faces
+    ->Arg(316)   // 99,856 faces
+    ->Arg(1000)  // 1,000,000 faces
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);

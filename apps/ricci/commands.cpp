@@ -47,8 +47,9 @@ std::vector<Cone> read_cones(const std::string& spec) {
   if (spec.empty()) return {};
   if (std::filesystem::is_regular_file(spec)) return read_cone_file(spec);
   if (spec.find(':') == std::string::npos) {
-    throw InvalidInput("--cones: '" + spec +
-                       "' is neither a file nor a list VERTEX:CURVATURE,... (e.g. 12:pi/2,40:pi/2)");
+    throw InvalidInput(
+        "--cones: '" + spec +
+        "' is neither a file nor a list VERTEX:CURVATURE,... (e.g. 12:pi/2,40:pi/2)");
   }
   return parse_cone_list(spec);
 }
@@ -86,8 +87,8 @@ int run_info(const InfoArgs& args) {
       for (std::size_t c = 0; c < info.component_info.size(); ++c) {
         const ComponentInfo& ci = info.component_info[c];
         std::cout << "  component " << c << ": V " << ci.vertices << ", F " << ci.faces
-                  << ", boundary loops " << ci.boundary_loops << ", chi "
-                  << ci.euler_characteristic << ", genus " << ci.genus << "\n";
+                  << ", boundary loops " << ci.boundary_loops << ", chi " << ci.euler_characteristic
+                  << ", genus " << ci.genus << "\n";
       }
     }
     if (info.validation.defects.empty()) {
@@ -173,9 +174,8 @@ int run_flow(const FlowArgs& args) {
     options.flow.progress = [](const IterationRecord& r) {
       std::cerr << "  iteration " << std::setw(4) << r.iteration << "  max |K-bar - K| "
                 << std::scientific << std::setprecision(3) << r.max_error << "  step "
-                << std::defaultfloat << std::setprecision(4) << r.step_length << "  "
-                << std::fixed << std::setprecision(2) << r.seconds << " s" << std::defaultfloat
-                << "\n";
+                << std::defaultfloat << std::setprecision(4) << r.step_length << "  " << std::fixed
+                << std::setprecision(2) << r.seconds << " s" << std::defaultfloat << "\n";
       return true;
     };
   }
@@ -198,9 +198,10 @@ int run_flow(const FlowArgs& args) {
   if (args.json) {
     std::cout << summary.dump(2) << "\n";
   } else {
-    std::cout << args.mesh << ": " << (result.converged ? "converged" : "NOT converged") << ", max |K-bar - K| = "
-              << std::scientific << std::setprecision(3) << result.max_error << std::defaultfloat
-              << " (" << scheme_name(options.structure.scheme) << ", "
+    std::cout << args.mesh << ": " << (result.converged ? "converged" : "NOT converged")
+              << ", max |K-bar - K| = " << std::scientific << std::setprecision(3)
+              << result.max_error << std::defaultfloat << " ("
+              << scheme_name(options.structure.scheme) << ", "
               << flow_solver_name(options.flow.solver) << ", " << result.target.description
               << ")\n";
     if (options.structure.scheme == Scheme::Thurston ||
@@ -212,10 +213,10 @@ int run_flow(const FlowArgs& args) {
     for (std::size_t c = 0; c < result.components.size(); ++c) {
       const ComponentFlow& comp = result.components[c];
       std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
-                << comp.genus << ", " << comp.boundary_loops << " boundary loops): "
-                << comp.flow.iterations << " iterations, " << std::fixed << std::setprecision(3)
-                << comp.flow.timings.total << " s: " << comp.flow.message << std::defaultfloat
-                << "\n";
+                << comp.genus << ", " << comp.boundary_loops
+                << " boundary loops): " << comp.flow.iterations << " iterations, " << std::fixed
+                << std::setprecision(3) << comp.flow.timings.total << " s: " << comp.flow.message
+                << std::defaultfloat << "\n";
     }
     if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
   }

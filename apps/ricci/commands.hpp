@@ -11,9 +11,9 @@ namespace ricci::cli {
 /// Exit codes of the `ricci` program (documented in README.md).
 enum ExitCode : int {
   kOk = 0,
-  kBadInput = 2,        ///< unreadable or defective mesh, inadmissible target, bad option
-  kNotConverged = 3,    ///< the flow stopped before reaching the tolerance
-  kInternalError = 4,   ///< a numerical breakdown or a bug
+  kBadInput = 2,       ///< unreadable or defective mesh, inadmissible target, bad option
+  kNotConverged = 3,   ///< the flow stopped before reaching the tolerance
+  kInternalError = 4,  ///< a numerical breakdown or a bug
 };
 
 struct InfoArgs {

@@ -13,8 +13,9 @@ nlohmann::json to_json(const IterationRecord& r) {
 }
 
 nlohmann::json to_json(const FlowTimings& t) {
-  return {{"setup", t.setup},         {"assembly", t.assembly},       {"analysis", t.analysis},
-          {"factorization", t.factorization}, {"solve", t.solve}, {"line_search", t.line_search},
+  return {{"setup", t.setup},       {"assembly", t.assembly},
+          {"analysis", t.analysis}, {"factorization", t.factorization},
+          {"solve", t.solve},       {"line_search", t.line_search},
           {"total", t.total}};
 }
 
@@ -52,7 +53,8 @@ nlohmann::json to_json(const MeshInfo& info) {
   j["defect_counts"] = counts;
   nlohmann::json defects = nlohmann::json::array();
   for (const Defect& d : info.validation.defects) {
-    defects.push_back({{"kind", defect_name(d.kind)}, {"element", d.element}, {"message", d.message}});
+    defects.push_back(
+        {{"kind", defect_name(d.kind)}, {"element", d.element}, {"message", d.message}});
   }
   j["defects"] = defects;
   return j;

@@ -20,8 +20,9 @@ int main(int argc, char** argv) {
 
   InfoArgs info;
   CLI::App* info_cmd = app.add_subcommand(
-      "info", "Print counts, topology (components, boundary loops, Euler characteristic, genus), "
-              "the smallest angle and every defect of a mesh; exit 2 when it has defects.");
+      "info",
+      "Print counts, topology (components, boundary loops, Euler characteristic, genus), "
+      "the smallest angle and every defect of a mesh; exit 2 when it has defects.");
   info_cmd->add_option("MESH", info.mesh, "mesh file (.obj .off .ply .stl)")->required();
   info_cmd->add_flag("--json", info.json, "print the summary as JSON");
 

@@ -42,7 +42,9 @@ const char* SparseCholesky::backend() const {
   return impl_->use_cholmod ? "cholmod-supernodal" : "eigen-simplicial-ldlt";
 }
 
-bool SparseCholesky::analyzed() const { return impl_->analyzed; }
+bool SparseCholesky::analyzed() const {
+  return impl_->analyzed;
+}
 
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
 #ifdef RICCI_HAVE_CHOLMOD
@@ -68,8 +70,9 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   if (impl_->use_cholmod) {
     impl_->cholmod.factorize(A);
     if (impl_->cholmod.info() != Eigen::Success) {
-      throw SolverError("SparseCholesky::factorize: the matrix is not positive definite "
-                        "(CHOLMOD's numeric factorisation failed)");
+      throw SolverError(
+          "SparseCholesky::factorize: the matrix is not positive definite "
+          "(CHOLMOD's numeric factorisation failed)");
     }
     return;
   }

@@ -48,8 +48,10 @@ Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengt
   switch (spec.kind) {
     case TargetKind::Flat:
       return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
-    case TargetKind::Uniform: return uniform_target(topology);
-    case TargetKind::Values: return values_target(topology, spec.values);
+    case TargetKind::Uniform:
+      return uniform_target(topology);
+    case TargetKind::Values:
+      return values_target(topology, spec.values);
   }
   throw InvalidInput("build_target: unknown target kind");
 }

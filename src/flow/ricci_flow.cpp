@@ -40,11 +40,16 @@ const char* flow_solver_name(FlowSolver solver) {
 
 const char* flow_status_name(FlowStatus status) {
   switch (status) {
-    case FlowStatus::Converged: return "converged";
-    case FlowStatus::MaxIterations: return "max-iterations";
-    case FlowStatus::LineSearchFailed: return "line-search-failed";
-    case FlowStatus::SolverFailed: return "solver-failed";
-    case FlowStatus::Cancelled: return "cancelled";
+    case FlowStatus::Converged:
+      return "converged";
+    case FlowStatus::MaxIterations:
+      return "max-iterations";
+    case FlowStatus::LineSearchFailed:
+      return "line-search-failed";
+    case FlowStatus::SolverFailed:
+      return "solver-failed";
+    case FlowStatus::Cancelled:
+      return "cancelled";
   }
   return "unknown";
 }
@@ -64,13 +69,13 @@ struct RicciFlow::State {
 
   std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
   std::vector<int> vertex_of_row;
-  bool closed = true;               // no fixed vertex: angles invariant under u += c
-  int pinned_vertex = -1;           // gauge of a closed component
-  double gauge_mean = 0;            // mean of u held on a closed component
+  bool closed = true;      // no fixed vertex: angles invariant under u += c
+  int pinned_vertex = -1;  // gauge of a closed component
+  double gauge_mean = 0;   // mean of u held on a closed component
 
-  Eigen::SparseMatrix<double> H;    // reduced Hessian, both triangles
-  std::vector<int> edge_slots;      // #E x 4: (ij, ji, ii, jj) value indices or -1
-  std::vector<int> diagonal_slot;   // per row
+  Eigen::SparseMatrix<double> H;   // reduced Hessian, both triangles
+  std::vector<int> edge_slots;     // #E x 4: (ij, ji, ii, jj) value indices or -1
+  std::vector<int> diagonal_slot;  // per row
   SparseCholesky cholesky;
   Eigen::VectorXd halfedge_w, edge_w;
 
@@ -84,7 +89,11 @@ struct RicciFlow::State {
   int analyses = 0, factorizations = 0, cg_iterations = 0;
 
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
-      : topology(t), structure(s), target(tg), options(o), start(Clock::now()),
+      : topology(t),
+        structure(s),
+        target(tg),
+        options(o),
+        start(Clock::now()),
         cholesky(o.use_cholmod) {}
 
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
@@ -125,12 +134,12 @@ struct RicciFlow::State {
     if (finished) {
       // status already set (a failed line search)
     } else if (max_error <= options.tolerance) {
-      finish(FlowStatus::Converged, "reached max |K-bar - K| = " + format(max_error) + " <= " +
-                                        format(options.tolerance));
+      finish(FlowStatus::Converged,
+             "reached max |K-bar - K| = " + format(max_error) + " <= " + format(options.tolerance));
     } else if (iteration >= options.max_iterations) {
-      finish(FlowStatus::MaxIterations, "stopped after " + std::to_string(iteration) +
-                                            " iterations at max |K-bar - K| = " +
-                                            format(max_error));
+      finish(FlowStatus::MaxIterations,
+             "stopped after " + std::to_string(iteration) +
+                 " iterations at max |K-bar - K| = " + format(max_error));
     }
     if (options.progress && !options.progress(r) && !finished) {
       finish(FlowStatus::Cancelled, "cancelled by the progress callback");
@@ -304,8 +313,8 @@ struct RicciFlow::State {
     if (options.reuse_factorization_cg_iterations > 0 && factorizations > 0) {
       const auto t0 = Clock::now();
       const double forcing = std::clamp(0.1 * rhs.cwiseAbs().maxCoeff(), 1e-14, 1e-2);
-      solved = preconditioned_cg(rhs, forcing, options.reuse_factorization_cg_iterations,
-                                 delta_rows);
+      solved =
+          preconditioned_cg(rhs, forcing, options.reuse_factorization_cg_iterations, delta_rows);
       timings.solve += seconds_since(t0);
     }
     if (!solved) {
@@ -416,7 +425,8 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     throw InvalidInput("RicciFlow: the conformal structure does not belong to this mesh");
   }
   if (!(options.tolerance > 0)) {
-    throw InvalidInput("RicciFlow: tolerance must be positive, got " + State::format(options.tolerance));
+    throw InvalidInput("RicciFlow: tolerance must be positive, got " +
+                       State::format(options.tolerance));
   }
   check_admissible(topology, structure, target);
   if (s.options.max_iterations <= 0) {
@@ -486,10 +496,18 @@ bool RicciFlow::step() {
   return !s.finished;
 }
 
-bool RicciFlow::finished() const { return state_->finished; }
-const Eigen::VectorXd& RicciFlow::u() const { return state_->u; }
-const Eigen::VectorXd& RicciFlow::curvature() const { return state_->curvature; }
-double RicciFlow::max_error() const { return state_->history.back().max_error; }
+bool RicciFlow::finished() const {
+  return state_->finished;
+}
+const Eigen::VectorXd& RicciFlow::u() const {
+  return state_->u;
+}
+const Eigen::VectorXd& RicciFlow::curvature() const {
+  return state_->curvature;
+}
+double RicciFlow::max_error() const {
+  return state_->history.back().max_error;
+}
 
 FlowResult RicciFlow::result() const {
   const State& s = *state_;

@@ -91,9 +91,12 @@ BoundaryMode parse_boundary_mode(const std::string& name) {
 
 const char* boundary_mode_name(BoundaryMode mode) {
   switch (mode) {
-    case BoundaryMode::Free: return "free";
-    case BoundaryMode::DiskUniform: return "disk";
-    case BoundaryMode::DiskLength: return "disk-length";
+    case BoundaryMode::Free:
+      return "free";
+    case BoundaryMode::DiskUniform:
+      return "disk";
+    case BoundaryMode::DiskLength:
+      return "disk-length";
   }
   return "unknown";
 }
@@ -120,7 +123,8 @@ Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMo
                          " has curvature " + format_value(cone.curvature));
     }
     if (t.is_boundary_vertex[cone.vertex] && boundary == BoundaryMode::Free) {
-      throw InvalidInput("flat_target: cone at boundary vertex " + vertex_label(cone.vertex, labels) +
+      throw InvalidInput("flat_target: cone at boundary vertex " +
+                         vertex_label(cone.vertex, labels) +
                          ", whose log radius the free boundary keeps fixed; use a disk boundary "
                          "or an interior vertex");
     }
@@ -170,7 +174,8 @@ Target uniform_target(const Topology& t) {
   target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
   target.fixed.assign(t.num_vertices, 0);
   for (const Component& comp : t.components) {
-    const double k = 2 * kPi * comp.euler_characteristic / static_cast<double>(comp.vertices.size());
+    const double k =
+        2 * kPi * comp.euler_characteristic / static_cast<double>(comp.vertices.size());
     for (int v : comp.vertices) target.curvature[v] = k;
   }
   target.description = "uniform curvature 2 pi chi / n";
@@ -196,8 +201,8 @@ Target values_target(const Topology& t, const Eigen::VectorXd& values) {
   return target;
 }
 
-void check_admissible(const Topology& t, const ConformalStructure& structure,
-                      const Target& target, const AdmissibilityOptions& options) {
+void check_admissible(const Topology& t, const ConformalStructure& structure, const Target& target,
+                      const AdmissibilityOptions& options) {
   if (target.curvature.size() != t.num_vertices ||
       static_cast<int>(target.fixed.size()) != t.num_vertices) {
     throw InvalidInput("check_admissible: the target has " +
@@ -223,19 +228,21 @@ void check_admissible(const Topology& t, const ConformalStructure& structure,
     const double lower = top - bound_sum[v];
     const char* where = t.is_boundary_vertex[v] ? "boundary vertex " : "vertex ";
     if (!std::isfinite(k)) {
-      throw InvalidInput("check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
-                         " has target curvature " + format_value(k));
+      throw InvalidInput("check_admissible: " + std::string(where) +
+                         vertex_label(v, options.vertex_labels) + " has target curvature " +
+                         format_value(k));
     }
     if (!(k < top)) {
-      throw InvalidInput("check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
-                         " has target curvature " + format_value(k) + ", which must be below " +
-                         format_value(top) + " (its angle sum must stay positive)");
+      throw InvalidInput("check_admissible: " + std::string(where) +
+                         vertex_label(v, options.vertex_labels) + " has target curvature " +
+                         format_value(k) + ", which must be below " + format_value(top) +
+                         " (its angle sum must stay positive)");
     }
     if (!(k > lower)) {
       throw InvalidInput(
-          "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) + " (valence " +
-          std::to_string(t.vertex_degree[v]) + ") has target curvature " + format_value(k) +
-          ", which breaks the single-vertex bound K > " + format_value(lower) +
+          "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
+          " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
+          format_value(k) + ", which breaks the single-vertex bound K > " + format_value(lower) +
           (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
           "; split edges around it to raise its valence" +
           (structure.scheme == Scheme::Thurston
@@ -258,13 +265,11 @@ void check_admissible(const Topology& t, const ConformalStructure& structure,
     if (any_fixed) continue;
     sum += compensation;
     const double expected = 2 * kPi * comp.euler_characteristic;
-    if (std::abs(sum - expected) >
-        options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
+    if (std::abs(sum - expected) > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
       throw InvalidInput("check_admissible: component " + std::to_string(c) +
-                         " breaks Gauss-Bonnet: its target curvatures sum to " +
-                         format_value(sum) + " but must sum to 2 pi chi = " +
-                         format_value(expected) + " (chi = " +
-                         std::to_string(comp.euler_characteristic) + ")");
+                         " breaks Gauss-Bonnet: its target curvatures sum to " + format_value(sum) +
+                         " but must sum to 2 pi chi = " + format_value(expected) +
+                         " (chi = " + std::to_string(comp.euler_characteristic) + ")");
     }
   }
 }

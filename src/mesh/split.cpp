@@ -88,8 +88,8 @@ Mesh subdivide_midpoint(const Mesh& mesh) {
   out.positions.resize(nv + t.num_edges, 3);
   out.positions.topRows(nv) = mesh.positions;
   for (int e = 0; e < t.num_edges; ++e) {
-    out.positions.row(nv + e) =
-        0.5 * (mesh.positions.row(t.edge_vertices(e, 0)) + mesh.positions.row(t.edge_vertices(e, 1)));
+    out.positions.row(nv + e) = 0.5 * (mesh.positions.row(t.edge_vertices(e, 0)) +
+                                       mesh.positions.row(t.edge_vertices(e, 1)));
   }
   out.triangles.resize(4 * t.num_faces, 3);
   for (int f = 0; f < t.num_faces; ++f) {

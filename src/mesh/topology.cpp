@@ -100,8 +100,7 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
         throw TopologyError("build_topology: non-manifold edge " +
                             edge_name(t.tail(h0), t.head(h0)) + " is shared by " +
                             std::to_string(j - i) + " faces (" + std::to_string(h0 / 3) + ", " +
-                            std::to_string(i[1] / 3) + ", " + std::to_string(i[2] / 3) +
-                            ", ...)");
+                            std::to_string(i[1] / 3) + ", " + std::to_string(i[2] / 3) + ", ...)");
       }
       const int e = static_cast<int>(edges.size());
       if (j - i == 2) {
@@ -219,8 +218,8 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
     ++t.components[t.vertex_component[loop.front()]].num_boundary_loops;
   }
   for (auto& c : t.components) {
-    c.euler_characteristic = static_cast<int>(c.vertices.size()) - c.num_edges +
-                             static_cast<int>(c.faces.size());
+    c.euler_characteristic =
+        static_cast<int>(c.vertices.size()) - c.num_edges + static_cast<int>(c.faces.size());
     c.genus = (2 - c.euler_characteristic - c.num_boundary_loops) / 2;
   }
   return t;

@@ -1,8 +1,8 @@
 #include "ricci/metric/angles.hpp"
 
 #include <cmath>
-#include <utility>
 #include <limits>
+#include <utility>
 
 namespace ricci {
 
@@ -52,8 +52,8 @@ int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, Corn
       continue;
     }
     for (int k = 0; k < 3; ++k) {
-      angles(f, k) = 2.0 * std::atan2(std::sqrt(d[(k + 1) % 3] * d[(k + 2) % 3]),
-                                      std::sqrt(two_s * d[k]));
+      angles(f, k) =
+          2.0 * std::atan2(std::sqrt(d[(k + 1) % 3] * d[(k + 2) % 3]), std::sqrt(two_s * d[k]));
     }
   }
   return first_bad;

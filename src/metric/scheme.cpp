@@ -66,14 +66,20 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
   if (d1 == 0) return x;
   double lo = 0, hi = 0;
   for (const auto& n : neighbours) hi = std::max(hi, n.second);
-  if (d1 > 0) hi = x; else lo = x;
+  if (d1 > 0)
+    hi = x;
+  else
+    lo = x;
   for (int iteration = 0; iteration < 60 && hi - lo > 1e-15 * hi; ++iteration) {
     double next = d2 > 0 ? x - d1 / d2 : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     x = next;
     derivatives(x, d1, d2);
     if (d1 == 0) break;
-    if (d1 > 0) hi = x; else lo = x;
+    if (d1 > 0)
+      hi = x;
+    else
+      lo = x;
   }
   return std::max(x, 1e-300);
 }
@@ -81,13 +87,13 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
 /// Gauss-Seidel sweeps of the per-vertex fit; returns the sweeps used.
 template <class FittedLength, class FitVertex>
 int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& lbar,
-               Eigen::VectorXd& gamma, const StructureOptions& options,
-               FittedLength fitted_length, FitVertex fit_vertex) {
+               Eigen::VectorXd& gamma, const StructureOptions& options, FittedLength fitted_length,
+               FitVertex fit_vertex) {
   auto residual = [&]() {
     double sum = 0;
     for (int e = 0; e < t.num_edges; ++e) {
-      const double l = fitted_length(gamma[t.edge_vertices(e, 0)], gamma[t.edge_vertices(e, 1)],
-                                     lbar[e]);
+      const double l =
+          fitted_length(gamma[t.edge_vertices(e, 0)], gamma[t.edge_vertices(e, 1)], lbar[e]);
       sum += (l - lbar[e]) * (l - lbar[e]);
     }
     return sum;
@@ -118,11 +124,16 @@ int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& 
 
 const char* scheme_name(Scheme scheme) {
   switch (scheme) {
-    case Scheme::Tangential: return "tangential";
-    case Scheme::Thurston: return "thurston";
-    case Scheme::InversiveDistance: return "inversive-distance";
-    case Scheme::VertexScaling: return "vertex-scaling";
-    case Scheme::VirtualRadius: return "virtual-radius";
+    case Scheme::Tangential:
+      return "tangential";
+    case Scheme::Thurston:
+      return "thurston";
+    case Scheme::InversiveDistance:
+      return "inversive-distance";
+    case Scheme::VertexScaling:
+      return "vertex-scaling";
+    case Scheme::VirtualRadius:
+      return "virtual-radius";
   }
   return "unknown";
 }
@@ -193,8 +204,8 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
       // Equal radii c lbar / 2 fit an edge exactly for c in [1, sqrt 2]; start inside that range.
       for (int v = 0; v < nv; ++v) gamma[v] = (thurston ? 0.6 : 0.5) * adjacent(v, false);
       if (thurston) {
-        result.fit_sweeps = fit_sweeps(t, ve, lbar, gamma, options, thurston_fit_length,
-                                       fit_thurston_radius);
+        result.fit_sweeps =
+            fit_sweeps(t, ve, lbar, gamma, options, thurston_fit_length, fit_thurston_radius);
       } else {
         // Tangential lengths are gamma_i + gamma_j: each vertex step is a 1-D least squares.
         double floor = 1e-6 * lbar.mean();
@@ -234,8 +245,9 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
   double sum_sq = 0, sum_ref = 0, max_rel = 0;
   for (int e = 0; e < ne; ++e) {
     const int i = t.edge_vertices(e, 0), j = t.edge_vertices(e, 1);
-    const double l = std::sqrt(s.epsilon[i] * gamma[i] * gamma[i] +
-                               s.epsilon[j] * gamma[j] * gamma[j] + 2 * s.eta[e] * gamma[i] * gamma[j]);
+    const double l =
+        std::sqrt(s.epsilon[i] * gamma[i] * gamma[i] + s.epsilon[j] * gamma[j] * gamma[j] +
+                  2 * s.eta[e] * gamma[i] * gamma[j]);
     sum_sq += (l - lbar[e]) * (l - lbar[e]);
     sum_ref += lbar[e] * lbar[e];
     max_rel = std::max(max_rel, std::abs(l - lbar[e]) / lbar[e]);

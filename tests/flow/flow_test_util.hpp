@@ -13,14 +13,13 @@ namespace ricci::testing {
 
 /// Asserts quadratic convergence in the history: every full Newton step taken from an error below
 /// `from` and landing above the rounding floor satisfies e_next <= c e^2.
-inline void expect_quadratic_convergence(const FlowResult& r, double c = 10.0,
-                                         double from = 1e-2, double floor = 1e-11) {
+inline void expect_quadratic_convergence(const FlowResult& r, double c = 10.0, double from = 1e-2,
+                                         double floor = 1e-11) {
   int checked = 0;
   for (std::size_t k = 1; k < r.history.size(); ++k) {
     const double before = r.history[k - 1].max_error, after = r.history[k].max_error;
     if (before > from || after < floor || r.history[k].step_length != 1.0) continue;
-    EXPECT_LE(after, c * before * before)
-        << "iteration " << k << ": " << before << " -> " << after;
+    EXPECT_LE(after, c * before * before) << "iteration " << k << ": " << before << " -> " << after;
     ++checked;
   }
   // The last step from the basin must exist: the error went below `from` and then converged.

@@ -1,8 +1,8 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/mesh/generate.hpp"

@@ -52,8 +52,8 @@ void expect_solution(const Problem& p, const Target& target, const FlowResult& r
 }
 
 TEST(Newton, FlatTorusConvergesQuadratically) {
-  for (Scheme scheme : {Scheme::Thurston, Scheme::Tangential, Scheme::VertexScaling,
-                        Scheme::InversiveDistance}) {
+  for (Scheme scheme :
+       {Scheme::Thurston, Scheme::Tangential, Scheme::VertexScaling, Scheme::InversiveDistance}) {
     const Problem p = make_problem(make_torus(40, 16), scheme);
     const Target target = flat_target(p.topology, {});
     const FlowResult r = ricci_flow(p.topology, p.structure.structure, target);
@@ -135,8 +135,10 @@ TEST(Newton, SphereWithFourAndEightCones) {
   // nearest a cube's corners.
   auto nearest = [&](const Eigen::Vector3d& dir) {
     int best = 0;
-    (sphere.positions.rowwise() - dir.normalized().transpose()).rowwise().squaredNorm().minCoeff(
-        &best);
+    (sphere.positions.rowwise() - dir.normalized().transpose())
+        .rowwise()
+        .squaredNorm()
+        .minCoeff(&best);
     return best;
   };
   std::vector<Cone> four = {{nearest({1, 1, 1}), kPi},
@@ -208,8 +210,8 @@ TEST(Newton, IterationLimitIsAResultNotAnException) {
   const Problem p = make_problem(make_torus(20, 10));
   FlowOptions options;
   options.max_iterations = 1;
-  const FlowResult r = ricci_flow(p.topology, p.structure.structure, flat_target(p.topology, {}),
-                                  options);
+  const FlowResult r =
+      ricci_flow(p.topology, p.structure.structure, flat_target(p.topology, {}), options);
   EXPECT_EQ(r.status, FlowStatus::MaxIterations);
   EXPECT_EQ(r.iterations, 1);
   EXPECT_NE(r.message.find("1 iterations"), std::string::npos);

@@ -48,8 +48,7 @@ TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
       for (int round = 0; round < 2; ++round) {
         const Eigen::VectorXd k = curvature_at(t, s, u);
         const double total = accurate_sum(k);
-        EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(),
-                    1e-12 * 2 * kPi * t.num_vertices)
+        EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(), 1e-12 * 2 * kPi * t.num_vertices)
             << name << " " << scheme_name(scheme) << " round " << round;
         EXPECT_LT(gauss_bonnet_relative_error(t, k), 1e-12);
         for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/curvature.hpp"
@@ -70,8 +70,7 @@ TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
         fd.col(j) = (curvature_at(t, s, up) - curvature_at(t, s, down)) / (2 * h);
       }
       const double scale = L.cwiseAbs().maxCoeff();
-      EXPECT_LT((fd - L).cwiseAbs().maxCoeff() / scale, 1e-6)
-          << name << " " << scheme_name(scheme);
+      EXPECT_LT((fd - L).cwiseAbs().maxCoeff() / scale, 1e-6) << name << " " << scheme_name(scheme);
       EXPECT_LT((L - L.transpose()).cwiseAbs().maxCoeff() / scale, 1e-14);
       EXPECT_LT(L.rowwise().sum().cwiseAbs().maxCoeff() / scale, 1e-13);
     }

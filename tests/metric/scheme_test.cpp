@@ -44,7 +44,8 @@ TEST(Scheme, ExactSchemesReproduceTheInputLengths) {
   for (const auto& [name, mesh] : testing::generated_meshes()) {
     const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
     const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
-    for (Scheme scheme : {Scheme::InversiveDistance, Scheme::VertexScaling, Scheme::VirtualRadius}) {
+    for (Scheme scheme :
+         {Scheme::InversiveDistance, Scheme::VertexScaling, Scheme::VirtualRadius}) {
       StructureOptions options;
       options.scheme = scheme;
       const StructureResult r = make_conformal_structure(t, lbar, options);

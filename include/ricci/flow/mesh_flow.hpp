@@ -25,9 +25,9 @@ enum class TargetKind {
 /// The target, in whole-mesh vertex indices.
 struct TargetSpec {
   TargetKind kind = TargetKind::Flat;
-  std::vector<Cone> cones;                   ///< Flat: cone vertices and curvatures
-  BoundaryMode boundary = BoundaryMode::Free;///< Flat on meshes with boundary
-  Eigen::VectorXd values;                    ///< Values: #V curvatures
+  std::vector<Cone> cones;                     ///< Flat: cone vertices and curvatures
+  BoundaryMode boundary = BoundaryMode::Free;  ///< Flat on meshes with boundary
+  Eigen::VectorXd values;                      ///< Values: #V curvatures
 };
 
 /// Options of flow_mesh.
@@ -44,20 +44,20 @@ struct MeshFlowOptions {
 struct ComponentFlow {
   std::vector<int> vertices;  ///< whole-mesh index of each component vertex
   int euler_characteristic = 0, genus = 0, boundary_loops = 0;
-  FlowResult flow;            ///< in component-local indices
+  FlowResult flow;  ///< in component-local indices
 };
 
 /// What flow_mesh returns, gathered on the whole mesh.
 struct MeshFlowResult {
-  bool converged = false;  ///< every component converged
-  double max_error = 0;    ///< over all components
-  StructureResult structure;        ///< whole-mesh structure and fit error
-  Target target;                    ///< whole-mesh target
-  Topology topology;                ///< whole-mesh connectivity (edges for `lengths`)
-  Eigen::VectorXd u;                ///< #V final log radii
-  Eigen::VectorXd curvature;        ///< #V final curvature
-  Eigen::VectorXd target_curvature; ///< #V target (final curvature where u was fixed)
-  Eigen::VectorXd lengths;          ///< #E final lengths, edges as topology.edge_vertices
+  bool converged = false;            ///< every component converged
+  double max_error = 0;              ///< over all components
+  StructureResult structure;         ///< whole-mesh structure and fit error
+  Target target;                     ///< whole-mesh target
+  Topology topology;                 ///< whole-mesh connectivity (edges for `lengths`)
+  Eigen::VectorXd u;                 ///< #V final log radii
+  Eigen::VectorXd curvature;         ///< #V final curvature
+  Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)
+  Eigen::VectorXd lengths;           ///< #E final lengths, edges as topology.edge_vertices
   std::vector<ComponentFlow> components;
   double setup_seconds = 0;  ///< topology, structure, target, checks
   double total_seconds = 0;

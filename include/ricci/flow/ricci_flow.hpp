@@ -29,14 +29,14 @@ const char* flow_solver_name(FlowSolver solver);
 
 /// One iteration of a flow, as reported in the history and to the progress callback.
 struct IterationRecord {
-  int iteration = 0;         ///< 0 is the initial state
-  double max_error = 0;      ///< max |K-bar - K| over vertices with a target after the step
-  double rms_error = 0;      ///< root mean square of the same
-  double step_length = 0;    ///< alpha of u += alpha delta (gradient flow: alpha dt)
-  int backtracks = 0;        ///< step halvings of the line search
-  int triangle_failures = 0; ///< trial steps rejected: a triangle inequality broke or a
-                             ///< length became non-positive or overflowed
-  double seconds = 0;        ///< wall time since the solve started
+  int iteration = 0;          ///< 0 is the initial state
+  double max_error = 0;       ///< max |K-bar - K| over vertices with a target after the step
+  double rms_error = 0;       ///< root mean square of the same
+  double step_length = 0;     ///< alpha of u += alpha delta (gradient flow: alpha dt)
+  int backtracks = 0;         ///< step halvings of the line search
+  int triangle_failures = 0;  ///< trial steps rejected: a triangle inequality broke or a
+                              ///< length became non-positive or overflowed
+  double seconds = 0;         ///< wall time since the solve started
 };
 
 /// Called after every iteration; return false to stop the flow (status Cancelled).
@@ -45,29 +45,29 @@ using FlowProgress = std::function<bool(const IterationRecord&)>;
 /// Options of ricci_flow.
 struct FlowOptions {
   FlowSolver solver = FlowSolver::Newton;  ///< Newton or gradient flow
-  double tolerance = 1e-10;  ///< stop when max |K-bar - K| <= tolerance (radians)
-  int max_iterations = 0;    ///< 0: 200 for Newton, 1'000'000 for the gradient flow
+  double tolerance = 1e-10;                ///< stop when max |K-bar - K| <= tolerance (radians)
+  int max_iterations = 0;                  ///< 0: 200 for Newton, 1'000'000 for the gradient flow
   /// Gradient flow time step dt (radians^-1... a dimensionless factor on the curvature error);
   /// 0 picks 1 / (largest diagonal entry of the Hessian), the stable explicit step.
   double gradient_step = 0;
-  double armijo = 1e-4;      ///< sufficient decrease of |K-bar - K|^2 in the line search
-  int max_backtracks = 50;   ///< line search halvings before the flow gives up
-  bool use_cholmod = true;   ///< CHOLMOD when available, Eigen's solver otherwise
+  double armijo = 1e-4;     ///< sufficient decrease of |K-bar - K|^2 in the line search
+  int max_backtracks = 50;  ///< line search halvings before the flow gives up
+  bool use_cholmod = true;  ///< CHOLMOD when available, Eigen's solver otherwise
   /// Newton: solve with the previous factorisation as a preconditioner (conjugate gradients)
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
   int reuse_factorization_cg_iterations = 25;
-  FlowProgress progress;     ///< optional callback after each iteration
+  FlowProgress progress;  ///< optional callback after each iteration
 };
 
 /// Why a flow stopped.
 enum class FlowStatus {
-  Converged,          ///< max error <= tolerance
-  MaxIterations,      ///< iteration limit reached first
-  LineSearchFailed,   ///< no step length reduced the error (target not reachable from here)
-  SolverFailed,       ///< the Hessian lost positive definiteness in floating point (the metric
-                      ///< is degenerating: radii spanning many orders of magnitude)
-  Cancelled,          ///< the progress callback asked to stop
+  Converged,         ///< max error <= tolerance
+  MaxIterations,     ///< iteration limit reached first
+  LineSearchFailed,  ///< no step length reduced the error (target not reachable from here)
+  SolverFailed,      ///< the Hessian lost positive definiteness in floating point (the metric
+                     ///< is degenerating: radii spanning many orders of magnitude)
+  Cancelled,         ///< the progress callback asked to stop
 };
 const char* flow_status_name(FlowStatus status);
 
@@ -86,17 +86,17 @@ struct FlowTimings {
 struct FlowResult {
   bool converged = false;
   FlowStatus status = FlowStatus::MaxIterations;
-  std::string message;             ///< why it stopped, in words
-  Eigen::VectorXd u;               ///< #V final log radii
-  Eigen::VectorXd curvature;       ///< #V final curvature K
-  Eigen::VectorXd target_curvature;///< #V K-bar (the final K where the vertex is fixed)
-  Eigen::VectorXd lengths;         ///< #E final edge lengths
+  std::string message;               ///< why it stopped, in words
+  Eigen::VectorXd u;                 ///< #V final log radii
+  Eigen::VectorXd curvature;         ///< #V final curvature K
+  Eigen::VectorXd target_curvature;  ///< #V K-bar (the final K where the vertex is fixed)
+  Eigen::VectorXd lengths;           ///< #E final edge lengths
   int iterations = 0;
-  double max_error = 0;            ///< final max |K-bar - K| over vertices with a target
+  double max_error = 0;                  ///< final max |K-bar - K| over vertices with a target
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;
-  std::string linear_solver;       ///< backend of the Cholesky factorisation (Newton)
+  std::string linear_solver;               ///< backend of the Cholesky factorisation (Newton)
   double gauss_bonnet_relative_error = 0;  ///< of the final curvature
 };
 

@@ -30,9 +30,9 @@ struct Cone {
 
 /// How boundary vertices are treated by the flat targets.
 enum class BoundaryMode {
-  Free,        ///< u fixed on the boundary: the curvature settles along it by itself
-  DiskUniform, ///< boundary curvature (2 pi chi - sum of cones) / m at each of m vertices
-  DiskLength,  ///< the same total, shared in proportion to the boundary length at each vertex
+  Free,         ///< u fixed on the boundary: the curvature settles along it by itself
+  DiskUniform,  ///< boundary curvature (2 pi chi - sum of cones) / m at each of m vertices
+  DiskLength,   ///< the same total, shared in proportion to the boundary length at each vertex
 };
 
 /// "free", "disk", "disk-length". \throw InvalidInput on any other string

@@ -17,8 +17,8 @@ struct ComponentInfo {
 /// Summary of a mesh. Topological fields are -1 when defects keep them from being defined
 /// (non-manifold or inconsistently oriented meshes).
 struct MeshInfo {
-  int vertices = 0;              ///< referenced vertices
-  int unreferenced_vertices = 0; ///< vertices no face uses
+  int vertices = 0;               ///< referenced vertices
+  int unreferenced_vertices = 0;  ///< vertices no face uses
   int edges = -1;
   int faces = 0;
   int components = -1;
@@ -26,10 +26,10 @@ struct MeshInfo {
   int euler_characteristic = -1;  ///< V - E + F over referenced vertices, when manifold
   int genus = -1;                 ///< total over components, when manifold
   std::vector<ComponentInfo> component_info;
-  double min_angle_degrees = 0;   ///< smallest corner angle over all faces
-  double max_angle_degrees = 0;   ///< largest corner angle over all faces
+  double min_angle_degrees = 0;  ///< smallest corner angle over all faces
+  double max_angle_degrees = 0;  ///< largest corner angle over all faces
   double bounding_box_diagonal = 0;
-  ValidationReport validation;    ///< every defect found
+  ValidationReport validation;  ///< every defect found
 };
 
 /// Computes the summary; never throws on defective meshes (that is its purpose).

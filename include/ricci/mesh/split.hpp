@@ -15,8 +15,8 @@ struct ValenceResult {
   Mesh mesh;  ///< the refined mesh: the input's vertices first, new ones appended
   /// For each new vertex (index #V_in + i): the two input-or-earlier vertices it splits.
   std::vector<std::array<int, 2>> new_vertex_parents;
-  int splits = 0;          ///< edges split
-  int final_valence = 0;   ///< valence of the vertex afterwards
+  int splits = 0;         ///< edges split
+  int final_valence = 0;  ///< valence of the vertex afterwards
 };
 
 /// Splits the edges opposite `vertex` in its faces at their midpoints (each split adds one

@@ -14,10 +14,10 @@ namespace ricci {
 
 /// One connected component of a mesh.
 struct Component {
-  std::vector<int> vertices;  ///< vertex indices of the component, ascending
-  std::vector<int> faces;     ///< face indices of the component, ascending
-  int num_edges = 0;          ///< edges of the component
-  int num_boundary_loops = 0; ///< boundary loops of the component
+  std::vector<int> vertices;     ///< vertex indices of the component, ascending
+  std::vector<int> faces;        ///< face indices of the component, ascending
+  int num_edges = 0;             ///< edges of the component
+  int num_boundary_loops = 0;    ///< boundary loops of the component
   int euler_characteristic = 0;  ///< V - E + F of the component
   int genus = 0;                 ///< (2 - chi - b) / 2
 };
@@ -30,19 +30,19 @@ struct Topology {
   int num_edges = 0;
   int num_faces = 0;
 
-  Triangles triangles;                     ///< #F by 3, copied from the mesh
+  Triangles triangles;                                  ///< #F by 3, copied from the mesh
   Eigen::Matrix<int, Eigen::Dynamic, 2> edge_vertices;  ///< #E by 2, smaller index first
-  Triangles face_edges;                    ///< #F by 3: edge opposite corner k of face f
-  std::vector<int> halfedge_twin;          ///< 3#F: opposite halfedge, -1 on the boundary
-  std::vector<int> halfedge_edge;          ///< 3#F: edge of each halfedge
+  Triangles face_edges;            ///< #F by 3: edge opposite corner k of face f
+  std::vector<int> halfedge_twin;  ///< 3#F: opposite halfedge, -1 on the boundary
+  std::vector<int> halfedge_edge;  ///< 3#F: edge of each halfedge
   Eigen::Matrix<int, Eigen::Dynamic, 2> edge_halfedges;  ///< #E by 2: its halfedges, -1 if none
-  std::vector<char> is_boundary_vertex;    ///< #V: 1 on a boundary loop
-  std::vector<char> is_boundary_edge;      ///< #E: 1 when the edge has one face
-  std::vector<int> vertex_degree;          ///< #V: number of incident edges
+  std::vector<char> is_boundary_vertex;                  ///< #V: 1 on a boundary loop
+  std::vector<char> is_boundary_edge;                    ///< #E: 1 when the edge has one face
+  std::vector<int> vertex_degree;                        ///< #V: number of incident edges
   std::vector<std::vector<int>> boundary_loops;  ///< vertices of each loop, surface on the left
-  std::vector<int> vertex_component;       ///< #V: component index, -1 for unreferenced vertices
-  std::vector<int> face_component;         ///< #F: component index
-  std::vector<Component> components;       ///< in order of their smallest face index
+  std::vector<int> vertex_component;  ///< #V: component index, -1 for unreferenced vertices
+  std::vector<int> face_component;    ///< #F: component index
+  std::vector<Component> components;  ///< in order of their smallest face index
 
   /// Halfedge helpers (see the struct comment for the numbering).
   static int face_of(int h) { return h / 3; }

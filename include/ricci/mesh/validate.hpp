@@ -45,7 +45,7 @@ struct ValidationOptions {
 
 /// All defects found.
 struct ValidationReport {
-  std::vector<Defect> defects;  ///< at most max_defects_per_kind of each kind
+  std::vector<Defect> defects;                     ///< at most max_defects_per_kind of each kind
   std::vector<std::pair<DefectKind, int>> counts;  ///< total count of every kind found
   /// True when no defect other than UnreferencedVertex was found.
   bool ok() const;

@@ -46,7 +46,7 @@ enum class PackingInit {
 
 /// Options of make_conformal_structure.
 struct StructureOptions {
-  Scheme scheme = Scheme::Thurston;      ///< which discrete metric
+  Scheme scheme = Scheme::Thurston;             ///< which discrete metric
   PackingInit packing_init = PackingInit::Fit;  ///< Thurston and tangential only
   int fit_sweeps = 30;  ///< most Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
   /// Stop the fit when a sweep lowers the sum of squared length errors by less than this
