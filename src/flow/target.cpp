@@ -325,22 +325,35 @@ std::vector<Cone> parse_cone_list(const std::string& text) {
   return cones;
 }
 
-std::vector<Cone> read_cone_file(const std::string& path) {
+namespace {
+
+/// Calls visit(text, where) for every line of a text file that holds more than a comment
+/// ('#' to the end of the line); where is "path:line" for messages.
+template <class Visit>
+void for_each_data_line(const std::string& path, const char* what, Visit visit) {
   std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open the cone file");
-  std::vector<Cone> cones;
+  if (!in) throw IoError(path + ": cannot open the " + what + " file");
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
-    std::stringstream fields(line);
+    const std::string text = trim(line);
+    if (!text.empty()) visit(text, path + ":" + std::to_string(number));
+  }
+}
+
+}  // namespace
+
+std::vector<Cone> read_cone_file(const std::string& path) {
+  std::vector<Cone> cones;
+  for_each_data_line(path, "cone", [&](const std::string& text, const std::string& where) {
+    std::stringstream fields(text);
     std::string vertex, curvature, extra;
-    if (!(fields >> vertex)) continue;
-    const std::string where = path + ":" + std::to_string(number);
+    fields >> vertex;
     if (!(fields >> curvature) || (fields >> extra)) {
-      throw InvalidInput(where + ": expected 'vertex curvature', got '" + trim(line) + "'");
+      throw InvalidInput(where + ": expected 'vertex curvature', got '" + text + "'");
     }
     Cone cone;
     cone.vertex = parse_vertex_index(vertex, where);
@@ -350,29 +363,19 @@ std::vector<Cone> read_cone_file(const std::string& path) {
       throw InvalidInput(where + ": '" + curvature + "' is not a curvature");
     }
     cones.push_back(cone);
-  }
+  });
   return cones;
 }
 
 Eigen::VectorXd read_values_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open the curvature file");
   std::vector<double> values;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    const std::string text = trim(line);
-    if (text.empty()) continue;
+  for_each_data_line(path, "curvature", [&](const std::string& text, const std::string& where) {
     try {
       values.push_back(parse_curvature(text));
     } catch (const InvalidInput&) {
-      throw InvalidInput(path + ":" + std::to_string(number) + ": '" + text +
-                         "' is not a curvature value");
+      throw InvalidInput(where + ": '" + text + "' is not a curvature value");
     }
-  }
+  });
   if (values.empty()) throw IoError(path + ": no curvature values in the file");
   return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }

@@ -4,35 +4,14 @@
 #include <numeric>
 #include <string>
 
+#include "disjoint_sets.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
 namespace {
 
-/// Union-find with path halving; small enough to keep private to this file.
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-std::string edge_name(int a, int b) {
-  return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
-}
+using mesh_detail::DisjointSets;
+using mesh_detail::edge_name;
 
 }  // namespace
 

@@ -12,10 +12,14 @@
 
 #include <Eigen/Geometry>
 
+#include "disjoint_sets.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
 namespace {
+
+using mesh_detail::DisjointSets;
+using mesh_detail::edge_name;
 
 constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
 
@@ -65,31 +69,6 @@ class DefectCollector {
   std::array<int, kNumKinds> counts_;
   std::vector<Defect> defects_;
 };
-
-/// Union-find with path halving over corners.
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-std::string edge_name(int a, int b) {
-  return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
-}
 
 std::string face_vertices(const Triangles& t, int f) {
   return "(" + std::to_string(t(f, 0)) + ", " + std::to_string(t(f, 1)) + ", " +

@@ -15,21 +15,12 @@
 #include <Eigen/Geometry>
 
 #include "ricci/errors.hpp"
+#include "support/test_meshes.hpp"
 
 namespace ricci {
 namespace {
 
-Mesh make_mesh(std::initializer_list<std::array<double, 3>> positions,
-               std::initializer_list<std::array<int, 3>> triangles) {
-  Mesh mesh;
-  mesh.positions.resize(static_cast<Eigen::Index>(positions.size()), 3);
-  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-  Eigen::Index i = 0;
-  for (const auto& p : positions) mesh.positions.row(i++) << p[0], p[1], p[2];
-  i = 0;
-  for (const auto& t : triangles) mesh.triangles.row(i++) << t[0], t[1], t[2];
-  return mesh;
-}
+using testing::make_mesh;
 
 /// Regular tetrahedron, outward counter-clockwise faces.
 Mesh tetrahedron() {

@@ -10,6 +10,7 @@
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "support/metric_helpers.hpp"
 #include "support/shared_meshes.hpp"
 #include "support/test_meshes.hpp"
 
@@ -20,15 +21,7 @@ constexpr double kPi = std::numbers::pi;
 const Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
                               Scheme::VertexScaling, Scheme::VirtualRadius};
 
-/// Curvature at log radii u; fails the test when the metric is not valid.
-Eigen::VectorXd curvature_at(const Topology& t, const ConformalStructure& s,
-                             const Eigen::VectorXd& u) {
-  Eigen::VectorXd l;
-  CornerAngles a;
-  EXPECT_EQ(edge_lengths(t, s, u, l), 0);
-  EXPECT_EQ(corner_angles(t, l, a), -1);
-  return vertex_curvature(t, a);
-}
+using testing::curvature_at;
 
 // Gauss-Bonnet holds for every metric, not only the input one: perturb u at random.
 TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
@@ -47,6 +40,7 @@ TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
       Eigen::VectorXd u = s.initial_u;
       for (int round = 0; round < 2; ++round) {
         const Eigen::VectorXd k = curvature_at(t, s, u);
+        ASSERT_EQ(k.size(), t.num_vertices) << name << " " << scheme_name(scheme);
         const double total = accurate_sum(k);
         EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(), 1e-12 * 2 * kPi * t.num_vertices)
             << name << " " << scheme_name(scheme) << " round " << round;
@@ -64,6 +58,7 @@ TEST(Curvature, FlatGridHasZeroInteriorCurvatureAndCornersOfPiOverTwo) {
   options.scheme = Scheme::VertexScaling;
   const StructureResult r = make_conformal_structure(t, input_edge_lengths(mesh, t), options);
   const Eigen::VectorXd k = curvature_at(t, r.structure, r.structure.initial_u);
+  ASSERT_EQ(k.size(), t.num_vertices);
   int corners = 0;
   for (int v = 0; v < t.num_vertices; ++v) {
     if (!t.is_boundary_vertex[v]) {

@@ -9,6 +9,7 @@
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "support/metric_helpers.hpp"
 #include "support/test_meshes.hpp"
 
 namespace ricci {
@@ -17,13 +18,7 @@ namespace {
 const Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
                               Scheme::VertexScaling, Scheme::VirtualRadius};
 
-Eigen::VectorXd curvature_at(const Topology& t, const ConformalStructure& s,
-                             const Eigen::VectorXd& u) {
-  Eigen::VectorXd l;
-  CornerAngles a;
-  if (edge_lengths(t, s, u, l) > 0 || corner_angles(t, l, a) >= 0) return {};
-  return vertex_curvature(t, a);
-}
+using testing::curvature_at;
 
 Eigen::MatrixXd hessian_at(const Topology& t, const ConformalStructure& s,
                            const Eigen::VectorXd& u) {

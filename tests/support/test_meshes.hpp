@@ -2,6 +2,8 @@
 /// \file
 /// The generated meshes every property test runs over: one per topology class the issue names.
 
+#include <array>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,19 @@ struct NamedMesh {
   std::string name;
   Mesh mesh;
 };
+
+/// A mesh from literal positions and triangles, for hand-made test cases.
+inline Mesh make_mesh(std::initializer_list<std::array<double, 3>> positions,
+                      std::initializer_list<std::array<int, 3>> triangles) {
+  Mesh mesh;
+  mesh.positions.resize(static_cast<Eigen::Index>(positions.size()), 3);
+  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  Eigen::Index i = 0;
+  for (const auto& p : positions) mesh.positions.row(i++) << p[0], p[1], p[2];
+  i = 0;
+  for (const auto& t : triangles) mesh.triangles.row(i++) << t[0], t[1], t[2];
+  return mesh;
+}
 
 /// Small generated meshes: tetrahedron, icosphere, flat and curved disks, torus, closed genus 2
 /// and 3, a sphere with holes and a genus-1 surface with holes.
