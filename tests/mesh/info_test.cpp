@@ -13,30 +13,8 @@ namespace ricci {
 namespace {
 
 using testing::make_mesh;
-
-Mesh tetrahedron() {
-  return make_mesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}},
-                   {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}});
-}
-
-/// Torus grid of n by m quads, each split into two triangles.
-Mesh torus(int n, int m) {
-  Mesh mesh;
-  mesh.positions.resize(n * m, 3);
-  mesh.triangles.resize(2 * n * m, 3);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const double u = 2 * std::numbers::pi * i / n, v = 2 * std::numbers::pi * j / m;
-      mesh.positions.row(i * m + j) << (1 + 0.4 * std::cos(v)) * std::cos(u),
-          (1 + 0.4 * std::cos(v)) * std::sin(u), 0.4 * std::sin(v);
-      const int a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m,
-                d = i * m + (j + 1) % m;
-      mesh.triangles.row(2 * a) << a, b, c;
-      mesh.triangles.row(2 * a + 1) << a, c, d;
-    }
-  }
-  return mesh;
-}
+using testing::tetrahedron;
+using testing::torus;
 
 TEST(MeshInfo, RegularTetrahedron) {
   const MeshInfo info = mesh_info(tetrahedron());

@@ -3,7 +3,9 @@
 /// The generated meshes every property test runs over: one per topology class the issue names.
 
 #include <array>
+#include <cmath>
 #include <initializer_list>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,32 @@ inline Mesh make_mesh(std::initializer_list<std::array<double, 3>> positions,
   for (const auto& p : positions) mesh.positions.row(i++) << p[0], p[1], p[2];
   i = 0;
   for (const auto& t : triangles) mesh.triangles.row(i++) << t[0], t[1], t[2];
+  return mesh;
+}
+
+/// Regular tetrahedron with vertices at alternate cube corners, outward counter-clockwise faces.
+inline Mesh tetrahedron() {
+  return make_mesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}},
+                   {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}});
+}
+
+/// Torus of revolution (radii 1 and 0.4), n by m grid of quads split into triangles; vertex
+/// (i, j) has index i m + j and quad a = i m + j gives faces 2a and 2a + 1.
+inline Mesh torus(int n, int m) {
+  Mesh mesh;
+  mesh.positions.resize(n * m, 3);
+  mesh.triangles.resize(2 * n * m, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * std::numbers::pi * i / n, v = 2 * std::numbers::pi * j / m;
+      mesh.positions.row(i * m + j) << (1 + 0.4 * std::cos(v)) * std::cos(u),
+          (1 + 0.4 * std::cos(v)) * std::sin(u), 0.4 * std::sin(v);
+      const int a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m,
+                d = i * m + (j + 1) % m;
+      mesh.triangles.row(2 * a) << a, b, c;
+      mesh.triangles.row(2 * a + 1) << a, c, d;
+    }
+  }
   return mesh;
 }
 
