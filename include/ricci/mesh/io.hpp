@@ -57,6 +57,12 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 /// Writes a mesh as OBJ, atomically (see write_file_atomically).
 void write_obj(const std::string& path, const Mesh& mesh);
 
+/// Writes a mesh with per-corner texture coordinates as OBJ (`v`, `vt`, `f v/vt`), atomically.
+/// \param uv_triangles #F by 3 indices into uv (corners that share a uv index share a `vt`)
+/// \param uv #UV by 2 texture coordinates
+void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv);
+
 /// Writes a file through a temporary file in the same folder, renamed into place only when
 /// write succeeded; on any error the temporary is removed and the target is left untouched.
 /// \throw IoError naming the file when it cannot be written
