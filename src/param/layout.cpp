@@ -1,1 +1,395 @@
-// placeholder: filled in by its owner
+#include "ricci/param/layout.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "ricci/errors.hpp"
+#include "ricci/metric/angles.hpp"
+
+namespace ricci {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+/// Below this |angle| (radians) a transition counts as a pure translation when looking for the
+/// lattice of a flat torus: the flow leaves curvature errors near 1e-10, cones are >= 1e-3.
+constexpr double kTranslationAngleTolerance = 1e-6;
+
+std::string face_message(const std::string& what, int f) {
+  return "layout_flat: face " + std::to_string(f) + ": " + what;
+}
+
+void check_inputs(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
+                  const CutMesh& cut_mesh, const LayoutOptions& options) {
+  const int nf = topology.num_faces;
+  if (lengths.size() != topology.num_edges) {
+    throw InvalidInput("layout_flat: " + std::to_string(lengths.size()) + " lengths for " +
+                       std::to_string(topology.num_edges) + " edges");
+  }
+  if (!cut.is_cut_edge.empty() && static_cast<int>(cut.is_cut_edge.size()) != topology.num_edges) {
+    throw InvalidInput("layout_flat: the cut flags " + std::to_string(cut.is_cut_edge.size()) +
+                       " edges, the mesh has " + std::to_string(topology.num_edges));
+  }
+  if (cut_mesh.triangles.rows() != nf || cut_mesh.topology.num_faces != nf) {
+    throw InvalidInput("layout_flat: the cut mesh has " +
+                       std::to_string(cut_mesh.triangles.rows()) + " faces, the mesh " +
+                       std::to_string(nf));
+  }
+  const int ncv = cut_mesh.topology.num_vertices;
+  if (static_cast<int>(cut_mesh.to_original.size()) != ncv) {
+    throw InvalidInput("layout_flat: the cut mesh maps " +
+                       std::to_string(cut_mesh.to_original.size()) + " of its " +
+                       std::to_string(ncv) + " vertices to the mesh");
+  }
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = cut_mesh.topology.triangles(f, k);
+      if (v < 0 || v >= ncv || cut_mesh.to_original[v] != topology.triangles(f, k)) {
+        throw InvalidInput(face_message("the cut mesh's corners do not copy the mesh's", f));
+      }
+    }
+  }
+  for (const Component& c : cut_mesh.topology.components) {
+    if (c.euler_characteristic != 1) {
+      throw InvalidInput(
+          "layout_flat: the cut mesh is not a union of topological disks: its component with "
+          "face " +
+          std::to_string(c.faces.front()) + " has chi = " + std::to_string(c.euler_characteristic) +
+          " and " + std::to_string(c.num_boundary_loops) + " boundary loops");
+    }
+  }
+  if (options.root_face < -1 || options.root_face >= nf) {
+    throw InvalidInput("layout_flat: root face " + std::to_string(options.root_face) +
+                       " out of range [0, " + std::to_string(nf) + ")");
+  }
+  for (std::size_t s = 0; s < cut.segments.size(); ++s) {
+    for (int v : cut.segments[s]) {
+      if (v < 0 || v >= topology.num_vertices) {
+        throw InvalidInput("layout_flat: segment " + std::to_string(s) + " names vertex " +
+                           std::to_string(v) + ", out of range");
+      }
+    }
+  }
+}
+
+/// Per component of the cut mesh, the face farthest from its boundary in steps across edges of
+/// the dual graph (a multi-source breadth-first search from every face on the boundary): the
+/// root of the layout tree, so that the tree is shallow and rounding errors accumulate over as
+/// few placements as possible.
+std::vector<int> central_faces(const Topology& cut_topology) {
+  const int nf = cut_topology.num_faces;
+  std::vector<int> queue;
+  queue.reserve(nf);
+  std::vector<char> seen(nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (cut_topology.halfedge_twin[3 * f + k] < 0) {
+        seen[f] = 1;
+        queue.push_back(f);
+        break;
+      }
+    }
+  }
+  std::vector<int> roots(cut_topology.components.size(), -1);
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int f = queue[head];
+    roots[cut_topology.face_component[f]] = f;  // breadth-first: the last one is the farthest
+    for (int k = 0; k < 3; ++k) {
+      const int t = cut_topology.halfedge_twin[3 * f + k];
+      if (t >= 0 && !seen[t / 3]) {
+        seen[t / 3] = 1;
+        queue.push_back(t / 3);
+      }
+    }
+  }
+  for (std::size_t c = 0; c < roots.size(); ++c) {
+    if (roots[c] < 0) roots[c] = cut_topology.components[c].faces.front();  // closed component
+  }
+  return roots;
+}
+
+/// The two copies of a cut edge's ends: a0, a1 on the side of halfedge `ha` (in its direction),
+/// b0, b1 the same two original vertices seen from the other side (halfedge `hb`, the twin).
+struct EdgeCopies {
+  Complex a0, a1, b0, b1;
+};
+
+EdgeCopies edge_copies(const Topology& cut_topology, const std::vector<Complex>& uv, int ha,
+                       int hb) {
+  return {uv[cut_topology.tail(ha)], uv[cut_topology.head(ha)], uv[cut_topology.head(hb)],
+          uv[cut_topology.tail(hb)]};
+}
+
+/// Least-squares rigid motion z -> a z + b taking points `from` onto `to` (2-D Procrustes: the
+/// rotation of the centred cross-covariance, the translation matching the centroids).
+struct RigidFit {
+  Complex rotation{1}, translation{0};
+};
+
+RigidFit fit_rigid(const std::vector<Complex>& from, const std::vector<Complex>& to) {
+  const double n = static_cast<double>(from.size());
+  Complex from_mean{0}, to_mean{0};
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    from_mean += from[i];
+    to_mean += to[i];
+  }
+  from_mean /= n;
+  to_mean /= n;
+  Complex covariance{0};
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    covariance += (to[i] - to_mean) * std::conj(from[i] - from_mean);
+  }
+  RigidFit fit;
+  const double norm = std::abs(covariance);
+  fit.rotation = norm > 0 ? covariance / norm : Complex{1};
+  fit.translation = to_mean - fit.rotation * from_mean;
+  return fit;
+}
+
+SeamTransition make_transition(int edge, int segment, const RigidFit& fit) {
+  SeamTransition t;
+  t.edge = edge;
+  t.segment = segment;
+  t.rotation = fit.rotation;
+  t.translation = fit.translation;
+  t.angle = std::arg(fit.rotation);
+  return t;
+}
+
+double cross(Complex a, Complex b) {
+  return a.real() * b.imag() - a.imag() * b.real();
+}
+
+/// A reduced basis (Lagrange-Gauss: |b1| <= |b2|, |<b1, b2>| <= |b1|^2 / 2, counter-clockwise)
+/// of the lattice the translations generate. Among the pairs that span the plane, the one with
+/// the smallest parallelogram is taken: for the theta and figure-eight cut graphs of a torus every
+/// spanning pair of segment translations is a basis, and a smaller parallelogram can only be a
+/// finer sublattice basis. Empty when the translations do not span the plane.
+std::vector<Complex> reduced_lattice(const std::vector<Complex>& translations) {
+  double scale = 0;
+  for (Complex t : translations) scale = std::max(scale, std::abs(t));
+  std::vector<Complex> candidates;
+  for (Complex t : translations) {
+    if (std::abs(t) > 1e-9 * scale) candidates.push_back(t);
+  }
+  double largest = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    for (std::size_t j = i + 1; j < candidates.size(); ++j) {
+      largest = std::max(largest, std::abs(cross(candidates[i], candidates[j])));
+    }
+  }
+  if (!(largest > 1e-9 * scale * scale)) return {};
+  Complex b1, b2;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    for (std::size_t j = i + 1; j < candidates.size(); ++j) {
+      const double area = std::abs(cross(candidates[i], candidates[j]));
+      if (area > 1e-6 * largest && area < best * (1 - 1e-9)) {
+        best = area;
+        b1 = candidates[i];
+        b2 = candidates[j];
+      }
+    }
+  }
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    if (std::norm(b1) > std::norm(b2)) std::swap(b1, b2);
+    const double mu = std::round((b2 * std::conj(b1)).real() / std::norm(b1));
+    if (mu == 0) break;
+    b2 -= mu * b1;
+  }
+  if (cross(b1, b2) < 0) b2 = -b2;
+  return {b1, b2};
+}
+
+}  // namespace
+
+Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+  check_inputs(topology, lengths, cut, cut_mesh, options);
+  const Topology& cut_topology = cut_mesh.topology;
+  const int nf = topology.num_faces;
+  const int ncv = cut_topology.num_vertices;
+
+  // Corner angles of the original faces are those of the cut mesh's: same faces, same corners.
+  CornerAngles angles;
+  const int bad = corner_angles(topology, lengths, angles);
+  if (bad >= 0) {
+    throw InvalidInput(face_message(
+        "its lengths " + std::to_string(lengths[topology.face_edges(bad, 0)]) + ", " +
+            std::to_string(lengths[topology.face_edges(bad, 1)]) + ", " +
+            std::to_string(lengths[topology.face_edges(bad, 2)]) + " break a triangle inequality",
+        bad));
+  }
+
+  Layout layout;
+  std::vector<int> roots = central_faces(cut_topology);
+  if (options.root_face >= 0) {
+    roots[cut_topology.face_component[options.root_face]] = options.root_face;
+    layout.root_face = options.root_face;
+  } else if (!roots.empty()) {
+    layout.root_face = roots.front();
+  }
+
+  // Breadth-first over the dual graph of the cut mesh from each root: a face across an edge
+  // (i, j) of a placed face places its third vertex k by turning the direction i -> j by the
+  // corner angle at i. The direction is normalised and scaled by l_ik (rather than multiplied by
+  // l_ik / l_ij) so that the new edge has its metric length whatever rounding |p_j - p_i| carries.
+  std::vector<Complex> uv(ncv, Complex{0});
+  std::vector<char> placed(ncv, 0);
+  std::vector<char> visited(nf, 0);
+  std::vector<int> queue;
+  queue.reserve(nf);
+  for (int root : roots) {
+    const int a = cut_topology.triangles(root, 0), b = cut_topology.triangles(root, 1),
+              c = cut_topology.triangles(root, 2);
+    uv[a] = 0;
+    uv[b] = lengths[topology.face_edges(root, 2)];
+    uv[c] = std::polar(lengths[topology.face_edges(root, 1)], angles(root, 0));
+    placed[a] = placed[b] = placed[c] = 1;
+    visited[root] = 1;
+    queue.push_back(root);
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int f = queue[head];
+    for (int k = 0; k < 3; ++k) {
+      const int t = cut_topology.halfedge_twin[3 * f + k];
+      if (t < 0 || visited[t / 3]) continue;
+      const int g = t / 3;
+      visited[g] = 1;
+      queue.push_back(g);
+      const int kg = t % 3, ki = (kg + 1) % 3;
+      const int vk = cut_topology.triangles(g, kg);
+      if (placed[vk]) continue;
+      // Counter-clockwise, face g reads i -> j -> k with i the tail and j the head of t.
+      const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
+      const Complex direction = uv[vj] - uv[vi];
+      uv[vk] = uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
+                            (direction / std::abs(direction));
+      placed[vk] = 1;
+    }
+  }
+
+  layout.uv.resize(ncv, 2);
+  for (int v = 0; v < ncv; ++v) {
+    layout.uv(v, 0) = uv[v].real();
+    layout.uv(v, 1) = uv[v].imag();
+  }
+
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const double l = lengths[topology.face_edges(f, k)];
+      const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
+                                uv[cut_topology.triangles(f, (k + 2) % 3)]);
+      layout.max_length_relative_error =
+          std::max(layout.max_length_relative_error, std::abs(d - l) / l);
+    }
+    const Complex p0 = uv[cut_topology.triangles(f, 0)];
+    if (!(cross(uv[cut_topology.triangles(f, 1)] - p0, uv[cut_topology.triangles(f, 2)] - p0) >
+          0)) {
+      ++layout.num_flipped_faces;
+    }
+  }
+
+  if (cut.is_cut_edge.empty()) return layout;
+
+  // Which segment each cut edge belongs to, and each segment's edges in path order.
+  std::vector<int> edge_segment(topology.num_edges, -1);
+  std::vector<std::vector<int>> segment_edges(cut.segments.size());
+  {
+    std::unordered_map<std::uint64_t, int> cut_edge_of;
+    auto key = [](int v, int w) {
+      if (v > w) std::swap(v, w);
+      return (static_cast<std::uint64_t>(v) << 32) | static_cast<std::uint32_t>(w);
+    };
+    for (int e = 0; e < topology.num_edges; ++e) {
+      if (cut.is_cut_edge[e]) {
+        cut_edge_of.emplace(key(topology.edge_vertices(e, 0), topology.edge_vertices(e, 1)), e);
+      }
+    }
+    for (std::size_t s = 0; s < cut.segments.size(); ++s) {
+      const std::vector<int>& path = cut.segments[s];
+      for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        const auto it = cut_edge_of.find(key(path[i], path[i + 1]));
+        if (it == cut_edge_of.end()) {
+          throw InvalidInput("layout_flat: segment " + std::to_string(s) + " steps from vertex " +
+                             std::to_string(path[i]) + " to " + std::to_string(path[i + 1]) +
+                             ", which is not a cut edge");
+        }
+        edge_segment[it->second] = static_cast<int>(s);
+        segment_edges[s].push_back(it->second);
+      }
+    }
+  }
+
+  // One rigid motion per cut edge, side B onto side A.
+  for (int e = 0; e < topology.num_edges; ++e) {
+    if (!cut.is_cut_edge[e]) continue;
+    const int ha = topology.edge_halfedges(e, 0), hb = topology.edge_halfedges(e, 1);
+    if (ha < 0 || hb < 0) continue;  // a boundary edge: nothing on the other side
+    const EdgeCopies c = edge_copies(cut_topology, uv, ha, hb);
+    const RigidFit fit = fit_rigid({c.b0, c.b1}, {c.a0, c.a1});
+    SeamTransition t = make_transition(e, edge_segment[e], fit);
+    t.mismatch = std::max(std::abs(fit.rotation * c.b0 + fit.translation - c.a0),
+                          std::abs(fit.rotation * c.b1 + fit.translation - c.a1)) /
+                 lengths[e];
+    layout.transitions.push_back(t);
+  }
+
+  // One rigid motion per segment, fitted to the ends of all its edges. Side A is the side of
+  // edge_halfedges(e, 0) for the segment's first edge, and the same side of the path (left or
+  // right of its direction) for the others: edge_halfedges(e, 0) alone may switch sides along a
+  // path.
+  for (std::size_t s = 0; s < cut.segments.size(); ++s) {
+    const std::vector<int>& path = cut.segments[s];
+    const std::vector<int>& edges = segment_edges[s];
+    std::vector<Complex> from, to;
+    std::vector<double> scale;
+    bool side_a_is_left = true;
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const int e = edges[i];
+      int forward = topology.edge_halfedges(e, 0), backward = topology.edge_halfedges(e, 1);
+      if (forward < 0 || backward < 0) continue;
+      const bool first_is_forward = topology.tail(forward) == path[i];
+      if (!first_is_forward) std::swap(forward, backward);
+      if (i == 0) side_a_is_left = first_is_forward;
+      const EdgeCopies c = side_a_is_left ? edge_copies(cut_topology, uv, forward, backward)
+                                          : edge_copies(cut_topology, uv, backward, forward);
+      from.insert(from.end(), {c.b0, c.b1});
+      to.insert(to.end(), {c.a0, c.a1});
+      scale.insert(scale.end(), {lengths[e], lengths[e]});
+    }
+    if (from.empty()) {
+      layout.segment_transitions.push_back(
+          make_transition(edges.empty() ? -1 : edges.front(), static_cast<int>(s), {}));
+      continue;
+    }
+    const RigidFit fit = fit_rigid(from, to);
+    SeamTransition t = make_transition(edges.front(), static_cast<int>(s), fit);
+    for (std::size_t i = 0; i < from.size(); ++i) {
+      t.mismatch = std::max(t.mismatch,
+                            std::abs(fit.rotation * from[i] + fit.translation - to[i]) / scale[i]);
+    }
+    layout.segment_transitions.push_back(t);
+  }
+
+  // The lattice of a flat torus: the segments' translations generate it.
+  if (topology.components.size() == 1 && topology.components[0].genus == 1 &&
+      topology.components[0].num_boundary_loops == 0 && !layout.segment_transitions.empty()) {
+    std::vector<Complex> translations;
+    bool translations_only = true;
+    for (const SeamTransition& t : layout.segment_transitions) {
+      translations_only = translations_only && std::abs(t.angle) < kTranslationAngleTolerance;
+      translations.push_back(t.translation);
+    }
+    if (translations_only) layout.lattice = reduced_lattice(translations);
+  }
+  return layout;
+}
+
+}  // namespace ricci

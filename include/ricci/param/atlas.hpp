@@ -26,17 +26,26 @@ struct BoundaryChart {
   /// Transition from the central chart to this chart on side B: z -> rotation z + translation
   /// (the identity on side A).
   std::complex<double> rotation{1}, translation{0};
+  /// Largest distance, over the ends of the segment's edges, between the side-A copy of a vertex
+  /// and its side-B copy moved by the transition, relative to the edge's length: rounding only.
+  double max_gap = 0;
 };
 
 /// The whole atlas.
 struct AffineAtlas {
   std::vector<BoundaryChart> boundary_charts;  ///< one per cut segment
-  /// Largest mismatch, over faces shared by a boundary chart and the central chart, between the
-  /// chart position and the transition applied to the central position (rounding only).
+  /// Largest max_gap of the boundary charts: how far apart the two sides of a segment land in
+  /// its chart, relative to the edge length (rounding only).
   double max_transition_error = 0;
 };
 
-/// Builds the boundary charts of a layout.
+/// Builds the boundary charts of a layout. A chart takes the faces on both sides of its
+/// segment's edges and the one-rings of its vertices that are not nodes; a face is on side A when
+/// it lies, in the cut mesh, on the same side of the segment as the side-A face of the first
+/// edge (edge_halfedges(e, 0)), which is the side layout_flat's segment transition maps onto.
+/// \param layout layout_flat's result for the same cut and cut mesh
+/// \throw InvalidInput when the layout has not one transition per segment, or a segment steps
+///        across no interior edge
 AffineAtlas affine_atlas(const Topology& topology, const CutGraph& cut, const CutMesh& cut_mesh,
                          const Layout& layout);
 

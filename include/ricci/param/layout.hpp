@@ -37,6 +37,9 @@ struct Layout {
   /// max over edges of | |uv_i - uv_j| - l_ij | / l_ij: how well the layout reproduces the
   /// metric (1e-9 or better expected).
   double max_length_relative_error = 0;
+  /// Faces whose uv signed area is not positive (orientation reversed or collapsed): 0 expected
+  /// where the metric is flat with no cone inside the face's neighbourhood.
+  int num_flipped_faces = 0;
   std::vector<SeamTransition> transitions;  ///< one per cut edge
   /// Per segment: the transition of its edges (they share one rigid motion up to rounding).
   std::vector<SeamTransition> segment_transitions;
