@@ -132,4 +132,56 @@ void write_obj(const std::string& path, const Mesh& mesh) {
   });
 }
 
+void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  auto invalid = [&](const std::string& what) {
+    throw InvalidInput("write_obj: " + path + ": " + what);
+  };
+  if (uv_triangles.rows() != mesh.num_faces()) {
+    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
+            std::to_string(mesh.num_faces()) + " faces");
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.triangles(f, c), t = uv_triangles(f, c);
+      if (v < 0 || v >= mesh.num_vertices()) {
+        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": vertex index " +
+                std::to_string(v) + " is out of range [0, " + std::to_string(mesh.num_vertices()) +
+                ")");
+      }
+      if (t < 0 || t >= uv.rows()) {
+        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": uv index " +
+                std::to_string(t) + " is out of range [0, " + std::to_string(uv.rows()) + ")");
+      }
+    }
+  }
+  for (Eigen::Index t = 0; t < uv.rows(); ++t) {
+    if (!uv.row(t).allFinite()) invalid("uv row " + std::to_string(t) + " is not finite");
+  }
+
+  write_file_atomically(path, [&](std::ostream& out) {
+    std::string text;
+    char buffer[160];
+    auto append = [&](int n) {
+      text.append(buffer, static_cast<std::size_t>(n));
+      if (text.size() < (1u << 20)) return;
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      text.clear();
+    };
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      append(std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
+                           mesh.positions(v, 1), mesh.positions(v, 2)));
+    }
+    for (Eigen::Index t = 0; t < uv.rows(); ++t) {
+      append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
+    }
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      append(std::snprintf(buffer, sizeof buffer, "f %d/%d %d/%d %d/%d\n", mesh.triangles(f, 0) + 1,
+                           uv_triangles(f, 0) + 1, mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
+                           mesh.triangles(f, 2) + 1, uv_triangles(f, 2) + 1));
+    }
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  });
+}
+
 }  // namespace ricci
