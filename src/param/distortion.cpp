@@ -1,1 +1,169 @@
-// placeholder: filled in by its owner
+#include "ricci/param/distortion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+using Complex = std::complex<double>;
+
+[[noreturn]] void invalid(const std::string& what) {
+  throw InvalidInput("measure_distortion: " + what);
+}
+
+/// What one face contributes: twice its 3D area, twice its signed layout area and the ratio
+/// sigma_max / sigma_min of the linear map between them.
+struct FaceMeasure {
+  double twice_area = 0;         // |e1 x e2| in R^3
+  double twice_layout_area = 0;  // cross(u1, u2) in the plane, signed
+  double angle_distortion = 0;   // meaningful only when twice_layout_area is finite and != 0
+};
+
+/// The map from the 3D triangle to its layout is w = alpha z + beta conj(z) in complex numbers,
+/// z in a frame of the triangle's plane. Its singular values are |alpha| + |beta| and
+/// ||alpha| - |beta||, and |alpha|^2 - |beta|^2 is its determinant, the area ratio. So
+/// sigma_max / sigma_min = (|alpha| + |beta|)^2 / |det|, which takes the determinant from the
+/// cross products instead of from the cancelling difference |alpha| - |beta|.
+FaceMeasure measure_face(const Eigen::Vector3d (&p)[3], const Eigen::Vector2d (&q)[3]) {
+  // Both edges from the corner opposite the longest edge are the two shortest: the cross products
+  // from there lose the least to cancellation.
+  int origin = 0;
+  double longest = -1;
+  for (int c = 0; c < 3; ++c) {
+    const double opposite = (p[(c + 2) % 3] - p[(c + 1) % 3]).squaredNorm();
+    if (opposite > longest) longest = opposite, origin = c;
+  }
+  const int j = (origin + 1) % 3, k = (origin + 2) % 3;
+  const Eigen::Vector3d e1 = p[j] - p[origin], e2 = p[k] - p[origin];
+  const Eigen::Vector2d u1 = q[j] - q[origin], u2 = q[k] - q[origin];
+
+  FaceMeasure m;
+  m.twice_area = e1.cross(e2).norm();
+  m.twice_layout_area = u1.x() * u2.y() - u1.y() * u2.x();
+  if (!(std::isfinite(m.twice_area) && m.twice_area > 0)) return m;
+  if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0)) return m;
+
+  // The 3D triangle in its own plane, counter-clockwise: z0 = 0, z1 on the real axis.
+  const double length1 = e1.norm();
+  const Complex z1(length1, 0.0), z2(e1.dot(e2) / length1, m.twice_area / length1);
+  const Complex w1(u1.x(), u1.y()), w2(u2.x(), u2.y());
+  // alpha D and beta D with D = z1 conj(z2) - z2 conj(z1), |D| = twice_area.
+  const double alpha_d = std::abs(w1 * std::conj(z2) - w2 * std::conj(z1));
+  const double beta_d = std::abs(z1 * w2 - z2 * w1);
+  // |D|^2 det = (2 twice_area)^2 (twice_layout_area / twice_area).
+  const double sum = alpha_d + beta_d;
+  m.angle_distortion = sum * sum / (4.0 * m.twice_area * std::abs(m.twice_layout_area));
+  return m;
+}
+
+}  // namespace
+
+Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
+                              const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  const int num_faces = mesh.num_faces();
+  if (num_faces == 0) invalid("the mesh has no faces");
+  if (uv_triangles.rows() != num_faces) {
+    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
+            std::to_string(num_faces) + " faces");
+  }
+  const Eigen::Index num_vertices = mesh.positions.rows(), num_uv = uv.rows();
+  for (int f = 0; f < num_faces; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.triangles(f, c), t = uv_triangles(f, c);
+      if (v < 0 || v >= num_vertices) {
+        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": vertex index " +
+                std::to_string(v) + " is out of range [0, " + std::to_string(num_vertices) + ")");
+      }
+      if (t < 0 || t >= num_uv) {
+        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": uv index " +
+                std::to_string(t) + " is out of range [0, " + std::to_string(num_uv) + ")");
+      }
+    }
+  }
+
+  std::vector<FaceMeasure> faces(static_cast<std::size_t>(num_faces));
+  Distortion d;
+  double twice_surface = 0, twice_layout = 0;
+  for (int f = 0; f < num_faces; ++f) {
+    Eigen::Vector3d p[3];
+    Eigen::Vector2d q[3];
+    for (int c = 0; c < 3; ++c) {
+      p[c] = mesh.positions.row(mesh.triangles(f, c)).transpose();
+      q[c] = uv.row(uv_triangles(f, c)).transpose();
+    }
+    const FaceMeasure m = measure_face(p, q);
+    if (!(std::isfinite(m.twice_area) && m.twice_area > 0)) {
+      invalid("face " + std::to_string(f) + " has " +
+              (std::isfinite(m.twice_area) ? "zero" : "non-finite") + " area in R^3");
+    }
+    twice_surface += m.twice_area;
+    if (std::isfinite(m.twice_layout_area)) twice_layout += std::abs(m.twice_layout_area);
+    if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0)) {
+      ++d.degenerate_faces;
+    } else if (m.twice_layout_area < 0) {
+      ++d.flipped_faces;
+    }
+    faces[static_cast<std::size_t>(f)] = m;
+  }
+  d.surface_area = twice_surface / 2;
+  d.layout_area = twice_layout / 2;
+
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  double energy = 0;
+  double log_weight = 0, log_sum = 0, angle_weight = 0, angle_sum = 0;
+  double log_min = std::numeric_limits<double>::infinity(), log_max = -log_min, angle_max = 0;
+  for (const FaceMeasure& m : faces) {
+    const double area = m.twice_area / twice_surface;
+    const bool usable = std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0;
+    // twice_layout > 0 whenever a face is usable.
+    const double layout = usable ? m.twice_layout_area / twice_layout : 0.0;
+    const double ratio = layout / area;
+    energy += (ratio - 1) * (ratio - 1) * area;
+    if (!usable) continue;
+    angle_weight += area;
+    angle_sum += area * m.angle_distortion;
+    angle_max = std::max(angle_max, m.angle_distortion);
+    if (layout < 0) continue;
+    const double log_ratio = std::log(ratio);
+    log_weight += area;
+    log_sum += area * log_ratio;
+    log_min = std::min(log_min, log_ratio);
+    log_max = std::max(log_max, log_ratio);
+  }
+  d.area_distortion_energy = energy;
+
+  if (log_weight > 0) {
+    const double mean = log_sum / log_weight;
+    double squares = 0;
+    for (const FaceMeasure& m : faces) {
+      if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area > 0)) continue;
+      const double area = m.twice_area / twice_surface;
+      const double deviation = std::log((m.twice_layout_area / twice_layout) / area) - mean;
+      squares += area * deviation * deviation;
+    }
+    d.log_area_min = log_min;
+    d.log_area_max = log_max;
+    d.log_area_mean = mean;
+    d.log_area_stddev = std::sqrt(squares / log_weight);
+  } else {
+    d.log_area_min = d.log_area_max = d.log_area_mean = d.log_area_stddev = nan;
+  }
+  if (angle_weight > 0) {
+    d.angle_distortion_mean = angle_sum / angle_weight;
+    d.angle_distortion_max = angle_max;
+  } else {
+    d.angle_distortion_mean = d.angle_distortion_max = nan;
+  }
+  return d;
+}
+
+}  // namespace ricci

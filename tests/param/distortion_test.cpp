@@ -1,1 +1,280 @@
-// placeholder: filled in by its owner
+// Distortion figures against layouts whose distortion is known in closed form.
+
+#include "ricci/param/distortion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+
+namespace ricci {
+namespace {
+
+using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+/// Layout figures are sums of a few dozen rounded terms: 1e-14 leaves room for their rounding.
+constexpr double kTight = 1e-14;
+
+UV planar(const Mesh& mesh) {
+  return mesh.positions.leftCols<2>();
+}
+
+/// Every uv row mapped by f.
+UV mapped(const UV& uv, const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& f) {
+  UV out(uv.rows(), 2);
+  for (Eigen::Index r = 0; r < uv.rows(); ++r) out.row(r) = f(uv.row(r).transpose()).transpose();
+  return out;
+}
+
+void expect_undistorted(const Distortion& d) {
+  EXPECT_NEAR(d.area_distortion_energy, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_min, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_max, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_mean, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_stddev, 0.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_mean, 1.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_max, 1.0, kTight);
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_EQ(d.degenerate_faces, 0);
+}
+
+/// The tutorial's eq. 9 recomputed here with nothing shared with the library: 3D areas from
+/// cross products, layout areas by the shoelace formula from corner 0, normalised by their sums.
+double energy_by_hand(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv) {
+  double surface = 0, layout = 0;
+  std::vector<double> area, layout_area;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh.positions.row(mesh.triangles(f, 0));
+    const Eigen::Vector3d b = mesh.positions.row(mesh.triangles(f, 1));
+    const Eigen::Vector3d c = mesh.positions.row(mesh.triangles(f, 2));
+    area.push_back(0.5 * (b - a).cross(c - a).norm());
+    const Eigen::Vector2d p = uv.row(uv_triangles(f, 0)), q = uv.row(uv_triangles(f, 1)),
+                          r = uv.row(uv_triangles(f, 2));
+    layout_area.push_back(0.5 *
+                          ((q.x() - p.x()) * (r.y() - p.y()) - (r.x() - p.x()) * (q.y() - p.y())));
+    surface += area.back();
+    layout += std::abs(layout_area.back());
+  }
+  double energy = 0;
+  for (std::size_t f = 0; f < area.size(); ++f) {
+    const double ratio = (layout_area[f] / layout) / (area[f] / surface);
+    energy += (ratio - 1) * (ratio - 1) * area[f] / surface;
+  }
+  return energy;
+}
+
+TEST(Distortion, GridLaidOutAsItselfIsUndistorted) {
+  const Mesh grid = make_grid(6, 4, 1.5, 1.0);
+  const Distortion d = measure_distortion(grid, grid.triangles, planar(grid));
+  expect_undistorted(d);
+  EXPECT_NEAR(d.surface_area, 1.5, kTight);
+  EXPECT_NEAR(d.layout_area, 1.5, kTight);
+}
+
+TEST(Distortion, ScalingRotatingAndTranslatingTheLayoutChangesNothing) {
+  const Mesh grid = make_grid(6, 4, 1.5, 1.0);
+  const Eigen::Rotation2Dd rotation(0.7);
+  const UV uv = mapped(planar(grid), [&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return 3.0 * (rotation * p) + Eigen::Vector2d(-4.0, 11.0);
+  });
+  const Distortion d = measure_distortion(grid, grid.triangles, uv);
+  expect_undistorted(d);
+  EXPECT_NEAR(d.layout_area, 9 * 1.5, 1e-13);
+}
+
+TEST(Distortion, MirroredLayoutFlipsEveryFaceButStaysConformal) {
+  // (x, y) -> (-x, y): every A/Abar is -1, so eq. 9 gives sum (-2)^2 Abar = 4.
+  const Mesh grid = make_grid(4, 3);
+  const UV uv = mapped(planar(grid), [](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return {-p.x(), p.y()};
+  });
+  const Distortion d = measure_distortion(grid, grid.triangles, uv);
+  EXPECT_EQ(d.flipped_faces, grid.num_faces());
+  EXPECT_EQ(d.degenerate_faces, 0);
+  EXPECT_NEAR(d.area_distortion_energy, 4.0, kTight);
+  EXPECT_TRUE(std::isnan(d.log_area_mean));  // no unflipped face to take a logarithm of
+  EXPECT_TRUE(std::isnan(d.log_area_stddev));
+  EXPECT_NEAR(d.angle_distortion_mean, 1.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_max, 1.0, kTight);
+}
+
+TEST(Distortion, AffineStretchHasAngleDistortionTwoAndNoAreaDistortion) {
+  // (x, y) -> (2x, y): singular values 2 and 1 on every face; the area ratio is 2 everywhere,
+  // which the normalisation to total area 1 removes.
+  const Mesh grid = make_grid(5, 7, 1.0, 2.0);
+  const UV uv = mapped(planar(grid), [](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return {2 * p.x(), p.y()};
+  });
+  const Distortion d = measure_distortion(grid, grid.triangles, uv);
+  EXPECT_NEAR(d.area_distortion_energy, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_min, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_max, 0.0, kTight);
+  EXPECT_NEAR(d.log_area_stddev, 0.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_mean, 2.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_max, 2.0, kTight);
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_EQ(d.degenerate_faces, 0);
+}
+
+TEST(Distortion, HalfTheFacesStretchedByAreaFactorTwo) {
+  // The unit grid with x -> 2x on the left half and x -> x + 1/2 on the right: layout area 3/2,
+  // so after normalisation A/Abar = 4/3 on the left and 2/3 on the right, each half weighing 1/2.
+  const Mesh grid = make_grid(4, 3);
+  const UV uv = mapped(planar(grid), [](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return {p.x() <= 0.5 ? 2 * p.x() : p.x() + 0.5, p.y()};
+  });
+  const Distortion d = measure_distortion(grid, grid.triangles, uv);
+
+  const double energy = 0.5 * std::pow(4.0 / 3 - 1, 2) + 0.5 * std::pow(2.0 / 3 - 1, 2);  // 1/9
+  EXPECT_NEAR(d.area_distortion_energy, energy, 1e-14);
+  EXPECT_NEAR(d.area_distortion_energy, energy_by_hand(grid, grid.triangles, uv), 1e-14);
+  EXPECT_NEAR(d.log_area_min, std::log(2.0 / 3), 1e-14);
+  EXPECT_NEAR(d.log_area_max, std::log(4.0 / 3), 1e-14);
+  EXPECT_NEAR(d.log_area_mean, 0.5 * (std::log(4.0 / 3) + std::log(2.0 / 3)), 1e-14);
+  EXPECT_NEAR(d.log_area_stddev, 0.5 * std::log(2.0), 1e-14);  // half the gap between the two
+  EXPECT_NEAR(d.angle_distortion_mean, 1.5, 1e-14);            // 2 on one half, 1 on the other
+  EXPECT_NEAR(d.angle_distortion_max, 2.0, 1e-14);
+  EXPECT_NEAR(d.layout_area, 1.5, 1e-14);
+  EXPECT_EQ(d.flipped_faces, 0);
+}
+
+TEST(Distortion, FlippedAndDegenerateFacesAreCounted) {
+  // The 2 x 2 unit grid (8 faces of area 1/8), each face with its own three uv rows, laid out as
+  // itself except face 0 mirrored (flipped, same |A|), face 1 collapsed onto a line and face 2
+  // with a NaN coordinate. Layout area 6/8, so A/Abar = 4/3 on the 5 good faces, -4/3 on the
+  // flipped one and 0 on the degenerate ones:
+  // E = (5 (1/3)^2 + (7/3)^2 + 2) / 8 = 1.
+  const Mesh grid = make_grid(2, 2);
+  Triangles uv_triangles(8, 3);
+  UV uv(24, 2);
+  for (int f = 0; f < 8; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      uv_triangles(f, c) = 3 * f + c;
+      uv.row(3 * f + c) = grid.positions.row(grid.triangles(f, c)).leftCols<2>();
+    }
+  }
+  for (int c = 0; c < 3; ++c) uv(c, 0) = -uv(c, 0);
+  uv.row(3) << 0, 0;
+  uv.row(4) << 1, 1;
+  uv.row(5) << 0.5, 0.5;
+  uv(7, 1) = std::numeric_limits<double>::quiet_NaN();
+
+  const Distortion d = measure_distortion(grid, uv_triangles, uv);
+  EXPECT_EQ(d.flipped_faces, 1);
+  EXPECT_EQ(d.degenerate_faces, 2);
+  EXPECT_NEAR(d.layout_area, 0.75, kTight);
+  EXPECT_NEAR(d.area_distortion_energy, 1.0, kTight);
+  // Only the 5 good faces enter the logarithm.
+  EXPECT_NEAR(d.log_area_min, std::log(4.0 / 3), kTight);
+  EXPECT_NEAR(d.log_area_max, std::log(4.0 / 3), kTight);
+  EXPECT_NEAR(d.log_area_mean, std::log(4.0 / 3), kTight);
+  EXPECT_NEAR(d.log_area_stddev, 0.0, kTight);
+  // The good faces and the mirror image are conformal; the degenerate ones are left out.
+  EXPECT_NEAR(d.angle_distortion_mean, 1.0, kTight);
+  EXPECT_NEAR(d.angle_distortion_max, 1.0, kTight);
+}
+
+TEST(Distortion, AllFacesDegenerate) {
+  // Every face collapsed to a point: A = 0 everywhere, E = sum Abar = 1, no statistics.
+  const Mesh grid = make_grid(2, 1);
+  const UV uv = UV::Zero(grid.num_vertices(), 2);
+  const Distortion d = measure_distortion(grid, grid.triangles, uv);
+  EXPECT_EQ(d.degenerate_faces, grid.num_faces());
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_NEAR(d.area_distortion_energy, 1.0, kTight);
+  EXPECT_TRUE(std::isnan(d.log_area_min));
+  EXPECT_TRUE(std::isnan(d.angle_distortion_max));
+}
+
+TEST(Distortion, CurvedDiskProjectedOnItsPlane) {
+  // Projecting a face whose normal makes the angle t with +z scales its area by cos t and maps it
+  // with singular values 1 and cos t: angle distortion 1 / cos t. Every figure follows from the
+  // per-face cos t, computed here from the 3D normals.
+  const Mesh disk = make_disk(6, 0.6);
+  const Distortion d = measure_distortion(disk, disk.triangles, planar(disk));
+
+  double surface = 0, layout = 0, min_cos = 1, weighted_secant = 0;
+  std::vector<double> area, cosine;
+  for (int f = 0; f < disk.num_faces(); ++f) {
+    const Eigen::Vector3d a = disk.positions.row(disk.triangles(f, 0));
+    const Eigen::Vector3d b = disk.positions.row(disk.triangles(f, 1));
+    const Eigen::Vector3d c = disk.positions.row(disk.triangles(f, 2));
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    area.push_back(0.5 * normal.norm());
+    cosine.push_back(normal.z() / normal.norm());
+    surface += area.back();
+    layout += area.back() * cosine.back();
+    min_cos = std::min(min_cos, cosine.back());
+    weighted_secant += area.back() / cosine.back();
+  }
+  double energy = 0;
+  for (std::size_t f = 0; f < area.size(); ++f) {
+    energy += std::pow(cosine[f] * surface / layout - 1, 2) * area[f] / surface;
+  }
+
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_EQ(d.degenerate_faces, 0);
+  EXPECT_GT(d.area_distortion_energy, 1e-4);
+  EXPECT_NEAR(d.area_distortion_energy, energy, 1e-13);
+  EXPECT_NEAR(d.area_distortion_energy, energy_by_hand(disk, disk.triangles, planar(disk)), 1e-13);
+  EXPECT_NEAR(d.surface_area, surface, 1e-13);
+  EXPECT_NEAR(d.layout_area, layout, 1e-13);
+  // Jensen: the area-weighted mean of ln(A/Abar) is below ln(sum A) = 0, so the range spans 0.
+  EXPECT_LT(d.log_area_mean, 0.0);
+  EXPECT_LT(d.log_area_min, 0.0);
+  EXPECT_GT(d.log_area_max, 0.0);
+  EXPECT_NEAR(d.log_area_min, std::log(min_cos * surface / layout), 1e-13);
+  EXPECT_GT(d.log_area_stddev, 0.0);
+  EXPECT_NEAR(d.angle_distortion_max, 1 / min_cos, 1e-13);
+  EXPECT_NEAR(d.angle_distortion_mean, weighted_secant / surface, 1e-13);
+  EXPECT_GT(d.angle_distortion_mean, 1.0);
+}
+
+/// The message of the InvalidInput that measure_distortion throws.
+std::string invalid_input_message(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv) {
+  try {
+    measure_distortion(mesh, uv_triangles, uv);
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InvalidInput thrown";
+  return "";
+}
+
+TEST(Distortion, SizeMismatchesAreInvalidInput) {
+  const Mesh grid = make_grid(2, 2);
+  const UV uv = planar(grid);
+  auto expect_message = [](const std::string& message, const std::string& piece) {
+    EXPECT_NE(message.find("measure_distortion"), std::string::npos) << message;
+    EXPECT_NE(message.find(piece), std::string::npos) << message;
+  };
+  expect_message(invalid_input_message(grid, grid.triangles.topRows(7), uv),
+                 "uv_triangles has 7 rows but the mesh has 8 faces");
+
+  Triangles bad_uv = grid.triangles;
+  bad_uv(5, 2) = 9;
+  expect_message(invalid_input_message(grid, bad_uv, uv),
+                 "face 5 corner 2: uv index 9 is out of range [0, 9)");
+  expect_message(invalid_input_message(grid, grid.triangles, uv.topRows(8)),
+                 "uv index 8 is out of range [0, 8)");
+
+  Mesh bad_vertex = grid;
+  bad_vertex.triangles(3, 0) = -1;
+  expect_message(invalid_input_message(bad_vertex, grid.triangles, uv), "vertex index -1");
+
+  Mesh flat_face = grid;
+  flat_face.triangles(4, 2) = flat_face.triangles(4, 1);  // no other face changes
+  expect_message(invalid_input_message(flat_face, grid.triangles, uv), "face 4 has zero area");
+
+  expect_message(invalid_input_message(Mesh{}, Triangles(0, 3), uv), "no faces");
+}
+
+}  // namespace
+}  // namespace ricci
