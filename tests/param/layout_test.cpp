@@ -214,6 +214,30 @@ TEST(Layout, CurvedDiskWithFreeAndDiskBoundaries) {
   }
 }
 
+TEST(Layout, EachComponentFromItsOwnRoot) {
+  // Two planar disks side by side, vertex scaling (lengths exact): each component is laid out
+  // from its own root and reproduces its own input rigidly.
+  const Mesh small = make_disk(4, 0.0), large = make_disk(7, 0.0);
+  Mesh both;
+  both.positions.resize(small.num_vertices() + large.num_vertices(), 3);
+  both.positions << small.positions, large.positions.rowwise() + Eigen::RowVector3d(5, 0, 0);
+  both.triangles.resize(small.num_faces() + large.num_faces(), 3);
+  both.triangles << small.triangles, large.triangles.array() + small.num_vertices();
+  const MeshFlowResult flow = flat_flow(both, BoundaryMode::Free, Scheme::VertexScaling);
+  const Uncut u = uncut(flow.topology);
+  const Layout layout = layout_flat(flow.topology, flow.lengths, u.cut, u.cut_mesh);
+  EXPECT_LE(layout.max_length_relative_error, 1e-12);
+  EXPECT_EQ(layout.num_flipped_faces, 0);
+  for (const Component& c : flow.topology.components) {
+    std::vector<Complex> points, reference;
+    for (int v : c.vertices) {
+      points.push_back(uv_of(layout, v));
+      reference.emplace_back(both.positions(v, 0), both.positions(v, 1));
+    }
+    EXPECT_LE(rigid_distance(points, reference), 1e-12);
+  }
+}
+
 TEST(Layout, RejectsBrokenInputs) {
   const Mesh mesh = make_disk(3, 0.0);
   const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
@@ -438,6 +462,18 @@ TEST(Layout, SphereWithFourAndEightCones) {
     for (const SeamTransition& t : f.layout.transitions) {
       EXPECT_LE(off_multiple(t.angle, kPi / 2), 1e-8) << what << ", edge " << t.edge;
     }
+  }
+}
+
+TEST(Layout, DiskWithOneConeTurnsByItsCurvatureAcrossTheCut) {
+  // A cap with a cone of pi/2 at its centre (vertex 0): the cut runs from the cone to the
+  // boundary, and the two sides of it differ by a rotation of +-pi/2, the holonomy around the
+  // cone.
+  const Flattened f = flatten(make_disk(10, 0.5), BoundaryMode::Free, {{0, kPi / 2}});
+  expect_valid_layout(f, "disk with a cone");
+  ASSERT_FALSE(f.layout.segment_transitions.empty());
+  for (const SeamTransition& t : f.layout.segment_transitions) {
+    EXPECT_NEAR(std::abs(t.angle), kPi / 2, 1e-8) << "segment " << t.segment;
   }
 }
 

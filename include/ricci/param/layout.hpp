@@ -15,44 +15,68 @@
 
 namespace ricci {
 
-/// The rigid motion z -> rotation * z + translation taking one side of a cut edge to the other.
+/// The rigid motion z -> rotation * z + translation taking one side of a cut edge to the other:
+/// side B (the face of edge_halfedges(e, 1)) onto side A (the face of edge_halfedges(e, 0)). For
+/// a segment, side A is that of its first edge and the same side of the path (left or right of
+/// its direction) for the others.
 struct SeamTransition {
-  int edge = -1;                     ///< edge of the original mesh
-  int segment = -1;                  ///< cut segment the edge belongs to
-  std::complex<double> rotation{1};  ///< unit complex number a
-  std::complex<double> translation{0};  ///< b
-  double angle = 0;                  ///< arg(a), radians in (-pi, pi]
-  double mismatch = 0;  ///< max over the edge's two ends of |a z_side + b - z_other| / length
+  int edge = -1;                        ///< edge of the original mesh
+  int segment = -1;                     ///< cut segment the edge belongs to
+  std::complex<double> rotation{1};     ///< unit complex number a
+  std::complex<double> translation{0};  ///< b (takes the midpoint of side B's ends onto side A's)
+  double angle = 0;                     ///< arg(a), radians in (-pi, pi]
+  /// max over the edge's two ends of |a z_B + b - z_A| / length; for a segment, over the ends of
+  /// all its edges, each relative to its edge's length
+  double mismatch = 0;
 };
 
 /// Options of layout_flat.
 struct LayoutOptions {
-  int root_face = -1;  ///< face placed first; -1 picks the face farthest from the cut
+  /// Face placed first (its component's root); -1 picks, per component of the cut mesh, the face
+  /// farthest from the cut mesh's boundary in steps across edges (breadth-first over the dual
+  /// graph), which keeps the layout tree shallow.
+  int root_face = -1;
 };
 
 /// What layout_flat returns.
 struct Layout {
-  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;  ///< per vertex of the cut mesh
-  int root_face = -1;
+  /// #V_cut by 2: position of each cut-mesh vertex (0 for vertices of no face). Each component
+  /// is laid out from its own root: first corner at 0, second on the positive real axis.
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+  int root_face = -1;  ///< the root of the first component (or the one requested)
   /// max over edges of | |uv_i - uv_j| - l_ij | / l_ij: how well the layout reproduces the
   /// metric (1e-9 or better expected).
   double max_length_relative_error = 0;
   /// Faces whose uv signed area is not positive (orientation reversed or collapsed): 0 expected
   /// where the metric is flat with no cone inside the face's neighbourhood.
   int num_flipped_faces = 0;
-  std::vector<SeamTransition> transitions;  ///< one per cut edge
-  /// Per segment: the transition of its edges (they share one rigid motion up to rounding).
+  std::vector<SeamTransition> transitions;  ///< one per interior cut edge, by edge index
+  /// Per segment of the cut: the rigid motion fitted (least squares) to the ends of all its
+  /// edges, which share one up to rounding; `edge` is its first edge.
   std::vector<SeamTransition> segment_transitions;
-  /// Genus-1 closed surfaces without cones: two independent translations generating the
-  /// lattice of the periodic tiling (empty otherwise).
+  /// A mesh that is one closed genus-1 component whose segment transitions are all
+  /// translations (|angle| < 1e-6: a flat torus, no cones): a reduced basis b1, b2 of the lattice
+  /// of the periodic tiling (|b1| <= |b2|, |<b1, b2>| <= |b1|^2 / 2, counter-clockwise), every
+  /// seam translation an integer combination of them. Empty otherwise.
   std::vector<std::complex<double>> lattice;
 };
 
-/// Lays out a flat metric on the sliced mesh.
+/// Lays out a flat metric on the sliced mesh, breadth-first from the root over faces that share
+/// an uncut edge: the root gets p_i = 0, p_j = l_ij, p_k = l_ik e^{i theta_i}; every later face
+/// places its third vertex k from its edge (i, j) as p_k = p_i + l_ik e^{i theta_i} (p_j - p_i) /
+/// |p_j - p_i|, angles by the half-angle formula (metric/angles.hpp). Each vertex is placed once,
+/// by the first face that reaches it. Linear time (about 0.12 s for a million faces).
+/// A curvature residual d at an interior vertex shows as a misclosure of about d times the
+/// distance to the root: flatten to well below the accuracy wanted.
 /// \param topology the original mesh's connectivity
 /// \param lengths #E edge lengths of the flat metric (original mesh edges)
-/// \pre the cut mesh is a topological disk and the metric is flat at its interior vertices
-/// \throw InvalidInput when the lengths break a triangle inequality
+/// \param cut the cut the mesh was sliced along (is_cut_edge may be empty: no cut)
+/// \param cut_mesh slice(topology, cut), or the mesh itself when it is a disk already
+/// \pre the metric is flat at the cut mesh's interior vertices
+/// \throw InvalidInput naming the face when the lengths break a triangle inequality (or are not
+///        positive and finite), when a component of the cut mesh is not a topological disk, when
+///        the cut mesh's corners do not copy the mesh's, when a segment steps across no cut edge,
+///        or when root_face is out of range
 Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
                    const CutMesh& cut_mesh, const LayoutOptions& options = {});
 
