@@ -13,6 +13,7 @@
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/param/parameterize.hpp"
 
 namespace ricci::cli {
 namespace {
@@ -221,6 +222,85 @@ int run_flow(const FlowArgs& args) {
     if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
   }
   return result.converged ? kOk : kNotConverged;
+}
+
+int run_param(const ParamArgs& args) {
+  ParamOptions options;
+  options.structure.scheme = parse_scheme(args.scheme);
+  options.boundary = parse_boundary_mode(args.boundary);
+  options.quantize = args.quantize;
+  options.auto_cones.max_log_scale = args.max_log_scale;
+  options.auto_cones.max_cones = args.max_cones;
+  options.flow.tolerance = args.tolerance;
+  check_output_is_not_input(args.output, {args.mesh, args.cones});
+  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
+
+  const ReadResult read = read_mesh(args.mesh);
+  print_warnings(read);
+  const std::string& c = args.cones;
+  if (c == "auto") {
+    options.cone_mode = ConeMode::Auto;
+  } else if (c == "none") {
+    options.cone_mode = ConeMode::None;
+  } else if (c == "one") {
+    options.cone_mode = ConeMode::OneCone;
+  } else if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos) {
+    options.cone_mode = ConeMode::Auto;
+    options.auto_cones.count = std::stoi(c);
+    if (options.auto_cones.count < 1) throw InvalidInput("--cones: a cone count must be >= 1");
+  } else {
+    options.cone_mode = ConeMode::User;
+    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
+    for (Cone cone : read_cones(c)) {
+      if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
+        throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) +
+                           " is not a vertex of " + args.mesh + " used by any face");
+      }
+      cone.vertex = to_mesh[cone.vertex];
+      options.cones.push_back(cone);
+    }
+  }
+  if (args.progress) {
+    options.flow.progress = [](const IterationRecord& r) {
+      std::cerr << "  flow iteration " << r.iteration << "  max |K-bar - K| " << std::scientific
+                << std::setprecision(3) << r.max_error << std::defaultfloat << "\n";
+      return true;
+    };
+  }
+  ParamResult result;
+  try {
+    result = parameterize(read.mesh, options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(args.mesh + ": " + e.what());
+  }
+  nlohmann::json report = param_report(result, options);
+  report["input"] = args.mesh;
+  report["output"] = args.output;
+  if (!args.report.empty()) {
+    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
+  }
+  if (!result.converged) {
+    std::cerr << "error: " << args.mesh << ": the flow did not converge: " << result.message
+              << "\n";
+    return kNotConverged;
+  }
+  write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
+  if (args.json) {
+    std::cout << report.dump(2) << "\n";
+  } else {
+    const Distortion& d = result.distortion;
+    std::cout << args.mesh << " -> " << args.output << "\n"
+              << "  cones " << result.cones.size() << " (" << cone_mode_name(options.cone_mode)
+              << "), edge splits " << result.edge_splits << ", cut: " << result.cut.num_generators
+              << " generators, " << result.cut.segments.size() << " segments, seam length "
+              << result.seam_length << "\n"
+              << "  area distortion " << d.area_distortion_energy << ", angle distortion mean "
+              << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
+              << d.flipped_faces << ", layout length error "
+              << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
+    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+  }
+  return kOk;
 }
 
 int run_generate(const GenerateArgs& args) {

@@ -39,6 +39,22 @@ struct FlowArgs {
 };
 int run_flow(const FlowArgs& args);
 
+struct ParamArgs {
+  std::string mesh;
+  std::string output;
+  std::string cones = "auto";
+  std::string boundary = "free";
+  std::string scheme = "thurston";
+  std::string report;
+  bool quantize = false;
+  double max_log_scale = 1.0;
+  int max_cones = 64;
+  double tolerance = 1e-12;
+  bool json = false;
+  bool progress = false;
+};
+int run_param(const ParamArgs& args);
+
 struct GenerateArgs {
   std::string kind;
   std::string output;

@@ -1,6 +1,8 @@
 #include "json_output.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 
 namespace ricci::cli {
 namespace {
@@ -111,6 +113,99 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
   for (int e = 0; e < result.topology.num_edges; ++e) edges.push_back({ev(e, 0), ev(e, 1)});
   j["edges"] = edges;
   j["lengths"] = to_vector(result.lengths);
+  return j;
+}
+
+namespace {
+
+nlohmann::json to_json(const std::complex<double>& z) {
+  return {z.real(), z.imag()};
+}
+
+nlohmann::json to_json(const SeamTransition& t) {
+  return {{"edge", t.edge},
+          {"segment", t.segment},
+          {"rotation_degrees", t.angle * 180.0 / 3.14159265358979323846},
+          {"rotation", to_json(t.rotation)},
+          {"translation", to_json(t.translation)},
+          {"mismatch", t.mismatch}};
+}
+
+}  // namespace
+
+nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
+  nlohmann::json j;
+  j["converged"] = r.converged;
+  j["message"] = r.message;
+  j["seconds"] = r.seconds;
+  j["cone_mode"] = cone_mode_name(options.cone_mode);
+  j["boundary"] = boundary_mode_name(options.boundary);
+  j["scheme"] = scheme_name(options.structure.scheme);
+  j["quantize"] = options.quantize;
+  nlohmann::json cones = nlohmann::json::array();
+  for (const Cone& c : r.cones) {
+    cones.push_back({{"vertex", c.vertex},
+                     {"curvature", c.curvature},
+                     {"curvature_over_pi", c.curvature / 3.14159265358979323846}});
+  }
+  j["cones"] = cones;
+  j["cone_selection_max_log_scale"] = r.cone_selection.max_log_scale;
+  j["modification"] = {{"edge_splits", r.edge_splits},
+                       {"subdivided", r.subdivided},
+                       {"added_vertices", r.added_vertex_parents.size()},
+                       {"added_vertex_parents", r.added_vertex_parents},
+                       {"output_vertices", r.mesh.num_vertices()}};
+  MeshFlowOptions flow_options;
+  flow_options.structure = options.structure;
+  flow_options.flow = options.flow;
+  j["flow"] = flow_summary(r.flow, flow_options);
+  if (!r.converged) return j;
+  nlohmann::json segments = nlohmann::json::array();
+  for (std::size_t s = 0; s < r.cut.segments.size(); ++s) {
+    nlohmann::json seg = {{"vertices", r.cut.segments[s].size()}};
+    if (s < r.layout.segment_transitions.size()) {
+      seg["transition"] = to_json(r.layout.segment_transitions[s]);
+    }
+    segments.push_back(seg);
+  }
+  j["cut"] = {{"generators", r.cut.num_generators},
+              {"nodes", r.cut.nodes},
+              {"cut_edges", std::count(r.cut.is_cut_edge.begin(), r.cut.is_cut_edge.end(), 1)},
+              {"seam_length", r.seam_length},
+              {"segments", segments}};
+  nlohmann::json lattice = nlohmann::json::array();
+  for (const auto& z : r.layout.lattice) lattice.push_back(to_json(z));
+  double worst_mismatch = 0;
+  for (const SeamTransition& t : r.layout.transitions)
+    worst_mismatch = std::max(worst_mismatch, t.mismatch);
+  j["layout"] = {{"root_face", r.layout.root_face},
+                 {"max_length_relative_error", r.layout.max_length_relative_error},
+                 {"max_transition_mismatch", worst_mismatch},
+                 {"lattice", lattice},
+                 {"uv_scale", r.uv_scale},
+                 {"uv_offset", {r.uv_offset[0], r.uv_offset[1]}}};
+  nlohmann::json charts = nlohmann::json::array();
+  for (const BoundaryChart& c : r.atlas.boundary_charts) {
+    charts.push_back({{"segment", c.segment},
+                      {"faces", c.faces.size()},
+                      {"rotation", to_json(c.rotation)},
+                      {"translation", to_json(c.translation)}});
+  }
+  j["atlas"] = {{"central_chart_faces", r.mesh.num_faces()},
+                {"boundary_charts", charts},
+                {"max_transition_error", r.atlas.max_transition_error}};
+  const Distortion& d = r.distortion;
+  j["distortion"] = {{"area_distortion_energy", d.area_distortion_energy},
+                     {"log_area_min", d.log_area_min},
+                     {"log_area_max", d.log_area_max},
+                     {"log_area_mean", d.log_area_mean},
+                     {"log_area_stddev", d.log_area_stddev},
+                     {"angle_distortion_mean", d.angle_distortion_mean},
+                     {"angle_distortion_max", d.angle_distortion_max},
+                     {"flipped_faces", d.flipped_faces},
+                     {"degenerate_faces", d.degenerate_faces},
+                     {"cones", r.cones.size()},
+                     {"seam_length", r.seam_length}};
   return j;
 }
 

@@ -6,6 +6,7 @@
 
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/info.hpp"
+#include "ricci/param/parameterize.hpp"
 
 namespace ricci::cli {
 
@@ -18,5 +19,9 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
 /// Per-vertex and per-edge arrays of a flow; vertex rows in mesh order, with file_index giving
 /// each row's 0-based vertex index in the input file.
 nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>& file_index);
+
+/// Report of a parameterization: cones, modifications, cut, layout, atlas, distortion and the
+/// flow summary.
+nlohmann::json param_report(const ParamResult& result, const ParamOptions& options);
 
 }  // namespace ricci::cli

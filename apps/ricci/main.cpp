@@ -74,6 +74,38 @@ int main(int argc, char** argv) {
   flow_cmd->add_flag("--json", flow.json, "print the summary as JSON");
   flow_cmd->add_flag("--progress", flow.progress, "print every iteration on stderr");
 
+  ParamArgs param;
+  CLI::App* param_cmd = app.add_subcommand(
+      "param",
+      "Global conformal parameterization: cones, Ricci flow to a flat metric, cut graph, "
+      "layout; writes an OBJ with per-corner texture coordinates in the unit square.");
+  param_cmd->add_option("MESH", param.mesh, "mesh file (.obj .off .ply .stl)")->required();
+  param_cmd->add_option("-o,--output", param.output, "output .obj with vt coordinates")->required();
+  param_cmd
+      ->add_option("--cones", param.cones,
+                   "auto (until --max-log-scale holds), N (that many automatic cones), none, one "
+                   "(all curvature at one cone, genus >= 2), or cones as 'V:K,...' or a file")
+      ->capture_default_str();
+  param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
+      ->capture_default_str();
+  param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
+      ->capture_default_str();
+  param_cmd->add_flag("--quantize", param.quantize, "round cone curvatures to multiples of pi/2");
+  param_cmd
+      ->add_option("--max-log-scale", param.max_log_scale,
+                   "automatic cones: add cones until max |log area scale| is below this")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  param_cmd->add_option("--max-cones", param.max_cones, "automatic cones: at most this many")
+      ->capture_default_str();
+  param_cmd->add_option("--tol", param.tolerance, "flow tolerance on max |K-bar - K|")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  param_cmd->add_option("--report", param.report,
+                        "write a JSON report: cones, cut, layout, atlas, distortion, flow");
+  param_cmd->add_flag("--json", param.json, "print the report as JSON");
+  param_cmd->add_flag("--progress", param.progress, "print flow iterations on stderr");
+
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
       "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
@@ -98,6 +130,7 @@ int main(int argc, char** argv) {
   try {
     if (*info_cmd) return run_info(info);
     if (*flow_cmd) return run_flow(flow);
+    if (*param_cmd) return run_param(param);
     if (*generate_cmd) return run_generate(generate);
   } catch (const ricci::InvalidInput& e) {
     std::cerr << "error: " << e.what() << "\n";

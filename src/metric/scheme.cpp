@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -36,28 +37,30 @@ int other_end(const Topology& t, int e, int v) {
   return t.edge_vertices(e, 0) == v ? t.edge_vertices(e, 1) : t.edge_vertices(e, 0);
 }
 
-/// Length of a Thurston edge with radii x, g whose Phi is the best one in [0, pi/2] for the
-/// target length L: the target clamped to [sqrt(x^2 + g^2), x + g].
-double thurston_fit_length(double x, double g, double target) {
-  return std::clamp(target, std::sqrt(x * x + g * g), x + g);
+/// Length of a Thurston edge with radii x, g whose Phi is the best one in [0, Phi_max] for the
+/// target length L (c = cos Phi_max): the target clamped to [sqrt(x^2 + g^2 + 2 c x g), x + g].
+double thurston_fit_length(double x, double g, double target, double c) {
+  return std::clamp(target, std::sqrt(x * x + g * g + 2 * c * x * g), x + g);
 }
 
 /// Minimises over x > 0 the sum over the edges of a vertex of (l(x) - lbar)^2, where l(x) is the
-/// best Thurston length above. Each term is convex in x (zero on [lbar - g, sqrt(lbar^2 - g^2)],
-/// (lbar - x - g)^2 below, (sqrt(x^2 + g^2) - lbar)^2 above), so a safeguarded Newton iteration on
-/// the derivative finds the minimiser nearest the current radius.
-double fit_thurston_radius(double x, const std::vector<std::pair<double, double>>& neighbours) {
+/// best Thurston length above. Each term is convex in x (zero where lbar can be met,
+/// (lbar - x - g)^2 below, (sqrt(x^2 + g^2 + 2 c x g) - lbar)^2 above), so a safeguarded Newton
+/// iteration on the derivative finds the minimiser nearest the current radius.
+double fit_thurston_radius(double x, const std::vector<std::pair<double, double>>& neighbours,
+                           double c) {
   auto derivatives = [&](double y, double& d1, double& d2) {
     d1 = d2 = 0;
     for (const auto& [g, target] : neighbours) {
+      const double shortest_sq = y * y + g * g + 2 * c * y * g;
       if (y + g < target) {
         d1 += -2.0 * (target - y - g);
         d2 += 2.0;
-      } else if (y * y + g * g > target * target) {
-        const double r = std::sqrt(y * y + g * g);
-        const double slope = y / r;
+      } else if (shortest_sq > target * target) {
+        const double r = std::sqrt(shortest_sq);
+        const double slope = (y + c * g) / r;
         d1 += 2.0 * (r - target) * slope;
-        d2 += 2.0 * (slope * slope + (r - target) * g * g / (r * r * r));
+        d2 += 2.0 * (slope * slope + (r - target) * (1 - c * c) * g * g / (r * r * r));
       }
     }
   };
@@ -197,6 +200,9 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
     case Scheme::Thurston:
     case Scheme::Tangential: {
       const bool thurston = options.scheme == Scheme::Thurston;
+      // Thurston packings fit Phi in [0, max_intersection_angle]: eta = cos Phi >= c.
+      const double c =
+          std::cos(std::clamp(options.max_intersection_angle, 0.0, std::numbers::pi / 2));
       if (options.packing_init == PackingInit::UnitRadii) {
         s.eta.setOnes();
         break;
@@ -204,8 +210,12 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
       // Equal radii c lbar / 2 fit an edge exactly for c in [1, sqrt 2]; start inside that range.
       for (int v = 0; v < nv; ++v) gamma[v] = (thurston ? 0.6 : 0.5) * adjacent(v, false);
       if (thurston) {
-        result.fit_sweeps =
-            fit_sweeps(t, ve, lbar, gamma, options, thurston_fit_length, fit_thurston_radius);
+        result.fit_sweeps = fit_sweeps(
+            t, ve, lbar, gamma, options,
+            [c](double a, double b, double l) { return thurston_fit_length(a, b, l, c); },
+            [c](double r, const std::vector<std::pair<double, double>>& nb) {
+              return fit_thurston_radius(r, nb, c);
+            });
       } else {
         // Tangential lengths are gamma_i + gamma_j: each vertex step is a 1-D least squares.
         double floor = 1e-6 * lbar.mean();
@@ -220,7 +230,7 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
       for (int e = 0; e < ne; ++e) {
         const double gi = gamma[t.edge_vertices(e, 0)], gj = gamma[t.edge_vertices(e, 1)];
         const double cos_phi = (lbar[e] * lbar[e] - gi * gi - gj * gj) / (2 * gi * gj);
-        s.eta[e] = thurston ? std::clamp(cos_phi, 0.0, 1.0) : 1.0;
+        s.eta[e] = thurston ? std::clamp(cos_phi, c, 1.0) : 1.0;
       }
       break;
     }

@@ -1,1 +1,143 @@
-// placeholder: filled in by its owner
+#include "ricci/param/parameterize.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/io.hpp"
+#include "support/shared_meshes.hpp"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// Sum of the layout's corner angles at every copy of vertex v: the cone angle 2 pi - K read back
+/// from the texture coordinates.
+double uv_angle_sum(const ParamResult& r, int v) {
+  double sum = 0;
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (r.mesh.triangles(f, k) != v) continue;
+      const Eigen::Vector2d p = r.uv.row(r.cut_mesh.triangles(f, k)).transpose();
+      const Eigen::Vector2d a = r.uv.row(r.cut_mesh.triangles(f, (k + 1) % 3)).transpose() - p;
+      const Eigen::Vector2d b = r.uv.row(r.cut_mesh.triangles(f, (k + 2) % 3)).transpose() - p;
+      sum += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    }
+  }
+  return sum;
+}
+
+/// Invariants every successful parameterization must show.
+void expect_good(const ParamResult& r, const std::string& what) {
+  ASSERT_TRUE(r.converged) << what << ": " << r.message;
+  EXPECT_LE(r.flow.max_error, 1e-10) << what;
+  // The sliced mesh is one disk (a sphere with fewer than two cones stays closed).
+  const Topology& ct = r.cut_mesh.topology;
+  if (!(r.flow.topology.num_boundary_loops() == 0 && r.cones.size() < 2 &&
+        r.flow.topology.components[0].genus == 0)) {
+    EXPECT_EQ(ct.euler_characteristic(), 1) << what;
+    EXPECT_EQ(ct.num_boundary_loops(), 1) << what;
+  }
+  EXPECT_LE(r.layout.max_length_relative_error, 1e-9) << what;
+  for (const SeamTransition& t : r.layout.transitions) {
+    EXPECT_NEAR(std::abs(t.rotation), 1.0, 1e-12) << what;
+    EXPECT_LE(t.mismatch, 1e-9) << what;
+  }
+  // Requested cone angles read back from the layout.
+  for (const Cone& c : r.cones) {
+    EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * kPi - c.curvature, 1e-8)
+        << what << " cone at " << c.vertex;
+  }
+  // Unit square, aspect ratio kept: one side spans [0, 1].
+  EXPECT_GE(r.uv.minCoeff(), -1e-12);
+  EXPECT_LE(r.uv.maxCoeff(), 1 + 1e-12);
+  EXPECT_NEAR(std::max(r.uv.col(0).maxCoeff(), r.uv.col(1).maxCoeff()), 1.0, 1e-12);
+  EXPECT_EQ(static_cast<int>(r.vertex_origin.size()), r.mesh.num_vertices());
+  EXPECT_GE(r.distortion.area_distortion_energy, 0.0);
+}
+
+TEST(Parameterize, TorusWithoutConesIsAPeriodicFlatteningWithoutFlips) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::None;
+  const ParamResult r = parameterize(make_torus(32, 12), options);
+  expect_good(r, "torus");
+  EXPECT_EQ(r.cut.num_generators, 2);
+  EXPECT_EQ(r.layout.lattice.size(), 2u);
+  EXPECT_EQ(r.distortion.flipped_faces, 0);
+  EXPECT_TRUE(r.cones.empty());
+}
+
+TEST(Parameterize, DiskWithFreeAndDiskBoundary) {
+  const Mesh disk = make_disk(10, 0.8);
+  for (BoundaryMode mode : {BoundaryMode::Free, BoundaryMode::DiskUniform}) {
+    ParamOptions options;
+    options.cone_mode = ConeMode::None;
+    options.boundary = mode;
+    const ParamResult r = parameterize(disk, options);
+    expect_good(r, boundary_mode_name(mode));
+    EXPECT_EQ(r.distortion.flipped_faces, 0);
+    EXPECT_EQ(r.cut.num_generators, 0);
+    EXPECT_DOUBLE_EQ(r.seam_length, 0.0);
+  }
+}
+
+TEST(Parameterize, SphereWithAutomaticQuantizedCones) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::Auto;
+  options.auto_cones.count = 8;
+  options.quantize = true;
+  const ParamResult r = parameterize(make_icosphere(3), options);
+  expect_good(r, "sphere auto");
+  double total = 0;
+  for (const Cone& c : r.cones) {
+    EXPECT_NEAR(std::remainder(c.curvature, kPi / 2), 0.0, 1e-12);
+    total += c.curvature;
+  }
+  EXPECT_NEAR(total, 4 * kPi, 1e-12);
+  EXPECT_EQ(r.distortion.flipped_faces, 0);
+}
+
+TEST(Parameterize, UserConesOnASphere) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::User;
+  options.cones = {{0, kPi}, {3, kPi}, {5, kPi}, {9, kPi}};
+  const ParamResult r = parameterize(make_icosphere(2), options);
+  expect_good(r, "sphere user");
+  EXPECT_EQ(r.cones.size(), 4u);
+}
+
+TEST(Parameterize, GenusTwoWithOneConeRaisesItsValence) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::OneCone;
+  const Mesh surface = make_closed_surface(2, 16);
+  const ParamResult r = parameterize(surface, options);
+  expect_good(r, "genus 2, one cone");
+  ASSERT_EQ(r.cones.size(), 1u);
+  EXPECT_NEAR(r.cones[0].curvature, -4 * kPi, 1e-12);
+  EXPECT_GT(r.edge_splits, 0);
+  EXPECT_GT(r.mesh.num_vertices(), surface.num_vertices());
+  // Input vertices keep their index; every added vertex splits an edge of earlier vertices.
+  for (int v = 0; v < surface.num_vertices(); ++v) EXPECT_EQ(r.vertex_origin[v], v);
+  for (std::size_t i = 0; i < r.added_vertex_parents.size(); ++i) {
+    const int v = surface.num_vertices() + static_cast<int>(i);
+    EXPECT_EQ(r.vertex_origin[v], -1);
+    EXPECT_LT(r.added_vertex_parents[i][0], v);
+    EXPECT_LT(r.added_vertex_parents[i][1], v);
+  }
+  EXPECT_EQ(r.cut.num_generators, 4);
+}
+
+TEST(Parameterize, ClosedSphereWithoutConesIsRefused) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::None;
+  EXPECT_THROW(parameterize(make_icosphere(1), options), InvalidInput);
+  options.cone_mode = ConeMode::OneCone;
+  EXPECT_THROW(parameterize(make_torus(12, 6), options), InvalidInput);
+}
+
+}  // namespace
+}  // namespace ricci

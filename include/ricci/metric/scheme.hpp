@@ -48,6 +48,10 @@ enum class PackingInit {
 struct StructureOptions {
   Scheme scheme = Scheme::Thurston;             ///< which discrete metric
   PackingInit packing_init = PackingInit::Fit;  ///< Thurston and tangential only
+  /// Largest intersection angle Phi the Thurston fit may use (radians; theory allows pi/2). Each
+  /// face gives its vertex at most pi - Phi of angle, so at pi/2 a valence-4 vertex whose edges
+  /// all fit best at pi/2 could never be flat (fertility.off has one); 80 degrees leaves room.
+  double max_intersection_angle = 80.0 * 3.14159265358979323846 / 180.0;
   int fit_sweeps = 30;  ///< most Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
   /// Stop the fit when a sweep lowers the sum of squared length errors by less than this
   /// fraction (the RMS error then changes in its fifth digit).

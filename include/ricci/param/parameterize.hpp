@@ -1,0 +1,86 @@
+#pragma once
+/// \file
+/// The global conformal parameterization pipeline (tutorial sections 5 and 6): singularity
+/// selection, local connectivity modification, Ricci flow to a flat metric with cones, cut graph,
+/// planar layout, affine atlas and distortion figures. Mesh in, texture coordinates out.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/param/atlas.hpp"
+#include "ricci/param/cones.hpp"
+#include "ricci/param/cut_graph.hpp"
+#include "ricci/param/distortion.hpp"
+#include "ricci/param/layout.hpp"
+
+namespace ricci {
+
+/// Where the cones come from.
+enum class ConeMode {
+  None,     ///< no cones: genus 1 closed, or any surface with boundary (free or disk boundary)
+  User,     ///< ParamOptions::cones as given
+  Auto,     ///< select_cones (a count, or until the log scale bound holds)
+  OneCone,  ///< all curvature 2 pi chi at one vertex (genus >= 2), chosen by select_cones
+};
+
+/// "none", "user", "auto", "one". \throw InvalidInput otherwise
+ConeMode parse_cone_mode(const std::string& name);
+const char* cone_mode_name(ConeMode mode);
+
+/// Options of parameterize.
+struct ParamOptions {
+  ConeMode cone_mode = ConeMode::Auto;
+  std::vector<Cone> cones;          ///< ConeMode::User: vertices (input indices) and curvatures
+  ConeSelectionOptions auto_cones;  ///< ConeMode::Auto: count or log-scale bound
+  bool quantize = false;            ///< round cone curvatures to multiples of pi/2
+  BoundaryMode boundary = BoundaryMode::Free;  ///< free or disk boundary
+  StructureOptions structure;                  ///< discrete metric scheme
+  /// Newton to 1e-12: the layout closes around each interior vertex only as well as the metric
+  /// is flat there, and 1e-10 leaves length errors of 2e-9 on meshes of ~5k vertices.
+  FlowOptions flow = [] {
+    FlowOptions f;
+    f.tolerance = 1e-12;
+    return f;
+  }();
+  /// Split edges around cones whose valence breaks the single-vertex bound (tutorial 5.3).
+  bool modify_connectivity = true;
+};
+
+/// What parameterize returns.
+struct ParamResult {
+  bool converged = false;          ///< the flow reached its tolerance
+  std::string message;             ///< why not, when it did not
+  Mesh mesh;                       ///< the mesh parameterized: input vertices first, then
+                                   ///< vertices added by edge splits
+  std::vector<int> vertex_origin;  ///< per output vertex: input vertex, or -1 when added
+  std::vector<std::array<int, 2>> added_vertex_parents;  ///< per added vertex: the edge it splits
+  int edge_splits = 0;  ///< connectivity modifications made (edges split)
+  /// The flow degenerated around a strong cone even after raising its valence, so the whole mesh
+  /// was subdivided once (every edge split at its midpoint) and the flow run again.
+  bool subdivided = false;
+  std::vector<Cone> cones;       ///< final cones (output vertex indices) and curvatures
+  ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history
+  MeshFlowResult flow;           ///< the Ricci flow to the flat metric
+  CutGraph cut;
+  CutMesh cut_mesh;
+  Layout layout;  ///< raw layout (metric units)
+  AffineAtlas atlas;
+  Distortion distortion;
+  double seam_length = 0;  ///< 3D length of the cut edges
+  /// Texture coordinates in the unit square (aspect ratio kept): one per cut-mesh vertex;
+  /// uv_triangles = cut_mesh.triangles indexes them per corner.
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+  double uv_scale = 1;  ///< uv = (layout - offset) * uv_scale
+  Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
+  double seconds = 0;
+};
+
+/// Runs the pipeline on a single-component manifold mesh.
+/// \throw InvalidInput (bad cones, inadmissible target, several components), TopologyError
+ParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});
+
+}  // namespace ricci
