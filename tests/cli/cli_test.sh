@@ -409,6 +409,53 @@ for args in "bad/nonmanifold_edge.obj" "bad/cut.ply" "bad/missing.obj" "$ico --c
 done
 expect_no_temporaries "failed runs leave no temporaries" results
 
+# --- param ---------------------------------------------------------------------------------------
+mkdir -p param
+ricci param --help
+expect_rc "param --help" 0
+expect_out "param --help" "--cones" "--boundary" "--report" "--quantize" "auto"
+ricci param meshes/small_torus.obj --cones none -o param/torus_uv.obj --report param/torus.json
+expect_rc "param torus" 0
+expect_file "param torus writes the OBJ" param/torus_uv.obj
+expect_json "param torus report" param/torus.json \
+  'd["converged"] and d["cut"]["generators"] == 2 and len(d["layout"]["lattice"]) == 2 and d["distortion"]["flipped_faces"] == 0 and d["layout"]["max_length_relative_error"] <= 1e-9'
+if "$PYTHON" - param/torus_uv.obj <<'EOF'
+import sys
+v = vt = f = 0
+ok = True
+for line in open(sys.argv[1]):
+    w = line.split()
+    if not w: continue
+    if w[0] == "v": v += 1
+    elif w[0] == "vt":
+        vt += 1
+        ok = ok and all(-1e-12 <= float(x) <= 1 + 1e-12 for x in w[1:3])
+    elif w[0] == "f":
+        f += 1
+        ok = ok and all("/" in c for c in w[1:4])
+sys.exit(0 if ok and v > 0 and vt > v and f > 0 else 1)
+EOF
+then ok; else fail "param torus OBJ" "v/vt/f layout wrong (vt must exceed v on a cut torus, all in [0,1])"; fi
+ricci param "$ico" --cones 8 --quantize -o param/sphere_uv.obj --json
+expect_rc "param sphere auto cones" 0
+expect_out "param sphere auto cones" '"cones"' '"area_distortion_energy"'
+ricci param meshes/small_disk.obj --cones none --boundary disk -o param/disk_uv.obj --report param/disk.json
+expect_rc "param disk" 0
+expect_json "param disk report" param/disk.json 'd["converged"] and d["cut"]["cut_edges"] == 0'
+ricci param "$ico" --cones none -o param/refused.obj
+expect_rc "param sphere without cones" 2
+expect_err "param sphere without cones" "no flat metric without cones"
+expect_no_file "param sphere without cones writes nothing" param/refused.obj
+ricci param "$ico" --cones sideways -o param/refused.obj
+expect_rc "param bad --cones" 2
+expect_no_file "param bad --cones writes nothing" param/refused.obj
+cp meshes/small_torus.obj param/own.obj
+own_sum="$(checksum param/own.obj)"
+ricci param param/own.obj --cones none -o param/own.obj
+expect_rc "param -o equal to the input" 2
+expect_same "param -o equal to the input leaves it" param/own.obj "$own_sum"
+expect_no_temporaries "param leaves no temporaries" param
+
 # --- summary -----------------------------------------------------------------------------------
 echo "$passed passed, $failed failed"
 if ((failed > 0)); then

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Reproduces the tutorial's parameterization experiments (its figures 8-22) on the real meshes
+# of ../shared/meshes that resemble its models, and writes the table of docs/experiments.md.
+#   bench/experiments.sh [RICCI] [SHARED_MESHES] [OUT_DIR]
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+ricci=${1:-$here/build/ricci}
+meshes=${2:-$here/../shared/meshes}
+out=${3:-$here/build/experiments}
+mkdir -p "$out"
+[ -d "$meshes" ] || { echo "experiments: $meshes not found" >&2; exit 1; }
+
+# name | mesh | ricci param options | the tutorial's model and figure | its area distortion
+experiments=(
+  "face-disk|face.obj|--cones none --boundary disk|David head 15k faces, disk boundary 2 pi/m (fig. 9)|0.960747"
+  "camelhead-disk|camelhead.off|--cones none --boundary disk|(same set-up as fig. 9)|"
+  "face-free|face.obj|--cones none --boundary free|(free boundary, tutorial section 5.2)|"
+  "bob-none|bob_tri.obj|--cones none|rocker arm 1k / 5k faces, genus 1, no cones (fig. 15)|0.554323 / 0.576723"
+  "bob-none-exact|bob_tri.obj|--cones none --scheme inversive-distance|(the same, with the metric that reproduces the input lengths)|"
+  "kitten-none|kitten.obj|--cones none|(genus 1, no cones, 106k faces)|"
+  "3holes-one|3holes.off|--cones one|3 holes 10k faces / sculpture 2k and 10k faces, one cone of -8 pi (figs. 8, 20, 21)|0.658119 / 1.000959"
+  "eight-one|eight.off|--cones one|(genus 2, one cone of -4 pi)|"
+  "fertility-auto|fertility.off|--cones 6 --quantize|genus-6 buddha 10k faces, five cones of -4 pi (fig. 22)|1.467170"
+  "spot-auto|spot.obj|--cones 8 --quantize|Iphigenia 30k faces, 8 cones (fig. 13)|0.571903"
+)
+
+table="$out/table.md"
+{
+  echo "| model (ours) | faces | topology | cones (curvature / pi) | area distortion (eq. 9) | angle distortion mean / max | flipped | seconds | the tutorial's model | its area distortion |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
+} > "$table"
+for row in "${experiments[@]}"; do
+  IFS='|' read -r name mesh opts theirs their_value <<< "$row"
+  [ -f "$meshes/$mesh" ] || { echo "experiments: skipping $mesh (missing)" >&2; continue; }
+  # shellcheck disable=SC2086
+  if ! "$ricci" param "$meshes/$mesh" $opts -o "$out/$name.obj" --report "$out/$name.json" > "$out/$name.log" 2>&1; then
+    echo "experiments: $name did not finish: $(tail -1 "$out/$name.log")" >&2
+  fi
+  /usr/bin/python3 - "$out/$name.json" "$mesh" "$opts" "$theirs" "$their_value" >> "$table" <<'PY'
+import json, sys
+path, mesh, opts, theirs, their_value = sys.argv[1:]
+try:
+    r = json.load(open(path))
+except (OSError, ValueError):
+    print(f"| {mesh} `{opts}` | | | | failed | | | | {theirs} | {their_value} |")
+    sys.exit(0)
+flow = r["flow"]
+comp = flow["components"][0]
+topo = f"genus {comp['genus']}, {comp['boundary_loops']} boundary loops"
+if not r["converged"]:
+    print(f"| {mesh} `{opts}` | {flow['faces']} | {topo} | | not converged: {r['message'][:60]} | | | {r['seconds']:.2f} | {theirs} | {their_value} |")
+    sys.exit(0)
+d = r["distortion"]
+cones = ", ".join(f"{c['curvature_over_pi']:.2f}" for c in r["cones"]) or "none"
+if len(r["cones"]) > 8:
+    cones = f"{len(r['cones'])} cones"
+splits = r["modification"]["edge_splits"]
+faces = f"{flow['faces']}" + (f" ({splits} splits)" if splits else "")
+print(f"| {mesh} `{opts}` | {faces} | {topo} | {cones} | {d['area_distortion_energy']:.4f} | "
+      f"{d['angle_distortion_mean']:.3f} / {d['angle_distortion_max']:.2f} | {d['flipped_faces']} | "
+      f"{r['seconds']:.2f} | {theirs} | {their_value} |")
+PY
+done
+cat "$table"
