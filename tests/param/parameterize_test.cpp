@@ -141,3 +141,41 @@ TEST(Parameterize, ClosedSphereWithoutConesIsRefused) {
 
 }  // namespace
 }  // namespace ricci
+
+namespace ricci {
+namespace {
+
+// One real mesh per topology class (skipped when ../shared/meshes is missing).
+TEST(Parameterize, OneSharedMeshPerTopologyClass) {
+  RICCI_REQUIRE_SHARED_MESHES();
+  struct Case {
+    const char* file;
+    ConeMode mode;
+    int cones;
+    BoundaryMode boundary;
+  };
+  const Case cases[] = {
+      {"spot.obj", ConeMode::Auto, 8, BoundaryMode::Free},              // genus 0, closed
+      {"camelhead.off", ConeMode::None, 0, BoundaryMode::DiskUniform},  // disk
+      {"beetle.obj", ConeMode::None, 0, BoundaryMode::Free},            // genus 0, 11 loops
+      {"bob_tri.obj", ConeMode::None, 0, BoundaryMode::Free},           // genus 1
+      {"punctured-torus.obj", ConeMode::None, 0, BoundaryMode::Free},   // genus 1, 1 loop
+      {"eight.off", ConeMode::OneCone, 0, BoundaryMode::Free},          // genus 2
+  };
+  for (const Case& c : cases) {
+    const std::string path = *testing::shared_meshes_dir() + "/" + c.file;
+    const ReadResult read = read_mesh(path);
+    ParamOptions options;
+    options.cone_mode = c.mode;
+    options.auto_cones.count = c.cones;
+    options.quantize = c.mode == ConeMode::Auto;
+    options.boundary = c.boundary;
+    const ParamResult r = parameterize(read.mesh, options);
+    expect_good(r, c.file);
+    EXPECT_EQ(r.distortion.flipped_faces, 0) << c.file;
+    EXPECT_EQ(r.cut.num_generators, 2 * r.flow.components[0].genus) << c.file;
+  }
+}
+
+}  // namespace
+}  // namespace ricci
