@@ -12,6 +12,29 @@
 #include "ricci/metric/lengths.hpp"
 
 namespace ricci {
+namespace {
+
+/// Lowers hops[v] to the number of edges from `source` to v, for every v within max_rings edges
+/// of it (breadth-first over the vertex neighbour lists).
+void grow_rings(const std::vector<std::vector<int>>& neighbours, int source, int max_rings,
+                std::vector<int>& hops) {
+  std::vector<int> frontier = {source};
+  hops[source] = 0;
+  for (int r = 1; r <= max_rings && !frontier.empty(); ++r) {
+    std::vector<int> next;
+    for (int a : frontier) {
+      for (int b : neighbours[a]) {
+        if (hops[b] > r) {
+          hops[b] = r;
+          next.push_back(b);
+        }
+      }
+    }
+    frontier = std::move(next);
+  }
+}
+
+}  // namespace
 
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options) {
   if (options.count < 0 || options.max_cones < 0 || !(options.max_log_scale > 0)) {
@@ -62,20 +85,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     is_cone[v] = 1;
     held[v] = 1;
     result.vertices.push_back(v);
-    std::vector<int> frontier = {v};
-    ring[v] = 0;
-    for (int r = 1; r <= kSeparation; ++r) {
-      std::vector<int> next;
-      for (int a : frontier) {
-        for (int b : neighbours[a]) {
-          if (ring[b] > r) {
-            ring[b] = r;
-            next.push_back(b);
-          }
-        }
-      }
-      frontier = std::move(next);
-    }
+    grow_rings(neighbours, v, kSeparation, ring);
   };
   if (!has_boundary && chi != 0) {
     // Curvature 2 pi chi must go somewhere before the linear problem has a solution: start at the
@@ -141,20 +151,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     std::vector<int> hops(nv, std::numeric_limits<int>::max());
     std::vector<int> candidates = {result.vertices.front()};
     auto spread_hops = [&](int from) {
-      std::vector<int> frontier = {from};
-      hops[from] = 0;
-      for (int r = 1; !frontier.empty(); ++r) {
-        std::vector<int> next;
-        for (int a : frontier) {
-          for (int b : neighbours[a]) {
-            if (hops[b] > r) {
-              hops[b] = r;
-              next.push_back(b);
-            }
-          }
-        }
-        frontier = std::move(next);
-      }
+      grow_rings(neighbours, from, std::numeric_limits<int>::max(), hops);
     };
     spread_hops(candidates.front());
     while (static_cast<int>(candidates.size()) < std::min(options.try_first_cone_candidates, nv)) {
@@ -171,20 +168,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
       for (int v = 0; v < nv; ++v) hold[v] = has_boundary && t.is_boundary_vertex[v];
       hold[c] = 1;
       std::vector<int> rings(nv, kSeparation + 1);
-      std::vector<int> frontier = {c};
-      rings[c] = 0;
-      for (int r = 1; r <= kSeparation; ++r) {
-        std::vector<int> next;
-        for (int a : frontier) {
-          for (int b : neighbours[a]) {
-            if (rings[b] > r) {
-              rings[b] = r;
-              next.push_back(b);
-            }
-          }
-        }
-        frontier = std::move(next);
-      }
+      grow_rings(neighbours, c, kSeparation, rings);
       const double spread = solve(hold, rings).largest;
       if (spread < best_spread) {
         best_spread = spread;

@@ -11,6 +11,7 @@
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/split.hpp"
 #include "ricci/metric/curvature.hpp"
+#include "support/test_meshes.hpp"
 
 namespace ricci {
 namespace {
@@ -133,24 +134,8 @@ TEST(Newton, SphereWithFourAndEightCones) {
   const Problem p = make_problem(sphere);
   // Four cones of pi at the vertices nearest a regular tetrahedron's corners, and eight of pi/2
   // nearest a cube's corners.
-  auto nearest = [&](const Eigen::Vector3d& dir) {
-    int best = 0;
-    (sphere.positions.rowwise() - dir.normalized().transpose())
-        .rowwise()
-        .squaredNorm()
-        .minCoeff(&best);
-    return best;
-  };
-  std::vector<Cone> four = {{nearest({1, 1, 1}), kPi},
-                            {nearest({1, -1, -1}), kPi},
-                            {nearest({-1, 1, -1}), kPi},
-                            {nearest({-1, -1, 1}), kPi}};
-  std::vector<Cone> eight;
-  for (int sx : {-1, 1}) {
-    for (int sy : {-1, 1}) {
-      for (int sz : {-1, 1}) eight.push_back({nearest({1.0 * sx, 1.0 * sy, 1.0 * sz}), kPi / 2});
-    }
-  }
+  const std::vector<Cone> four = testing::tetrahedron_cones(sphere);
+  const std::vector<Cone> eight = testing::cube_cones(sphere);
   for (const auto& cones : {four, eight}) {
     const Target target = flat_target(p.topology, cones);
     const FlowResult r = ricci_flow(p.topology, p.structure.structure, target);

@@ -15,6 +15,7 @@
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/layout.hpp"
+#include "support/test_meshes.hpp"
 
 namespace ricci {
 namespace {
@@ -177,31 +178,12 @@ TEST(Atlas, FlatTorusChartsAreTranslatedCopiesThatMeet) {
   }
 }
 
-int nearest_vertex(const Mesh& mesh, const Eigen::Vector3d& direction) {
-  int best = 0;
-  (mesh.positions.rowwise() - direction.normalized().transpose())
-      .rowwise()
-      .squaredNorm()
-      .minCoeff(&best);
-  return best;
-}
-
 TEST(Atlas, SphereWithFourAndEightCones) {
   // The cones are the cut tree's nodes (its leaves and branch points), never inside a chart's
   // one-rings; a chart's faces around a cone may overlap, so flips are only checked on the torus.
   const Mesh sphere = make_icosphere(3);
-  const std::vector<Cone> four = {{nearest_vertex(sphere, {1, 1, 1}), kPi},
-                                  {nearest_vertex(sphere, {1, -1, -1}), kPi},
-                                  {nearest_vertex(sphere, {-1, 1, -1}), kPi},
-                                  {nearest_vertex(sphere, {-1, -1, 1}), kPi}};
-  std::vector<Cone> eight;
-  for (int sx : {-1, 1}) {
-    for (int sy : {-1, 1}) {
-      for (int sz : {-1, 1}) {
-        eight.push_back({nearest_vertex(sphere, {1.0 * sx, 1.0 * sy, 1.0 * sz}), kPi / 2});
-      }
-    }
-  }
+  const std::vector<Cone> four = testing::tetrahedron_cones(sphere);
+  const std::vector<Cone> eight = testing::cube_cones(sphere);
   for (const auto& cones : {four, eight}) {
     const Flattened f = flatten(sphere, cones);
     expect_valid_atlas(f, false, std::to_string(cones.size()) + " cones");

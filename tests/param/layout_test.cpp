@@ -20,6 +20,7 @@
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "support/shared_meshes.hpp"
+#include "support/test_meshes.hpp"
 
 namespace ricci {
 namespace {
@@ -393,16 +394,6 @@ TEST(Layout, FlatTorusTilesThePlanePeriodically) {
   }
 }
 
-/// Vertices of a unit icosphere nearest some directions.
-int nearest_vertex(const Mesh& mesh, const Eigen::Vector3d& direction) {
-  int best = 0;
-  (mesh.positions.rowwise() - direction.normalized().transpose())
-      .rowwise()
-      .squaredNorm()
-      .minCoeff(&best);
-  return best;
-}
-
 /// The curvature of the cones on one side of segment s of a cut tree (genus 0): the segments
 /// other than s, walked from the first vertex of s's path, reach the nodes on that side.
 double cones_beside(const CutGraph& cut, std::size_t s, const std::vector<Cone>& cones) {
@@ -433,18 +424,8 @@ TEST(Layout, SphereWithFourAndEightCones) {
   // through the cones, and across each of its segments the layout turns by the curvature of the
   // cones on one side of it (the holonomy of a loop around them), a multiple of pi/2 here.
   const Mesh sphere = make_icosphere(3);
-  std::vector<Cone> four = {{nearest_vertex(sphere, {1, 1, 1}), kPi},
-                            {nearest_vertex(sphere, {1, -1, -1}), kPi},
-                            {nearest_vertex(sphere, {-1, 1, -1}), kPi},
-                            {nearest_vertex(sphere, {-1, -1, 1}), kPi}};
-  std::vector<Cone> eight;
-  for (int sx : {-1, 1}) {
-    for (int sy : {-1, 1}) {
-      for (int sz : {-1, 1}) {
-        eight.push_back({nearest_vertex(sphere, {1.0 * sx, 1.0 * sy, 1.0 * sz}), kPi / 2});
-      }
-    }
-  }
+  const std::vector<Cone> four = testing::tetrahedron_cones(sphere);
+  const std::vector<Cone> eight = testing::cube_cones(sphere);
   for (const auto& cones : {four, eight}) {
     const std::string what = std::to_string(cones.size()) + " cones";
     const Flattened f = flatten(sphere, BoundaryMode::Free, cones);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ricci/flow/target.hpp"
 #include "ricci/mesh/generate.hpp"
 
 namespace ricci::testing {
@@ -55,6 +56,38 @@ inline Mesh torus(int n, int m) {
     }
   }
   return mesh;
+}
+
+/// The vertex of a unit sphere mesh nearest a direction.
+inline int nearest_vertex(const Mesh& sphere, const Eigen::Vector3d& direction) {
+  int best = 0;
+  (sphere.positions.rowwise() - direction.normalized().transpose())
+      .rowwise()
+      .squaredNorm()
+      .minCoeff(&best);
+  return best;
+}
+
+/// Four cones of pi at the vertices nearest a regular tetrahedron's corners.
+inline std::vector<Cone> tetrahedron_cones(const Mesh& sphere) {
+  return {{nearest_vertex(sphere, {1, 1, 1}), std::numbers::pi},
+          {nearest_vertex(sphere, {1, -1, -1}), std::numbers::pi},
+          {nearest_vertex(sphere, {-1, 1, -1}), std::numbers::pi},
+          {nearest_vertex(sphere, {-1, -1, 1}), std::numbers::pi}};
+}
+
+/// Eight cones of pi/2 at the vertices nearest a cube's corners.
+inline std::vector<Cone> cube_cones(const Mesh& sphere) {
+  std::vector<Cone> cones;
+  for (int sx : {-1, 1}) {
+    for (int sy : {-1, 1}) {
+      for (int sz : {-1, 1}) {
+        cones.push_back(
+            {nearest_vertex(sphere, {1.0 * sx, 1.0 * sy, 1.0 * sz}), std::numbers::pi / 2});
+      }
+    }
+  }
+  return cones;
 }
 
 /// Small generated meshes: tetrahedron, icosphere, flat and curved disks, torus, closed genus 2
