@@ -9,6 +9,9 @@ packages=(
   libopenblas0-pthread
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
+  # Python module (built against Debian's own /usr/bin/python3) and its tests; pictures.
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  libcairo2-dev
 )
 missing=()
 for p in "${packages[@]}"; do
