@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "json_output.hpp"
+#include "progress.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
@@ -171,22 +172,17 @@ int run_flow(const FlowArgs& args) {
     throw InvalidInput("--cones needs a flat target (--target flat, free, disk or disk-length)");
   }
 
-  if (args.progress) {
-    options.flow.progress = [](const IterationRecord& r) {
-      std::cerr << "  iteration " << std::setw(4) << r.iteration << "  max |K-bar - K| "
-                << std::scientific << std::setprecision(3) << r.max_error << "  step "
-                << std::defaultfloat << std::setprecision(4) << r.step_length << "  " << std::fixed
-                << std::setprecision(2) << r.seconds << " s" << std::defaultfloat << "\n";
-      return true;
-    };
-  }
+  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
+  options.flow.progress = make_progress(progress, "flow", options.flow.tolerance);
   options.vertex_labels = read.vertex_map;  // messages number vertices as the file does
   MeshFlowResult result;
   try {
     result = flow_mesh(mesh, options);
   } catch (const InvalidInput& e) {
+    finish_progress(progress);
     throw InvalidInput(args.mesh + ": " + e.what());
   }
+  finish_progress(progress);
 
   nlohmann::json summary = flow_summary(result, options);
   summary["input"] = args.mesh;
@@ -260,19 +256,16 @@ int run_param(const ParamArgs& args) {
       options.cones.push_back(cone);
     }
   }
-  if (args.progress) {
-    options.flow.progress = [](const IterationRecord& r) {
-      std::cerr << "  flow iteration " << r.iteration << "  max |K-bar - K| " << std::scientific
-                << std::setprecision(3) << r.max_error << std::defaultfloat << "\n";
-      return true;
-    };
-  }
+  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
+  options.flow.progress = make_progress(progress, "param", options.flow.tolerance);
   ParamResult result;
   try {
     result = parameterize(read.mesh, options);
   } catch (const InvalidInput& e) {
+    finish_progress(progress);
     throw InvalidInput(args.mesh + ": " + e.what());
   }
+  finish_progress(progress);
   nlohmann::json report = param_report(result, options);
   report["input"] = args.mesh;
   report["output"] = args.output;
