@@ -1,1 +1,91 @@
-# Installation rules: filled in by their owner.
+# Installation and the CMake package config, so that another project can write
+#
+#   find_package(ricci REQUIRED)
+#   target_link_libraries(app PRIVATE ricci::ricci)
+#
+# `cmake --install build --prefix P` puts in place:
+#   P/lib/libricci.a                  the library (target ricci_lib, exported as ricci::ricci)
+#   P/include/ricci/...               its headers
+#   P/bin/ricci                       the command line
+#   P/lib/cmake/ricci/ricciConfig.cmake, ricciConfigVersion.cmake, ricciTargets*.cmake
+#
+# Included at the end of the top-level CMakeLists.txt, so every target exists here.
+# The picture library (ricci_render) and the Python module (_ricci) install themselves.
+
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(RICCI_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/ricci"
+    CACHE STRING "Where the CMake package config of ricci is installed (relative to the prefix)")
+mark_as_advanced(RICCI_INSTALL_CMAKEDIR)
+
+# Consumers see the library as ricci::ricci, as in-tree code does through the alias, and get
+# C++20 from it (the public headers need it). INTERFACE only: ricci_lib's own build is unchanged.
+set_target_properties(ricci_lib PROPERTIES EXPORT_NAME ricci)
+target_compile_features(ricci_lib INTERFACE cxx_std_20)
+
+# ricci_lib is static and links CHOLMOD privately, so its consumers must link CHOLMOD too: CMake
+# records that as $<LINK_ONLY:/path/on/the/build/machine/libcholmod.so>. In the installed package
+# that path is replaced by ricci::cholmod, a target which ricciConfig.cmake defines after finding
+# libcholmod again on the machine that uses the package. The build tree keeps the plain path.
+if(RICCI_HAVE_CHOLMOD)
+  get_target_property(_ricci_interface_libs ricci_lib INTERFACE_LINK_LIBRARIES)
+  set(_ricci_cholmod_entry "$<LINK_ONLY:${CHOLMOD_LIBRARY}>")
+  list(FIND _ricci_interface_libs "${_ricci_cholmod_entry}" _ricci_cholmod_index)
+  if(_ricci_cholmod_index EQUAL -1)
+    message(WARNING "ricci: install: CHOLMOD is not linked to ricci_lib as expected "
+                    "(${_ricci_cholmod_entry}); the installed package may not link it")
+  else()
+    list(REMOVE_AT _ricci_interface_libs ${_ricci_cholmod_index})
+    list(INSERT _ricci_interface_libs ${_ricci_cholmod_index}
+         "$<BUILD_INTERFACE:${_ricci_cholmod_entry}>"
+         "$<INSTALL_INTERFACE:$<LINK_ONLY:ricci::cholmod>>")
+    set_property(TARGET ricci_lib PROPERTY INTERFACE_LINK_LIBRARIES "${_ricci_interface_libs}")
+  endif()
+  # The config searches the build machine's directory too, after the usual places.
+  get_filename_component(RICCI_CHOLMOD_LIBRARY_DIR "${CHOLMOD_LIBRARY}" DIRECTORY)
+  unset(_ricci_interface_libs)
+  unset(_ricci_cholmod_entry)
+  unset(_ricci_cholmod_index)
+else()
+  set(RICCI_CHOLMOD_LIBRARY_DIR "")
+endif()
+
+install(TARGETS ricci_lib
+  EXPORT ricciTargets
+  ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+  LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+  RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
+  INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
+
+install(TARGETS ricci RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
+
+# The headers of the core library. include/ricci/render belongs to ricci_render, which is not
+# part of this export set; its owner installs those headers together with that library.
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/ricci"
+  DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
+  FILES_MATCHING
+    PATTERN "*.hpp"
+    PATTERN "*.h"
+    PATTERN "render" EXCLUDE)
+
+install(EXPORT ricciTargets
+  NAMESPACE ricci::
+  FILE ricciTargets.cmake
+  DESTINATION "${RICCI_INSTALL_CMAKEDIR}")
+
+configure_package_config_file(
+  "${CMAKE_CURRENT_LIST_DIR}/ricciConfig.cmake.in"
+  "${PROJECT_BINARY_DIR}/ricciConfig.cmake"
+  INSTALL_DESTINATION "${RICCI_INSTALL_CMAKEDIR}")
+
+# Before 1.0 a minor release may break the API: accept the same major.minor only.
+write_basic_package_version_file(
+  "${PROJECT_BINARY_DIR}/ricciConfigVersion.cmake"
+  VERSION "${PROJECT_VERSION}"
+  COMPATIBILITY SameMinorVersion)
+
+install(FILES
+  "${PROJECT_BINARY_DIR}/ricciConfig.cmake"
+  "${PROJECT_BINARY_DIR}/ricciConfigVersion.cmake"
+  DESTINATION "${RICCI_INSTALL_CMAKEDIR}")
