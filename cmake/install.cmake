@@ -25,16 +25,22 @@ set_target_properties(ricci_lib PROPERTIES EXPORT_NAME ricci)
 target_compile_features(ricci_lib INTERFACE cxx_std_20)
 
 # ricci_lib is static and links CHOLMOD privately, so its consumers must link CHOLMOD too: CMake
-# records that as $<LINK_ONLY:/path/on/the/build/machine/libcholmod.so>. In the installed package
-# that path is replaced by ricci::cholmod, a target which ricciConfig.cmake defines after finding
-# libcholmod again on the machine that uses the package. The build tree keeps the plain path.
+# records the build machine's path in INTERFACE_LINK_LIBRARIES (plain, as it is a path and not a
+# target; $<LINK_ONLY:...> for a target). In the installed package that entry is replaced by
+# ricci::cholmod, a target which ricciConfig.cmake defines after finding libcholmod again on the
+# machine that uses the package. The build tree keeps the entry as it was.
 if(RICCI_HAVE_CHOLMOD)
   get_target_property(_ricci_interface_libs ricci_lib INTERFACE_LINK_LIBRARIES)
-  set(_ricci_cholmod_entry "$<LINK_ONLY:${CHOLMOD_LIBRARY}>")
-  list(FIND _ricci_interface_libs "${_ricci_cholmod_entry}" _ricci_cholmod_index)
+  set(_ricci_cholmod_index -1)
+  foreach(_ricci_entry "${CHOLMOD_LIBRARY}" "$<LINK_ONLY:${CHOLMOD_LIBRARY}>")
+    if(_ricci_cholmod_index EQUAL -1)
+      list(FIND _ricci_interface_libs "${_ricci_entry}" _ricci_cholmod_index)
+      set(_ricci_cholmod_entry "${_ricci_entry}")
+    endif()
+  endforeach()
   if(_ricci_cholmod_index EQUAL -1)
-    message(WARNING "ricci: install: CHOLMOD is not linked to ricci_lib as expected "
-                    "(${_ricci_cholmod_entry}); the installed package may not link it")
+    message(WARNING "ricci: install: CHOLMOD (${CHOLMOD_LIBRARY}) is not among the link "
+                    "dependencies of ricci_lib; the installed package will not link it")
   else()
     list(REMOVE_AT _ricci_interface_libs ${_ricci_cholmod_index})
     list(INSERT _ricci_interface_libs ${_ricci_cholmod_index}
@@ -45,6 +51,7 @@ if(RICCI_HAVE_CHOLMOD)
   # The config searches the build machine's directory too, after the usual places.
   get_filename_component(RICCI_CHOLMOD_LIBRARY_DIR "${CHOLMOD_LIBRARY}" DIRECTORY)
   unset(_ricci_interface_libs)
+  unset(_ricci_entry)
   unset(_ricci_cholmod_entry)
   unset(_ricci_cholmod_index)
 else()
@@ -55,8 +62,7 @@ install(TARGETS ricci_lib
   EXPORT ricciTargets
   ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
   LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
-  RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
-  INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
+  RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 
 install(TARGETS ricci RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 

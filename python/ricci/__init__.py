@@ -1,0 +1,78 @@
+"""ricci: discrete surface Ricci flow and conformal parameterization.
+
+A thin layer over the C++ library: the functions here check the shapes and dtypes of numpy
+arrays, convert them, and call the compiled module ``ricci._ricci``. The options and result
+classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
+
+    V, F, info = ricci.read_mesh("bunny.obj")
+    result = ricci.flow(V, F, target="flat", cones={0: "pi/2"})
+    param = ricci.parameterize(V, F, cones="auto")
+
+Errors: ``InvalidInput`` (a ValueError), ``TopologyError`` (an InvalidInput), ``IoError`` (an
+OSError), ``SolverError`` (a RuntimeError), all deriving from ``ricci.Error``.
+"""
+
+from . import generate
+from ._ricci import (  # noqa: F401  (re-exported)
+    AffineAtlas,
+    BoundaryChart,
+    BoundaryMode,
+    Component,
+    ComponentFlow,
+    ComponentInfo,
+    Cone,
+    ConeMode,
+    ConeSelection,
+    ConeSelectionOptions,
+    ConformalStructure,
+    CutGraph,
+    CutMesh,
+    Defect,
+    DefectKind,
+    Distortion,
+    Error,
+    FlowOptions,
+    FlowResult,
+    FlowSolver,
+    FlowStatus,
+    FlowTimings,
+    InvalidInput,
+    IoError,
+    IterationRecord,
+    Layout,
+    Mesh,
+    MeshFlowOptions,
+    MeshFlowResult,
+    MeshFormat,
+    MeshInfo,
+    PackingInit,
+    ParamOptions,
+    ParamResult,
+    ReadOptions,
+    ReadResult,
+    Scheme,
+    SeamTransition,
+    SolverError,
+    StructureOptions,
+    StructureResult,
+    Target,
+    TargetKind,
+    TargetSpec,
+    Topology,
+    TopologyError,
+    ValidationReport,
+    parse_cone_list,
+    parse_curvature,
+)
+from ._flow import flow
+from ._mesh import info, read_mesh, validate, write_obj
+from ._param import parameterize
+
+__all__ = [
+    "flow", "info", "parameterize", "read_mesh", "validate", "write_obj", "generate",
+    "Error", "InvalidInput", "TopologyError", "IoError", "SolverError",
+    "FlowOptions", "MeshFlowOptions", "StructureOptions", "TargetSpec", "ParamOptions",
+    "ConeSelectionOptions", "ReadOptions", "Cone",
+    "Scheme", "PackingInit", "FlowSolver", "FlowStatus", "BoundaryMode", "TargetKind",
+    "ConeMode", "MeshFormat", "DefectKind",
+]

@@ -1,0 +1,58 @@
+"""Reading, writing and describing meshes."""
+
+import os
+
+import numpy as np
+
+from . import _arrays, _ricci
+
+
+def read_mesh(path, *, validate=True):
+    """Reads an OBJ, OFF, PLY (ASCII or binary) or STL (ASCII or binary) file.
+
+    Returns ``(V, F, info)``: V float64 (n, 3) positions, F int32 (m, 3) counter-clockwise
+    triangles (polygons triangulated, unreferenced vertices dropped), and the C++ ``ReadResult``
+    with ``warnings``, ``dropped_vertices``, ``vertex_map`` (file index of each vertex),
+    ``polygons_triangulated``, ``format`` and ``validation``.
+
+    Raises IoError for a missing or malformed file (naming file and line), InvalidInput or
+    TopologyError for a defective mesh when ``validate`` is set.
+    """
+    result = _ricci.read_mesh(os.fspath(path), _ricci.ReadOptions(validate=validate))
+    V, F = _arrays.arrays(result.mesh)
+    return V, F, result
+
+
+def write_obj(path, V, F, uv=None, uv_triangles=None):
+    """Writes a mesh as OBJ atomically; with ``uv`` (k, 2) and ``uv_triangles`` (m, 3, indices
+    into uv per corner) also its texture coordinates."""
+    m = _arrays.mesh(V, F)
+    if (uv is None) != (uv_triangles is None):
+        raise ValueError("write_obj needs both uv and uv_triangles, or neither")
+    if uv is None:
+        _ricci.write_obj(os.fspath(path), m)
+        return
+    uv = np.asarray(uv)
+    if uv.ndim != 2 or uv.shape[1] != 2 or uv.dtype.kind not in "fiu":
+        raise ValueError(f"uv must be a (k, 2) float array, got shape {uv.shape} "
+                         f"and dtype {uv.dtype}")
+    uv_triangles = _arrays.triangles(uv_triangles, "uv_triangles")
+    if uv_triangles.shape[0] != m.num_faces:
+        raise ValueError(f"uv_triangles must have one row per face ({m.num_faces}), "
+                         f"got shape {uv_triangles.shape}")
+    _ricci.write_obj(os.fspath(path), m, uv_triangles,
+                     np.ascontiguousarray(uv, dtype=np.float64))
+
+
+def info(V, F):
+    """Summary of a mesh (``MeshInfo``): vertices, edges, faces, components, boundary_loops,
+    euler_characteristic, genus, component_info, min/max_angle_degrees,
+    bounding_box_diagonal, and ``defects`` (every defect found, each with kind, name, element
+    and message). Topological fields are -1 when defects keep them from being defined. Never
+    raises on a defective mesh (that is its purpose); only on arrays of the wrong shape."""
+    return _ricci.mesh_info(_arrays.mesh(V, F))
+
+
+def validate(V, F):
+    """Raises TopologyError or InvalidInput on the first defect of the mesh."""
+    _ricci.validate_mesh(_arrays.mesh(V, F), "validate")

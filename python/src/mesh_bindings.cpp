@@ -1,0 +1,199 @@
+/// \file
+/// Bindings of the mesh module: Mesh, reading and writing, validation, info, topology and the
+/// generated meshes.
+
+#include "bindings.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/info.hpp"
+#include "ricci/mesh/io.hpp"
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/topology.hpp"
+#include "ricci/mesh/validate.hpp"
+
+namespace ricci::python {
+
+void bind_mesh(py::module_& m) {
+  StructBinding<Mesh>(m, "Mesh", "A triangle mesh: positions (#V, 3) and triangles (#F, 3).")
+      .field("positions", &Mesh::positions, "#V by 3 vertex positions")
+      .field("triangles", &Mesh::triangles,
+             "#F by 3 vertex indices, counter-clockwise seen from outside")
+      .keyword_constructor()
+      .repr()
+      .cls()
+      .def(py::init([](Positions positions, Triangles triangles) {
+             return Mesh{std::move(positions), std::move(triangles)};
+           }),
+           py::arg("positions"), py::arg("triangles"))
+      .def_property_readonly("num_vertices", &Mesh::num_vertices)
+      .def_property_readonly("num_faces", &Mesh::num_faces);
+
+  py::enum_<MeshFormat>(m, "MeshFormat", "File formats ricci reads.")
+      .value("Obj", MeshFormat::Obj)
+      .value("Off", MeshFormat::Off)
+      .value("Ply", MeshFormat::Ply)
+      .value("Stl", MeshFormat::Stl);
+
+  py::enum_<DefectKind>(m, "DefectKind", "The kinds of mesh defect.")
+      .value("NonFiniteCoordinate", DefectKind::NonFiniteCoordinate)
+      .value("IndexOutOfRange", DefectKind::IndexOutOfRange)
+      .value("RepeatedVertex", DefectKind::RepeatedVertex)
+      .value("ZeroAreaFace", DefectKind::ZeroAreaFace)
+      .value("DuplicateFace", DefectKind::DuplicateFace)
+      .value("NonManifoldEdge", DefectKind::NonManifoldEdge)
+      .value("NonManifoldVertex", DefectKind::NonManifoldVertex)
+      .value("InconsistentOrientation", DefectKind::InconsistentOrientation)
+      .value("NonOrientable", DefectKind::NonOrientable)
+      .value("UnreferencedVertex", DefectKind::UnreferencedVertex);
+  m.def("defect_name", &defect_name, py::arg("kind"),
+        "Short stable name of a defect kind, e.g. 'non-manifold-edge'.");
+
+  StructBinding<Defect>(m, "Defect", "One mesh defect.")
+      .readonly("kind", &Defect::kind, "DefectKind")
+      .readonly("element", &Defect::element, "vertex or face index, as the kind says")
+      .readonly("message", &Defect::message, "e.g. 'vertex 17 has coordinate nan'")
+      .computed(
+          "name", [](const Defect& d) { return std::string(defect_name(d.kind)); },
+          "short name of the kind, e.g. 'non-manifold-edge'")
+      .repr();
+
+  StructBinding<ValidationReport>(m, "ValidationReport", "All defects found in a mesh.")
+      .readonly("defects", &ValidationReport::defects, "at most max_defects_per_kind of each kind")
+      .readonly("counts", &ValidationReport::counts, "(kind, total count) of every kind found")
+      .computed("ok", &ValidationReport::ok, "no defect other than UnreferencedVertex")
+      .repr();
+
+  StructBinding<ReadOptions>(m, "ReadOptions", "Options of read_mesh.")
+      .field("validate", &ReadOptions::validate,
+             "run validate_mesh on the result and throw on the first defect")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<ReadResult>(m, "ReadResult", "What read_mesh returns.")
+      .readonly("mesh", &ReadResult::mesh, "the triangles, unreferenced vertices removed")
+      .readonly("format", &ReadResult::format, "MeshFormat of the file")
+      .readonly("warnings", &ReadResult::warnings, "e.g. 'bunny.obj: 12 polygons triangulated'")
+      .readonly("polygons_triangulated", &ReadResult::polygons_triangulated,
+                "faces with more than three corners in the file")
+      .readonly("dropped_vertices", &ReadResult::dropped_vertices,
+                "file indices (0-based) of unreferenced vertices dropped")
+      .readonly("vertex_map", &ReadResult::vertex_map,
+                "#V: file index (0-based) of each output vertex")
+      .readonly("validation", &ReadResult::validation,
+                "defects found when validating (warnings only, since errors raise)")
+      .repr();
+
+  StructBinding<ValidationOptions>(m, "ValidationOptions", "Options of find_defects.")
+      .field("zero_area_tolerance", &ValidationOptions::zero_area_tolerance,
+             "a face is degenerate when twice its area is at most this times its longest edge "
+             "squared")
+      .field("max_defects_per_kind", &ValidationOptions::max_defects_per_kind,
+             "stop listing a kind after this many (the count goes on)")
+      .keyword_constructor()
+      .repr();
+  m.def("read_mesh", &read_mesh, py::arg("path"), py::arg("options") = ReadOptions{},
+        "Reads an OBJ, OFF, PLY or STL file. Raises IoError (file), InvalidInput or "
+        "TopologyError (defects, when options.validate).",
+        py::call_guard<py::gil_scoped_release>());
+  m.def(
+      "write_obj", [](const std::string& path, const Mesh& mesh) { write_obj(path, mesh); },
+      py::arg("path"), py::arg("mesh"), "Writes a mesh as OBJ, atomically.");
+  m.def(
+      "write_obj",
+      [](const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+         const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+        write_obj(path, mesh, uv_triangles, uv);
+      },
+      py::arg("path"), py::arg("mesh"), py::arg("uv_triangles"), py::arg("uv"),
+      "Writes a mesh with per-corner texture coordinates (uv_triangles index uv) as OBJ.");
+  m.def("validate_mesh", &validate_mesh, py::arg("mesh"), py::arg("context"),
+        py::arg("options") = ValidationOptions{},
+        "Raises on the first defect other than an unreferenced vertex (TopologyError for "
+        "non-manifold and orientation defects, InvalidInput for the others).");
+  m.def("find_defects", &find_defects, py::arg("mesh"), py::arg("options") = ValidationOptions{},
+        "Lists every defect of the mesh.");
+
+  StructBinding<ComponentInfo>(m, "ComponentInfo", "Topology of one connected component.")
+      .readonly("vertices", &ComponentInfo::vertices, "")
+      .readonly("edges", &ComponentInfo::edges, "")
+      .readonly("faces", &ComponentInfo::faces, "")
+      .readonly("boundary_loops", &ComponentInfo::boundary_loops, "")
+      .readonly("euler_characteristic", &ComponentInfo::euler_characteristic, "")
+      .readonly("genus", &ComponentInfo::genus, "")
+      .repr();
+
+  StructBinding<MeshInfo>(m, "MeshInfo",
+                          "Summary of a mesh. Topological fields are -1 when defects keep them "
+                          "from being defined.")
+      .readonly("vertices", &MeshInfo::vertices, "referenced vertices")
+      .readonly("unreferenced_vertices", &MeshInfo::unreferenced_vertices, "vertices no face uses")
+      .readonly("edges", &MeshInfo::edges, "")
+      .readonly("faces", &MeshInfo::faces, "")
+      .readonly("components", &MeshInfo::components, "")
+      .readonly("boundary_loops", &MeshInfo::boundary_loops, "")
+      .readonly("euler_characteristic", &MeshInfo::euler_characteristic,
+                "V - E + F over referenced vertices, when manifold")
+      .readonly("genus", &MeshInfo::genus, "total over components, when manifold")
+      .readonly("component_info", &MeshInfo::component_info, "ComponentInfo of each component")
+      .readonly("min_angle_degrees", &MeshInfo::min_angle_degrees,
+                "smallest corner angle over all faces")
+      .readonly("max_angle_degrees", &MeshInfo::max_angle_degrees,
+                "largest corner angle over all faces")
+      .readonly("bounding_box_diagonal", &MeshInfo::bounding_box_diagonal, "")
+      .readonly("validation", &MeshInfo::validation, "every defect found")
+      .computed(
+          "defects", [](const MeshInfo& info) { return info.validation.defects; },
+          "validation.defects: the Defect list")
+      .repr();
+  m.def("mesh_info", &mesh_info, py::arg("mesh"),
+        "Summary of a mesh; never raises on defective meshes.");
+
+  StructBinding<Component>(m, "Component", "One connected component of a mesh.")
+      .readonly("vertices", &Component::vertices, "vertex indices, ascending")
+      .readonly("faces", &Component::faces, "face indices, ascending")
+      .readonly("num_edges", &Component::num_edges, "")
+      .readonly("num_boundary_loops", &Component::num_boundary_loops, "")
+      .readonly("euler_characteristic", &Component::euler_characteristic, "")
+      .readonly("genus", &Component::genus, "")
+      .repr();
+
+  StructBinding<Topology>(m, "Topology",
+                          "Connectivity of a manifold mesh as flat arrays (halfedge h = 3 f + k "
+                          "lies in face f opposite its corner k).")
+      .readonly("num_vertices", &Topology::num_vertices, "")
+      .readonly("num_edges", &Topology::num_edges, "")
+      .readonly("num_faces", &Topology::num_faces, "")
+      .readonly("triangles", &Topology::triangles, "#F by 3")
+      .readonly("edge_vertices", &Topology::edge_vertices, "#E by 2, smaller index first")
+      .readonly("face_edges", &Topology::face_edges, "#F by 3: edge opposite corner k of face f")
+      .readonly("edge_halfedges", &Topology::edge_halfedges, "#E by 2, -1 if none")
+      .readonly("halfedge_twin", &Topology::halfedge_twin,
+                "3#F: opposite halfedge, -1 on the boundary")
+      .flags("is_boundary_vertex", &Topology::is_boundary_vertex, "#V bools")
+      .flags("is_boundary_edge", &Topology::is_boundary_edge, "#E bools")
+      .readonly("vertex_degree", &Topology::vertex_degree, "#V incident edge counts")
+      .readonly("boundary_loops", &Topology::boundary_loops, "vertices of each loop")
+      .readonly("vertex_component", &Topology::vertex_component, "#V, -1 when unreferenced")
+      .readonly("face_component", &Topology::face_component, "#F")
+      .readonly("components", &Topology::components, "Component list")
+      .repr();
+  m.def("build_topology", &build_topology, py::arg("triangles"), py::arg("num_vertices"),
+        "Connectivity of a triangle mesh; raises TopologyError on non-manifold input.");
+
+  m.def("make_tetrahedron", &make_tetrahedron, py::arg("edge_length") = 1.0,
+        "Regular tetrahedron centred at the origin.");
+  m.def("make_icosphere", &make_icosphere, py::arg("subdivisions"), py::arg("radius") = 1.0,
+        "Icosahedron subdivided `subdivisions` times, on the sphere of `radius`.");
+  m.def("make_disk", &make_disk, py::arg("rings"), py::arg("bulge") = 0.0,
+        "Unit disk of `rings` rings, lifted to the cap z = bulge (1 - x^2 - y^2).");
+  m.def("make_torus", &make_torus, py::arg("major_segments"), py::arg("minor_segments"),
+        py::arg("major_radius") = 1.0, py::arg("minor_radius") = 0.4,
+        "Torus of revolution, vertex (i, j) at index i * minor_segments + j.");
+  m.def("make_closed_surface", &make_closed_surface, py::arg("genus"), py::arg("resolution") = 12,
+        "A closed orientable surface of the given genus.");
+  m.def("make_surface_with_holes", &make_surface_with_holes, py::arg("genus"), py::arg("holes"),
+        py::arg("resolution") = 12, "A surface of the given genus with `holes` boundary loops.");
+  m.def("make_grid", &make_grid, py::arg("nx"), py::arg("ny"), py::arg("width") = 1.0,
+        py::arg("height") = 1.0, "Flat rectangular grid of nx by ny quads split in triangles.");
+}
+
+}  // namespace ricci::python

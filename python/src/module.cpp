@@ -1,0 +1,81 @@
+/// \file
+/// The extension module `_ricci`: exception classes and the bindings of each module of ricci.
+/// The pure-Python package `ricci` on top of it checks array shapes and dtypes.
+
+#include <exception>
+
+#include "bindings.hpp"
+#include "ricci/errors.hpp"
+
+namespace ricci::python {
+namespace {
+
+/// Creates an exception class `_ricci.<name>` with the given bases (a class or a tuple).
+py::handle make_exception(py::module_& m, const char* name, const py::handle& bases,
+                          const char* doc) {
+  // Named as the package `ricci` re-exports them.
+  const std::string qualified = std::string("ricci.") + name;
+  PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr);
+  if (type == nullptr) throw py::error_already_set();
+  m.add_object(name, py::handle(type));  // the module holds the new reference
+  return type;
+}
+
+/// The exception classes, held by the module for the life of the interpreter (translators are
+/// plain function pointers, so they find the classes here).
+struct ExceptionClasses {
+  py::handle error, invalid_input, topology_error, io_error, solver_error;
+};
+ExceptionClasses exception_classes;
+
+void translate_exception(std::exception_ptr p) {
+  const ExceptionClasses& c = exception_classes;
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const TopologyError& e) {
+    PyErr_SetString(c.topology_error.ptr(), e.what());
+  } catch (const InvalidInput& e) {
+    PyErr_SetString(c.invalid_input.ptr(), e.what());
+  } catch (const IoError& e) {
+    PyErr_SetString(c.io_error.ptr(), e.what());
+  } catch (const SolverError& e) {
+    PyErr_SetString(c.solver_error.ptr(), e.what());
+  } catch (const Error& e) {
+    PyErr_SetString(c.error.ptr(), e.what());
+  }
+}
+
+}  // namespace
+}  // namespace ricci::python
+
+PYBIND11_MODULE(_ricci, m) {
+  namespace py = pybind11;
+  using namespace ricci::python;
+  m.doc() =
+      "ricci: discrete surface Ricci flow and conformal parameterization (C++ bindings; "
+      "use the package `ricci`, which checks array shapes).";
+
+  // The hierarchy of ricci/errors.hpp, each class also deriving from the built-in exception a
+  // Python caller would expect (so `except ValueError` catches bad input).
+  const py::handle error = make_exception(m, "Error", PyExc_Exception,
+                                          "Base of every exception ricci raises on purpose.");
+  const py::handle invalid_input = make_exception(
+      m, "InvalidInput", py::make_tuple(error, py::handle(PyExc_ValueError)),
+      "The caller's data breaks a precondition (non-finite coordinates, a target that violates "
+      "Gauss-Bonnet, an option out of range).");
+  const py::handle topology_error = make_exception(
+      m, "TopologyError", invalid_input, "The mesh is not an oriented manifold triangle mesh.");
+  const py::handle io_error = make_exception(
+      m, "IoError", py::make_tuple(error, py::handle(PyExc_OSError)),
+      "Reading or writing a file failed (missing, empty, truncated or malformed file).");
+  const py::handle solver_error = make_exception(
+      m, "SolverError", py::make_tuple(error, py::handle(PyExc_RuntimeError)),
+      "A numerical breakdown the solver cannot step around (factorisation failed, NaN).");
+
+  exception_classes = {error, invalid_input, topology_error, io_error, solver_error};
+  py::register_exception_translator(&translate_exception);
+
+  bind_mesh(m);
+  bind_flow(m);
+  bind_param(m);
+}

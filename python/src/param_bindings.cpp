@@ -1,0 +1,179 @@
+/// \file
+/// Bindings of the param module: cone selection, cut graph, layout, atlas, distortion and the
+/// parameterize pipeline.
+
+#include "bindings.hpp"
+#include "ricci/mesh/validate.hpp"
+#include "ricci/param/parameterize.hpp"
+
+namespace ricci::python {
+
+void bind_param(py::module_& m) {
+  py::enum_<ConeMode> cone_mode(m, "ConeMode", "Where the cones come from.");
+  cone_mode.value("None_", ConeMode::None)
+      .value("User", ConeMode::User)
+      .value("Auto", ConeMode::Auto)
+      .value("OneCone", ConeMode::OneCone);
+  cone_mode.def(py::init([](const std::string& name) { return parse_cone_mode(name); }),
+                py::arg("name"));
+  m.def("cone_mode_name", &cone_mode_name, py::arg("mode"));
+
+  StructBinding<ConeSelectionOptions>(m, "ConeSelectionOptions", "Options of select_cones.")
+      .field("count", &ConeSelectionOptions::count,
+             "place exactly this many cones; 0: as many as max_log_scale needs")
+      .field("max_log_scale", &ConeSelectionOptions::max_log_scale,
+             "add cones until max |u - mean u| of the linearised flat metric is at most this")
+      .field("max_cones", &ConeSelectionOptions::max_cones, "never more than this many")
+      .field("try_first_cone_candidates", &ConeSelectionOptions::try_first_cone_candidates,
+             "well-spread candidates tried for the first cone of a closed surface")
+      .enum_field("boundary", &ConeSelectionOptions::boundary, &parse_boundary_mode,
+                  "BoundaryMode while cones are chosen (parameterize sets it from its own)")
+      .field("structure", &ConeSelectionOptions::structure,
+             "StructureOptions (parameterize sets it from its own)")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<ConeSelection>(m, "ConeSelection", "What select_cones returns.")
+      .readonly("vertices", &ConeSelection::vertices, "cone vertices in the order chosen")
+      .readonly("max_log_scale", &ConeSelection::max_log_scale, "after each addition")
+      .readonly("linear_curvature", &ConeSelection::linear_curvature,
+                "curvature of each cone in the linearised solution")
+      .repr();
+
+  StructBinding<ParamOptions>(m, "ParamOptions", "Options of parameterize.")
+      .enum_field("cone_mode", &ParamOptions::cone_mode, &parse_cone_mode,
+                  "ConeMode (or 'none', 'user', 'auto', 'one')")
+      .field("cones", &ParamOptions::cones, "ConeMode.User: list of Cone (input vertex indices)")
+      .field("auto_cones", &ParamOptions::auto_cones, "ConeSelectionOptions for ConeMode.Auto")
+      .field("quantize", &ParamOptions::quantize, "round cone curvatures to multiples of pi/2")
+      .enum_field("boundary", &ParamOptions::boundary, &parse_boundary_mode,
+                  "BoundaryMode (or 'free', 'disk', 'disk-length')")
+      .field("structure", &ParamOptions::structure, "StructureOptions: the discrete metric")
+      .field("flow", &ParamOptions::flow, "FlowOptions (tolerance 1e-12 by default)")
+      .field("modify_connectivity", &ParamOptions::modify_connectivity,
+             "split edges around cones whose valence breaks the single-vertex bound")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<CutGraph>(m, "CutGraph", "A cut graph: slicing along it leaves a disk.")
+      .flags("is_cut_edge", &CutGraph::is_cut_edge, "#E bools")
+      .readonly("num_generators", &CutGraph::num_generators, "homology generators (2 g)")
+      .readonly("nodes", &CutGraph::nodes, "cut vertices of cut degree != 2, and the cones")
+      .readonly("segments", &CutGraph::segments, "vertex paths from node to node")
+      .readonly("length", &CutGraph::length, "total length of the cut edges")
+      .repr();
+
+  StructBinding<CutMesh>(m, "CutMesh", "The mesh sliced open along a cut.")
+      .readonly("triangles", &CutMesh::triangles, "#F by 3, new vertex indices")
+      .readonly("to_original", &CutMesh::to_original, "per new vertex: the vertex it copies")
+      .readonly("topology", &CutMesh::topology, "Topology of the sliced mesh")
+      .repr();
+
+  StructBinding<SeamTransition>(m, "SeamTransition",
+                                "Rigid motion z -> rotation z + translation across a cut edge.")
+      .readonly("edge", &SeamTransition::edge, "")
+      .readonly("segment", &SeamTransition::segment, "")
+      .readonly("rotation", &SeamTransition::rotation, "unit complex number")
+      .readonly("translation", &SeamTransition::translation, "complex")
+      .readonly("angle", &SeamTransition::angle, "arg(rotation), radians")
+      .readonly("mismatch", &SeamTransition::mismatch, "relative to the edge length")
+      .repr();
+
+  StructBinding<Layout>(m, "Layout", "Planar layout of a flat metric (metric units).")
+      .readonly("uv", &Layout::uv, "#V_cut by 2 positions")
+      .readonly("root_face", &Layout::root_face, "")
+      .readonly("max_length_relative_error", &Layout::max_length_relative_error,
+                "how well the layout reproduces the metric's lengths")
+      .readonly("num_flipped_faces", &Layout::num_flipped_faces, "")
+      .readonly("transitions", &Layout::transitions, "SeamTransition per interior cut edge")
+      .readonly("segment_transitions", &Layout::segment_transitions, "per cut segment")
+      .readonly("lattice", &Layout::lattice, "flat torus: reduced lattice basis (complex)")
+      .repr();
+
+  StructBinding<BoundaryChart>(m, "BoundaryChart", "A chart around one cut segment.")
+      .readonly("segment", &BoundaryChart::segment, "")
+      .readonly("faces", &BoundaryChart::faces, "faces of the original mesh")
+      .readonly("corner_uv", &BoundaryChart::corner_uv, "len(faces) by 6: u0 v0 u1 v1 u2 v2")
+      .flags("side", &BoundaryChart::side, "per chart face: True on side B")
+      .readonly("rotation", &BoundaryChart::rotation, "")
+      .readonly("translation", &BoundaryChart::translation, "")
+      .readonly("max_gap", &BoundaryChart::max_gap, "")
+      .repr();
+
+  StructBinding<AffineAtlas>(m, "AffineAtlas", "Central chart plus one chart per cut segment.")
+      .readonly("boundary_charts", &AffineAtlas::boundary_charts, "")
+      .readonly("max_transition_error", &AffineAtlas::max_transition_error, "")
+      .repr();
+
+  StructBinding<Distortion>(m, "Distortion", "Distortion figures of a parameterization.")
+      .readonly("area_distortion_energy", &Distortion::area_distortion_energy,
+                "the tutorial's eq. 9")
+      .readonly("log_area_min", &Distortion::log_area_min, "")
+      .readonly("log_area_max", &Distortion::log_area_max, "")
+      .readonly("log_area_mean", &Distortion::log_area_mean, "")
+      .readonly("log_area_stddev", &Distortion::log_area_stddev, "")
+      .readonly("angle_distortion_mean", &Distortion::angle_distortion_mean,
+                "sigma_max / sigma_min, area-weighted mean")
+      .readonly("angle_distortion_max", &Distortion::angle_distortion_max, "")
+      .readonly("flipped_faces", &Distortion::flipped_faces, "")
+      .readonly("degenerate_faces", &Distortion::degenerate_faces, "")
+      .readonly("surface_area", &Distortion::surface_area, "")
+      .readonly("layout_area", &Distortion::layout_area, "")
+      .repr();
+  m.def("measure_distortion", &measure_distortion, py::arg("mesh"), py::arg("uv_triangles"),
+        py::arg("uv"), "Measures a layout (uv_triangles index uv per corner) against the mesh.");
+
+  StructBinding<ParamResult>(m, "ParamResult", "What parameterize returns.")
+      .readonly("converged", &ParamResult::converged, "the flow reached its tolerance")
+      .readonly("message", &ParamResult::message, "why not, when it did not")
+      .computed(
+          "vertices", [](const ParamResult& r) { return r.mesh.positions; },
+          "#V by 3 positions of the mesh parameterized (mesh.positions)")
+      .computed(
+          "triangles", [](const ParamResult& r) { return r.mesh.triangles; },
+          "#F by 3 triangles of the mesh parameterized (mesh.triangles)")
+      .readonly("uv", &ParamResult::uv, "#UV by 2 texture coordinates in the unit square")
+      .computed(
+          "uv_triangles", [](const ParamResult& r) { return r.cut_mesh.triangles; },
+          "#F by 3 indices into uv per corner (cut_mesh.triangles)")
+      .readonly("mesh", &ParamResult::mesh,
+                "input vertices first, then vertices added by edge splits")
+      .readonly("vertex_origin", &ParamResult::vertex_origin,
+                "per vertex: input vertex, or -1 when added")
+      .readonly("added_vertex_parents", &ParamResult::added_vertex_parents,
+                "per added vertex: the edge it splits")
+      .readonly("edge_splits", &ParamResult::edge_splits, "")
+      .readonly("subdivided", &ParamResult::subdivided, "the mesh was subdivided once")
+      .readonly("cones", &ParamResult::cones, "final Cone list (output vertex indices)")
+      .readonly("cone_selection", &ParamResult::cone_selection, "ConeSelection")
+      .computed(
+          "layout_error", [](const ParamResult& r) { return r.layout.max_length_relative_error; },
+          "layout.max_length_relative_error")
+      .computed(
+          "lattice", [](const ParamResult& r) { return r.layout.lattice; },
+          "layout.lattice: flat torus lattice basis as complex numbers (metric units)")
+      .readonly("distortion", &ParamResult::distortion, "Distortion")
+      .readonly("seam_length", &ParamResult::seam_length, "3D length of the cut edges")
+      .readonly("uv_scale", &ParamResult::uv_scale, "uv = (layout - offset) * uv_scale")
+      .readonly("uv_offset", &ParamResult::uv_offset, "")
+      .readonly("flow", &ParamResult::flow, "MeshFlowResult")
+      .readonly("cut", &ParamResult::cut, "CutGraph")
+      .readonly("cut_mesh", &ParamResult::cut_mesh, "CutMesh")
+      .readonly("layout", &ParamResult::layout, "Layout")
+      .readonly("atlas", &ParamResult::atlas, "AffineAtlas")
+      .readonly("seconds", &ParamResult::seconds, "")
+      .repr();
+
+  m.def(
+      "parameterize",
+      [](const Mesh& mesh, ParamOptions options) {
+        validate_mesh(mesh, "parameterize");
+        return run_without_gil<ParamResult>(options.flow,
+                                            [&] { return parameterize(mesh, options); });
+      },
+      py::arg("mesh"), py::arg("options") = ParamOptions{},
+      "Global conformal parameterization of a single-component manifold mesh (validated "
+      "first). Raises InvalidInput, TopologyError.");
+}
+
+}  // namespace ricci::python
