@@ -36,6 +36,12 @@ struct LayoutOptions {
   /// farthest from the cut mesh's boundary in steps across edges (breadth-first over the dual
   /// graph), which keeps the layout tree shallow.
   int root_face = -1;
+  /// When the tree layout's largest relative length error exceeds this, refine it by global
+  /// least squares (the tree puts the holonomy of the metric's rounding-level residual curvature
+  /// on a few edges; least squares spreads it over all). Negative: never refine.
+  /// (The tests ask for 1e-9; 5e-10 keeps a margin and spares large regular meshes the cost.)
+  double refine_above = 5e-10;
+  int refine_iterations = 10;  ///< rotation / position alternations of the refinement
 };
 
 /// What layout_flat returns.
@@ -44,6 +50,7 @@ struct Layout {
   /// is laid out from its own root: first corner at 0, second on the positive real axis.
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
   int root_face = -1;  ///< the root of the first component (or the one requested)
+  bool refined = false;  ///< the least-squares refinement ran (LayoutOptions::refine_above)
   /// max over edges of | |uv_i - uv_j| - l_ij | / l_ij: how well the layout reproduces the
   /// metric (1e-9 or better expected).
   double max_length_relative_error = 0;
