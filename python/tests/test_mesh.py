@@ -1,0 +1,105 @@
+"""Reading, writing, info and the generators."""
+
+import math
+
+import numpy as np
+import pytest
+
+import ricci
+
+
+def test_read_mesh_obj(tmp_path):
+    # A unit square as one quad plus one triangle, and a vertex no face uses (dropped).
+    path = tmp_path / "square.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 5 5\nv 2 0 0\n"
+                    "f 1 2 3 4\nf 2 6 3\n")
+    V, F, info = ricci.read_mesh(path)
+    assert V.dtype == np.float64 and V.shape == (5, 3)
+    assert F.dtype == np.int32 and F.shape == (3, 3)
+    assert V.flags["C_CONTIGUOUS"] and F.flags["C_CONTIGUOUS"]
+    assert info.dropped_vertices == [4]
+    assert info.vertex_map == [0, 1, 2, 3, 5]
+    assert info.polygons_triangulated == 1
+    assert len(info.warnings) >= 1
+    assert info.format == ricci.MeshFormat.Obj
+    np.testing.assert_array_equal(V[4], [2, 0, 0])
+    # The triangulated quad and the triangle cover area 1 + 0.5.
+    a = V[F[:, 1]] - V[F[:, 0]]
+    b = V[F[:, 2]] - V[F[:, 0]]
+    assert np.linalg.norm(np.cross(a, b), axis=1).sum() / 2 == pytest.approx(1.5, abs=1e-15)
+
+
+def test_read_mesh_missing_file(tmp_path):
+    path = tmp_path / "missing.off"
+    with pytest.raises(ricci.IoError) as caught:
+        ricci.read_mesh(path)
+    assert isinstance(caught.value, OSError)
+    assert isinstance(caught.value, ricci.Error)
+    assert "missing.off" in str(caught.value)
+
+
+def test_read_mesh_malformed_names_line(tmp_path):
+    path = tmp_path / "bad.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n")
+    with pytest.raises(ricci.IoError, match="bad.obj"):
+        ricci.read_mesh(path)
+
+
+def test_write_obj_round_trip(tmp_path, torus):
+    V, F = torus
+    path = tmp_path / "torus.obj"
+    ricci.write_obj(path, V, F)
+    V2, F2, _ = ricci.read_mesh(path)
+    np.testing.assert_allclose(V2, V, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(F2, F)
+
+
+def test_info_tetrahedron(tetrahedron):
+    info = ricci.info(*tetrahedron)
+    assert (info.vertices, info.edges, info.faces) == (4, 6, 4)
+    assert (info.components, info.boundary_loops) == (1, 0)
+    assert (info.euler_characteristic, info.genus) == (2, 0)
+    assert info.min_angle_degrees == pytest.approx(60, abs=1e-12)
+    assert info.max_angle_degrees == pytest.approx(60, abs=1e-12)
+    assert info.defects == []
+    assert info.validation.ok
+
+
+def test_info_torus(torus):
+    info = ricci.info(*torus)
+    assert (info.vertices, info.edges, info.faces) == (512, 1536, 1024)
+    assert (info.components, info.boundary_loops) == (1, 0)
+    assert (info.euler_characteristic, info.genus) == (0, 1)
+    assert len(info.component_info) == 1
+    assert info.component_info[0].genus == 1
+    assert 0 < info.min_angle_degrees < 60 < info.max_angle_degrees < 180
+
+
+def test_info_reports_defects_without_raising(non_manifold):
+    info = ricci.info(*non_manifold)
+    names = [d.name for d in info.defects]
+    assert "non-manifold-edge" in names
+    assert info.genus == -1 and info.euler_characteristic == -1
+    assert not info.validation.ok
+
+
+def test_generators_counts():
+    V, F = ricci.generate.icosphere(2)
+    assert V.shape == (10 * 4**2 + 2, 3) and F.shape == (20 * 4**2, 3)
+    np.testing.assert_allclose(np.linalg.norm(V, axis=1), 1, atol=1e-15)
+    V, F = ricci.generate.disk(3, 0.5)
+    assert V.shape == (1 + 3 * 3 * 4, 3) and F.shape == (6 * 9, 3)
+    assert ricci.info(V, F).boundary_loops == 1
+    V, F = ricci.generate.closed_surface(2, 10)
+    info = ricci.info(V, F)
+    assert (info.genus, info.euler_characteristic) == (2, -2)
+    V, F = ricci.generate.tetrahedron(2.0)
+    assert np.linalg.norm(V[0] - V[1]) == pytest.approx(2.0, rel=1e-15)
+    V, F = ricci.generate.torus(12, 6)
+    assert V.shape == (72, 3) and F.shape == (144, 3)
+    assert not math.isnan(V.sum())
+
+
+def test_generator_errors_are_invalid_input():
+    with pytest.raises(ricci.InvalidInput, match="minor"):
+        ricci.generate.torus(12, 6, 1.0, 2.0)
