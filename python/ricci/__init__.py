@@ -13,7 +13,7 @@ OSError), ``SolverError`` (a RuntimeError), all deriving from ``ricci.Error``.
 """
 
 from . import generate
-from ._ricci import (  # noqa: F401  (re-exported)
+from ._ricci import (
     AffineAtlas,
     BoundaryChart,
     BoundaryMode,
@@ -70,9 +70,12 @@ from ._param import parameterize
 
 __all__ = [
     "flow", "info", "parameterize", "read_mesh", "validate", "write_obj", "generate",
-    "Error", "InvalidInput", "TopologyError", "IoError", "SolverError",
-    "FlowOptions", "MeshFlowOptions", "StructureOptions", "TargetSpec", "ParamOptions",
-    "ConeSelectionOptions", "ReadOptions", "Cone",
-    "Scheme", "PackingInit", "FlowSolver", "FlowStatus", "BoundaryMode", "TargetKind",
-    "ConeMode", "MeshFormat", "DefectKind",
+    "AffineAtlas", "BoundaryChart", "BoundaryMode", "Component", "ComponentFlow", "ComponentInfo",
+    "Cone", "ConeMode", "ConeSelection", "ConeSelectionOptions", "ConformalStructure", "CutGraph",
+    "CutMesh", "Defect", "DefectKind", "Distortion", "Error", "FlowOptions", "FlowResult",
+    "FlowSolver", "FlowStatus", "FlowTimings", "InvalidInput", "IoError", "IterationRecord",
+    "Layout", "Mesh", "MeshFlowOptions", "MeshFlowResult", "MeshFormat", "MeshInfo", "PackingInit",
+    "ParamOptions", "ParamResult", "ReadOptions", "ReadResult", "Scheme", "SeamTransition",
+    "SolverError", "StructureOptions", "StructureResult", "Target", "TargetKind", "TargetSpec",
+    "Topology", "TopologyError", "ValidationReport", "parse_cone_list", "parse_curvature",
 ]

@@ -29,9 +29,12 @@ def triangles(F, name="F"):
         raise ValueError(f"{name} must be an (m, 3) integer array, got shape {a.shape}")
     if a.dtype.kind not in "iu":
         raise ValueError(f"{name} must be an (m, 3) integer array, got dtype {a.dtype}")
-    if a.size and (a.max() > _INT32_MAX or a.min() < -_INT32_MAX - 1):
-        raise ValueError(f"{name} holds vertex index {a.max() if a.max() > _INT32_MAX else a.min()}, "
-                         f"beyond the 32-bit indices ricci uses")
+    if a.size:
+        outside = a.max() if a.max() > _INT32_MAX else a.min() if a.min() < -_INT32_MAX - 1 \
+            else None
+        if outside is not None:
+            raise ValueError(f"{name} holds vertex index {outside}, beyond the 32-bit indices "
+                             f"ricci uses")
     return np.ascontiguousarray(a, dtype=np.int32)
 
 

@@ -40,7 +40,7 @@ def cone_list(cones):
     return out
 
 
-def flow(V, F, *, target="flat", cones=None, boundary=None, scheme=None, packing_init=None,
+def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_init=None,
          max_intersection_angle=None, fit_sweeps=None, fit_tolerance=None, solver=None,
          tolerance=None, max_iterations=None, gradient_step=None, armijo=None,
          max_backtracks=None, use_cholmod=None, reuse_factorization_cg_iterations=None,
@@ -50,7 +50,7 @@ def flow(V, F, *, target="flat", cones=None, boundary=None, scheme=None, packing
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles.
 
     Target (``TargetSpec``):
-      target: ``"flat"`` (zero curvature but at the cones), ``"free"``, ``"disk"`` or
+      target: ``"flat"`` (zero curvature but at the cones; the default), ``"free"``, ``"disk"`` or
         ``"disk-length"`` (flat with that boundary mode), ``"uniform"`` (2 pi chi / n per
         vertex), or an (n,) array of per-vertex target curvatures.
       cones: flat target only: ``[(vertex, curvature), ...]``, ``{vertex: curvature}`` or

@@ -11,7 +11,7 @@ from ._flow import cone_list, set_fields
 _CONE_MODES = ("auto", "none", "one")
 
 
-def parameterize(V, F, *, cones="auto", boundary=None, quantize=None, max_log_scale=None,
+def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scale=None,
                  max_cones=None, try_first_cone_candidates=None, modify_connectivity=None,
                  scheme=None, packing_init=None, max_intersection_angle=None, fit_sweeps=None,
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,

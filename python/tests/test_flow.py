@@ -44,6 +44,14 @@ def test_sphere_uniform_target_gauss_bonnet(icosphere):
     np.testing.assert_allclose(result.curvature, 4 * math.pi / len(V), atol=1e-10)
 
 
+def test_target_from_options_object(icosphere):
+    V, F = icosphere
+    options = ricci.MeshFlowOptions(target=ricci.TargetSpec(kind=ricci.TargetKind.Uniform))
+    result = ricci.flow(V, F, options=options)
+    assert result.converged
+    np.testing.assert_allclose(result.curvature, 4 * math.pi / len(V), atol=1e-10)
+
+
 def test_cones_as_list_dict_and_text_agree(icosphere):
     V, F = icosphere
     # The 12 icosahedron vertices with pi/3 each: 4 pi in total (chi = 2).

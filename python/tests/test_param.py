@@ -68,3 +68,12 @@ def test_disk_and_progress():
     assert result.converged
     assert records and records[-1].max_error <= 1e-12
     _check_uv(result)
+
+
+def test_options_object_is_honoured(torus):
+    V, F = torus
+    options = ricci.ParamOptions(cone_mode="none", flow=ricci.FlowOptions(tolerance=1e-11))
+    result = ricci.parameterize(V, F, options=options)
+    assert result.converged and result.cones == []
+    assert result.flow.max_error <= 1e-11
+    assert len(result.lattice) == 2
