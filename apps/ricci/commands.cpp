@@ -15,6 +15,9 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
+#ifdef RICCI_HAVE_RENDER
+#include "render_command.hpp"
+#endif
 
 namespace ricci::cli {
 namespace {
@@ -278,6 +281,9 @@ int run_param(const ParamArgs& args) {
     return kNotConverged;
   }
   write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
+#ifdef RICCI_HAVE_RENDER
+  write_param_pictures(args.pictures, result);
+#endif
   if (args.json) {
     std::cout << report.dump(2) << "\n";
   } else {

@@ -52,6 +52,7 @@ struct ParamArgs {
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;
+  std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
 };
 int run_param(const ParamArgs& args);
 

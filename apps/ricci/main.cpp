@@ -4,6 +4,9 @@
 
 #include "commands.hpp"
 #include "ricci/errors.hpp"
+#ifdef RICCI_HAVE_RENDER
+#include "render_command.hpp"
+#endif
 
 #ifndef RICCI_VERSION
 #define RICCI_VERSION "unknown"
@@ -105,6 +108,13 @@ int main(int argc, char** argv) {
                         "write a JSON report: cones, cut, layout, atlas, distortion, flow");
   param_cmd->add_flag("--json", param.json, "print the report as JSON");
   param_cmd->add_flag("--progress", param.progress, "print flow iterations on stderr");
+#ifdef RICCI_HAVE_RENDER
+  param_cmd->add_option("--pictures", param.pictures,
+                        "write render.png, uv.svg, uv.png, convergence.png and convergence.svg "
+                        "into this folder (created when missing)");
+  RenderArgs render;
+  CLI::App* render_cmd = add_render_subcommand(app, render);
+#endif
 
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
@@ -132,6 +142,9 @@ int main(int argc, char** argv) {
     if (*flow_cmd) return run_flow(flow);
     if (*param_cmd) return run_param(param);
     if (*generate_cmd) return run_generate(generate);
+#ifdef RICCI_HAVE_RENDER
+    if (*render_cmd) return run_render(render);
+#endif
   } catch (const ricci::InvalidInput& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kBadInput;

@@ -1,1 +1,171 @@
-// placeholder: the `ricci render` subcommand and `param --pictures`, filled in by its owner.
+#include "render_command.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/render/param_pictures.hpp"
+#include "ricci/render/render_mesh.hpp"
+#include "ricci/render/textured_obj.hpp"
+#include "ricci/render/uv_plot.hpp"
+
+namespace ricci::cli {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+/// "auto" (zero), an axis ("x", "-z", "+y") or three numbers (as separate values or "1,1,1").
+Eigen::Vector3d parse_direction(const char* flag, std::vector<std::string> values) {
+  if (values.size() == 1 && values[0].find(',') != std::string::npos) {
+    std::string text = values[0];
+    values.clear();
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = text.find(',', start);
+      values.push_back(text.substr(start, comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  auto bad = [&]() -> InvalidInput {
+    std::string given;
+    for (const std::string& v : values) given += (given.empty() ? "" : " ") + v;
+    return InvalidInput(std::string(flag) + ": '" + given +
+                        "' is not auto, an axis (x, -x, y, -y, z, -z) or three numbers X Y Z");
+  };
+  if (values.size() == 1) {
+    const std::string& v = values[0];
+    if (v == "auto") return Eigen::Vector3d::Zero();
+    const bool negative = !v.empty() && v[0] == '-';
+    const std::string axis = (!v.empty() && (v[0] == '-' || v[0] == '+')) ? v.substr(1) : v;
+    const double sign = negative ? -1.0 : 1.0;
+    if (axis == "x") return sign * Eigen::Vector3d::UnitX();
+    if (axis == "y") return sign * Eigen::Vector3d::UnitY();
+    if (axis == "z") return sign * Eigen::Vector3d::UnitZ();
+    throw bad();
+  }
+  if (values.size() != 3) throw bad();
+  Eigen::Vector3d d;
+  for (int i = 0; i < 3; ++i) {
+    std::size_t used = 0;
+    try {
+      d[i] = std::stod(values[i], &used);
+    } catch (const std::exception&) {
+      throw bad();
+    }
+    if (used != values[i].size() || !std::isfinite(d[i])) throw bad();
+  }
+  if (d.isZero(0)) throw InvalidInput(std::string(flag) + ": the direction must not be zero");
+  return d;
+}
+
+void check_not_input(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(output, input, ec)) {
+    throw InvalidInput(output + ": the output would overwrite the input " + input +
+                       "; choose another -o");
+  }
+}
+
+}  // namespace
+
+CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "render",
+      "Draw an OBJ with texture coordinates (what `param` writes) as a PNG: checkerboard texture, "
+      "Lambert shading, seams as dark lines, cones as red dots. No window needed.");
+  cmd->add_option("MESH", args.mesh, "OBJ file with vt coordinates (f v/vt)")->required();
+  cmd->add_option("-o,--output", args.output, "output .png")->required();
+  cmd->add_option("--width", args.width, "picture width, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", args.height, "picture height, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16384));
+  cmd->add_option("--view", args.view,
+                  "where the camera looks from: auto (least-extent axis or a 3/4 view), an axis "
+                  "(x, -x, y, -y, z, -z) or a direction X Y Z")
+      ->expected(1, 3)
+      ->capture_default_str();
+  cmd->add_option("--up", args.up, "screen up direction: an axis or X Y Z (default: automatic)")
+      ->expected(1, 3);
+  cmd->add_option("--checker", args.checker, "checker squares per unit of texture coordinate")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--supersampling", args.supersampling,
+                  "samples per pixel along each axis (anti-aliasing)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8));
+  cmd->add_flag("--no-seams", args.no_seams, "do not draw the seams");
+  cmd->add_flag("--no-cones", args.no_cones, "do not mark the cones");
+  cmd->add_option("--uv", args.uv_output,
+                  "also write the texture layout coloured by log area distortion (.svg or .png)");
+  return cmd;
+}
+
+int run_render(const RenderArgs& args) {
+  if (lower_extension(args.output) != ".png") {
+    throw InvalidInput(args.output + ": render writes PNG; give -o a .png file");
+  }
+  const std::string uv_ext = lower_extension(args.uv_output);
+  if (!args.uv_output.empty() && uv_ext != ".svg" && uv_ext != ".png") {
+    throw InvalidInput(args.uv_output + ": --uv writes .svg or .png");
+  }
+  check_not_input(args.output, args.mesh);
+  if (!args.uv_output.empty()) check_not_input(args.uv_output, args.mesh);
+
+  const TexturedMesh textured = read_textured_obj(args.mesh);
+  RenderOptions options;
+  options.width = args.width;
+  options.height = args.height;
+  options.view = parse_direction("--view", args.view);
+  if (!args.up.empty()) options.up = parse_direction("--up", args.up);
+  options.checker = args.checker;
+  options.supersampling = args.supersampling;
+  options.draw_seams = !args.no_seams;
+  options.mark_cones = !args.no_cones;
+  const RenderResult rendered =
+      render_textured_mesh(textured.mesh, textured.uv_triangles, textured.uv, options);
+  write_png(args.output, rendered.image);
+  const Eigen::Vector3d& v = rendered.camera.view;
+  std::cout << args.mesh << " -> " << args.output << " (" << args.width << " x " << args.height
+            << ")\n  view from (" << v.x() << ", " << v.y() << ", " << v.z() << "), "
+            << rendered.visible_faces << " of " << textured.mesh.num_faces() << " faces visible, "
+            << rendered.seam_edges << " seam edges, " << rendered.cones << " cones ("
+            << rendered.visible_cones << " visible)\n";
+  if (!args.uv_output.empty()) {
+    UvPlotOptions uv_options;
+    UvPlotInfo info;
+    if (uv_ext == ".svg") {
+      write_svg(args.uv_output, plot_uv_layout_svg(textured.mesh, textured.uv_triangles,
+                                                   textured.uv, uv_options, &info));
+    } else {
+      write_png(args.uv_output, plot_uv_layout(textured.mesh, textured.uv_triangles, textured.uv,
+                                               uv_options, &info));
+    }
+    std::cout << "  layout -> " << args.uv_output << ": ln area ratio in [" << info.log_area_min
+              << ", " << info.log_area_max << "], " << info.flipped_faces << " flipped faces\n";
+  }
+  return kOk;
+}
+
+void write_param_pictures(const std::string& folder, const ParamResult& result) {
+  if (folder.empty()) return;
+  const ParamPicturesResult written = write_parameterization_pictures(folder, result);
+  std::cerr << "pictures:";
+  for (const std::string& file : written.files) std::cerr << " " << file;
+  std::cerr << "\n";
+  if (written.gradient_ran) {
+    std::cerr << "  convergence plot: gradient flow " << written.gradient_iterations
+              << " iterations (" << written.gradient_status << "), max |K-bar - K| "
+              << written.gradient_max_error << "\n";
+  }
+}
+
+}  // namespace ricci::cli

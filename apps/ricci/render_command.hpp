@@ -1,0 +1,37 @@
+#pragma once
+/// \file
+/// The `render` subcommand (a textured OBJ to a PNG picture) and the pictures of
+/// `param --pictures DIR`.
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "ricci/param/parameterize.hpp"
+
+namespace ricci::cli {
+
+struct RenderArgs {
+  std::string mesh;                       ///< OBJ with vt
+  std::string output;                     ///< .png
+  int width = 1024, height = 1024;        ///< pixels
+  std::vector<std::string> view{"auto"};  ///< auto, x, -x, y, -y, z, -z, or three numbers
+  std::vector<std::string> up;            ///< empty: automatic; else as view
+  int checker = 16;                       ///< squares per texture unit
+  int supersampling = 3;
+  bool no_seams = false;
+  bool no_cones = false;
+  std::string uv_output;  ///< also the texture layout (.svg or .png)
+};
+
+/// Adds `render` to the program; its flags fill `args`.
+CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args);
+
+int run_render(const RenderArgs& args);
+
+/// `param --pictures DIR`: writes the pictures of a parameterization into DIR and says so on
+/// stderr. No-op when `folder` is empty.
+void write_param_pictures(const std::string& folder, const ParamResult& result);
+
+}  // namespace ricci::cli

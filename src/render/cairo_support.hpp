@@ -1,0 +1,49 @@
+#pragma once
+/// \file
+/// Private to the picture writers: owning handles for Cairo objects, drawing one function onto a
+/// raster image or into SVG text, and the small drawing helpers the plots share.
+
+#include <cairo.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "ricci/render/image.hpp"
+
+namespace ricci::render_detail {
+
+struct SurfaceDeleter {
+  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
+};
+struct ContextDeleter {
+  void operator()(cairo_t* cr) const { cairo_destroy(cr); }
+};
+using SurfaceHandle = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
+using ContextHandle = std::unique_ptr<cairo_t, ContextDeleter>;
+
+/// \throw InvalidInput "function: picture size W x H is outside [lo, 16384]" otherwise
+void check_picture_size(const char* function, int width, int height, int smallest = 1);
+
+/// A Cairo surface drawing straight into the image's pixels (the image must outlive it).
+SurfaceHandle surface_on(Image& image);
+
+/// Draws on the whole image with `draw` (Cairo context in pixel units), then flushes.
+/// \throw Error when Cairo reports a failure
+void draw_on_image(Image& image, const std::function<void(cairo_t*)>& draw);
+
+/// Runs `draw` on an SVG surface of width x height px and returns the document.
+/// \throw Error when Cairo reports a failure
+std::string draw_svg(int width, int height, const std::function<void(cairo_t*)>& draw);
+
+inline void set_colour(cairo_t* cr, const Rgb& c, double alpha = 1.0) {
+  cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha);
+}
+
+/// Text in the sans-serif face at the current point, aligned: ax, ay in [0, 1] pick which point
+/// of the text's extents lands on (x, y) (0, 0: left, top; 0.5, 0.5: centre; 1, 1: right,
+/// bottom of the ink).
+void draw_text(cairo_t* cr, const std::string& text, double x, double y, double size, double ax,
+               double ay);
+
+}  // namespace ricci::render_detail

@@ -1,0 +1,71 @@
+#include "ricci/render/param_pictures.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <system_error>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+
+ParamPicturesResult write_parameterization_pictures(const std::string& folder,
+                                                    const ParamResult& result,
+                                                    const ParamPicturesOptions& options) {
+  namespace fs = std::filesystem;
+  if (result.uv.rows() == 0 || result.cut_mesh.triangles.rows() != result.mesh.num_faces()) {
+    throw InvalidInput("write_parameterization_pictures: the parameterization has no layout");
+  }
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error || !fs::is_directory(folder)) {
+    throw IoError(folder + ": cannot create the pictures folder" +
+                  (error ? ": " + error.message() : std::string()));
+  }
+  ParamPicturesResult written;
+  auto path = [&](const char* name) {
+    written.files.push_back((fs::path(folder) / name).string());
+    return written.files.back();
+  };
+
+  const Mesh& mesh = result.mesh;
+  const Triangles& uv_triangles = result.cut_mesh.triangles;
+  write_png(path("render.png"),
+            render_textured_mesh(mesh, uv_triangles, result.uv, options.render).image);
+  write_svg(path("uv.svg"), plot_uv_layout_svg(mesh, uv_triangles, result.uv, options.uv));
+  write_png(path("uv.png"), plot_uv_layout(mesh, uv_triangles, result.uv, options.uv));
+
+  // Newton's history, and the gradient flow from the same start to the same target.
+  std::vector<ConvergenceCurve> curves;
+  if (!result.flow.components.empty()) {
+    curves.push_back(convergence_curve("Newton", result.flow.components.front().flow.history,
+                                       {0.12, 0.35, 0.75}));
+  }
+  if (result.flow.components.size() == 1 && mesh.num_vertices() < options.gradient_max_vertices) {
+    FlowOptions gradient;
+    gradient.solver = FlowSolver::Gradient;
+    gradient.tolerance = options.gradient_tolerance;
+    gradient.max_iterations = options.gradient_max_iterations;
+    const auto start = std::chrono::steady_clock::now();
+    gradient.progress = [&](const IterationRecord&) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() <
+             options.gradient_max_seconds;
+    };
+    const FlowResult flow = ricci_flow(result.flow.topology, result.flow.structure.structure,
+                                       result.flow.target, gradient);
+    curves.push_back(convergence_curve("gradient flow", flow.history, {0.80, 0.15, 0.10}));
+    written.gradient_ran = true;
+    written.gradient_iterations = flow.iterations;
+    written.gradient_max_error = flow.max_error;
+    written.gradient_status = flow_status_name(flow.status);
+  }
+  ConvergencePlotOptions plot = options.convergence;
+  if (plot.title.empty()) {
+    plot.title = "Ricci flow to the flat metric: " + std::to_string(mesh.num_vertices()) +
+                 " vertices, " + std::to_string(result.cones.size()) + " cones";
+  }
+  write_png(path("convergence.png"), plot_convergence(curves, plot));
+  write_svg(path("convergence.svg"), plot_convergence_svg(curves, plot));
+  return written;
+}
+
+}  // namespace ricci

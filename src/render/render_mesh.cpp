@@ -1,0 +1,359 @@
+#include "ricci/render/render_mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cairo_support.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/render/uv_chart.hpp"
+
+namespace ricci {
+namespace {
+
+using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+constexpr double kDegree = std::numbers::pi / 180;
+
+void check_positions(const char* function, const Mesh& mesh) {
+  if (mesh.num_faces() == 0) throw InvalidInput(std::string(function) + ": the mesh has no faces");
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.positions.row(v).allFinite()) {
+      throw InvalidInput(std::string(function) + ": vertex " + std::to_string(v) +
+                         " has a coordinate that is not finite");
+    }
+  }
+}
+
+/// Vertices that some face uses (the others do not count for the view or the framing).
+std::vector<char> used_vertices(const Mesh& mesh) {
+  std::vector<char> used(mesh.num_vertices(), 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.triangles(f, c);
+      if (v >= 0 && v < mesh.num_vertices()) used[v] = 1;
+    }
+  }
+  return used;
+}
+
+/// +y projected off the view, or -z / +z when looking along y.
+Eigen::Vector3d default_up(const Eigen::Vector3d& view) {
+  if (std::abs(view.y()) < 0.99) {
+    return (Eigen::Vector3d::UnitY() - view.y() * view).normalized();
+  }
+  return view.y() > 0 ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, 0, 1);
+}
+
+/// Per-sample buffers of the rasteriser (supersampled).
+struct SampleBuffer {
+  int width = 0, height = 0;
+  std::vector<float> depth;  ///< -inf where no face covers the sample
+  std::vector<int> face;     ///< -1 where no face covers the sample
+};
+
+}  // namespace
+
+Eigen::Vector2d Camera::project(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d d = point - centre;
+  return {scale * d.dot(right) + 0.5 * width, 0.5 * height - scale * d.dot(up)};
+}
+
+Eigen::Vector3d automatic_view(const Mesh& mesh, Eigen::Vector3d* up) {
+  check_positions("automatic_view", mesh);
+  const std::vector<char> used = used_vertices(mesh);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!used[v]) continue;
+    lo = lo.cwiseMin(mesh.positions.row(v).transpose());
+    hi = hi.cwiseMax(mesh.positions.row(v).transpose());
+  }
+  const Eigen::Vector3d extent = hi - lo;
+  // Axes by decreasing extent (ties keep x before y before z).
+  int axes[3] = {0, 1, 2};
+  std::stable_sort(axes, axes + 3, [&](int a, int b) { return extent[a] > extent[b]; });
+  const int middle = axes[1], least = axes[2];
+  const double ratio = extent[axes[0]] > 0 ? extent[least] / extent[axes[0]] : 0;
+
+  Eigen::Vector3d view, screen_up;
+  if (ratio < 0.35) {
+    // Seen from the side that most of the surface faces (for a closed surface: +axis).
+    double facing = 0, total = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Eigen::Vector3d p0 = mesh.positions.row(mesh.triangles(f, 0));
+      const Eigen::Vector3d n =
+          (Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 1))) - p0)
+              .cross(Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 2))) - p0);
+      facing += n[least];
+      total += n.norm();
+    }
+    const Eigen::Vector3d normal =
+        (facing < -0.2 * total ? -1.0 : 1.0) * Eigen::Vector3d::Unit(least);
+    const Eigen::Vector3d side = Eigen::Vector3d::Unit(middle);
+    const double elevation = (ratio < 0.05 ? 90 : 40) * kDegree;
+    view = std::sin(elevation) * normal - std::cos(elevation) * side;
+    screen_up = std::cos(elevation) * normal + std::sin(elevation) * side;
+  } else {
+    const double azimuth = 30 * kDegree, elevation = 20 * kDegree;
+    view = Eigen::Vector3d(std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
+                           std::cos(azimuth) * std::cos(elevation));
+    screen_up = Eigen::Vector3d(-std::sin(azimuth) * std::sin(elevation), std::cos(elevation),
+                                -std::cos(azimuth) * std::sin(elevation));
+  }
+  if (up) *up = screen_up.normalized();
+  return view.normalized();
+}
+
+RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv,
+                                  const RenderOptions& options) {
+  const char* fn = "render_textured_mesh";
+  check_uv_layout(fn, mesh, uv_triangles, uv);
+  check_positions(fn, mesh);
+  render_detail::check_picture_size(fn, options.width, options.height);
+  if (options.checker < 1) {
+    throw InvalidInput(std::string(fn) + ": checker must be >= 1, not " +
+                       std::to_string(options.checker));
+  }
+  if (options.supersampling < 1 || options.supersampling > 8) {
+    throw InvalidInput(std::string(fn) + ": supersampling must be in [1, 8], not " +
+                       std::to_string(options.supersampling));
+  }
+  if (!std::isfinite(options.margin) || options.margin < 0 || options.margin >= 0.5) {
+    throw InvalidInput(std::string(fn) + ": margin must be in [0, 0.5)");
+  }
+
+  // Camera.
+  Camera camera;
+  camera.width = options.width;
+  camera.height = options.height;
+  Eigen::Vector3d up;
+  if (options.view.isZero(0)) {
+    camera.view = automatic_view(mesh, &up);
+  } else {
+    if (!options.view.allFinite() || options.view.norm() < 1e-12) {
+      throw InvalidInput(std::string(fn) + ": the view direction must be finite and non-zero");
+    }
+    camera.view = options.view.normalized();
+    up = default_up(camera.view);
+  }
+  if (!options.up.isZero(0)) {
+    up = options.up - options.up.dot(camera.view) * camera.view;
+    if (!up.allFinite() || up.norm() < 1e-9 * options.up.norm()) {
+      throw InvalidInput(std::string(fn) + ": the up direction is parallel to the view");
+    }
+  }
+  camera.up = up.normalized();
+  camera.right = camera.up.cross(camera.view);
+
+  const std::vector<char> used = used_vertices(mesh);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!used[v]) continue;
+    const Eigen::Vector3d p = mesh.positions.row(v);
+    const Eigen::Vector3d q(p.dot(camera.right), p.dot(camera.up), p.dot(camera.view));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const Eigen::Vector3d mid = 0.5 * (lo + hi);
+  camera.centre = mid.x() * camera.right + mid.y() * camera.up + mid.z() * camera.view;
+  const double border = options.margin * std::min(options.width, options.height);
+  const double fit_x = (options.width - 2 * border) / std::max(hi.x() - lo.x(), 1e-300);
+  const double fit_y = (options.height - 2 * border) / std::max(hi.y() - lo.y(), 1e-300);
+  camera.scale = std::min(fit_x, fit_y);
+  if (!std::isfinite(camera.scale) || camera.scale <= 0) camera.scale = 1;
+  const double diagonal = (hi - lo).norm();
+
+  // Per face: corners in sample coordinates, depths, and the shading factor.
+  const int ss = options.supersampling;
+  const int nf = mesh.num_faces();
+  std::vector<Eigen::Vector2d> screen(static_cast<std::size_t>(nf) * 3);
+  std::vector<double> depth(static_cast<std::size_t>(nf) * 3);
+  std::vector<double> shade(nf, 0.0);
+  const Eigen::Vector3d light = (camera.view + 0.6 * camera.up - 0.4 * camera.right).normalized();
+  for (int f = 0; f < nf; ++f) {
+    Eigen::Vector3d p[3];
+    for (int c = 0; c < 3; ++c) {
+      p[c] = mesh.positions.row(mesh.triangles(f, c));
+      screen[3 * f + c] = ss * camera.project(p[c]);
+      depth[3 * f + c] = camera.depth(p[c]);
+    }
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double length = n.norm();
+    if (!(length > 0)) continue;
+    const double facing = n.dot(camera.view) / length;
+    double s = 0.35 + 0.65 * std::abs(n.dot(light)) / length;
+    if (facing < 0) s *= 0.6;  // the inside of an open surface
+    shade[f] = s;
+  }
+
+  // Rasterise: the nearest face wins each sample.
+  SampleBuffer buffer;
+  buffer.width = options.width * ss;
+  buffer.height = options.height * ss;
+  const std::size_t num_samples = static_cast<std::size_t>(buffer.width) * buffer.height;
+  buffer.depth.assign(num_samples, -std::numeric_limits<float>::infinity());
+  buffer.face.assign(num_samples, -1);
+  auto edge = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double x, double y) {
+    return (b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x());
+  };
+  for (int f = 0; f < nf; ++f) {
+    const Eigen::Vector2d& s0 = screen[3 * f];
+    const Eigen::Vector2d& s1 = screen[3 * f + 1];
+    const Eigen::Vector2d& s2 = screen[3 * f + 2];
+    const double area = edge(s0, s1, s2.x(), s2.y());
+    if (!(std::abs(area) > 1e-12)) continue;  // seen edge-on
+    const double inv = 1.0 / area;
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({s0.x(), s1.x(), s2.x()}))));
+    const int x1 =
+        std::min(buffer.width - 1, static_cast<int>(std::ceil(std::max({s0.x(), s1.x(), s2.x()}))));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({s0.y(), s1.y(), s2.y()}))));
+    const int y1 = std::min(buffer.height - 1,
+                            static_cast<int>(std::ceil(std::max({s0.y(), s1.y(), s2.y()}))));
+    const double d0 = depth[3 * f], d1 = depth[3 * f + 1], d2 = depth[3 * f + 2];
+    constexpr double kInside = -1e-9;  // shared edges: no cracks between neighbours
+    for (int y = y0; y <= y1; ++y) {
+      const double py = y + 0.5;
+      for (int x = x0; x <= x1; ++x) {
+        const double px = x + 0.5;
+        const double b0 = edge(s1, s2, px, py) * inv;
+        const double b1 = edge(s2, s0, px, py) * inv;
+        const double b2 = 1.0 - b0 - b1;
+        if (b0 < kInside || b1 < kInside || b2 < kInside) continue;
+        const auto z = static_cast<float>(b0 * d0 + b1 * d1 + b2 * d2);
+        const std::size_t i = static_cast<std::size_t>(y) * buffer.width + x;
+        if (z > buffer.depth[i]) {
+          buffer.depth[i] = z;
+          buffer.face[i] = f;
+        }
+      }
+    }
+  }
+
+  // Shade the samples and average them into pixels.
+  RenderResult result;
+  result.camera = camera;
+  result.image = make_image(options.width, options.height, options.background);
+  std::vector<char> seen(nf, 0);
+  const double n_checker = options.checker;
+  for (int y = 0; y < options.height; ++y) {
+    for (int x = 0; x < options.width; ++x) {
+      double r = 0, g = 0, b = 0;
+      for (int j = 0; j < ss; ++j) {
+        for (int i = 0; i < ss; ++i) {
+          const int sx = x * ss + i, sy = y * ss + j;
+          const int f = buffer.face[static_cast<std::size_t>(sy) * buffer.width + sx];
+          Rgb c = options.background;
+          if (f >= 0) {
+            seen[f] = 1;
+            const Eigen::Vector2d& s0 = screen[3 * f];
+            const Eigen::Vector2d& s1 = screen[3 * f + 1];
+            const Eigen::Vector2d& s2 = screen[3 * f + 2];
+            const double inv = 1.0 / edge(s0, s1, s2.x(), s2.y());
+            const double w0 = edge(s1, s2, sx + 0.5, sy + 0.5) * inv;
+            const double w1 = edge(s2, s0, sx + 0.5, sy + 0.5) * inv;
+            const double w2 = 1.0 - w0 - w1;
+            const Eigen::Vector2d t = w0 * Eigen::Vector2d(uv.row(uv_triangles(f, 0))) +
+                                      w1 * Eigen::Vector2d(uv.row(uv_triangles(f, 1))) +
+                                      w2 * Eigen::Vector2d(uv.row(uv_triangles(f, 2)));
+            const auto parity = static_cast<long long>(std::floor(t.x() * n_checker)) +
+                                static_cast<long long>(std::floor(t.y() * n_checker));
+            const Rgb& base = (parity & 1) ? options.checker_dark : options.checker_light;
+            c = {base.r * shade[f], base.g * shade[f], base.b * shade[f]};
+          }
+          r += c.r;
+          g += c.g;
+          b += c.b;
+        }
+      }
+      const double w = 1.0 / (ss * ss);
+      result.image.pixels[static_cast<std::size_t>(y) * options.width + x] =
+          pack_rgb({r * w, g * w, b * w});
+    }
+  }
+  result.visible_faces = static_cast<int>(std::count(seen.begin(), seen.end(), 1));
+
+  // Seams and cones, where the z-buffer shows their surface.
+  const UvChart chart = analyse_uv_chart(mesh, uv_triangles, uv, options.cone_tolerance);
+  result.seam_edges = chart.seam_edges;
+  result.cones = static_cast<int>(chart.cones.size());
+  const double tolerance = 0.01 * diagonal;
+  auto visible = [&](const Eigen::Vector2d& pixel, double z) {
+    const int cx = static_cast<int>(std::floor(pixel.x() * ss));
+    const int cy = static_cast<int>(std::floor(pixel.y() * ss));
+    for (int y = std::max(0, cy - ss); y <= std::min(buffer.height - 1, cy + ss); ++y) {
+      for (int x = std::max(0, cx - ss); x <= std::min(buffer.width - 1, cx + ss); ++x) {
+        const float d = buffer.depth[static_cast<std::size_t>(y) * buffer.width + x];
+        if (std::abs(d - z) <= tolerance) return true;
+      }
+    }
+    return false;
+  };
+  const bool any_overlay = (options.draw_seams && !chart.seam_halfedges.empty()) ||
+                           (options.mark_cones && !chart.cones.empty());
+  if (!any_overlay) return result;
+  render_detail::draw_on_image(result.image, [&](cairo_t* cr) {
+    if (options.draw_seams) {
+      render_detail::set_colour(cr, options.seam_colour);
+      cairo_set_line_width(cr, options.seam_width);
+      cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+      cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+      std::unordered_set<std::int64_t> drawn;
+      const std::int64_t nv = mesh.num_vertices();
+      for (int h : chart.seam_halfedges) {
+        const int a = mesh.triangles(h / 3, (h % 3 + 1) % 3);
+        const int b = mesh.triangles(h / 3, (h % 3 + 2) % 3);
+        if (!drawn.insert(std::min(a, b) * nv + std::max(a, b)).second) continue;
+        const Eigen::Vector3d pa = mesh.positions.row(a), pb = mesh.positions.row(b);
+        const Eigen::Vector2d qa = camera.project(pa), qb = camera.project(pb);
+        const double za = camera.depth(pa), zb = camera.depth(pb);
+        const int steps = std::max(1, static_cast<int>(std::ceil((qb - qa).norm() / 0.5)));
+        bool open = false;
+        for (int s = 0; s <= steps; ++s) {
+          const double t = static_cast<double>(s) / steps;
+          const Eigen::Vector2d q = (1 - t) * qa + t * qb;
+          if (visible(q, (1 - t) * za + t * zb)) {
+            if (open) {
+              cairo_line_to(cr, q.x(), q.y());
+            } else {
+              cairo_move_to(cr, q.x(), q.y());
+              open = true;
+            }
+          } else {
+            open = false;
+          }
+        }
+      }
+      cairo_stroke(cr);
+    }
+    if (options.mark_cones) {
+      const double radius = options.cone_radius > 0
+                                ? options.cone_radius
+                                : std::max(3.0, std::min(options.width, options.height) / 170.0);
+      for (int v : chart.cones) {
+        const Eigen::Vector3d p = mesh.positions.row(v);
+        const Eigen::Vector2d q = camera.project(p);
+        if (!visible(q, camera.depth(p))) continue;
+        ++result.visible_cones;
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, q.x(), q.y(), radius, 0, 2 * std::numbers::pi);
+      }
+      render_detail::set_colour(cr, options.cone_colour);
+      cairo_fill_preserve(cr);
+      cairo_set_line_width(cr, std::max(1.0, radius / 4));
+      render_detail::set_colour(cr, {0.15, 0, 0});
+      cairo_stroke(cr);
+    }
+  });
+  return result;
+}
+
+}  // namespace ricci

@@ -1,0 +1,52 @@
+#pragma once
+// Shared by the picture tests: a scratch folder and small textured meshes.
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "ricci/mesh/generate.hpp"
+#include "support/shared_meshes.hpp"
+
+namespace ricci::testing {
+
+inline std::filesystem::path render_tmp_dir() {
+  const std::filesystem::path folder = std::filesystem::path(test_tmp_dir()) / "render";
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
+/// Number of non-overlapping occurrences of `needle` in `text`.
+inline int count_occurrences(const std::string& text, const std::string& needle) {
+  int count = 0;
+  for (std::size_t at = text.find(needle); at != std::string::npos;
+       at = text.find(needle, at + needle.size())) {
+    ++count;
+  }
+  return count;
+}
+
+/// A flat grid of the unit square with texture coordinates equal to (x, y), one per vertex.
+struct GridWithUv {
+  Mesh mesh;
+  Triangles uv_triangles;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+};
+
+inline GridWithUv grid_with_uv(int n) {
+  GridWithUv g;
+  g.mesh = make_grid(n, n, 1.0, 1.0);
+  g.uv_triangles = g.mesh.triangles;
+  g.uv = g.mesh.positions.leftCols(2);
+  return g;
+}
+
+}  // namespace ricci::testing
