@@ -102,6 +102,8 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args) {
                   "samples per pixel along each axis (anti-aliasing)")
       ->capture_default_str()
       ->check(CLI::Range(1, 8));
+  cmd->add_flag("--smooth", args.smooth,
+                "shade with interpolated vertex normals instead of face normals");
   cmd->add_flag("--no-seams", args.no_seams, "do not draw the seams");
   cmd->add_flag("--no-cones", args.no_cones, "do not mark the cones");
   cmd->add_option("--uv", args.uv_output,
@@ -117,6 +119,11 @@ int run_render(const RenderArgs& args) {
   if (!args.uv_output.empty() && uv_ext != ".svg" && uv_ext != ".png") {
     throw InvalidInput(args.uv_output + ": --uv writes .svg or .png");
   }
+  if (!args.uv_output.empty() &&
+      std::filesystem::path(args.uv_output).lexically_normal() ==
+          std::filesystem::path(args.output).lexically_normal()) {
+    throw InvalidInput(args.uv_output + ": --uv and -o name the same file");
+  }
   check_not_input(args.output, args.mesh);
   if (!args.uv_output.empty()) check_not_input(args.uv_output, args.mesh);
 
@@ -128,12 +135,13 @@ int run_render(const RenderArgs& args) {
   if (!args.up.empty()) options.up = parse_direction("--up", args.up);
   options.checker = args.checker;
   options.supersampling = args.supersampling;
+  options.smooth_shading = args.smooth;
   options.draw_seams = !args.no_seams;
   options.mark_cones = !args.no_cones;
   const RenderResult rendered =
       render_textured_mesh(textured.mesh, textured.uv_triangles, textured.uv, options);
   write_png(args.output, rendered.image);
-  const Eigen::Vector3d& v = rendered.camera.view;
+  const Eigen::Vector3d v = rendered.camera.view + Eigen::Vector3d::Zero();  // no "-0"
   std::cout << args.mesh << " -> " << args.output << " (" << args.width << " x " << args.height
             << ")\n  view from (" << v.x() << ", " << v.y() << ", " << v.z() << "), "
             << rendered.visible_faces << " of " << textured.mesh.num_faces() << " faces visible, "

@@ -20,6 +20,7 @@ struct RenderArgs {
   std::vector<std::string> up;            ///< empty: automatic; else as view
   int checker = 16;                       ///< squares per texture unit
   int supersampling = 3;
+  bool smooth = false;
   bool no_seams = false;
   bool no_cones = false;
   std::string uv_output;  ///< also the texture layout (.svg or .png)

@@ -184,7 +184,11 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
         continue;
       }
       const double x = frame.px(static_cast<double>(i)), y = frame.py(c.max_error[i]);
-      open ? cairo_line_to(cr, x, y) : cairo_move_to(cr, x, y);
+      if (open) {
+        cairo_line_to(cr, x, y);
+      } else {
+        cairo_move_to(cr, x, y);
+      }
       open = true;
     }
     set_colour(cr, c.colour);

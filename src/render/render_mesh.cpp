@@ -178,7 +178,11 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
   std::vector<Eigen::Vector2d> screen(static_cast<std::size_t>(nf) * 3);
   std::vector<double> depth(static_cast<std::size_t>(nf) * 3);
   std::vector<double> shade(nf, 0.0);
+  std::vector<char> back_facing(nf, 0);
   const Eigen::Vector3d light = (camera.view + 0.6 * camera.up - 0.4 * camera.right).normalized();
+  constexpr double kAmbient = 0.35, kDiffuse = 0.65, kBackFace = 0.6;
+  Positions vertex_normals;  // smooth shading: area-weighted sums of the face normals
+  if (options.smooth_shading) vertex_normals = Positions::Zero(mesh.num_vertices(), 3);
   for (int f = 0; f < nf; ++f) {
     Eigen::Vector3d p[3];
     for (int c = 0; c < 3; ++c) {
@@ -189,11 +193,24 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
     const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
     const double length = n.norm();
     if (!(length > 0)) continue;
-    const double facing = n.dot(camera.view) / length;
-    double s = 0.35 + 0.65 * std::abs(n.dot(light)) / length;
-    if (facing < 0) s *= 0.6;  // the inside of an open surface
-    shade[f] = s;
+    back_facing[f] = n.dot(camera.view) < 0;  // the inside of an open surface
+    shade[f] = (kAmbient + kDiffuse * std::abs(n.dot(light)) / length) *
+               (back_facing[f] ? kBackFace : 1.0);
+    if (options.smooth_shading) {
+      for (int c = 0; c < 3; ++c) vertex_normals.row(mesh.triangles(f, c)) += n.transpose();
+    }
   }
+  // The shading factor at barycentric coordinates w of face f.
+  auto shading = [&](int f, double w0, double w1, double w2) {
+    if (!options.smooth_shading) return shade[f];
+    const Eigen::Vector3d n = w0 * vertex_normals.row(mesh.triangles(f, 0)).transpose() +
+                              w1 * vertex_normals.row(mesh.triangles(f, 1)).transpose() +
+                              w2 * vertex_normals.row(mesh.triangles(f, 2)).transpose();
+    const double length = n.norm();
+    if (!(length > 0)) return shade[f];
+    return (kAmbient + kDiffuse * std::abs(n.dot(light)) / length) *
+           (back_facing[f] ? kBackFace : 1.0);
+  };
 
   // Rasterise: the nearest face wins each sample.
   SampleBuffer buffer;
@@ -267,7 +284,8 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
             const auto parity = static_cast<long long>(std::floor(t.x() * n_checker)) +
                                 static_cast<long long>(std::floor(t.y() * n_checker));
             const Rgb& base = (parity & 1) ? options.checker_dark : options.checker_light;
-            c = {base.r * shade[f], base.g * shade[f], base.b * shade[f]};
+            const double k = shading(f, w0, w1, w2);
+            c = {base.r * k, base.g * k, base.b * k};
           }
           r += c.r;
           g += c.g;
@@ -337,7 +355,7 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
     if (options.mark_cones) {
       const double radius = options.cone_radius > 0
                                 ? options.cone_radius
-                                : std::max(3.0, std::min(options.width, options.height) / 170.0);
+                                : std::max(3.0, std::min(options.width, options.height) / 140.0);
       for (int v : chart.cones) {
         const Eigen::Vector3d p = mesh.positions.row(v);
         const Eigen::Vector2d q = camera.project(p);

@@ -119,7 +119,11 @@ void draw_layout(cairo_t* cr, const LayoutDrawing& d, const Mesh& mesh,
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector2d p = d.to_pixel(uv.row(uv_triangles(f, c)));
-      c == 0 ? cairo_move_to(cr, p.x(), p.y()) : cairo_line_to(cr, p.x(), p.y());
+      if (c == 0) {
+        cairo_move_to(cr, p.x(), p.y());
+      } else {
+        cairo_line_to(cr, p.x(), p.y());
+      }
     }
     cairo_close_path(cr);
     const double x = d.log_area[f];

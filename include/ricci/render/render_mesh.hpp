@@ -46,11 +46,14 @@ struct RenderOptions {
   Eigen::Vector3d view = Eigen::Vector3d::Zero();
   /// Screen up direction; zero: +y (or -z when looking along y, +y being the view then).
   Eigen::Vector3d up = Eigen::Vector3d::Zero();
-  int checker = 16;        ///< checker squares per unit of texture coordinate
-  int supersampling = 3;   ///< z-buffer samples per pixel along each axis (anti-aliasing), >= 1
-  double margin = 0.05;    ///< fraction of the picture's smaller side left around the mesh
-  bool draw_seams = true;  ///< dark lines along the texture seams (UvChart)
-  bool mark_cones = true;  ///< red dots on the cones (UvChart)
+  int checker = 16;       ///< checker squares per unit of texture coordinate
+  int supersampling = 3;  ///< z-buffer samples per pixel along each axis (anti-aliasing), >= 1
+  /// Shade with area-weighted vertex normals interpolated over each face instead of the face
+  /// normal (hides the facets of coarse meshes; the checker is the same).
+  bool smooth_shading = false;
+  double margin = 0.05;          ///< fraction of the picture's smaller side left around the mesh
+  bool draw_seams = true;        ///< dark lines along the texture seams (UvChart)
+  bool mark_cones = true;        ///< red dots on the cones (UvChart)
   double cone_tolerance = 1e-6;  ///< see analyse_uv_chart
   Rgb background{1, 1, 1};
   Rgb checker_light{0.95, 0.95, 0.93};  ///< squares where floor(u N) + floor(v N) is even
@@ -58,7 +61,7 @@ struct RenderOptions {
   Rgb seam_colour{0.08, 0.08, 0.08};
   Rgb cone_colour{0.90, 0.05, 0.05};
   double seam_width = 1.6;  ///< pixels
-  double cone_radius = 0;   ///< pixels; 0: max(3, picture's smaller side / 170)
+  double cone_radius = 0;   ///< pixels; 0: max(3, picture's smaller side / 140)
 };
 
 /// What render_textured_mesh returns.
@@ -73,12 +76,11 @@ struct RenderResult {
 
 /// Renders a textured mesh: checkerboard with N = options.checker squares per texture unit
 /// (colour from the parity of floor(u N) + floor(v N), u and v interpolated linearly over each
-/// face), two-sided Lambert shading from the face normal with a light above-left of the camera,
-/// back faces darker; the nearest surface wins every sample of the z-buffer. The mesh fills the
-/// picture but for the margin.
-/// \param uv_triangles #F by 3 indices into uv (per-corner texture coordinates)
-/// \param uv #UV by 2 texture coordinates
-/// \throw InvalidInput on a mismatch of the arrays (see check_uv_layout), a mesh without faces,
+/// face), two-sided Lambert shading from the face normal (or interpolated vertex normals) with a
+/// light above-left of the camera, back faces darker; the nearest surface wins every sample of the
+/// z-buffer. The mesh fills the picture but for the margin. \param uv_triangles #F by 3 indices
+/// into uv (per-corner texture coordinates) \param uv #UV by 2 texture coordinates \throw
+/// InvalidInput on a mismatch of the arrays (see check_uv_layout), a mesh without faces,
 ///        non-finite coordinates, a picture size outside [1, 16384], checker < 1, supersampling
 ///        outside [1, 8], or a view direction that is zero after normalisation or parallel to up
 RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangles,
