@@ -119,9 +119,8 @@ int run_render(const RenderArgs& args) {
   if (!args.uv_output.empty() && uv_ext != ".svg" && uv_ext != ".png") {
     throw InvalidInput(args.uv_output + ": --uv writes .svg or .png");
   }
-  if (!args.uv_output.empty() &&
-      std::filesystem::path(args.uv_output).lexically_normal() ==
-          std::filesystem::path(args.output).lexically_normal()) {
+  if (!args.uv_output.empty() && std::filesystem::path(args.uv_output).lexically_normal() ==
+                                     std::filesystem::path(args.output).lexically_normal()) {
     throw InvalidInput(args.uv_output + ": --uv and -o name the same file");
   }
   check_not_input(args.output, args.mesh);
