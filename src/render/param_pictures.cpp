@@ -1,6 +1,8 @@
 #include "ricci/render/param_pictures.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -63,8 +65,15 @@ ParamPicturesResult write_parameterization_pictures(const std::string& folder,
     plot.title = "Ricci flow to the flat metric: " + std::to_string(mesh.num_vertices()) +
                  " vertices, " + std::to_string(result.cones.size()) + " cones";
   }
-  write_png(path("convergence.png"), plot_convergence(curves, plot));
-  write_svg(path("convergence.svg"), plot_convergence_svg(curves, plot));
+  // A flow that started converged (every error exactly 0) has nothing to show on a log axis.
+  const bool something_to_plot = std::any_of(curves.begin(), curves.end(), [](const auto& c) {
+    return std::any_of(c.max_error.begin(), c.max_error.end(),
+                       [](double e) { return std::isfinite(e) && e > 0; });
+  });
+  if (something_to_plot) {
+    write_png(path("convergence.png"), plot_convergence(curves, plot));
+    write_svg(path("convergence.svg"), plot_convergence_svg(curves, plot));
+  }
   return written;
 }
 

@@ -173,7 +173,10 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
   const double diagonal = (hi - lo).norm();
 
   // Per face: corners in sample coordinates, depths, and the shading factor.
-  const int ss = options.supersampling;
+  // At most 2^27 samples (1 GiB of buffers): large pictures get fewer samples per pixel.
+  int ss = options.supersampling;
+  while (ss > 1 && static_cast<double>(options.width) * options.height * ss * ss > 134217728.0)
+    --ss;
   const int nf = mesh.num_faces();
   std::vector<Eigen::Vector2d> screen(static_cast<std::size_t>(nf) * 3);
   std::vector<double> depth(static_cast<std::size_t>(nf) * 3);

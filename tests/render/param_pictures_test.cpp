@@ -66,6 +66,23 @@ TEST(ParamPictures, SkipsTheGradientFlowOnLargeMeshes) {
   EXPECT_EQ(written.files.size(), 5u);
 }
 
+TEST(ParamPictures, FlatMeshWritesItsPictures) {
+  // A flat grid is flat from the start: the flow's error is 0 or round-off; whichever it is,
+  // the pictures that can be drawn are written and nothing throws.
+  ParamOptions param;
+  param.cone_mode = ConeMode::None;
+  const ParamResult result = parameterize(make_grid(6, 4, 1.5, 1.0), param);
+  ASSERT_TRUE(result.converged) << result.message;
+  ParamPicturesOptions options;
+  options.render.width = options.render.height = 64;
+  options.uv.width = options.uv.height = 64;
+  options.convergence.width = options.convergence.height = 64;
+  const ParamPicturesResult written = write_parameterization_pictures(
+      (testing::render_tmp_dir() / "param_pictures_flat").string(), result, options);
+  EXPECT_GE(written.files.size(), 3u);
+  EXPECT_LE(written.files.size(), 5u);
+}
+
 TEST(ParamPictures, RefusesAResultWithoutLayout) {
   EXPECT_THROW(write_parameterization_pictures(
                    (testing::render_tmp_dir() / "param_pictures_none").string(), ParamResult{}),

@@ -36,7 +36,8 @@ struct ParamPicturesResult {
 };
 
 /// Writes render.png, uv.svg, uv.png, convergence.png and convergence.svg into `folder`
-/// (created when missing), each atomically.
+/// (created when missing), each atomically. The convergence plot is left out when every error
+/// of the flows is exactly 0 (nothing to draw on a logarithmic axis).
 /// \pre result.converged and result describes one connected component (what parameterize makes)
 /// \throw InvalidInput when the result has no layout
 /// \throw IoError naming the folder or file when it cannot be written

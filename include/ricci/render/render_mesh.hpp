@@ -44,10 +44,13 @@ struct RenderOptions {
   int height = 1024;  ///< picture height, pixels
   /// Direction from the scene towards the camera (any length); zero: automatic_view.
   Eigen::Vector3d view = Eigen::Vector3d::Zero();
-  /// Screen up direction; zero: +y (or -z when looking along y, +y being the view then).
+  /// Screen up direction (made orthogonal to the view); zero: automatic_view's with an automatic
+  /// view, else +y (-z looking from +y, +z looking from -y).
   Eigen::Vector3d up = Eigen::Vector3d::Zero();
-  int checker = 16;       ///< checker squares per unit of texture coordinate
-  int supersampling = 3;  ///< z-buffer samples per pixel along each axis (anti-aliasing), >= 1
+  int checker = 16;  ///< checker squares per unit of texture coordinate
+  /// z-buffer samples per pixel along each axis (anti-aliasing), in [1, 8]; lowered for large
+  /// pictures so that width * height * supersampling^2 stays within 2^27 samples.
+  int supersampling = 3;
   /// Shade with area-weighted vertex normals interpolated over each face instead of the face
   /// normal (hides the facets of coarse meshes; the checker is the same).
   bool smooth_shading = false;
