@@ -35,6 +35,11 @@ void check_output_is_not_input(const std::string& output, const std::vector<std:
   }
 }
 
+/// Topological counts are -1 where defects leave them undefined.
+std::string or_na(int value) {
+  return value >= 0 ? std::to_string(value) : "n/a (not a manifold surface)";
+}
+
 void print_warnings(const ReadResult& read) {
   for (const std::string& w : read.warnings) std::cerr << "warning: " << w << "\n";
 }
@@ -79,12 +84,12 @@ int run_info(const InfoArgs& args) {
     if (!read.dropped_vertices.empty()) {
       std::cout << " (" << read.dropped_vertices.size() << " unreferenced dropped)";
     }
-    std::cout << "\n  edges                " << info.edges << "\n"
+    std::cout << "\n  edges                " << or_na(info.edges) << "\n"
               << "  faces                " << info.faces << "\n"
-              << "  components           " << info.components << "\n"
-              << "  boundary loops       " << info.boundary_loops << "\n"
-              << "  Euler characteristic " << info.euler_characteristic << "\n"
-              << "  genus                " << info.genus << "\n"
+              << "  components           " << or_na(info.components) << "\n"
+              << "  boundary loops       " << or_na(info.boundary_loops) << "\n"
+              << "  Euler characteristic " << or_na(info.euler_characteristic) << "\n"
+              << "  genus                " << or_na(info.genus) << "\n"
               << "  smallest angle       " << std::setprecision(4) << info.min_angle_degrees
               << " deg\n"
               << "  largest angle        " << info.max_angle_degrees << " deg\n";

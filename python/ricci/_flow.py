@@ -100,6 +100,25 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
         raise ValueError("cones need a flat target (target='flat', 'free', 'disk' or "
                          "'disk-length')")
     set_fields(spec, boundary=boundary)
+    set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,
+                             max_intersection_angle=max_intersection_angle,
+                             fit_sweeps=fit_sweeps, fit_tolerance=fit_tolerance, solver=solver,
+                             tolerance=tolerance, max_iterations=max_iterations,
+                             gradient_step=gradient_step, armijo=armijo,
+                             max_backtracks=max_backtracks, use_cholmod=use_cholmod,
+                             reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
+                             progress=progress)
+    if vertex_labels is not None:
+        opts.vertex_labels = [int(v) for v in vertex_labels]
+    return _ricci.flow_mesh(mesh, opts)
+
+
+def set_structure_and_solver(opts, *, scheme, packing_init, max_intersection_angle, fit_sweeps,
+                             fit_tolerance, solver, tolerance, max_iterations, gradient_step,
+                             armijo, max_backtracks, use_cholmod,
+                             reuse_factorization_cg_iterations, progress):
+    """Sets the StructureOptions and FlowOptions fields shared by flow() and parameterize() on
+    an options object with .structure and .flow; None keeps a field's default."""
     set_fields(opts.structure, scheme=scheme, packing_init=packing_init,
                max_intersection_angle=max_intersection_angle, fit_sweeps=fit_sweeps,
                fit_tolerance=fit_tolerance)
@@ -108,6 +127,3 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
                use_cholmod=use_cholmod,
                reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
                progress=progress)
-    if vertex_labels is not None:
-        opts.vertex_labels = [int(v) for v in vertex_labels]
-    return _ricci.flow_mesh(mesh, opts)

@@ -6,7 +6,7 @@ import numbers
 import numpy as np
 
 from . import _arrays, _ricci
-from ._flow import cone_list, set_fields
+from ._flow import cone_list, set_fields, set_structure_and_solver
 
 _CONE_MODES = ("auto", "none", "one")
 
@@ -64,12 +64,12 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                modify_connectivity=modify_connectivity)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
                try_first_cone_candidates=try_first_cone_candidates)
-    set_fields(opts.structure, scheme=scheme, packing_init=packing_init,
-               max_intersection_angle=max_intersection_angle, fit_sweeps=fit_sweeps,
-               fit_tolerance=fit_tolerance)
-    set_fields(opts.flow, solver=solver, tolerance=tolerance, max_iterations=max_iterations,
-               gradient_step=gradient_step, armijo=armijo, max_backtracks=max_backtracks,
-               use_cholmod=use_cholmod,
-               reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
-               progress=progress)
+    set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,
+                             max_intersection_angle=max_intersection_angle,
+                             fit_sweeps=fit_sweeps, fit_tolerance=fit_tolerance, solver=solver,
+                             tolerance=tolerance, max_iterations=max_iterations,
+                             gradient_step=gradient_step, armijo=armijo,
+                             max_backtracks=max_backtracks, use_cholmod=use_cholmod,
+                             reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
+                             progress=progress)
     return _ricci.parameterize(mesh, opts)

@@ -116,18 +116,10 @@ TEST(RenderMesh, NearestSurfaceWinsTheZBuffer) {
 TEST(RenderMesh, MarksTheConeOfAnUnrolledPyramid) {
   // Pyramid with apex (0, 0, 1) over the square of corners (+-1, 0), (0, +-1); its texture
   // unrolls the four faces with 60 degree corners at the apex: a cone, on the seam apex-1.
-  Mesh mesh;
-  mesh.positions.resize(5, 3);
-  mesh.positions << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
-  mesh.triangles.resize(4, 3);
-  mesh.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
-  UV uv(6, 2);
-  uv.row(0) << 0, 0;
-  for (int k = 0; k < 5; ++k) {
-    uv.row(k + 1) << std::cos(k * std::numbers::pi / 3), std::sin(k * std::numbers::pi / 3);
-  }
-  Triangles uv_triangles(4, 3);
-  uv_triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5;
+  const auto pyramid = testing::unrolled_pyramid(std::numbers::pi / 3);
+  const Mesh& mesh = pyramid.mesh;
+  const auto& uv = pyramid.uv;
+  const Triangles& uv_triangles = pyramid.uv_triangles;
   RenderOptions options;
   options.width = options.height = 240;
   options.view = {0, 0, 1};

@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the picture tests: a scratch folder and small textured meshes.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -47,6 +48,29 @@ inline GridWithUv grid_with_uv(int n) {
   g.uv_triangles = g.mesh.triangles;
   g.uv = g.mesh.positions.leftCols(2);
   return g;
+}
+
+/// A square pyramid without its base: apex 0 at (0, 0, 1), base 1..4. The layout unrolls the
+/// four faces around the apex with corner angles `angle`, cut along the edge apex-1 (vertex 1 has
+/// two texture copies).
+struct Pyramid {
+  Mesh mesh;
+  Triangles uv_triangles;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+};
+
+inline Pyramid unrolled_pyramid(double angle) {
+  Pyramid p;
+  p.mesh.positions.resize(5, 3);
+  p.mesh.positions << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
+  p.mesh.triangles.resize(4, 3);
+  p.mesh.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
+  p.uv.resize(6, 2);
+  p.uv.row(0) << 0, 0;
+  for (int k = 0; k < 5; ++k) p.uv.row(k + 1) << std::cos(k * angle), std::sin(k * angle);
+  p.uv_triangles.resize(4, 3);
+  p.uv_triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5;
+  return p;
 }
 
 }  // namespace ricci::testing

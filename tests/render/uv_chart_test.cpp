@@ -18,28 +18,8 @@ namespace {
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 constexpr double kPi = std::numbers::pi;
 
-/// A square pyramid without its base: apex 0 at (0, 0, 1), base 1..4. The layout unrolls the
-/// four faces around the apex with corner angles `angle`, cut along the edge apex-1 (vertex 1 has
-/// two texture copies).
-struct Pyramid {
-  Mesh mesh;
-  Triangles uv_triangles;
-  UV uv;
-};
-
-Pyramid unrolled_pyramid(double angle) {
-  Pyramid p;
-  p.mesh.positions.resize(5, 3);
-  p.mesh.positions << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
-  p.mesh.triangles.resize(4, 3);
-  p.mesh.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
-  p.uv.resize(6, 2);
-  p.uv.row(0) << 0, 0;
-  for (int k = 0; k < 5; ++k) p.uv.row(k + 1) << std::cos(k * angle), std::sin(k * angle);
-  p.uv_triangles.resize(4, 3);
-  p.uv_triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5;
-  return p;
-}
+using testing::Pyramid;
+using testing::unrolled_pyramid;
 
 TEST(UvChart, GridWithContinuousLayoutHasOnlyItsBoundaryAsSeam) {
   const auto g = testing::grid_with_uv(5);

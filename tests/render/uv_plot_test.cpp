@@ -106,18 +106,10 @@ TEST(UvPlot, SvgHasOnePathPerFace) {
 TEST(UvPlot, SvgMarksCones) {
   // The unrolled pyramid of uv_chart_test: one cone with two texture copies... and one path for
   // all the dots: 4 faces + seams + cones.
-  Mesh mesh;
-  mesh.positions.resize(5, 3);
-  mesh.positions << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
-  mesh.triangles.resize(4, 3);
-  mesh.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
-  UV uv(6, 2);
-  uv.row(0) << 0, 0;
-  for (int k = 0; k < 5; ++k) {
-    uv.row(k + 1) << std::cos(k * std::numbers::pi / 3), std::sin(k * std::numbers::pi / 3);
-  }
-  Triangles uv_triangles(4, 3);
-  uv_triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5;
+  const auto pyramid = testing::unrolled_pyramid(std::numbers::pi / 3);
+  const Mesh& mesh = pyramid.mesh;
+  const auto& uv = pyramid.uv;
+  const Triangles& uv_triangles = pyramid.uv_triangles;
   UvPlotOptions options;
   options.colour_bar = false;
   UvPlotInfo info;

@@ -49,7 +49,7 @@ struct Layout {
   /// #V_cut by 2: position of each cut-mesh vertex (0 for vertices of no face). Each component
   /// is laid out from its own root: first corner at 0, second on the positive real axis.
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
-  int root_face = -1;  ///< the root of the first component (or the one requested)
+  int root_face = -1;    ///< the root of the first component (or the one requested)
   bool refined = false;  ///< the least-squares refinement ran (LayoutOptions::refine_above)
   /// max over edges of | |uv_i - uv_j| - l_ij | / l_ij: how well the layout reproduces the
   /// metric (1e-9 or better expected).
