@@ -12,6 +12,8 @@ packages=(
   # Python module (built against Debian's own /usr/bin/python3) and its tests; pictures.
   pybind11-dev python3-dev python3-numpy python3-pytest
   libcairo2-dev
+  # Fuzzing (fuzz/run.sh): clang++ with libFuzzer and the sanitizer runtimes.
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
