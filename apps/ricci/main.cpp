@@ -1,9 +1,11 @@
 // The `ricci` command line: discrete surface Ricci flow on triangle meshes.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <iostream>
 
 #include "commands.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/io.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
 #endif
@@ -12,8 +14,36 @@
 #define RICCI_VERSION "unknown"
 #endif
 
+namespace {
+
+/// SIGINT/SIGTERM: remove the temporary files of writes in progress, then die of the signal with
+/// its default action (exit status 128 + signal). Installed with SA_RESETHAND, so raise() finds
+/// the default action; only async-signal-safe calls here.
+extern "C" void remove_temporaries_and_die(int signal_number) {
+  ricci::remove_pending_temporary_files();
+  std::raise(signal_number);
+}
+
+/// Installs the handler for SIGINT and SIGTERM, except where the signal was ignored when the
+/// program started (as for background jobs of a non-interactive shell): it stays ignored.
+void install_interrupt_handlers() {
+  for (const int signal_number : {SIGINT, SIGTERM}) {
+    struct sigaction previous {};
+    if (sigaction(signal_number, nullptr, &previous) != 0) continue;
+    if (previous.sa_handler == SIG_IGN) continue;
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_die;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    sigaction(signal_number, &action, nullptr);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace ricci::cli;
+  install_interrupt_handlers();
   CLI::App app{
       "ricci: discrete surface Ricci flow and conformal metrics on triangle meshes.\n"
       "Reads OBJ, OFF, PLY and STL. Exit codes: 0 ok, 2 bad input, 3 not converged, 4 internal "

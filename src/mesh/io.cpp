@@ -52,7 +52,56 @@ io_detail::RawMesh parse(MeshFormat format, const std::string& path, std::string
   io_error(path, "unknown mesh format");
 }
 
+/// The temporary files write_file_atomically is writing now, for remove_pending_temporary_files
+/// (called from signal handlers): fixed slots of plain char buffers guarded by lock-free atomic
+/// states, so that reading them needs neither locks nor allocation.
+constexpr std::size_t kPendingSlots = 32;
+constexpr std::size_t kPendingPathBytes = 4096;
+enum PendingState : int { kSlotFree = 0, kSlotBusy = 1, kSlotPending = 2 };
+struct PendingSlot {
+  std::atomic<int> state{kSlotFree};
+  char path[kPendingPathBytes] = {};
+};
+static_assert(std::atomic<int>::is_always_lock_free);
+PendingSlot pending_slots[kPendingSlots];
+
+/// Registers a temporary path for the lifetime of the guard; a path that is too long or finds no
+/// free slot is written unregistered (it is then only removed on ordinary errors).
+class PendingTemporary {
+ public:
+  explicit PendingTemporary(const std::string& path) {
+    if (path.size() >= kPendingPathBytes) return;
+    for (PendingSlot& slot : pending_slots) {
+      int expected = kSlotFree;
+      if (!slot.state.compare_exchange_strong(expected, kSlotBusy, std::memory_order_acquire)) {
+        continue;
+      }
+      std::memcpy(slot.path, path.c_str(), path.size() + 1);
+      slot.state.store(kSlotPending, std::memory_order_release);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~PendingTemporary() {
+    if (slot_ == nullptr) return;
+    slot_->state.store(kSlotBusy, std::memory_order_release);
+    slot_->path[0] = '\0';
+    slot_->state.store(kSlotFree, std::memory_order_release);
+  }
+  PendingTemporary(const PendingTemporary&) = delete;
+  PendingTemporary& operator=(const PendingTemporary&) = delete;
+
+ private:
+  PendingSlot* slot_ = nullptr;
+};
+
 }  // namespace
+
+void remove_pending_temporary_files() noexcept {
+  for (PendingSlot& slot : pending_slots) {
+    if (slot.state.load(std::memory_order_acquire) == kSlotPending) ::unlink(slot.path);
+  }
+}
 
 MeshFormat format_from_path(const std::string& path) {
   std::string extension = fs::path(path).extension().string();
@@ -82,6 +131,10 @@ void write_file_atomically(const std::string& path,
   const fs::path temporary =
       folder / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
                 std::to_string(counter++));
+  // Registered before the file exists, so that an interrupted process can remove it.
+  std::error_code absolute_error;
+  const fs::path absolute_temporary = fs::absolute(temporary, absolute_error);
+  const PendingTemporary pending(absolute_error ? temporary.string() : absolute_temporary.string());
   try {
     {
       std::ofstream out(temporary, std::ios::binary | std::ios::trunc);

@@ -69,4 +69,9 @@ void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
 
+/// Removes (unlink(2)) every temporary file write_file_atomically is writing at this moment, so
+/// that a program interrupted by a signal leaves none behind. Async-signal-safe: meant for a
+/// program's SIGINT/SIGTERM handler (the library installs no handlers); the targets are untouched.
+void remove_pending_temporary_files() noexcept;
+
 }  // namespace ricci
