@@ -456,6 +456,73 @@ expect_rc "param -o equal to the input" 2
 expect_same "param -o equal to the input leaves it" param/own.obj "$own_sum"
 expect_no_temporaries "param leaves no temporaries" param
 
+# --- interrupts: SIGINT leaves neither output nor temporary files ------------------------------
+# The program runs under a wrapper that restores SIGINT's default action (a background job of a
+# non-interactive shell starts with SIGINT ignored, and ricci then keeps ignoring it); exec keeps
+# the process id, so $! is ricci's.
+ricci_in_background() {  # ricci_in_background ARGS...: starts ricci, its id in $pid
+  "$PYTHON" -c 'import os, signal, sys
+signal.signal(signal.SIGINT, signal.SIG_DFL)
+os.execv(sys.argv[1], sys.argv[1:])' "$RICCI" "$@" >/dev/null 2>"$WORK/err.txt" &
+  pid=$!
+}
+mkdir -p interrupt
+ricci generate torus --resolution 100 -o interrupt/big_torus.obj
+expect_rc "generate a big torus" 0
+
+# Interrupted while computing: exit 130 (128 + SIGINT), no output, no temporaries.
+ricci_in_background flow interrupt/big_torus.obj --solver gradient --max-iterations 200000 \
+  -o interrupt/computing.json
+sleep 1
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+expect_rc "SIGINT while computing" 130
+expect_no_file "SIGINT while computing writes nothing" interrupt/computing.json
+expect_no_temporaries "SIGINT while computing leaves no temporaries" interrupt
+
+# Interrupted while writing: a named pipe stands in for the writer's temporary file (its name is
+# `.<target>.tmp.<pid>.0`), so the write blocks once the pipe's buffer is full; SIGINT must then
+# remove the temporary, leave no output and exit 130.
+ricci_in_background flow interrupt/big_torus.obj -o interrupt/writing.json
+fifo="interrupt/.writing.json.tmp.$pid.0"
+mkfifo "$fifo"
+"$PYTHON" - "$fifo" "$pid" interrupt/writing.json <<'EOF'
+import os, select, signal, sys, time
+fifo, pid, target = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+deadline = time.time() + 120
+while time.time() < deadline:
+    if os.path.exists(target):
+        sys.exit(3)  # the run finished before the pipe was in place
+    readable, _, _ = select.select([fd], [], [], 0.2)
+    if readable and os.read(fd, 1):
+        break  # the program is writing into the pipe (and blocks when its buffer is full)
+else:
+    sys.exit(4)
+time.sleep(0.2)
+os.kill(pid, signal.SIGINT)
+while os.path.exists(fifo) and time.time() < deadline:
+    time.sleep(0.05)
+os.close(fd)
+EOF
+sync_rc=$?
+wait "$pid"
+rc=$?
+if [[ "$sync_rc" == 3 ]]; then
+  echo "note: SIGINT while writing not checked: the run finished before the pipe was made"
+  rm -f "$fifo" interrupt/writing.json
+elif [[ "$sync_rc" != 0 ]]; then
+  fail "SIGINT while writing" "the program never wrote into the pipe (status $sync_rc)"
+  rm -f "$fifo"
+else
+  ok
+  expect_rc "SIGINT while writing" 130
+  expect_no_file "SIGINT while writing removes the temporary" "$fifo"
+  expect_no_file "SIGINT while writing writes no output" interrupt/writing.json
+  expect_no_temporaries "SIGINT while writing leaves no temporaries" interrupt
+fi
+
 # --- summary -----------------------------------------------------------------------------------
 echo "$passed passed, $failed failed"
 if ((failed > 0)); then
