@@ -236,7 +236,8 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
     }
     std::sort(non_manifold.begin(), non_manifold.end());
     for (const auto& [face, start] : non_manifold) {
-      out.add(DefectKind::NonManifoldEdge, face, [&] {
+      // Init-capture: clang 14 cannot capture structured bindings.
+      out.add(DefectKind::NonManifoldEdge, face, [&, start = start] {
         std::size_t end = start;
         while (end < keyed.size() && keyed[end].first == keyed[start].first) ++end;
         const int h = keyed[start].second;

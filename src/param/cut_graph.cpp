@@ -127,7 +127,7 @@ class ShortestPaths {
       const auto [d, node] = queue_.top();
       queue_.pop();
       if (d > distance[node]) continue;
-      graph_.for_each_neighbour(node, [&](int e, int other) {
+      graph_.for_each_neighbour(node, [&, d = d](int e, int other) {
         const double candidate = d + lengths_[e];
         if (candidate < distance[other]) {
           distance[other] = candidate;
@@ -212,7 +212,7 @@ std::vector<int> pick_roots(const Topology& topology, const Eigen::VectorXd& len
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > distance[v]) continue;
-    vertex_edges.for_each(v, [&](int e) {
+    vertex_edges.for_each(v, [&, d = d, v = v](int e) {
       const int a = topology.edge_vertices(e, 0);
       const int w = a == v ? topology.edge_vertices(e, 1) : a;
       if (d + lengths[e] < distance[w]) {
