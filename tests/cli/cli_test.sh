@@ -9,26 +9,8 @@
 # under SCRATCH_DIR is removed when every check passed and kept for inspection otherwise.
 set -u
 
-if [[ -z "${RICCI:-}" || ! -x "${RICCI}" ]]; then
-  echo "cli_test.sh: set RICCI to the ricci executable (got '${RICCI:-}')" >&2
-  exit 2
-fi
-PYTHON=/usr/bin/python3
-[[ -x "$PYTHON" ]] || PYTHON=python3
-
-scratch="${1:-${TMPDIR:-/tmp}}"
-mkdir -p "$scratch" || exit 2
-WORK="$(mktemp -d "$scratch/cli.XXXXXX")" || exit 2
-cd "$WORK" || exit 2
-
-# --- check framework -------------------------------------------------------------------------
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-fail() {  # fail NAME REASON
-  failed=$((failed + 1))
-  echo "FAIL: $1: $2"
-}
+# shellcheck source=check_framework.sh
+source "$(dirname "${BASH_SOURCE[0]}")/check_framework.sh" cli "${1:-}"
 
 # ricci ARGS...: runs the program; stdout in $WORK/out.txt, stderr in $WORK/err.txt, code in $rc.
 rc=0
@@ -524,10 +506,4 @@ else
 fi
 
 # --- summary -----------------------------------------------------------------------------------
-echo "$passed passed, $failed failed"
-if ((failed > 0)); then
-  echo "scratch files kept in $WORK" >&2
-  exit 1
-fi
-cd / && rm -rf "$WORK"
-exit 0
+finish

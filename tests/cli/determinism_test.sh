@@ -22,25 +22,8 @@
 # removed when every check passed and kept for inspection otherwise.
 set -u
 
-if [[ -z "${RICCI:-}" || ! -x "${RICCI}" ]]; then
-  echo "determinism_test.sh: set RICCI to the ricci executable (got '${RICCI:-}')" >&2
-  exit 2
-fi
-PYTHON=/usr/bin/python3
-[[ -x "$PYTHON" ]] || PYTHON=python3
-
-scratch="${1:-${TMPDIR:-/tmp}}"
-mkdir -p "$scratch" || exit 2
-WORK="$(mktemp -d "$scratch/determinism.XXXXXX")" || exit 2
-cd "$WORK" || exit 2
-
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-fail() {  # fail NAME REASON
-  failed=$((failed + 1))
-  echo "FAIL: $1: $2"
-}
+# shellcheck source=check_framework.sh
+source "$(dirname "${BASH_SOURCE[0]}")/check_framework.sh" determinism "${1:-}"
 
 # canonical FILE: FILE's bytes (OBJ), or its JSON without timing fields, keys sorted (JSON).
 canonical() {
@@ -111,10 +94,4 @@ check_case param_sphere uv.obj report.json -- \
   param "$M/sphere.obj" --cones 8 --quantize -o uv.obj --report report.json
 check_case param_torus uv.obj report.json -- param "$M/torus.obj" -o uv.obj --report report.json
 
-echo "$passed passed, $failed failed"
-if ((failed > 0)); then
-  echo "scratch files kept in $WORK" >&2
-  exit 1
-fi
-cd / && rm -rf "$WORK"
-exit 0
+finish
