@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/repair.hpp"
 #include "ricci/mesh/validate.hpp"
 
 namespace ricci {
@@ -22,6 +23,14 @@ enum class MeshFormat { Obj, Off, Ply, Stl };
 /// Options of read_mesh.
 struct ReadOptions {
   bool validate = true;  ///< run validate_mesh on the result and throw on the first defect
+  /// Run repair_mesh on the file's triangles before validating (mesh/repair.hpp): weld
+  /// duplicate vertices, remove duplicate and collapsed faces, split non-manifold edges and
+  /// vertices, orient consistently. ReadResult::repair says what changed.
+  bool repair = false;
+  RepairOptions repair_options = {};  ///< options of that repair
+  /// Called with the repair report after repairing and before validating, so that a caller can
+  /// show what was changed even when a defect that repair cannot fix then throws. May be empty.
+  std::function<void(const RepairReport&)> on_repair = {};
   /// Faces are dropped? Never: polygons with more than three corners are triangulated (fan from
   /// their first corner, or ear clipping for non-convex planar polygons) and reported as warnings.
 };
@@ -30,14 +39,25 @@ struct ReadOptions {
 struct ReadResult {
   Mesh mesh;  ///< the triangles, unreferenced vertices removed
   MeshFormat format = MeshFormat::Obj;
+  int file_vertices = 0;              ///< vertices in the file, referenced or not
   std::vector<std::string> warnings;  ///< e.g. "bunny.obj: 12 polygons triangulated"
   int polygons_triangulated = 0;      ///< faces with more than three corners in the file
-  std::vector<int> dropped_vertices;  ///< file indices (0-based) of unreferenced vertices dropped
-  std::vector<int> vertex_map;        ///< #V: file index (0-based) of each output vertex
+  /// File indices (0-based) of the file's vertices that no output vertex copies: unreferenced
+  /// ones, and with options.repair also those welded onto another vertex.
+  std::vector<int> dropped_vertices;
+  /// #V: file index (0-based) of each output vertex (with options.repair, several output
+  /// vertices may copy one file vertex that was split).
+  std::vector<int> vertex_map;
   /// Defects found when options.validate is set (then only warnings such as unreferenced
   /// vertices, since errors throw); empty otherwise. Its vertex elements are file indices
-  /// (0-based, before unreferenced vertices were dropped), its face elements triangle indices.
+  /// (0-based, before unreferenced vertices were dropped), its face elements triangle indices
+  /// (with options.repair: indices of the repaired mesh).
   ValidationReport validation;
+  bool repaired = false;  ///< options.repair was set and repair_mesh ran
+  /// What repair_mesh changed (when repaired). Its vertex indices are file indices (0-based),
+  /// its face indices those of the file's faces after polygons were triangulated (the file's
+  /// face numbers when it holds triangles only).
+  RepairReport repair;
 };
 
 /// Format from the file extension (case-insensitive: .obj .off .ply .stl).
@@ -51,7 +71,9 @@ MeshFormat format_from_path(const std::string& path);
 ///        truncated or malformed, or its format is unknown
 /// \throw InvalidInput naming the file and line when a face index is out of range
 /// \throw InvalidInput / TopologyError (from validate_mesh, with the file name as context) when
-///        options.validate is set and the mesh has a defect
+///        options.validate is set and the mesh has a defect; after options.repair the message
+///        names the file position of the element, its index in the repaired mesh and why repair
+///        left it (zero-area faces, non-finite coordinates, non-orientable surfaces)
 ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 
 /// Writes a mesh as OBJ, atomically (see write_file_atomically).

@@ -263,6 +263,59 @@ void drop_unreferenced_vertices(const std::string& path, const RawMesh& raw, Mes
   }
 }
 
+/// Why a defect is still there after repair_mesh.
+std::string unrepaired_reason(DefectKind kind) {
+  switch (kind) {
+    case DefectKind::ZeroAreaFace:
+      return "repair does not remove zero-area faces (that would open a hole): fix the geometry";
+    case DefectKind::NonFiniteCoordinate:
+      return "repair does not change coordinates";
+    case DefectKind::NonOrientable:
+      return "repair cannot orient a non-orientable surface";
+    default:
+      return "repair could not fix this defect";
+  }
+}
+
+/// A warning when referenced vertices share their exact position (unwelded seams, which make
+/// boundaries where the surface looks closed); empty when none do.
+std::string duplicate_position_warning(const std::string& path, const RawMesh& raw,
+                                       const Mesh& mesh) {
+  const int nv = raw.num_vertices();
+  std::vector<char> referenced(nv, 0);
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) referenced[mesh.triangles(f, k)] = 1;
+  }
+  std::vector<int> order;
+  order.reserve(nv);
+  for (int v = 0; v < nv; ++v) {
+    if (referenced[v] && mesh.positions.row(v).allFinite()) order.push_back(v);
+  }
+  const auto& P = mesh.positions;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    for (int k = 0; k < 3; ++k) {
+      if (P(a, k) != P(b, k)) return P(a, k) < P(b, k);
+    }
+    return a < b;
+  });
+  int count = 0, example = -1, example_of = -1;
+  for (std::size_t i = 1, first = 0; i < order.size(); ++i) {
+    if (P.row(order[i]) != P.row(order[first])) {
+      first = i;
+      continue;
+    }
+    if (count++ == 0 || order[i] < example) {
+      example = order[i];
+      example_of = order[first];
+    }
+  }
+  if (count == 0) return "";
+  return path + ": " + std::to_string(count) +
+         " vertices repeat the position of another vertex and are kept apart (e.g. vertex " +
+         std::to_string(example) + " at " + describe(raw.vertex_at(example)) + " and vertex " +
+         std::to_string(example_of) + "); repair welds them";
+}
+
 }  // namespace
 
 ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
@@ -300,19 +353,57 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   file_mesh.positions = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
       raw.xyz.data(), nv, 3);
   file_mesh.triangles = std::move(triangulation.triangles);
+  result.file_vertices = nv;
 
-  if (options.validate) {
-    result.validation = find_defects(file_mesh);
-    for (const Defect& defect : result.validation.defects) {
-      if (defect.kind == DefectKind::UnreferencedVertex) continue;
-      const Where where = element_is_vertex(defect.kind)
-                              ? raw.vertex_at(defect.element)
-                              : raw.polygon_at(triangulation.polygon_of_triangle[defect.element]);
-      throw_first_defect(result.validation, path + ": " + describe(where));
+  if (!options.repair) {
+    if (std::string warning = duplicate_position_warning(path, raw, file_mesh); !warning.empty()) {
+      result.warnings.push_back(std::move(warning));
     }
+    if (options.validate) {
+      result.validation = find_defects(file_mesh);
+      for (const Defect& defect : result.validation.defects) {
+        if (defect.kind == DefectKind::UnreferencedVertex) continue;
+        const Where where = element_is_vertex(defect.kind)
+                                ? raw.vertex_at(defect.element)
+                                : raw.polygon_at(triangulation.polygon_of_triangle[defect.element]);
+        throw_first_defect(result.validation, path + ": " + describe(where));
+      }
+    }
+    drop_unreferenced_vertices(path, raw, std::move(file_mesh), result);
+    return result;
   }
 
-  drop_unreferenced_vertices(path, raw, std::move(file_mesh), result);
+  RepairResult repaired = repair_mesh(file_mesh, options.repair_options);
+  result.repaired = true;
+  result.repair = std::move(repaired.report);
+  if (options.on_repair) options.on_repair(result.repair);
+  result.mesh = std::move(repaired.mesh);
+  result.vertex_map = std::move(repaired.vertex_map);
+  std::vector<char> copied(nv, 0);
+  for (int v : result.vertex_map) copied[v] = 1;
+  for (int v = 0; v < nv; ++v) {
+    if (!copied[v]) result.dropped_vertices.push_back(v);
+  }
+  if (options.validate) {
+    result.validation = find_defects(result.mesh);
+    for (const Defect& defect : result.validation.defects) {
+      if (defect.kind == DefectKind::UnreferencedVertex) continue;
+      const Where where =
+          element_is_vertex(defect.kind)
+              ? raw.vertex_at(result.vertex_map[defect.element])
+              : raw.polygon_at(
+                    triangulation.polygon_of_triangle[repaired.face_map[defect.element]]);
+      const std::string context = path + ": " + describe(where) + ": after repair";
+      const std::string why = "; " + unrepaired_reason(defect.kind);
+      try {
+        throw_first_defect(result.validation, context);
+      } catch (const TopologyError& e) {
+        throw TopologyError(e.what() + why);
+      } catch (const InvalidInput& e) {
+        throw InvalidInput(e.what() + why);
+      }
+    }
+  }
   return result;
 }
 

@@ -1,0 +1,657 @@
+#include "ricci/mesh/repair.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "disjoint_sets.hpp"
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+using mesh_detail::DisjointSets;
+using mesh_detail::edge_name;
+
+void note(RepairCount& count, int element, int max_examples) {
+  if (static_cast<int>(count.examples.size()) < max_examples) count.examples.push_back(element);
+  ++count.count;
+}
+
+std::uint64_t edge_key(int a, int b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (lo << 32) | hi;
+}
+
+/// Halfedge h = 3 i + k of the i-th kept face lies opposite its corner k and runs from corner
+/// (k+1)%3 to corner (k+2)%3, as in topology.hpp.
+int next_corner(int h) {
+  return h % 3 == 2 ? h - 2 : h + 1;
+}
+int prev_corner(int h) {
+  return h % 3 == 0 ? h + 2 : h - 1;
+}
+
+/// Union-find that also keeps each element's parity (flipped or not) relative to its root: the
+/// faces joined so far, and which of them must be reversed relative to each other.
+class ParitySets {
+ public:
+  explicit ParitySets(int n) : parent_(n), parity_(n, 0) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  /// Root of x and the parity of x relative to it.
+  std::pair<int, int> find(int x) {
+    int root = x, parity = 0;
+    while (parent_[root] != root) {
+      parity ^= parity_[root];
+      root = parent_[root];
+    }
+    for (int at = x, at_parity = parity; parent_[at] != root && at != root;) {
+      const int next = parent_[at], next_parity = at_parity ^ parity_[at];
+      parent_[at] = root;
+      parity_[at] = static_cast<char>(at_parity);
+      at = next;
+      at_parity = next_parity;
+    }
+    return {root, parity};
+  }
+  /// Records that the parities of a and b differ by `relation` (1: one of them is reversed);
+  /// false, recording nothing, when that contradicts what is known.
+  bool unite(int a, int b, int relation) {
+    auto [root_a, parity_a] = find(a);
+    auto [root_b, parity_b] = find(b);
+    if (root_a == root_b) return (parity_a ^ parity_b) == relation;
+    if (root_a > root_b) std::swap(root_a, root_b);
+    parent_[root_b] = root_a;
+    parity_[root_b] = static_cast<char>(parity_a ^ parity_b ^ relation);
+    return true;
+  }
+
+ private:
+  std::vector<int> parent_;
+  std::vector<char> parity_;
+};
+
+/// representative[v]: the vertex v is welded onto (itself when none); only referenced vertices
+/// with finite coordinates take part, since NaN compares unequal to everything.
+std::vector<int> weld(const Positions& P, const std::vector<char>& referenced, double tolerance) {
+  const int nv = static_cast<int>(P.rows());
+  std::vector<int> representative(nv);
+  std::iota(representative.begin(), representative.end(), 0);
+  std::vector<int> candidates;
+  candidates.reserve(nv);
+  for (int v = 0; v < nv; ++v) {
+    if (referenced[v] && P.row(v).allFinite()) candidates.push_back(v);
+  }
+  if (candidates.empty()) return representative;
+
+  Eigen::RowVector3d lo = P.row(candidates[0]), hi = lo;
+  for (int v : candidates) {
+    lo = lo.cwiseMin(P.row(v));
+    hi = hi.cwiseMax(P.row(v));
+  }
+  const double radius = tolerance * (hi - lo).norm();
+  if (radius == 0) {
+    // Exact: equal positions are neighbours in lexicographic order; the smallest index of a run
+    // comes first, so it becomes the representative.
+    auto less = [&](int a, int b) {
+      for (int k = 0; k < 3; ++k) {
+        if (P(a, k) != P(b, k)) return P(a, k) < P(b, k);
+      }
+      return a < b;
+    };
+    std::sort(candidates.begin(), candidates.end(), less);
+    for (std::size_t i = 1, first = 0; i < candidates.size(); ++i) {
+      if (P.row(candidates[i]) == P.row(candidates[first])) {
+        representative[candidates[i]] = candidates[first];
+      } else {
+        first = i;
+      }
+    }
+    return representative;
+  }
+
+  // Within a radius: a grid of cells one radius wide, each vertex compared with the vertices of
+  // the 27 cells around it; union-find makes the welding transitive. Cell coordinates stay below
+  // 1 / weld_tolerance (at most 1e15, checked by the caller), so they fit in 64 bits.
+  auto cell_of = [&](int v) {
+    std::array<std::int64_t, 3> cell;
+    for (int k = 0; k < 3; ++k) {
+      cell[k] = static_cast<std::int64_t>(std::floor((P(v, k) - lo[k]) / radius));
+    }
+    return cell;
+  };
+  struct CellHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
+      std::uint64_t h = 1469598103934665603ull;
+      for (std::int64_t x : c) h = (h ^ static_cast<std::uint64_t>(x)) * 1099511628211ull;
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<int>, CellHash> cells;
+  cells.reserve(candidates.size());
+  for (int v : candidates) cells[cell_of(v)].push_back(v);
+  DisjointSets sets(nv);
+  const double radius_squared = radius * radius;
+  for (int v : candidates) {
+    const auto cell = cell_of(v);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto found = cells.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+          if (found == cells.end()) continue;
+          for (int w : found->second) {
+            if (w < v && (P.row(v) - P.row(w)).squaredNorm() <= radius_squared) sets.unite(v, w);
+          }
+        }
+      }
+    }
+  }
+  for (int v : candidates) representative[v] = sets.find(v);  // the smallest index is the root
+  return representative;
+}
+
+/// Pairs the faces around a non-manifold edge that bound the same wedge of space. The faces are
+/// sorted by the angle of their third vertex around the edge a -> b; a face that runs a -> b has
+/// its normal towards increasing angle, so the wedge below it is inside the solid it bounds, and
+/// it pairs with the face just below when that one runs b -> a. Faces left without a partner are
+/// detached at this edge. Positions that give no angle (a zero-length edge, non-finite
+/// coordinates) leave the faces in halfedge order; the caller checks the outcome anyway.
+std::vector<std::pair<int, int>> pair_around_edge(const Positions& P, const Triangles& T,
+                                                  const std::vector<int>& kept,
+                                                  const std::vector<int>& halfedges, int a, int b) {
+  struct Sheet {
+    double angle;
+    int h;
+    bool forward;  // runs a -> b
+  };
+  const int k = static_cast<int>(halfedges.size());
+  std::vector<Sheet> sheets(k);
+  const Eigen::Vector3d pa = P.row(a).transpose(), pb = P.row(b).transpose();
+  const Eigen::Vector3d axis = (pb - pa).normalized();
+  Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+  for (int i = 0; i < k; ++i) {
+    const int h = halfedges[i], f = kept[h / 3];
+    const Eigen::Vector3d w = P.row(T(f, h % 3)).transpose() - pa;
+    if (i == 0) {
+      u = (w - axis * axis.dot(w)).normalized();
+      v = axis.cross(u);
+    }
+    double angle = std::atan2(w.dot(v), w.dot(u));
+    if (!std::isfinite(angle)) angle = 0;
+    sheets[i] = {angle, h, T(f, (h % 3 + 1) % 3) == a};
+  }
+  std::sort(sheets.begin(), sheets.end(), [](const Sheet& x, const Sheet& y) {
+    return x.angle != y.angle ? x.angle < y.angle : x.h < y.h;
+  });
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < k; ++i) {
+    const Sheet& below = sheets[(i + k - 1) % k];
+    // A backward face is the face below exactly one face, so no face is paired twice.
+    if (sheets[i].forward && !below.forward) pairs.emplace_back(below.h, sheets[i].h);
+  }
+  return pairs;
+}
+
+/// " (e.g. vertices 3, 9)"; empty without examples.
+std::string examples_text(const std::vector<int>& examples, const char* one, const char* many) {
+  if (examples.empty()) return "";
+  std::string text = std::string(" (e.g. ") + (examples.size() > 1 ? many : one) + " ";
+  for (std::size_t i = 0; i < examples.size(); ++i) {
+    text += (i == 0 ? "" : ", ") + std::to_string(examples[i]);
+  }
+  return text + ")";
+}
+
+}  // namespace
+
+bool RepairReport::changed() const {
+  return welded_vertices.count > 0 || repeated_vertex_faces_removed.count > 0 ||
+         duplicate_faces_removed.count > 0 || non_manifold_edges_split > 0 ||
+         non_manifold_vertices_split.count > 0 || faces_flipped.count > 0 ||
+         unreferenced_vertices_dropped.count > 0;
+}
+
+RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
+  const Positions& P = mesh.positions;
+  const int nv = mesh.num_vertices();
+  const int nf = mesh.num_faces();
+  const double tolerance = options.weld_tolerance;
+  if (!std::isfinite(tolerance) || tolerance < 0 || (tolerance > 0 && tolerance < 1e-15)) {
+    throw InvalidInput("repair_mesh: weld_tolerance " + std::to_string(tolerance) +
+                       " must be 0 (exact positions) or at least 1e-15 (relative to the "
+                       "bounding-box diagonal)");
+  }
+  std::vector<char> referenced(nv, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles(f, k);
+      if (v < 0 || v >= nv) {
+        throw InvalidInput("repair_mesh: face " + std::to_string(f) + " uses vertex " +
+                           std::to_string(v) + ", outside [0, " + std::to_string(nv) + ")");
+      }
+      referenced[v] = 1;
+    }
+  }
+  const int max_examples = std::max(options.max_examples, 0);
+  RepairResult result;
+  RepairReport& report = result.report;
+  report.input_vertices = nv;
+  report.input_faces = nf;
+
+  // (1) Welding.
+  std::vector<int> representative(nv);
+  std::iota(representative.begin(), representative.end(), 0);
+  if (options.weld_vertices) representative = weld(P, referenced, tolerance);
+  for (int v = 0; v < nv; ++v) {
+    if (representative[v] != v) note(report.welded_vertices, v, max_examples);
+  }
+  Triangles T(nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) T(f, k) = representative[mesh.triangles(f, k)];
+  }
+
+  // (2) Faces that use a vertex twice, then faces with the vertex set of an earlier face.
+  std::vector<char> keep(nf, 1);
+  for (int f = 0; f < nf; ++f) {
+    if (T(f, 0) != T(f, 1) && T(f, 1) != T(f, 2) && T(f, 0) != T(f, 2)) continue;
+    keep[f] = 0;
+    note(report.repeated_vertex_faces_removed, f, max_examples);
+  }
+  std::vector<int> duplicate_of(nf, -1);
+  {
+    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
+    keyed.reserve(nf);
+    for (int f = 0; f < nf; ++f) {
+      if (!keep[f]) continue;
+      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
+      std::sort(key.begin(), key.begin() + 3);
+      keyed.push_back(key);
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 1, first = 0; i < keyed.size(); ++i) {
+      if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[first].begin())) {
+        duplicate_of[keyed[i][3]] = keyed[first][3];
+      } else {
+        first = i;
+      }
+    }
+    for (int f = 0; f < nf; ++f) {
+      if (duplicate_of[f] < 0) continue;
+      keep[f] = 0;
+      note(report.duplicate_faces_removed, f, max_examples);
+    }
+  }
+  std::vector<int> kept;  // input face of each kept face, in input order
+  kept.reserve(nf);
+  for (int f = 0; f < nf; ++f) {
+    if (keep[f]) kept.push_back(f);
+  }
+  const int nk = static_cast<int>(kept.size());
+  const int nh = 3 * nk;
+  auto tail = [&](int h) { return T(kept[h / 3], (h % 3 + 1) % 3); };
+  auto head = [&](int h) { return T(kept[h / 3], (h % 3 + 2) % 3); };
+  auto corner_vertex = [&](int c) { return T(kept[c / 3], c % 3); };
+
+  // (3) Which faces stay joined across each edge: both faces of a two-faced edge; around an edge
+  // with more faces, the pairs that bound one wedge of space (or all of them, when splitting is
+  // off, which leaves the edge as it was).
+  std::vector<std::pair<std::uint64_t, int>> keyed;
+  keyed.reserve(nh);
+  for (int h = 0; h < nh; ++h) keyed.emplace_back(edge_key(tail(h), head(h)), h);
+  std::sort(keyed.begin(), keyed.end());
+  struct Glue {
+    int h, g;
+    int group;  // index of the edge among the non-manifold ones, -1 for a two-faced edge
+  };
+  std::vector<Glue> glue;
+  glue.reserve(nh / 2);
+  std::vector<std::array<int, 2>> non_manifold_edges;
+  for (std::size_t i = 0; i < keyed.size();) {
+    std::size_t j = i + 1;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    if (j - i == 2) {
+      glue.push_back({keyed[i].second, keyed[i + 1].second, -1});
+    } else if (j - i > 2) {
+      const int a = static_cast<int>(keyed[i].first >> 32);
+      const int b = static_cast<int>(keyed[i].first & 0xffffffffu);
+      const int group = static_cast<int>(non_manifold_edges.size());
+      non_manifold_edges.push_back({a, b});
+      std::vector<int> halfedges;
+      for (std::size_t m = i; m < j; ++m) halfedges.push_back(keyed[m].second);
+      if (options.split_non_manifold) {
+        for (const auto& [h, g] : pair_around_edge(P, T, kept, halfedges, a, b)) {
+          glue.push_back({h, g, group});
+        }
+      } else {
+        for (std::size_t m = 1; m < halfedges.size(); ++m) {
+          glue.push_back({halfedges[0], halfedges[m], group});
+        }
+      }
+    }
+    i = j;
+  }
+
+  // Vertex copies: the corners at a vertex joined across glued edges form its fans; each fan
+  // becomes one output vertex. Primary copies (the fan of a vertex's first corner) keep the
+  // input order, extra copies follow, so that a mesh without defects keeps its numbering. A
+  // pairing can still leave three faces on the copies of an edge (when fans around its ends
+  // close up through other edges); the faces of such an edge are then all detached there, which
+  // leaves each of its copies the two ends of a fan at most, and the copies are made again.
+  std::vector<char> glue_active(glue.size(), 1);
+  std::vector<int> glue_of(nh, -1);  // the glue entry of each halfedge (one at most when split)
+  for (std::size_t i = 0; i < glue.size(); ++i) {
+    glue_of[glue[i].h] = glue_of[glue[i].g] = static_cast<int>(i);
+  }
+  std::vector<int> corner_output(nh, -1);  // output vertex of each corner
+  std::vector<int> vertex_map;
+  std::vector<std::pair<std::uint64_t, int>> output_keyed;
+  auto out_tail = [&](int h) { return corner_output[next_corner(h)]; };
+  while (true) {
+    DisjointSets fans(nh);
+    if (options.split_non_manifold) {
+      for (std::size_t i = 0; i < glue.size(); ++i) {
+        if (!glue_active[i]) continue;
+        const int h = glue[i].h, g = glue[i].g;
+        if (tail(h) == head(g)) {
+          fans.unite(next_corner(h), prev_corner(g));
+          fans.unite(prev_corner(h), next_corner(g));
+        } else {  // same direction: corners at the same vertex sit at the same relative place
+          fans.unite(next_corner(h), next_corner(g));
+          fans.unite(prev_corner(h), prev_corner(g));
+        }
+      }
+    } else {
+      std::vector<int> first_corner(nv, -1);
+      for (int c = 0; c < nh; ++c) {
+        int& first = first_corner[corner_vertex(c)];
+        if (first < 0) {
+          first = c;
+        } else {
+          fans.unite(first, c);
+        }
+      }
+    }
+    std::vector<int> root_output(nh, -1);
+    std::vector<char> has_primary(nv, 0);
+    std::vector<int> extra_roots;  // roots of extra copies, in order of their first corner
+    std::vector<int> primary_roots(nv, -1);
+    for (int c = 0; c < nh; ++c) {
+      const int root = fans.find(c);
+      if (root != c) continue;  // roots are the smallest corner of their fan
+      const int v = corner_vertex(c);
+      if (!has_primary[v]) {
+        has_primary[v] = 1;
+        primary_roots[v] = root;
+      } else {
+        extra_roots.push_back(root);
+      }
+    }
+    vertex_map.clear();
+    for (int v = 0; v < nv; ++v) {
+      if (!has_primary[v]) continue;
+      root_output[primary_roots[v]] = static_cast<int>(vertex_map.size());
+      vertex_map.push_back(v);
+    }
+    std::stable_sort(extra_roots.begin(), extra_roots.end(),
+                     [&](int x, int y) { return corner_vertex(x) < corner_vertex(y); });
+    for (int root : extra_roots) {
+      root_output[root] = static_cast<int>(vertex_map.size());
+      vertex_map.push_back(corner_vertex(root));
+    }
+    for (int c = 0; c < nh; ++c) corner_output[c] = root_output[fans.find(c)];
+
+    output_keyed.clear();
+    output_keyed.reserve(nh);
+    for (int h = 0; h < nh; ++h) {
+      output_keyed.emplace_back(
+          edge_key(corner_output[next_corner(h)], corner_output[prev_corner(h)]), h);
+    }
+    std::sort(output_keyed.begin(), output_keyed.end());
+    if (!options.split_non_manifold) break;
+    std::vector<std::uint64_t> crowded;  // input edges whose copies still have > 2 faces
+    for (std::size_t i = 0; i < output_keyed.size();) {
+      std::size_t j = i + 1;
+      while (j < output_keyed.size() && output_keyed[j].first == output_keyed[i].first) ++j;
+      if (j - i > 2) {
+        const int h = output_keyed[i].second;
+        crowded.push_back(edge_key(tail(h), head(h)));
+      }
+      i = j;
+    }
+    if (!crowded.empty()) {
+      std::sort(crowded.begin(), crowded.end());
+      bool detached = false;
+      for (std::size_t i = 0; i < glue.size(); ++i) {
+        const int h = glue[i].h;
+        if (glue_active[i] && glue[i].group >= 0 &&
+            std::binary_search(crowded.begin(), crowded.end(), edge_key(tail(h), head(h)))) {
+          glue_active[i] = 0;
+          detached = true;
+        }
+      }
+      if (detached) continue;
+      break;  // cannot happen (see above); never loop for ever
+    }
+    if (!options.orient || non_manifold_edges.empty()) break;
+
+    // Pairs made at non-manifold edges, and the edges that fans closing up made between faces
+    // detached there, must not make the orientation contradict itself where the two-faced
+    // edges of the input do not: such a surface would be non-orientable by the repair's own
+    // choice. The faces' relative orientations are fixed across the input's two-faced edges
+    // first; a pair that contradicts them is detached, and a closed-up edge that does detaches
+    // the pairs at its ends.
+    ParitySets sides(nk);
+    std::vector<std::pair<int, int>> paired, closed_up;  // (h, g)
+    for (std::size_t i = 0; i < output_keyed.size();) {
+      std::size_t j = i + 1;
+      while (j < output_keyed.size() && output_keyed[j].first == output_keyed[i].first) ++j;
+      if (j - i == 2) {
+        const int h = output_keyed[i].second, g = output_keyed[i + 1].second;
+        const int entry = glue_of[h];
+        if (entry >= 0 && glue_of[g] == entry && glue_active[entry]) {
+          if (glue[entry].group < 0) {
+            sides.unite(h / 3, g / 3, out_tail(h) == out_tail(g) ? 1 : 0);
+          } else {
+            paired.emplace_back(h, g);
+          }
+        } else {
+          closed_up.emplace_back(h, g);
+        }
+      }
+      i = j;
+    }
+    bool detached = false;
+    for (const auto& [h, g] : paired) {
+      if (!sides.unite(h / 3, g / 3, out_tail(h) == out_tail(g) ? 1 : 0)) {
+        glue_active[glue_of[h]] = 0;
+        detached = true;
+      }
+    }
+    std::vector<char> end_of_contradiction(nv, 0);
+    bool contradiction = false;
+    for (const auto& [h, g] : closed_up) {
+      if (!sides.unite(h / 3, g / 3, out_tail(h) == out_tail(g) ? 1 : 0)) {
+        end_of_contradiction[tail(h)] = end_of_contradiction[head(h)] = 1;
+        contradiction = true;
+      }
+    }
+    if (contradiction) {
+      for (std::size_t i = 0; i < glue.size(); ++i) {
+        if (glue_active[i] && glue[i].group >= 0 &&
+            (end_of_contradiction[tail(glue[i].h)] || end_of_contradiction[head(glue[i].h)])) {
+          glue_active[i] = 0;
+          detached = true;
+        }
+      }
+    }
+    if (!detached) break;
+  }
+  report.non_manifold_edges_split =
+      options.split_non_manifold ? static_cast<int>(non_manifold_edges.size()) : 0;
+  if (options.split_non_manifold) {
+    for (std::size_t i = 0; i < non_manifold_edges.size() && static_cast<int>(i) < max_examples;
+         ++i) {
+      report.non_manifold_edge_examples.push_back(non_manifold_edges[i]);
+    }
+  }
+  {
+    std::vector<int> copies(nv, 0);
+    for (int v : vertex_map) ++copies[v];
+    for (int v = 0; v < nv; ++v) {
+      if (copies[v] > 1) note(report.non_manifold_vertices_split, v, max_examples);
+      if (copies[v] == 0 && representative[v] == v) {
+        note(report.unreferenced_vertices_dropped, v, max_examples);
+      }
+    }
+    report.vertex_copies_added =
+        static_cast<int>(vertex_map.size()) -
+        static_cast<int>(std::count_if(copies.begin(), copies.end(), [](int n) { return n > 0; }));
+  }
+
+  // (4) Orientation: breadth-first search across the output's two-faced edges gives each face a
+  // flip bit such that neighbours traverse their edge in opposite directions; in each component
+  // the side with fewer faces is reversed. A contradiction means no orientation exists: the
+  // component is left as it was and reported.
+  std::vector<signed char> flip(nk, 0);
+  if (options.orient) {
+    std::vector<int> twin(nh, -1);
+    for (std::size_t i = 0; i < output_keyed.size();) {
+      std::size_t j = i + 1;
+      while (j < output_keyed.size() && output_keyed[j].first == output_keyed[i].first) ++j;
+      if (j - i == 2) {
+        twin[output_keyed[i].second] = output_keyed[i + 1].second;
+        twin[output_keyed[i + 1].second] = output_keyed[i].second;
+      }
+      i = j;
+    }
+    std::vector<signed char> bit(nk, -1);
+    std::vector<int> queue;
+    queue.reserve(nk);
+    for (int seed = 0; seed < nk; ++seed) {
+      if (bit[seed] >= 0) continue;
+      queue.clear();
+      queue.push_back(seed);
+      bit[seed] = 0;
+      bool orientable = true;
+      for (std::size_t q = 0; q < queue.size(); ++q) {
+        const int f = queue[q];
+        for (int k = 0; k < 3; ++k) {
+          const int h = 3 * f + k, g = twin[h];
+          if (g < 0) continue;
+          const int wanted = bit[f] ^ (out_tail(h) == out_tail(g) ? 1 : 0);
+          if (bit[g / 3] < 0) {
+            bit[g / 3] = static_cast<signed char>(wanted);
+            queue.push_back(g / 3);
+          } else if (bit[g / 3] != wanted) {
+            orientable = false;
+          }
+        }
+      }
+      if (!orientable) {
+        note(report.non_orientable_components, kept[seed], max_examples);
+        continue;
+      }
+      std::size_t ones = 0;
+      for (int f : queue) ones += static_cast<std::size_t>(bit[f]);
+      const int minority = 2 * ones <= queue.size() ? 1 : 0;
+      for (int f : queue) flip[f] = static_cast<signed char>(bit[f] == minority);
+    }
+    for (int f = 0; f < nk; ++f) {
+      if (flip[f]) note(report.faces_flipped, kept[f], max_examples);
+    }
+  }
+
+  // (5) The output: unreferenced vertices are gone already (copies exist only for corners).
+  result.vertex_map = std::move(vertex_map);
+  const int no = static_cast<int>(result.vertex_map.size());
+  result.mesh.positions.resize(no, 3);
+  for (int v = 0; v < no; ++v) result.mesh.positions.row(v) = P.row(result.vertex_map[v]);
+  result.mesh.triangles.resize(nk, 3);
+  result.face_map = kept;
+  result.face_flipped.assign(nk, 0);
+  for (int f = 0; f < nk; ++f) {
+    const int a = corner_output[3 * f], b = corner_output[3 * f + 1], c = corner_output[3 * f + 2];
+    if (flip[f]) {
+      result.mesh.triangles.row(f) << a, c, b;
+      result.face_flipped[f] = 1;
+    } else {
+      result.mesh.triangles.row(f) << a, b, c;
+    }
+  }
+  report.output_vertices = no;
+  report.output_faces = nk;
+
+  // Messages, in the order of the steps.
+  std::vector<std::string>& out = report.messages;
+  if (report.welded_vertices.count > 0) {
+    const int v = report.welded_vertices.examples.empty() ? -1 : report.welded_vertices.examples[0];
+    out.push_back("welded " + std::to_string(report.welded_vertices.count) +
+                  " vertices onto earlier vertices at the same position" +
+                  (options.weld_tolerance > 0 ? " (within the weld tolerance)" : std::string()) +
+                  (v >= 0 ? " (e.g. vertex " + std::to_string(v) + " onto vertex " +
+                                std::to_string(representative[v]) + ")"
+                          : std::string()));
+  }
+  if (report.repeated_vertex_faces_removed.count > 0) {
+    out.push_back("removed " + std::to_string(report.repeated_vertex_faces_removed.count) +
+                  " faces that use a vertex twice" +
+                  (report.welded_vertices.count > 0 ? " after welding" : "") +
+                  examples_text(report.repeated_vertex_faces_removed.examples, "face", "faces"));
+  }
+  if (report.duplicate_faces_removed.count > 0) {
+    const int f = report.duplicate_faces_removed.examples.empty()
+                      ? -1
+                      : report.duplicate_faces_removed.examples[0];
+    out.push_back("removed " + std::to_string(report.duplicate_faces_removed.count) +
+                  " duplicate faces" +
+                  (f >= 0 ? " (e.g. face " + std::to_string(f) + ", the same vertices as face " +
+                                std::to_string(duplicate_of[f]) + ")"
+                          : std::string()));
+  }
+  if (report.non_manifold_edges_split > 0) {
+    std::string line = "split " + std::to_string(report.non_manifold_edges_split) +
+                       " non-manifold edges (more than two faces) into pairs of faces";
+    if (!report.non_manifold_edge_examples.empty()) {
+      line += " (e.g. edge " +
+              edge_name(report.non_manifold_edge_examples[0][0],
+                        report.non_manifold_edge_examples[0][1]) +
+              ")";
+    }
+    out.push_back(line);
+  }
+  if (report.non_manifold_vertices_split.count > 0) {
+    out.push_back("split " + std::to_string(report.non_manifold_vertices_split.count) +
+                  " non-manifold vertices into one copy per fan of faces (" +
+                  std::to_string(report.vertex_copies_added) + " copies added)" +
+                  examples_text(report.non_manifold_vertices_split.examples, "vertex", "vertices"));
+  }
+  if (report.faces_flipped.count > 0) {
+    out.push_back("reversed " + std::to_string(report.faces_flipped.count) +
+                  " faces to orient their components consistently" +
+                  examples_text(report.faces_flipped.examples, "face", "faces"));
+  }
+  if (report.unreferenced_vertices_dropped.count > 0) {
+    out.push_back(
+        "dropped " + std::to_string(report.unreferenced_vertices_dropped.count) +
+        " unreferenced vertices" +
+        examples_text(report.unreferenced_vertices_dropped.examples, "vertex", "vertices"));
+  }
+  if (report.non_orientable_components.count > 0) {
+    out.push_back("not repaired: " + std::to_string(report.non_orientable_components.count) +
+                  " non-orientable components (like a Moebius strip) cannot be oriented" +
+                  examples_text(report.non_orientable_components.examples, "face", "faces"));
+  }
+  return result;
+}
+
+}  // namespace ricci

@@ -1,0 +1,333 @@
+#include "ricci/mesh/repair.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/info.hpp"
+#include "support/test_meshes.hpp"
+
+namespace ricci {
+namespace {
+
+using testing::make_mesh;
+using testing::tetrahedron;
+using testing::torus;
+
+int count_of(const ValidationReport& report, DefectKind kind) {
+  for (const auto& [k, c] : report.counts) {
+    if (k == kind) return c;
+  }
+  return 0;
+}
+
+bool mentions(const std::vector<std::string>& lines, const std::string& piece) {
+  return std::any_of(lines.begin(), lines.end(), [&](const std::string& line) {
+    return line.find(piece) != std::string::npos;
+  });
+}
+
+/// The maps are what the header promises: every output vertex sits where its input vertex does,
+/// and every output face is its input face (corners 1 and 2 exchanged when flipped) up to the
+/// vertices that were welded.
+void expect_maps_consistent(const Mesh& input, const RepairResult& r) {
+  ASSERT_EQ(static_cast<int>(r.vertex_map.size()), r.mesh.num_vertices());
+  ASSERT_EQ(static_cast<int>(r.face_map.size()), r.mesh.num_faces());
+  ASSERT_EQ(static_cast<int>(r.face_flipped.size()), r.mesh.num_faces());
+  for (int v = 0; v < r.mesh.num_vertices(); ++v) {
+    EXPECT_EQ(r.mesh.positions.row(v), input.positions.row(r.vertex_map[v])) << "vertex " << v;
+  }
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    const int g = r.face_map[f];
+    const int order[3] = {0, r.face_flipped[f] ? 2 : 1, r.face_flipped[f] ? 1 : 2};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(r.mesh.positions.row(r.mesh.triangles(f, k)),
+                input.positions.row(input.triangles(g, order[k])))
+          << "face " << f << " corner " << k;
+    }
+  }
+  EXPECT_EQ(r.report.output_vertices, r.mesh.num_vertices());
+  EXPECT_EQ(r.report.output_faces, r.mesh.num_faces());
+}
+
+TEST(RepairMesh, CleanMeshComesBackUnchanged) {
+  const Mesh mesh = torus(8, 5);
+  const RepairResult r = repair_mesh(mesh);
+  EXPECT_FALSE(r.report.changed());
+  EXPECT_TRUE(r.report.messages.empty());
+  EXPECT_EQ(r.mesh.positions, mesh.positions);
+  EXPECT_EQ(r.mesh.triangles, mesh.triangles);
+  std::vector<int> identity(40);
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_EQ(r.vertex_map, identity);
+  identity.resize(80);
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_EQ(r.face_map, identity);
+}
+
+TEST(RepairMesh, WeldsATriangleSoupIntoAClosedSurface) {
+  // Every face of an icosphere with its own three vertices: 80 faces, 240 vertices.
+  const Mesh sphere = make_icosphere(1);
+  Mesh soup;
+  soup.positions.resize(3 * sphere.num_faces(), 3);
+  soup.triangles.resize(sphere.num_faces(), 3);
+  for (int f = 0; f < sphere.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      soup.positions.row(3 * f + k) = sphere.positions.row(sphere.triangles(f, k));
+      soup.triangles(f, k) = 3 * f + k;
+    }
+  }
+  ASSERT_GT(count_of(find_defects(soup), DefectKind::InconsistentOrientation) +
+                mesh_info(soup).boundary_loops,
+            0);
+  const RepairResult r = repair_mesh(soup);
+  expect_maps_consistent(soup, r);
+  EXPECT_EQ(r.report.welded_vertices.count, 240 - 42);
+  EXPECT_EQ(r.report.welded_vertices.examples.size(), 5u);
+  EXPECT_EQ(r.mesh.num_vertices(), 42);
+  EXPECT_EQ(r.mesh.num_faces(), 80);
+  EXPECT_EQ(r.report.unreferenced_vertices_dropped.count, 0);  // welded, not dropped
+  EXPECT_TRUE(mentions(r.report.messages, "welded 198 vertices"));
+  const MeshInfo info = mesh_info(r.mesh);
+  EXPECT_TRUE(info.validation.ok());
+  EXPECT_EQ(info.euler_characteristic, 2);
+  EXPECT_EQ(info.boundary_loops, 0);
+}
+
+TEST(RepairMesh, WeldToleranceIsRelativeToTheBoundingBox) {
+  // Two unit squares side by side whose shared side is 1e-9 apart.
+  const Mesh mesh = make_mesh({{0, 0, 0},
+                               {1, 0, 0},
+                               {1, 1, 0},
+                               {0, 1, 0},
+                               {1 + 1e-9, 0, 0},
+                               {2, 0, 0},
+                               {2, 1, 0},
+                               {1 + 1e-9, 1, 0}},
+                              {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
+  EXPECT_FALSE(repair_mesh(mesh).report.changed());  // exact by default
+  RepairOptions loose;
+  loose.weld_tolerance = 1e-6;  // of the diagonal sqrt(5)
+  const RepairResult r = repair_mesh(mesh, loose);
+  EXPECT_EQ(r.report.welded_vertices.count, 2);
+  EXPECT_EQ(r.report.welded_vertices.examples, (std::vector<int>{4, 7}));
+  EXPECT_EQ(r.mesh.num_vertices(), 6);
+  EXPECT_TRUE(mentions(r.report.messages, "within the weld tolerance"));
+  const MeshInfo info = mesh_info(r.mesh);
+  EXPECT_EQ(info.edges, 9);
+  EXPECT_EQ(info.boundary_loops, 1);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  loose.weld_tolerance = 1e-12;  // 2.2e-12 absolute: too small to reach 1e-9
+  EXPECT_EQ(repair_mesh(mesh, loose).report.welded_vertices.count, 0);
+}
+
+TEST(RepairMesh, RemovesDuplicateAndCollapsedFacesAndDropsUnusedVertices) {
+  // A tetrahedron, a copy of face 0 reversed, a face that collapses when vertex 4 (a copy of
+  // vertex 1) is welded, a face that repeats a vertex outright, and vertex 5 used by none.
+  Mesh mesh =
+      make_mesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, -1}, {7, 7, 7}},
+                {{0, 1, 2}, {0, 2, 3}, {2, 1, 0}, {0, 3, 1}, {1, 4, 3}, {1, 3, 2}, {3, 3, 0}});
+  const RepairResult r = repair_mesh(mesh);
+  expect_maps_consistent(mesh, r);
+  const RepairReport& report = r.report;
+  EXPECT_EQ(report.welded_vertices.examples, (std::vector<int>{4}));
+  EXPECT_EQ(report.repeated_vertex_faces_removed.examples, (std::vector<int>{4, 6}));
+  EXPECT_EQ(report.duplicate_faces_removed.examples, (std::vector<int>{2}));
+  EXPECT_EQ(report.unreferenced_vertices_dropped.examples, (std::vector<int>{5}));
+  EXPECT_EQ(report.faces_flipped.count, 0);
+  EXPECT_EQ(r.face_map, (std::vector<int>{0, 1, 3, 5}));
+  EXPECT_EQ(r.vertex_map, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(r.mesh.triangles, tetrahedron().triangles);
+  EXPECT_TRUE(mentions(report.messages, "face 2, the same vertices as face 0"));
+  EXPECT_TRUE(mentions(report.messages, "removed 2 faces that use a vertex twice after welding"));
+  EXPECT_TRUE(mentions(report.messages, "dropped 1 unreferenced vertices (e.g. vertex 5)"));
+  EXPECT_TRUE(find_defects(r.mesh).counts.empty());
+}
+
+TEST(RepairMesh, SplitsTwoTetrahedraSharingAnEdge) {
+  // Outward-oriented tetrahedra on (0, 1, 2, 3) and (0, 1, 4, 5) share the edge (0, 1): four
+  // faces on it.
+  Mesh mesh = make_mesh(
+      {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0.2}, {0.5, 0.5, 1}, {0.5, -1, 0.2}, {0.5, -0.5, -1}},
+      {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 1}, {0, 1, 5}, {0, 5, 4}, {1, 4, 5}});
+  ASSERT_TRUE(find_defects(tetrahedron()).counts.empty());
+  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::NonManifoldEdge), 1);
+  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::InconsistentOrientation), 0);
+  const RepairResult r = repair_mesh(mesh);
+  expect_maps_consistent(mesh, r);
+  EXPECT_EQ(r.report.non_manifold_edges_split, 1);
+  ASSERT_EQ(r.report.non_manifold_edge_examples.size(), 1u);
+  EXPECT_EQ(r.report.non_manifold_edge_examples[0], (std::array<int, 2>{0, 1}));
+  EXPECT_EQ(r.report.non_manifold_vertices_split.examples, (std::vector<int>{0, 1}));
+  EXPECT_EQ(r.report.vertex_copies_added, 2);
+  EXPECT_EQ(r.report.faces_flipped.count, 0);
+  EXPECT_EQ(r.vertex_map, (std::vector<int>{0, 1, 2, 3, 4, 5, 0, 1}));
+  // The pairing follows the solids: two closed tetrahedra, not faces of both glued across.
+  const MeshInfo info = mesh_info(r.mesh);
+  ASSERT_TRUE(info.validation.ok()) << info.validation.defects[0].message;
+  EXPECT_EQ(info.components, 2);
+  for (const ComponentInfo& c : info.component_info) {
+    EXPECT_EQ(c.faces, 4);
+    EXPECT_EQ(c.euler_characteristic, 2);
+  }
+}
+
+TEST(RepairMesh, ThreeSheetsOnAnEdgeKeepOnePairAndDetachTheThird) {
+  // Three triangles on the edge (0, 1): two form a flat square, one stands up.
+  Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}},
+                        {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const RepairResult r = repair_mesh(mesh);
+  expect_maps_consistent(mesh, r);
+  EXPECT_EQ(r.report.non_manifold_edges_split, 1);
+  EXPECT_EQ(r.mesh.num_vertices(), 7);
+  const MeshInfo info = mesh_info(r.mesh);
+  ASSERT_TRUE(info.validation.ok()) << info.validation.defects[0].message;
+  EXPECT_EQ(info.components, 2);
+  EXPECT_EQ(info.edges, 5 + 3);
+}
+
+TEST(RepairMesh, SplitsABowTieVertex) {
+  const Mesh mesh =
+      make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0, 2, 0}, {1, 2, 0}}, {{0, 1, 2}, {2, 4, 3}});
+  const RepairResult r = repair_mesh(mesh);
+  expect_maps_consistent(mesh, r);
+  EXPECT_EQ(r.report.non_manifold_edges_split, 0);
+  EXPECT_EQ(r.report.non_manifold_vertices_split.examples, (std::vector<int>{2}));
+  EXPECT_EQ(r.report.vertex_copies_added, 1);
+  EXPECT_EQ(r.vertex_map, (std::vector<int>{0, 1, 2, 3, 4, 2}));
+  EXPECT_EQ(r.mesh.triangles.row(1), Eigen::RowVector3i(5, 4, 3));
+  EXPECT_TRUE(mentions(r.report.messages,
+                       "split 1 non-manifold vertices into one copy per fan of faces (1 copies "
+                       "added) (e.g. vertex 2)"));
+  EXPECT_TRUE(find_defects(r.mesh).counts.empty());
+}
+
+TEST(RepairMesh, SplitsTwoClosedSurfacesTouchingAtAVertex) {
+  // Two tetrahedra sharing vertex 0 only.
+  Mesh mesh = make_mesh(
+      {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}},
+      {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}});
+  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::NonManifoldVertex), 1);
+  const RepairResult r = repair_mesh(mesh);
+  EXPECT_EQ(r.report.non_manifold_vertices_split.count, 1);
+  const MeshInfo info = mesh_info(r.mesh);
+  ASSERT_TRUE(info.validation.ok());
+  EXPECT_EQ(info.components, 2);
+  EXPECT_EQ(info.euler_characteristic, 4);
+}
+
+TEST(RepairMesh, OrientsEachComponentByItsMajority) {
+  Mesh mesh = torus(8, 6);
+  for (int f = 0; f < 12; ++f) mesh.triangles.row(f) = mesh.triangles.row(f).reverse().eval();
+  const RepairResult r = repair_mesh(mesh);
+  expect_maps_consistent(mesh, r);
+  EXPECT_EQ(r.report.faces_flipped.count, 12);
+  EXPECT_EQ(r.report.faces_flipped.examples, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_TRUE(find_defects(r.mesh).counts.empty());
+  // Reversing (a, b, c) gives (c, b, a); exchanging corners 1 and 2 gives (c, a, b): the same
+  // triangle.
+  const Mesh original = torus(8, 6);
+  for (int f = 0; f < 12; ++f) {
+    EXPECT_EQ(r.mesh.triangles.row(f),
+              Eigen::RowVector3i(original.triangles(f, 2), original.triangles(f, 0),
+                                 original.triangles(f, 1)));
+  }
+}
+
+/// A Moebius strip of 2n triangles (as in validate_test.cpp).
+Mesh moebius(int n) {
+  Mesh mesh;
+  mesh.positions.resize(2 * n, 3);
+  mesh.triangles.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * i / n;
+    const Eigen::RowVector3d centre(std::cos(t), std::sin(t), 0);
+    const Eigen::RowVector3d rung =
+        0.3 * (std::cos(t / 2) * centre + std::sin(t / 2) * Eigen::RowVector3d::UnitZ());
+    mesh.positions.row(2 * i) = centre + rung;
+    mesh.positions.row(2 * i + 1) = centre - rung;
+    const int a = 2 * i, b = 2 * i + 1;
+    const int next_a = i + 1 < n ? a + 2 : 1, next_b = i + 1 < n ? b + 2 : 0;
+    mesh.triangles.row(2 * i) << a, b, next_b;
+    mesh.triangles.row(2 * i + 1) << a, next_b, next_a;
+  }
+  return mesh;
+}
+
+TEST(RepairMesh, LeavesANonOrientableComponentAndSaysSo) {
+  // A Moebius strip beside a tetrahedron with one face reversed: the tetrahedron is fixed.
+  const Mesh strip = moebius(7);
+  Mesh mesh;
+  mesh.positions.resize(18, 3);
+  mesh.positions << strip.positions, tetrahedron().positions.array() + 5.0;
+  mesh.triangles.resize(18, 3);
+  Triangles tetra = tetrahedron().triangles.array() + 14;
+  tetra.row(3) = tetra.row(3).reverse().eval();
+  mesh.triangles << strip.triangles, tetra;
+  const RepairResult r = repair_mesh(mesh);
+  EXPECT_EQ(r.report.non_orientable_components.count, 1);
+  EXPECT_EQ(r.report.non_orientable_components.examples, (std::vector<int>{0}));
+  EXPECT_EQ(r.report.faces_flipped.examples, (std::vector<int>{17}));
+  EXPECT_EQ(r.mesh.triangles.topRows(14), strip.triangles);
+  EXPECT_TRUE(mentions(r.report.messages, "not repaired: 1 non-orientable components"));
+  const ValidationReport after = find_defects(r.mesh);
+  EXPECT_EQ(after.counts.size(), 1u);
+  EXPECT_EQ(count_of(after, DefectKind::NonOrientable), 1);
+}
+
+TEST(RepairMesh, ZeroAreaFacesAndNonFiniteCoordinatesAreLeft) {
+  Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2}, {0, 3, 1}});
+  mesh.triangles.row(1) << 1, 3, 0;  // collinear, and oriented like face 0
+  RepairResult r = repair_mesh(mesh);
+  EXPECT_EQ(r.mesh.num_faces(), 2);
+  EXPECT_EQ(count_of(find_defects(r.mesh), DefectKind::ZeroAreaFace), 1);
+
+  mesh = tetrahedron();
+  mesh.positions(2, 1) = std::nan("");
+  r = repair_mesh(mesh);
+  EXPECT_FALSE(r.report.changed());
+  EXPECT_EQ(count_of(find_defects(r.mesh), DefectKind::NonFiniteCoordinate), 1);
+}
+
+TEST(RepairMesh, OptionsSwitchStepsOff) {
+  const Mesh bowtie =
+      make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0, 2, 0}, {1, 2, 0}}, {{0, 1, 2}, {2, 4, 3}});
+  RepairOptions options;
+  options.split_non_manifold = false;
+  EXPECT_EQ(repair_mesh(bowtie, options).mesh.triangles, bowtie.triangles);
+  Mesh flipped = tetrahedron();
+  flipped.triangles.row(0) = flipped.triangles.row(0).reverse().eval();
+  options.orient = false;
+  EXPECT_EQ(repair_mesh(flipped, options).report.faces_flipped.count, 0);
+  Mesh twice = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}}, {{0, 1, 2}, {3, 2, 1}});
+  options.weld_vertices = false;
+  EXPECT_EQ(repair_mesh(twice, options).mesh.num_vertices(), 4);
+}
+
+TEST(RepairMesh, RejectsBadIndicesAndOptions) {
+  Mesh mesh = tetrahedron();
+  mesh.triangles(2, 1) = 9;
+  try {
+    repair_mesh(mesh);
+    ADD_FAILURE() << "no exception";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("repair_mesh: face 2 uses vertex 9, outside [0, 4)"),
+              std::string::npos)
+        << e.what();
+  }
+  RepairOptions options;
+  for (const double bad : {-1.0, 1e-20, std::nan("")}) {
+    options.weld_tolerance = bad;
+    EXPECT_THROW(repair_mesh(tetrahedron(), options), InvalidInput) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace ricci
