@@ -30,6 +30,7 @@ struct FlowArgs {
   std::string boundary = "free";
   std::string cones;
   std::string solver = "newton";
+  std::string flips = "auto";
   double tolerance = 1e-10;
   int max_iterations = 0;
   double step = 0;
@@ -45,6 +46,7 @@ struct ParamArgs {
   std::string cones = "auto";
   std::string boundary = "free";
   std::string scheme = "thurston";
+  std::string flips = "auto";
   std::string report;
   bool quantize = false;
   double max_log_scale = 1.0;

@@ -77,6 +77,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   result.lengths = lbar;
   result.converged = true;
 
+  Triangles final_triangles = whole.triangles;
   for (const Component& comp : whole.components) {
     ComponentFlow out;
     out.vertices = comp.vertices;
@@ -117,10 +118,45 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
         result.target_curvature[v] = out.flow.target_curvature[i];
       }
       for (int e = 0; e < ne; ++e) result.lengths[view.edge_map[e]] = out.flow.lengths[e];
+      if (out.flow.flips > 0) {
+        for (std::size_t f = 0; f < comp.faces.size(); ++f) {
+          for (int k = 0; k < 3; ++k) {
+            final_triangles(comp.faces[f], k) =
+                view.vertex_map[out.flow.triangles(static_cast<Eigen::Index>(f), k)];
+          }
+        }
+      }
     }
+    if (whole.components.size() == 1 && out.flow.flips > 0) final_triangles = out.flow.triangles;
+    result.flips += out.flow.flips;
+    result.blocked_flips += out.flow.blocked_flips;
     result.converged = result.converged && out.flow.converged;
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
+  }
+  if (result.flips > 0) {
+    // The whole mesh's intrinsic triangulation: faces keep their indices (flips reuse them), so
+    // each edge's length is read through one of its halfedges from its component's result.
+    Topology flipped = build_topology(final_triangles, whole.num_vertices);
+    Eigen::VectorXd lengths(flipped.num_edges);
+    for (std::size_t c = 0; c < result.components.size(); ++c) {
+      const FlowResult& flow = result.components[c].flow;
+      const std::vector<int>& faces = whole.components[c].faces;
+      const Topology local = whole.components.size() == 1
+                                 ? Topology{}
+                                 : build_topology(flow.triangles, static_cast<int>(flow.u.size()));
+      for (std::size_t f = 0; f < faces.size(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+          const int h_local = 3 * static_cast<int>(f) + k;
+          const int h_whole = 3 * faces[f] + k;
+          const int e_local = whole.components.size() == 1 ? flipped.halfedge_edge[h_whole]
+                                                           : local.halfedge_edge[h_local];
+          lengths[flipped.halfedge_edge[h_whole]] = flow.lengths[e_local];
+        }
+      }
+    }
+    result.lengths = std::move(lengths);
+    result.topology = std::move(flipped);
   }
   result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;

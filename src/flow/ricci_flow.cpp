@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include <Eigen/SparseCore>
@@ -10,6 +11,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/curvature.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
 
@@ -38,6 +40,46 @@ const char* flow_solver_name(FlowSolver solver) {
   return solver == FlowSolver::Newton ? "newton" : "gradient";
 }
 
+EdgeFlips parse_edge_flips(const std::string& name) {
+  if (name == "auto") return EdgeFlips::Auto;
+  if (name == "off" || name == "none") return EdgeFlips::Off;
+  if (name == "delaunay") return EdgeFlips::Delaunay;
+  throw InvalidInput("parse_edge_flips: unknown flips '" + name +
+                     "'; expected auto, off or delaunay");
+}
+
+const char* edge_flips_name(EdgeFlips flips) {
+  switch (flips) {
+    case EdgeFlips::Auto:
+      return "auto";
+    case EdgeFlips::Off:
+      return "off";
+    case EdgeFlips::Delaunay:
+      return "delaunay";
+  }
+  return "unknown";
+}
+
+namespace {
+
+/// Whether a flow with these options flips edges. \throw InvalidInput for Delaunay flips on a
+/// scheme whose conformal class Ptolemy flips do not preserve.
+bool flips_enabled(const ConformalStructure& structure, const FlowOptions& options) {
+  if (options.flips == EdgeFlips::Off) return false;
+  const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
+  if (options.flips == EdgeFlips::Auto) return vertex_scaling;
+  if (!vertex_scaling) {
+    throw InvalidInput(
+        std::string("RicciFlow: Delaunay edge flips need the vertex-scaling scheme; ") +
+        scheme_name(structure.scheme) +
+        " metrics do not keep their conformal class through a flip (Ptolemy's "
+        "relation holds for vertex scaling only)");
+  }
+  return true;
+}
+
+}  // namespace
+
 const char* flow_status_name(FlowStatus status) {
   switch (status) {
     case FlowStatus::Converged:
@@ -55,6 +97,10 @@ const char* flow_status_name(FlowStatus status) {
 }
 
 struct RicciFlow::State {
+  // With flips the state owns a copy of the topology, which the flips change; `topology` refers
+  // to that copy, or to the caller's topology without flips.
+  const bool flips;
+  std::optional<Topology> owned_topology;
   const Topology& topology;
   ConformalStructure structure;
   Target target;
@@ -66,6 +112,14 @@ struct RicciFlow::State {
   // Trial buffers of the line search, swapped in on acceptance.
   Eigen::VectorXd trial_u, trial_lengths, trial_curvature;
   CornerAngles trial_angles;
+  // Flipped triangulation of the trial point (only when it needed flips), swapped in on
+  // acceptance.
+  std::optional<Topology> trial_topology;
+  ConformalStructure trial_structure;
+  bool trial_flipped = false;
+  int trial_flips = 0, trial_blocked = 0;
+  int total_flips = 0, blocked_flips = 0;
+  bool factor_matches_pattern = false;  // the Cholesky factor belongs to H's current pattern
 
   std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
   std::vector<int> vertex_of_row;
@@ -89,19 +143,60 @@ struct RicciFlow::State {
   int analyses = 0, factorizations = 0, cg_iterations = 0;
 
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
-      : topology(t),
+      : flips(flips_enabled(s, o)),
+        owned_topology(flips ? std::optional<Topology>(t) : std::nullopt),
+        topology(flips ? *owned_topology : t),
         structure(s),
         target(tg),
         options(o),
         start(Clock::now()),
         cholesky(o.use_cholmod) {}
 
+  /// Lengths, angles and curvature of the current triangulation at u = at (no flips).
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
     if (edge_lengths(topology, structure, at, l) > 0) return Evaluation::BadLength;
     if (corner_angles(topology, l, a) >= 0) return Evaluation::TriangleInequality;
     vertex_curvature(topology, a, k);
     return Evaluation::Valid;
+  }
+
+  /// The trial point of the line search: with flips, on the Delaunay triangulation at trial_u
+  /// (flipped on a copy when the current one is not Delaunay there).
+  Evaluation evaluate_trial() {
+    trial_flipped = false;
+    trial_flips = trial_blocked = 0;
+    if (!flips) return evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
+    if (edge_lengths(topology, structure, trial_u, trial_lengths) > 0) {
+      return Evaluation::BadLength;
+    }
+    const Topology* t = &topology;
+    if (count_non_delaunay_edges(topology, trial_lengths) > blocked_flips) {
+      trial_topology = topology;
+      trial_structure = structure;
+      const DelaunayFlipResult r =
+          flip_to_delaunay(*trial_topology, trial_structure, trial_u, trial_lengths);
+      if (!r.complete) return Evaluation::TriangleInequality;
+      trial_flipped = r.flips > 0;
+      trial_flips = r.flips;
+      trial_blocked = r.blocked;
+      t = &*trial_topology;
+    }
+    if (corner_angles(*t, trial_lengths, trial_angles) >= 0) return Evaluation::TriangleInequality;
+    vertex_curvature(*t, trial_angles, trial_curvature);
+    return Evaluation::Valid;
+  }
+
+  /// Makes the trial triangulation the current one: a new sparsity pattern, analysed afresh.
+  void accept_trial_flips() {
+    if (!trial_flipped) return;
+    std::swap(*owned_topology, *trial_topology);
+    structure.eta.swap(trial_structure.eta);
+    total_flips += trial_flips;
+    blocked_flips = trial_blocked;
+    build_system();
+    cholesky = SparseCholesky(options.use_cholmod);
+    factor_matches_pattern = false;
   }
 
   /// max and sum of squares of |K-bar - K| over the vertices with a target.
@@ -118,7 +213,7 @@ struct RicciFlow::State {
     }
   }
 
-  void record(double step, int backtracks, int triangle_failures) {
+  void record(double step, int backtracks, int triangle_failures, int flipped = 0) {
     double max_error, sum_sq;
     int count;
     errors(curvature, max_error, sum_sq, count);
@@ -129,6 +224,7 @@ struct RicciFlow::State {
     r.step_length = step;
     r.backtracks = backtracks;
     r.triangle_failures = triangle_failures;
+    r.flips = flipped;
     r.seconds = seconds_since(start);
     history.push_back(r);
     if (finished) {
@@ -167,10 +263,8 @@ struct RicciFlow::State {
     closed = !target.has_fixed_vertices();
     for (int v = 0; v < nv; ++v) {
       if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
-      if (closed && pinned_vertex < 0) {
-        pinned_vertex = v;  // the gauge: u of one vertex stays put during the solve
-        continue;
-      }
+      if (closed && pinned_vertex < 0) pinned_vertex = v;  // the gauge: u of one vertex stays put
+      if (v == pinned_vertex) continue;                    // during the solve
       row_of_vertex[v] = static_cast<int>(vertex_of_row.size());
       vertex_of_row.push_back(v);
     }
@@ -310,7 +404,7 @@ struct RicciFlow::State {
     // forcing term proportional to the error keeps the convergence quadratic).
     Eigen::VectorXd delta_rows;
     bool solved = false;
-    if (options.reuse_factorization_cg_iterations > 0 && factorizations > 0) {
+    if (options.reuse_factorization_cg_iterations > 0 && factor_matches_pattern) {
       const auto t0 = Clock::now();
       const double forcing = std::clamp(0.1 * rhs.cwiseAbs().maxCoeff(), 1e-14, 1e-2);
       solved =
@@ -334,6 +428,7 @@ struct RicciFlow::State {
         return;
       }
       ++factorizations;
+      factor_matches_pattern = true;
       timings.factorization += seconds_since(t0);
       t0 = Clock::now();
       delta_rows = cholesky.solve(rhs);
@@ -389,7 +484,7 @@ struct RicciFlow::State {
         return;
       }
       trial_u = u + alpha * delta;
-      const Evaluation ev = evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
+      const Evaluation ev = evaluate_trial();
       if (ev != Evaluation::Valid) {
         // A step that breaks a triangle is shortened, never accepted.
         ++(ev == Evaluation::TriangleInequality ? triangle_failures : length_failures);
@@ -404,10 +499,12 @@ struct RicciFlow::State {
     std::swap(lengths, trial_lengths);
     std::swap(angles, trial_angles);
     std::swap(curvature, trial_curvature);
+    const int flipped = trial_flipped ? trial_flips : 0;
+    accept_trial_flips();
     normalise_gauge();
     timings.line_search += seconds_since(t0);
     ++iteration;
-    record(alpha, backtracks, triangle_failures + length_failures);
+    record(alpha, backtracks, triangle_failures + length_failures, flipped);
   }
 };
 
@@ -444,6 +541,17 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
                        " finite log radii");
   }
   s.u = u;
+  int initial_flips = 0;
+  if (s.flips) {
+    // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
+    // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
+    if (edge_lengths(s.topology, s.structure, s.u, s.lengths) == 0) {
+      const DelaunayFlipResult r = flip_to_delaunay(*s.owned_topology, s.structure, s.u, s.lengths);
+      initial_flips = r.flips;
+      s.total_flips += r.flips;
+      s.blocked_flips = r.blocked;
+    }
+  }
   const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
   if (ev == Evaluation::BadLength) {
     throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
@@ -466,6 +574,8 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.finished = false;
   s.pinned_vertex = -1;
   s.build_system();
+  s.cholesky = SparseCholesky(s.options.use_cholmod);
+  s.factor_matches_pattern = false;
   if (s.options.solver == FlowSolver::Gradient) {
     s.gradient_dt = s.options.gradient_step;
     if (s.gradient_dt <= 0) {
@@ -481,7 +591,7 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
       s.gradient_dt = top > 0 ? 1.0 / top : 0.1;
     }
   }
-  s.record(0.0, 0, 0);
+  s.record(0.0, 0, 0, initial_flips);
 }
 
 bool RicciFlow::step() {
@@ -522,6 +632,17 @@ FlowResult RicciFlow::result() const {
     if (s.target.fixed[v]) r.target_curvature[v] = s.curvature[v];
   }
   r.lengths = s.lengths;
+  r.triangles = s.topology.triangles;
+  r.flips = s.total_flips;
+  r.blocked_flips = s.blocked_flips;
+  if (s.total_flips > 0) {
+    // Number the edges as build_topology numbers them on the final triangles (halfedge indices
+    // do not depend on the numbering).
+    const Topology renumbered = build_topology(s.topology.triangles, s.topology.num_vertices);
+    for (int e = 0; e < renumbered.num_edges; ++e) {
+      r.lengths[e] = s.lengths[s.topology.halfedge_edge[renumbered.edge_halfedges(e, 0)]];
+    }
+  }
   r.iterations = s.iteration;
   r.max_error = s.history.back().max_error;
   r.history = s.history;

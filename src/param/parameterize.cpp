@@ -191,8 +191,11 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     return result;
   }
 
-  // 4. Cut graph through the cones, slicing, layout, atlas, distortion.
+  // 4. Cut graph through the cones, slicing, layout, atlas, distortion. After Delaunay flips
+  // the flat metric lives on the intrinsic triangulation: the same vertices and positions, some
+  // edges replaced, and that triangulation is what gets cut, laid out and written.
   const Topology& topology = result.flow.topology;
+  if (result.flow.flips > 0) result.mesh.triangles = topology.triangles;
   const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);

@@ -49,11 +49,15 @@ struct ComponentFlow {
 
 /// What flow_mesh returns, gathered on the whole mesh.
 struct MeshFlowResult {
-  bool converged = false;            ///< every component converged
-  double max_error = 0;              ///< over all components
-  StructureResult structure;         ///< whole-mesh structure and fit error
-  Target target;                     ///< whole-mesh target
-  Topology topology;                 ///< whole-mesh connectivity (edges for `lengths`)
+  bool converged = false;     ///< every component converged
+  double max_error = 0;       ///< over all components
+  StructureResult structure;  ///< whole-mesh structure and fit error
+  Target target;              ///< whole-mesh target
+  /// Whole-mesh connectivity after the flow (edges for `lengths`): the input's, or its intrinsic
+  /// Delaunay triangulation when edges were flipped (same vertices and face count).
+  Topology topology;
+  int flips = 0;                     ///< edges flipped, all components together
+  int blocked_flips = 0;             ///< non-Delaunay edges left (see FlowResult::blocked_flips)
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature
   Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)

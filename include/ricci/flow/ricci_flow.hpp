@@ -27,6 +27,18 @@ enum class FlowSolver {
 FlowSolver parse_flow_solver(const std::string& name);
 const char* flow_solver_name(FlowSolver solver);
 
+/// Whether the flow keeps the triangulation intrinsically Delaunay with edge flips
+/// (ricci/metric/delaunay_flips.hpp).
+enum class EdgeFlips {
+  Auto,      ///< Delaunay for vertex scaling (the only scheme whose class flips preserve), else Off
+  Off,       ///< the input's triangulation throughout
+  Delaunay,  ///< Ptolemy flips to the intrinsic Delaunay triangulation at every accepted step
+};
+
+/// "auto", "off" or "delaunay". \throw InvalidInput on any other string
+EdgeFlips parse_edge_flips(const std::string& name);
+const char* edge_flips_name(EdgeFlips flips);
+
 /// One iteration of a flow, as reported in the history and to the progress callback.
 struct IterationRecord {
   int iteration = 0;          ///< 0 is the initial state
@@ -36,6 +48,7 @@ struct IterationRecord {
   int backtracks = 0;         ///< step halvings of the line search
   int triangle_failures = 0;  ///< trial steps rejected: a triangle inequality broke or a
                               ///< length became non-positive or overflowed
+  int flips = 0;              ///< edges flipped by the accepted step (EdgeFlips::Delaunay)
   double seconds = 0;         ///< wall time since the solve started
 };
 
@@ -57,6 +70,10 @@ struct FlowOptions {
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
   int reuse_factorization_cg_iterations = 25;
+  /// Intrinsic Delaunay flips. With them vertex scaling reaches every target that satisfies
+  /// Gauss-Bonnet (and K < 2 pi inside): no triangle inequality can break. Delaunay with another
+  /// scheme is an InvalidInput.
+  EdgeFlips flips = EdgeFlips::Auto;
   FlowProgress progress;  ///< optional callback after each iteration
 };
 
@@ -90,7 +107,15 @@ struct FlowResult {
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature K
   Eigen::VectorXd target_curvature;  ///< #V K-bar (the final K where the vertex is fixed)
-  Eigen::VectorXd lengths;           ///< #E final edge lengths
+  /// #E final edge lengths, edges numbered as build_topology(triangles, #V) numbers them: the
+  /// input topology's numbering when no edge was flipped.
+  Eigen::VectorXd lengths;
+  /// The final triangulation (#F by 3): the input's faces, or its intrinsic Delaunay
+  /// triangulation after flips (the same vertices, face count and Euler characteristic).
+  Triangles triangles;
+  int flips = 0;          ///< edges flipped over the whole flow (initial Delaunay flips included)
+  int blocked_flips = 0;  ///< non-Delaunay edges left at the end because a flip would have
+                          ///< duplicated an edge (the result stays a simplicial complex)
   int iterations = 0;
   double max_error = 0;                  ///< final max |K-bar - K| over vertices with a target
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last

@@ -55,7 +55,9 @@ struct ParamResult {
   bool converged = false;          ///< the flow reached its tolerance
   std::string message;             ///< why not, when it did not
   Mesh mesh;                       ///< the mesh parameterized: input vertices first, then
-                                   ///< vertices added by edge splits
+                                   ///< vertices added by edge splits; its triangles are the
+                                   ///< flow's intrinsic Delaunay triangulation when the flow
+                                   ///< flipped edges (flow.flips > 0)
   std::vector<int> vertex_origin;  ///< per output vertex: input vertex, or -1 when added
   std::vector<std::array<int, 2>> added_vertex_parents;  ///< per added vertex: the edge it splits
   int edge_splits = 0;  ///< connectivity modifications made (edges split)

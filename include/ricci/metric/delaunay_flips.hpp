@@ -1,0 +1,82 @@
+#pragma once
+/// \file
+/// Intrinsic Delaunay edge flips for the vertex-scaling metric (THEORY.md section 9).
+///
+/// Vertex scaling l_ij = lbar_ij exp((u_i + u_j) / 2) fails as soon as a triangle inequality
+/// breaks, and strong targets break it. The cure (Gu, Luo, Sun and Wu; Springborn) keeps the
+/// triangulation Delaunay for the current metric: an edge ab whose quad (a, d, b, c) is not
+/// Delaunay is replaced by cd, whose length follows from Ptolemy's relation
+///     l_cd = (l_ca l_bd + l_ad l_bc) / l_ab.
+/// The relation commutes with the scaling (both sides pick up exp((u_c + u_d) / 2)), so the new
+/// edge's constant eta_cd = l_cd^2 / (2 gamma_c gamma_d) does not depend on u: the flipped
+/// triangulation carries the same discrete conformal class, exactly, and the Ricci energy stays
+/// convex and twice differentiable across flips. The Delaunay test is written so that it needs no
+/// triangle inequality (cos theta_c + cos theta_d >= 0 expressed through the lengths), which is
+/// what lets the flips repair a metric whose triangles have already broken.
+///
+/// Flips keep the triangulation a simplicial complex: a flip that would create a second edge
+/// between two vertices (or an edge from a vertex to itself) is skipped and counted as blocked,
+/// so the result can be written as an ordinary mesh on the input's own vertices.
+
+#include <Eigen/Core>
+
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+
+/// cos theta_c + cos theta_d times 2, for edge ab with opposite corners c and d: the quad is
+/// Delaunay when this is >= 0. Defined for any positive lengths, including triangles that break a
+/// triangle inequality (their "angle" then has a cosine below -1).
+/// \param ab the edge; ca, cb the other sides of the triangle with c; da, db those with d
+double delaunay_margin(double ab, double ca, double cb, double da, double db);
+
+/// Whether interior edge e can be flipped without leaving a simplicial complex: its two faces
+/// differ and the opposite vertices c, d are distinct and not yet joined by an edge.
+bool can_flip_edge(const Topology& topology, int e);
+
+/// Flips interior edge e in place: the faces (c, a, b) and (d, b, a) become (a, d, c) and
+/// (b, c, d); edge e now joins c and d. Face and edge indices are kept (edge e is reused), so
+/// per-face and per-edge arrays stay aligned; halfedge arrays, face_edges, edge_vertices,
+/// edge_halfedges and vertex_degree are updated. Boundaries, components and the Euler
+/// characteristic do not change.
+/// \pre can_flip_edge(topology, e)
+void flip_edge(Topology& topology, int e);
+
+/// Flips interior edge e of a vertex-scaling metric at log radii u: the new edge's length by
+/// Ptolemy's relation from the current lengths, its eta so that edge_lengths reproduces it.
+/// \pre can_flip_edge(topology, e); lengths are l(u) of the current triangulation
+/// \return the new length
+double ptolemy_flip(Topology& topology, ConformalStructure& structure, const Eigen::VectorXd& u,
+                    Eigen::VectorXd& lengths, int e);
+
+/// Options of flip_to_delaunay.
+struct DelaunayFlipOptions {
+  /// An edge is flipped when its delaunay_margin is below -tolerance; the slack keeps
+  /// cocircular quads (margin 0 up to rounding) from flipping back and forth.
+  double tolerance = 1e-12;
+  int max_flips = 0;  ///< safety stop; 0: 50 #E
+};
+
+/// What flip_to_delaunay did.
+struct DelaunayFlipResult {
+  int flips = 0;         ///< edges flipped
+  int blocked = 0;       ///< non-Delaunay edges left because flipping them would duplicate an edge
+  bool complete = true;  ///< false when max_flips stopped the algorithm
+};
+
+/// Flips a vertex-scaling metric (epsilon = 0 at every vertex) to an intrinsic Delaunay
+/// triangulation at log radii u. Edges are visited in index order and re-queued when a
+/// neighbouring flip changes their quad, so the result is deterministic.
+/// \param[in,out] topology the triangulation, flipped in place
+/// \param[in,out] structure its eta changes on flipped edges (epsilon must be zero)
+/// \param[in,out] lengths #E current lengths l(u), updated on flipped edges
+/// \throw InvalidInput when the structure is not vertex scaling
+DelaunayFlipResult flip_to_delaunay(Topology& topology, ConformalStructure& structure,
+                                    const Eigen::VectorXd& u, Eigen::VectorXd& lengths,
+                                    const DelaunayFlipOptions& options = {});
+
+/// Number of interior edges whose delaunay_margin is below -tolerance at these lengths.
+int count_non_delaunay_edges(const Topology& topology, const Eigen::VectorXd& lengths,
+                             double tolerance = 1e-12);
+
+}  // namespace ricci

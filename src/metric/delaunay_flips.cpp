@@ -1,0 +1,190 @@
+#include "ricci/metric/delaunay_flips.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+/// The quad of interior edge e: halfedge h0 = a -> b in face f0 with opposite corner c, its twin
+/// h1 = b -> a in face f1 with opposite corner d.
+struct Quad {
+  int h0, h1, a, b, c, d;
+  int ca, cb, da, db;  // edges of the four outer sides
+};
+
+Quad quad_of(const Topology& t, int e) {
+  Quad q;
+  q.h0 = t.edge_halfedges(e, 0);
+  q.h1 = t.edge_halfedges(e, 1);
+  const int f0 = q.h0 / 3, k0 = q.h0 % 3, f1 = q.h1 / 3, k1 = q.h1 % 3;
+  q.a = t.tail(q.h0);
+  q.b = t.head(q.h0);
+  q.c = t.triangles(f0, k0);
+  q.d = t.triangles(f1, k1);
+  // In face f0 the side opposite a (corner k0 + 1) is bc, the side opposite b is ca; in f1 the
+  // side opposite b (corner k1 + 1) is ad, the side opposite a is db.
+  q.cb = t.face_edges(f0, (k0 + 1) % 3);
+  q.ca = t.face_edges(f0, (k0 + 2) % 3);
+  q.da = t.face_edges(f1, (k1 + 1) % 3);
+  q.db = t.face_edges(f1, (k1 + 2) % 3);
+  return q;
+}
+
+/// (x^2 + y^2 - z^2) / (x y), arranged so that large lengths do not overflow.
+double cosine_term(double z, double x, double y) {
+  return x / y + y / x - (z / x) * (z / y);
+}
+
+/// Whether vertices c and d are joined by an edge: walks the halfedges around c starting from
+/// `start` (which leaves c), both ways when the walk meets the boundary.
+bool joined(const Topology& t, int start, int d) {
+  int h = start;
+  do {
+    if (t.head(h) == d) return true;
+    const int twin = t.halfedge_twin[h];
+    if (twin < 0) break;
+    h = Topology::next(twin);
+  } while (h != start);
+  if (h == start && t.halfedge_twin[h] >= 0) return false;  // went all the way round
+  h = start;
+  for (;;) {
+    const int incoming = Topology::prev(h);
+    if (t.tail(incoming) == d) return true;
+    const int twin = t.halfedge_twin[incoming];
+    if (twin < 0) return false;
+    h = twin;
+    if (h == start) return false;
+  }
+}
+
+}  // namespace
+
+double delaunay_margin(double ab, double ca, double cb, double da, double db) {
+  return cosine_term(ab, ca, cb) + cosine_term(ab, da, db);
+}
+
+bool can_flip_edge(const Topology& t, int e) {
+  if (t.edge_halfedges(e, 1) < 0) return false;
+  const Quad q = quad_of(t, e);
+  if (q.h0 / 3 == q.h1 / 3 || q.c == q.d) return false;
+  // The halfedge c -> a of face f0 leaves c.
+  const int leaving_c = 3 * (q.h0 / 3) + (q.h0 % 3 + 2) % 3;
+  return !joined(t, leaving_c, q.d);
+}
+
+void flip_edge(Topology& t, int e) {
+  const Quad q = quad_of(t, e);
+  const int f0 = q.h0 / 3, k0 = q.h0 % 3, f1 = q.h1 / 3, k1 = q.h1 % 3;
+  // The four outer halfedges c->a, a->d, d->b, b->c and the slots they move to: the new faces
+  // are (a, d, c) with corner a at k0 and (b, c, d) with corner b at k1, so that h0 and h1
+  // (opposite corners k0 and k1) become the diagonal d -> c and c -> d.
+  const int from[4] = {3 * f0 + (k0 + 2) % 3, 3 * f1 + (k1 + 1) % 3, 3 * f1 + (k1 + 2) % 3,
+                       3 * f0 + (k0 + 1) % 3};
+  const int to[4] = {3 * f0 + (k0 + 1) % 3, 3 * f0 + (k0 + 2) % 3, 3 * f1 + (k1 + 1) % 3,
+                     3 * f1 + (k1 + 2) % 3};
+  int edge[4], twin[4];
+  for (int i = 0; i < 4; ++i) {
+    edge[i] = t.halfedge_edge[from[i]];
+    twin[i] = t.halfedge_twin[from[i]];
+  }
+  t.triangles(f0, k0) = q.a;
+  t.triangles(f0, (k0 + 1) % 3) = q.d;
+  t.triangles(f0, (k0 + 2) % 3) = q.c;
+  t.triangles(f1, k1) = q.b;
+  t.triangles(f1, (k1 + 1) % 3) = q.c;
+  t.triangles(f1, (k1 + 2) % 3) = q.d;
+  for (int i = 0; i < 4; ++i) {
+    const int h = to[i];
+    t.halfedge_edge[h] = edge[i];
+    t.halfedge_twin[h] = twin[i];
+    if (twin[i] >= 0) t.halfedge_twin[twin[i]] = h;
+    for (int s = 0; s < 2; ++s) {
+      if (t.edge_halfedges(edge[i], s) == from[i]) {
+        t.edge_halfedges(edge[i], s) = h;
+        break;
+      }
+    }
+    t.face_edges(h / 3, h % 3) = edge[i];
+  }
+  t.edge_vertices(e, 0) = std::min(q.c, q.d);
+  t.edge_vertices(e, 1) = std::max(q.c, q.d);
+  --t.vertex_degree[q.a];
+  --t.vertex_degree[q.b];
+  ++t.vertex_degree[q.c];
+  ++t.vertex_degree[q.d];
+}
+
+double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
+                    Eigen::VectorXd& l, int e) {
+  const Quad q = quad_of(t, e);
+  // Ptolemy: the diagonals of the (decorated) quad a, d, b, c.
+  const double cd = (l[q.ca] * l[q.db] + l[q.da] * l[q.cb]) / l[e];
+  flip_edge(t, e);
+  l[e] = cd;
+  structure.eta[e] = 0.5 * std::exp(2.0 * std::log(cd) - u[q.c] - u[q.d]);
+  return cd;
+}
+
+int count_non_delaunay_edges(const Topology& t, const Eigen::VectorXd& l, double tolerance) {
+  int count = 0;
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (t.edge_halfedges(e, 1) < 0) continue;
+    const Quad q = quad_of(t, e);
+    if (delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]) < -tolerance) ++count;
+  }
+  return count;
+}
+
+DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
+                                    const Eigen::VectorXd& u, Eigen::VectorXd& l,
+                                    const DelaunayFlipOptions& options) {
+  if ((structure.epsilon.array() != 0.0).any()) {
+    throw InvalidInput(
+        "flip_to_delaunay: Ptolemy flips keep the conformal class of vertex scaling only; this "
+        "structure is " +
+        std::string(scheme_name(structure.scheme)));
+  }
+  DelaunayFlipResult result;
+  const int max_flips = options.max_flips > 0 ? options.max_flips : 50 * t.num_edges;
+  // A stack of edges to check, lowest index on top; an edge re-enters when a flip changes its
+  // quad.
+  std::vector<int> stack;
+  std::vector<char> queued(t.num_edges, 0);
+  for (int e = t.num_edges - 1; e >= 0; --e) {
+    if (t.edge_halfedges(e, 1) < 0) continue;
+    stack.push_back(e);
+    queued[e] = 1;
+  }
+  while (!stack.empty()) {
+    const int e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    const Quad q = quad_of(t, e);
+    const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
+    if (!(delaunay_margin(ab, ca, cb, da, db) < -options.tolerance)) continue;
+    if (!can_flip_edge(t, e)) {
+      ++result.blocked;
+      continue;
+    }
+    if (result.flips >= max_flips) {
+      result.complete = false;
+      break;
+    }
+    ptolemy_flip(t, structure, u, l, e);
+    ++result.flips;
+    for (int side : {q.ca, q.cb, q.da, q.db}) {
+      if (!queued[side] && t.edge_halfedges(side, 1) >= 0) {
+        stack.push_back(side);
+        queued[side] = 1;
+      }
+    }
+  }
+  // Blocked edges were counted each time they were visited; report those still not Delaunay.
+  if (result.blocked > 0) result.blocked = count_non_delaunay_edges(t, l, options.tolerance);
+  return result;
+}
+
+}  // namespace ricci

@@ -1,0 +1,220 @@
+#include "ricci/metric/delaunay_flips.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/lengths.hpp"
+#include "support/test_meshes.hpp"
+
+namespace ricci {
+namespace {
+
+/// Every array of a flipped topology agrees with the others, and with build_topology run on its
+/// triangles.
+void expect_consistent(const Topology& t) {
+  const int nh = 3 * t.num_faces;
+  std::vector<int> degree(t.num_vertices, 0);
+  for (int h = 0; h < nh; ++h) {
+    const int e = t.halfedge_edge[h];
+    ASSERT_EQ(t.face_edges(h / 3, h % 3), e) << "halfedge " << h;
+    EXPECT_TRUE(t.edge_halfedges(e, 0) == h || t.edge_halfedges(e, 1) == h) << "halfedge " << h;
+    EXPECT_EQ(std::min(t.tail(h), t.head(h)), t.edge_vertices(e, 0));
+    EXPECT_EQ(std::max(t.tail(h), t.head(h)), t.edge_vertices(e, 1));
+    const int g = t.halfedge_twin[h];
+    if (g >= 0) {
+      EXPECT_EQ(t.halfedge_twin[g], h);
+      EXPECT_EQ(t.tail(g), t.head(h));
+      EXPECT_EQ(t.halfedge_edge[g], e);
+    }
+  }
+  for (int e = 0; e < t.num_edges; ++e) {
+    ++degree[t.edge_vertices(e, 0)];
+    ++degree[t.edge_vertices(e, 1)];
+  }
+  for (int v = 0; v < t.num_vertices; ++v) EXPECT_EQ(t.vertex_degree[v], degree[v]) << v;
+  const Topology rebuilt = build_topology(t.triangles, t.num_vertices);  // throws if broken
+  EXPECT_EQ(rebuilt.num_edges, t.num_edges);
+  EXPECT_EQ(rebuilt.euler_characteristic(), t.euler_characteristic());
+  EXPECT_EQ(rebuilt.boundary_loops.size(), t.boundary_loops.size());
+}
+
+ConformalStructure vertex_scaling(const Mesh& mesh, const Topology& t) {
+  StructureOptions options;
+  options.scheme = Scheme::VertexScaling;
+  return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
+}
+
+TEST(DelaunayMargin, IsTwiceTheCosineSumOfTheOppositeAngles) {
+  // Triangles (ab, ca, cb) = (1, 0.8, 0.7) and (1, 0.9, 0.6).
+  const double gamma = angle_from_lengths(1.0, 0.8, 0.7);
+  const double delta = angle_from_lengths(1.0, 0.9, 0.6);
+  EXPECT_NEAR(delaunay_margin(1.0, 0.8, 0.7, 0.9, 0.6), 2 * (std::cos(gamma) + std::cos(delta)),
+              1e-14);
+  // Scale invariant, and defined where a triangle inequality fails (3 > 1 + 1).
+  EXPECT_NEAR(delaunay_margin(1e200, 0.8e200, 0.7e200, 0.9e200, 0.6e200),
+              delaunay_margin(1.0, 0.8, 0.7, 0.9, 0.6), 1e-13);
+  EXPECT_LT(delaunay_margin(3.0, 1.0, 1.0, 2.0, 2.0), -4.0);
+  EXPECT_TRUE(std::isfinite(delaunay_margin(3.0, 1.0, 1.0, 2.0, 2.0)));
+}
+
+TEST(FlipEdge, KeepsEveryArrayConsistentThroughRandomFlips) {
+  for (const Mesh& mesh :
+       {make_icosphere(2), make_disk(5, 0.3), make_torus(12, 8), make_closed_surface(2, 8)}) {
+    Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+    std::mt19937 random(7);
+    int flipped = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      const int e = static_cast<int>(random() % t.num_edges);
+      if (!can_flip_edge(t, e)) continue;
+      const int c = t.triangles(t.edge_halfedges(e, 0) / 3, t.edge_halfedges(e, 0) % 3);
+      const int d = t.triangles(t.edge_halfedges(e, 1) / 3, t.edge_halfedges(e, 1) % 3);
+      flip_edge(t, e);
+      ++flipped;
+      EXPECT_EQ(t.edge_vertices(e, 0), std::min(c, d));
+      EXPECT_EQ(t.edge_vertices(e, 1), std::max(c, d));
+    }
+    EXPECT_GT(flipped, 100);
+    expect_consistent(t);
+  }
+}
+
+TEST(FlipEdge, RefusesBoundaryEdgesAndDuplicateEdges) {
+  // A tetrahedron: flipping any edge would join two vertices already joined.
+  const Mesh tet = testing::tetrahedron();
+  const Topology t = build_topology(tet.triangles, tet.num_vertices());
+  for (int e = 0; e < t.num_edges; ++e) EXPECT_FALSE(can_flip_edge(t, e));
+  const Mesh disk = make_disk(3);
+  const Topology d = build_topology(disk.triangles, disk.num_vertices());
+  for (int e = 0; e < d.num_edges; ++e) {
+    if (d.is_boundary_edge[e]) EXPECT_FALSE(can_flip_edge(d, e));
+  }
+}
+
+TEST(FlipToDelaunay, PtolemyGivesTheTrueDiagonalOfACyclicQuad) {
+  // Four points on the unit circle, triangulated by the diagonal 0-2 that is not Delaunay for a
+  // slightly moved point: on the circle every diagonal is allowed and Ptolemy is exact.
+  const double angles[4] = {0.0, 0.3, 2.9, 4.0};
+  Mesh quad;
+  quad.positions.resize(4, 3);
+  for (int i = 0; i < 4; ++i) quad.positions.row(i) << std::cos(angles[i]), std::sin(angles[i]), 0;
+  quad.triangles.resize(2, 3);
+  quad.triangles << 0, 1, 2, 0, 2, 3;
+  Topology t = build_topology(quad.triangles, 4);
+  ConformalStructure s = vertex_scaling(quad, t);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(4), l;
+  edge_lengths(t, s, u, l);
+  int diagonal = -1;
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (!t.is_boundary_edge[e]) diagonal = e;
+  }
+  ASSERT_TRUE(can_flip_edge(t, diagonal));
+  flip_edge(t, diagonal);
+  // Ptolemy by hand: the new diagonal 1-3.
+  const double expected = (quad.positions.row(1) - quad.positions.row(3)).norm();
+  flip_edge(t, diagonal);  // back to 0-2
+  Topology t2 = t;
+  ConformalStructure s2 = s;
+  Eigen::VectorXd l2 = l;
+  // Force the flip with a large tolerance of the opposite sign: flip if margin < +inf.
+  DelaunayFlipOptions always;
+  always.tolerance = -10.0;
+  always.max_flips = 1;
+  const DelaunayFlipResult r = flip_to_delaunay(t2, s2, u, l2, always);
+  EXPECT_EQ(r.flips, 1);
+  EXPECT_NEAR(l2[diagonal], expected, 1e-15);
+  // The flipped edge's constant reproduces the length at these u.
+  Eigen::VectorXd again;
+  edge_lengths(t2, s2, u, again);
+  EXPECT_NEAR(again[diagonal], expected, 1e-15);
+}
+
+TEST(PtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
+  // Flipping an edge at random u or at u = 0 gives the new edge the same constant eta: Ptolemy's
+  // relation commutes with vertex scaling, so a flip never changes the conformal class.
+  const Mesh mesh = make_closed_surface(2, 8);
+  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
+  const ConformalStructure s0 = vertex_scaling(mesh, t0);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> uniform(-0.7, 0.7);
+  Eigen::VectorXd u(mesh.num_vertices());
+  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
+  int tested = 0;
+  for (int e = 0; e < t0.num_edges; e += 7) {
+    if (!can_flip_edge(t0, e)) continue;
+    Topology ta = t0, tb = t0;
+    ConformalStructure sa = s0, sb = s0;
+    Eigen::VectorXd la, lb;
+    edge_lengths(ta, sa, u, la);
+    edge_lengths(tb, sb, zero, lb);
+    ptolemy_flip(ta, sa, u, la, e);
+    ptolemy_flip(tb, sb, zero, lb, e);
+    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-14) << "edge " << e;
+    ++tested;
+  }
+  EXPECT_GT(tested, 50);
+}
+
+TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
+  const Mesh mesh = make_closed_surface(2, 8);
+  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  ConformalStructure s = vertex_scaling(mesh, t);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::VectorXd u(mesh.num_vertices());
+  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
+  ASSERT_GT(r.flips, 10);
+  EXPECT_TRUE(r.complete);
+  expect_consistent(t);
+  EXPECT_EQ(count_non_delaunay_edges(t, l), r.blocked);
+  // Lengths at u follow from the flipped constants.
+  Eigen::VectorXd check;
+  edge_lengths(t, s, u, check);
+  EXPECT_LT(((check - l).array() / l.array()).abs().maxCoeff(), 1e-14);
+  // Every triangle of a Delaunay triangulation of a closed surface satisfies the triangle
+  // inequality: a broken triangle's long edge would need a broken neighbour with a longer one.
+  if (r.blocked == 0) {
+    CornerAngles angles;
+    EXPECT_EQ(corner_angles(t, l, angles), -1);
+  }
+}
+
+TEST(FlipToDelaunay, RepairsBrokenTrianglesOfAStrongScaling) {
+  // Scale one vertex of an icosphere far down: its link' triangles break, flips repair them.
+  const Mesh mesh = make_icosphere(2);
+  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  ConformalStructure s = vertex_scaling(mesh, t);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  u[0] = -3.0;
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  CornerAngles angles;
+  ASSERT_GE(corner_angles(t, l, angles), 0) << "the test needs broken triangles to start with";
+  const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
+  EXPECT_GT(r.flips, 0);
+  EXPECT_EQ(r.blocked, 0);
+  EXPECT_EQ(corner_angles(t, l, angles), -1);
+  expect_consistent(t);
+}
+
+TEST(FlipToDelaunay, RejectsSchemesWithoutPtolemy) {
+  const Mesh mesh = make_icosphere(1);
+  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  StructureOptions thurston;
+  ConformalStructure s =
+      make_conformal_structure(t, input_edge_lengths(mesh, t), thurston).structure;
+  Eigen::VectorXd u = s.initial_u, l;
+  edge_lengths(t, s, u, l);
+  EXPECT_THROW(flip_to_delaunay(t, s, u, l), InvalidInput);
+}
+
+}  // namespace
+}  // namespace ricci
