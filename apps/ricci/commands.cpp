@@ -125,6 +125,7 @@ int run_flow(const FlowArgs& args) {
     throw InvalidInput("--init: unknown value '" + args.init + "'; expected fit or unit");
   }
   options.flow.solver = parse_flow_solver(args.solver);
+  options.flow.flips = parse_edge_flips(args.flips);
   options.flow.tolerance = args.tolerance;
   options.flow.max_iterations = args.max_iterations;
   options.flow.gradient_step = args.step;
@@ -219,9 +220,10 @@ int run_flow(const FlowArgs& args) {
       const ComponentFlow& comp = result.components[c];
       std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
                 << comp.genus << ", " << comp.boundary_loops
-                << " boundary loops): " << comp.flow.iterations << " iterations, " << std::fixed
-                << std::setprecision(3) << comp.flow.timings.total << " s: " << comp.flow.message
-                << std::defaultfloat << "\n";
+                << " boundary loops): " << comp.flow.iterations << " iterations, "
+                << (comp.flow.flips > 0 ? std::to_string(comp.flow.flips) + " edges flipped, " : "")
+                << std::fixed << std::setprecision(3) << comp.flow.timings.total
+                << " s: " << comp.flow.message << std::defaultfloat << "\n";
     }
     if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
   }
@@ -236,6 +238,7 @@ int run_param(const ParamArgs& args) {
   options.auto_cones.max_log_scale = args.max_log_scale;
   options.auto_cones.max_cones = args.max_cones;
   options.flow.tolerance = args.tolerance;
+  options.flow.flips = parse_edge_flips(args.flips);
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
 
@@ -302,6 +305,11 @@ int run_param(const ParamArgs& args) {
               << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
               << d.flipped_faces << ", layout length error "
               << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
+    if (result.flow.flips > 0) {
+      std::cout << "  " << result.flow.flips
+                << " edges flipped: the output's faces are the intrinsic Delaunay triangulation "
+                   "of the input vertices\n";
+    }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
   return kOk;

@@ -11,7 +11,7 @@ nlohmann::json to_json(const IterationRecord& r) {
   return {{"iteration", r.iteration},   {"max_error", r.max_error},
           {"rms_error", r.rms_error},   {"step_length", r.step_length},
           {"backtracks", r.backtracks}, {"triangle_failures", r.triangle_failures},
-          {"seconds", r.seconds}};
+          {"flips", r.flips},           {"seconds", r.seconds}};
 }
 
 nlohmann::json to_json(const FlowTimings& t) {
@@ -69,6 +69,9 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
   j["tolerance"] = options.flow.tolerance;
   j["scheme"] = scheme_name(options.structure.scheme);
   j["solver"] = flow_solver_name(options.flow.solver);
+  j["flips"] = edge_flips_name(options.flow.flips);
+  j["flipped_edges"] = result.flips;
+  j["blocked_flips"] = result.blocked_flips;
   j["target"] = result.target.description;
   j["fit_rms_relative_error"] = result.structure.fit_rms_relative_error;
   j["fit_max_relative_error"] = result.structure.fit_max_relative_error;
@@ -89,6 +92,7 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
                      {"status", flow_status_name(c.flow.status)},
                      {"message", c.flow.message},
                      {"iterations", c.flow.iterations},
+                     {"flipped_edges", c.flow.flips},
                      {"max_error", c.flow.max_error},
                      {"gauss_bonnet_relative_error", c.flow.gauss_bonnet_relative_error},
                      {"linear_solver", c.flow.linear_solver},
@@ -113,6 +117,14 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
   for (int e = 0; e < result.topology.num_edges; ++e) edges.push_back({ev(e, 0), ev(e, 1)});
   j["edges"] = edges;
   j["lengths"] = to_vector(result.lengths);
+  if (result.flips > 0) {
+    // The edges above belong to the intrinsic Delaunay triangulation; its faces, in mesh
+    // vertex indices (face i replaces input face i).
+    const Triangles& t = result.topology.triangles;
+    nlohmann::json faces = nlohmann::json::array();
+    for (Eigen::Index f = 0; f < t.rows(); ++f) faces.push_back({t(f, 0), t(f, 1), t(f, 2)});
+    j["triangles"] = faces;
+  }
   return j;
 }
 

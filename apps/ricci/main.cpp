@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
                        "cone vertices (0-based, as in the file) and curvatures: a list such as "
                        "'12:pi/2,40:-pi' or a file of 'vertex curvature' lines");
   flow_cmd->add_option("--solver", flow.solver, "newton or gradient")->capture_default_str();
+  flow_cmd
+      ->add_option("--flips", flow.flips,
+                   "intrinsic Delaunay edge flips: auto (on for vertex-scaling, which then "
+                   "reaches every target that satisfies Gauss-Bonnet), off, or delaunay")
+      ->capture_default_str();
   flow_cmd->add_option("--tol", flow.tolerance, "stop at max |K-bar - K| <= tol (radians)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -120,6 +125,11 @@ int main(int argc, char** argv) {
                    "(all curvature at one cone, genus >= 2), or cones as 'V:K,...' or a file")
       ->capture_default_str();
   param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
+      ->capture_default_str();
+  param_cmd
+      ->add_option("--flips", param.flips,
+                   "intrinsic Delaunay edge flips (see ricci flow --help); after flips the output "
+                   "faces are the intrinsic Delaunay triangulation of the input vertices")
       ->capture_default_str();
   param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
       ->capture_default_str();
