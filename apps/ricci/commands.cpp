@@ -44,6 +44,20 @@ void print_warnings(const ReadResult& read) {
   for (const std::string& w : read.warnings) std::cerr << "warning: " << w << "\n";
 }
 
+/// How a command reads its mesh; with --repair the changes are printed as soon as they are made,
+/// before validation (which may still refuse what repair cannot fix).
+ReadOptions input_options(const std::string& path, bool repair, bool largest_component,
+                          bool validate = true) {
+  ReadOptions options;
+  options.validate = validate;
+  options.repair = repair || largest_component;
+  options.repair_options.largest_component_only = largest_component;
+  if (options.repair) {
+    options.on_repair = [path](const RepairReport& report) { print_repair(path, report); };
+  }
+  return options;
+}
+
 /// File vertex index -> mesh vertex index (-1 for vertices the reader dropped).
 std::vector<int> inverse_map(const std::vector<int>& vertex_map) {
   int top = -1;
@@ -66,16 +80,22 @@ std::vector<Cone> read_cones(const std::string& spec) {
 
 }  // namespace
 
+void print_repair(const std::string& path, const RepairReport& report) {
+  if (report.messages.empty()) std::cerr << "repair: " << path << ": nothing to repair\n";
+  for (const std::string& m : report.messages) std::cerr << "repair: " << path << ": " << m << "\n";
+}
+
 int run_info(const InfoArgs& args) {
-  ReadOptions options;
-  options.validate = false;  // info reports every defect instead of stopping at the first
-  const ReadResult read = read_mesh(args.mesh, options);
+  // info reports every defect instead of stopping at the first
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component, false));
   const MeshInfo info = mesh_info(read.mesh);
   if (args.json) {
     nlohmann::json j = to_json(info);
     j["file"] = args.mesh;
     j["warnings"] = read.warnings;
     j["dropped_vertices"] = read.dropped_vertices.size();
+    if (read.repaired) j["repair"] = to_json(read.repair);
     std::cout << j.dump(2) << "\n";
   } else {
     print_warnings(read);
@@ -133,7 +153,8 @@ int run_flow(const FlowArgs& args) {
     check_output_is_not_input(args.output, {args.mesh, args.cones, args.target});
   }
 
-  const ReadResult read = read_mesh(args.mesh);
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
   const Mesh& mesh = read.mesh;
 
@@ -149,8 +170,7 @@ int run_flow(const FlowArgs& args) {
   } else if (std::filesystem::is_regular_file(args.target)) {
     // Values are listed per vertex of the file; drop the rows of unreferenced vertices.
     const Eigen::VectorXd file_values = read_values_file(args.target);
-    const auto file_vertices =
-        static_cast<Eigen::Index>(read.vertex_map.size() + read.dropped_vertices.size());
+    const auto file_vertices = static_cast<Eigen::Index>(read.file_vertices);
     const bool per_file_vertex = file_values.size() == file_vertices;
     if (!per_file_vertex && file_values.size() != mesh.num_vertices()) {
       throw InvalidInput(args.target + ": " + std::to_string(file_values.size()) +
@@ -196,6 +216,7 @@ int run_flow(const FlowArgs& args) {
   nlohmann::json summary = flow_summary(result, options);
   summary["input"] = args.mesh;
   summary["warnings"] = read.warnings;
+  if (read.repaired) summary["repair"] = to_json(read.repair);
   if (!args.output.empty()) {
     nlohmann::json full = summary;
     full["vertex_data"] = flow_arrays(result, read.vertex_map);
@@ -242,7 +263,8 @@ int run_param(const ParamArgs& args) {
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
 
-  const ReadResult read = read_mesh(args.mesh);
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
   const std::string& c = args.cones;
   if (c == "auto") {
@@ -280,6 +302,7 @@ int run_param(const ParamArgs& args) {
   nlohmann::json report = param_report(result, options);
   report["input"] = args.mesh;
   report["output"] = args.output;
+  if (read.repaired) report["repair"] = to_json(read.repair);
   if (!args.report.empty()) {
     write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
   }

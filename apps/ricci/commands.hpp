@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "ricci/mesh/repair.hpp"
+
 namespace ricci::cli {
 
 /// Exit codes of the `ricci` program (documented in README.md).
@@ -19,11 +21,15 @@ enum ExitCode : int {
 struct InfoArgs {
   std::string mesh;
   bool json = false;
+  bool repair = false;             ///< --repair (kRepairHelp)
+  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
 };
 int run_info(const InfoArgs& args);
 
 struct FlowArgs {
   std::string mesh;
+  bool repair = false;             ///< --repair (kRepairHelp)
+  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string scheme = "thurston";
   std::string init = "fit";
   std::string target = "flat";
@@ -42,6 +48,8 @@ int run_flow(const FlowArgs& args);
 
 struct ParamArgs {
   std::string mesh;
+  bool repair = false;             ///< --repair (kRepairHelp)
+  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string output;
   std::string cones = "auto";
   std::string boundary = "free";
@@ -66,5 +74,17 @@ struct GenerateArgs {
   int holes = 0;
 };
 int run_generate(const GenerateArgs& args);
+
+/// Help of the --repair flag of info, flow, param and render.
+inline constexpr const char* kRepairHelp =
+    "repair the mesh before using it: weld vertices at equal positions, remove duplicate and "
+    "collapsed faces, split non-manifold edges and vertices, orient consistently, drop "
+    "unreferenced vertices; what changed goes to stderr (and into --json / --report)";
+inline constexpr const char* kLargestComponentHelp =
+    "with --repair (which it implies): keep only the connected component with the most faces "
+    "(param takes one component)";
+
+/// Prints what repair_mesh changed in `path` on stderr, one "repair: PATH: ..." line per change.
+void print_repair(const std::string& path, const RepairReport& report);
 
 }  // namespace ricci::cli

@@ -62,6 +62,31 @@ nlohmann::json to_json(const MeshInfo& info) {
   return j;
 }
 
+nlohmann::json to_json(const RepairReport& report) {
+  auto count = [](const RepairCount& c) {
+    return nlohmann::json{{"count", c.count}, {"examples", c.examples}};
+  };
+  return {{"changed", report.changed()},
+          {"input_vertices", report.input_vertices},
+          {"input_faces", report.input_faces},
+          {"output_vertices", report.output_vertices},
+          {"output_faces", report.output_faces},
+          {"welded_vertices", count(report.welded_vertices)},
+          {"repeated_vertex_faces_removed", count(report.repeated_vertex_faces_removed)},
+          {"duplicate_faces_removed", count(report.duplicate_faces_removed)},
+          {"non_manifold_edges_split",
+           {{"count", report.non_manifold_edges_split},
+            {"examples", report.non_manifold_edge_examples}}},
+          {"non_manifold_vertices_split", count(report.non_manifold_vertices_split)},
+          {"vertex_copies_added", report.vertex_copies_added},
+          {"faces_flipped", count(report.faces_flipped)},
+          {"unreferenced_vertices_dropped", count(report.unreferenced_vertices_dropped)},
+          {"smaller_components_removed", count(report.smaller_components_removed)},
+          {"smaller_component_faces_removed", report.smaller_component_faces_removed},
+          {"non_orientable_components", count(report.non_orientable_components)},
+          {"messages", report.messages}};
+}
+
 nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions& options) {
   nlohmann::json j;
   j["converged"] = result.converged;

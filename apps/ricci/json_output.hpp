@@ -6,12 +6,17 @@
 
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/info.hpp"
+#include "ricci/mesh/repair.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci::cli {
 
 /// Summary of a mesh (ricci info).
 nlohmann::json to_json(const MeshInfo& info);
+
+/// What --repair changed: counts with examples of every kind of change, and the messages (the
+/// same keys as the dictionary the Python module returns).
+nlohmann::json to_json(const RepairReport& report);
 
 /// Summary of a flow: status, errors, timings, per-component history; no per-vertex arrays.
 nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions& options);

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
       "the smallest angle and every defect of a mesh; exit 2 when it has defects.");
   info_cmd->add_option("MESH", info.mesh, "mesh file (.obj .off .ply .stl)")->required();
   info_cmd->add_flag("--json", info.json, "print the summary as JSON");
+  info_cmd->add_flag("--repair", info.repair, kRepairHelp);
+  info_cmd->add_flag("--largest-component", info.largest_component, kLargestComponentHelp);
 
   FlowArgs flow;
   CLI::App* flow_cmd = app.add_subcommand(
@@ -111,6 +113,8 @@ int main(int argc, char** argv) {
                        "JSON");
   flow_cmd->add_flag("--json", flow.json, "print the summary as JSON");
   flow_cmd->add_flag("--progress", flow.progress, "print every iteration on stderr");
+  flow_cmd->add_flag("--repair", flow.repair, kRepairHelp);
+  flow_cmd->add_flag("--largest-component", flow.largest_component, kLargestComponentHelp);
 
   ParamArgs param;
   CLI::App* param_cmd = app.add_subcommand(
@@ -148,6 +152,8 @@ int main(int argc, char** argv) {
                         "write a JSON report: cones, cut, layout, atlas, distortion, flow");
   param_cmd->add_flag("--json", param.json, "print the report as JSON");
   param_cmd->add_flag("--progress", param.progress, "print flow iterations on stderr");
+  param_cmd->add_flag("--repair", param.repair, kRepairHelp);
+  param_cmd->add_flag("--largest-component", param.largest_component, kLargestComponentHelp);
 #ifdef RICCI_HAVE_RENDER
   param_cmd->add_option("--pictures", param.pictures,
                         "write render.png, uv.svg, uv.png, convergence.png and convergence.svg "

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/repair.hpp"
 #include "ricci/render/param_pictures.hpp"
 #include "ricci/render/render_mesh.hpp"
 #include "ricci/render/textured_obj.hpp"
@@ -108,6 +109,7 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args) {
   cmd->add_flag("--no-cones", args.no_cones, "do not mark the cones");
   cmd->add_option("--uv", args.uv_output,
                   "also write the texture layout coloured by log area distortion (.svg or .png)");
+  cmd->add_flag("--repair", args.repair, kRepairHelp);
   return cmd;
 }
 
@@ -126,7 +128,21 @@ int run_render(const RenderArgs& args) {
   check_not_input(args.output, args.mesh);
   if (!args.uv_output.empty()) check_not_input(args.uv_output, args.mesh);
 
-  const TexturedMesh textured = read_textured_obj(args.mesh);
+  TexturedMesh textured = read_textured_obj(args.mesh);
+  if (args.repair) {
+    // Texture coordinates belong to face corners, so they follow the faces: kept faces keep
+    // their uv corners, reversed faces exchange corners 1 and 2 like their vertices.
+    RepairResult repaired = repair_mesh(textured.mesh);
+    print_repair(args.mesh, repaired.report);
+    Triangles uv_triangles(repaired.mesh.num_faces(), 3);
+    for (int f = 0; f < repaired.mesh.num_faces(); ++f) {
+      const auto corners = textured.uv_triangles.row(repaired.face_map[f]);
+      uv_triangles.row(f) << corners(0), corners(repaired.face_flipped[f] ? 2 : 1),
+          corners(repaired.face_flipped[f] ? 1 : 2);
+    }
+    textured.mesh = std::move(repaired.mesh);
+    textured.uv_triangles = std::move(uv_triangles);
+  }
   RenderOptions options;
   options.width = args.width;
   options.height = args.height;

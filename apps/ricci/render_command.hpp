@@ -24,6 +24,7 @@ struct RenderArgs {
   bool no_seams = false;
   bool no_cones = false;
   std::string uv_output;  ///< also the texture layout (.svg or .png)
+  bool repair = false;    ///< --repair: repair_mesh on the geometry, texture corners following
 };
 
 /// Adds `render` to the program; its flags fill `args`.

@@ -218,7 +218,7 @@ bool RepairReport::changed() const {
   return welded_vertices.count > 0 || repeated_vertex_faces_removed.count > 0 ||
          duplicate_faces_removed.count > 0 || non_manifold_edges_split > 0 ||
          non_manifold_vertices_split.count > 0 || faces_flipped.count > 0 ||
-         unreferenced_vertices_dropped.count > 0;
+         unreferenced_vertices_dropped.count > 0 || smaller_components_removed.count > 0;
 }
 
 RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
@@ -571,25 +571,65 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
     }
   }
 
-  // (5) The output: unreferenced vertices are gone already (copies exist only for corners).
-  result.vertex_map = std::move(vertex_map);
+  // (5) The output. Unreferenced vertices are gone already: copies exist only for corners.
+  std::vector<char> output_face(nk, 1);
+  if (options.largest_component_only && nk > 0) {
+    DisjointSets parts(static_cast<int>(vertex_map.size()));
+    for (int f = 0; f < nk; ++f) {
+      parts.unite(corner_output[3 * f], corner_output[3 * f + 1]);
+      parts.unite(corner_output[3 * f], corner_output[3 * f + 2]);
+    }
+    std::vector<int> faces_in(vertex_map.size(), 0), first_face(vertex_map.size(), -1);
+    for (int f = 0; f < nk; ++f) {
+      const int part = parts.find(corner_output[3 * f]);
+      if (faces_in[part]++ == 0) first_face[part] = f;
+    }
+    int largest = parts.find(corner_output[0]);  // most faces; the first one on ties
+    for (int f = 0; f < nk; ++f) {
+      const int part = parts.find(corner_output[3 * f]);
+      if (faces_in[part] > faces_in[largest]) largest = part;
+    }
+    for (int f = 0; f < nk; ++f) {
+      const int part = parts.find(corner_output[3 * f]);
+      if (part == largest) continue;
+      output_face[f] = 0;
+      ++report.smaller_component_faces_removed;
+      if (first_face[part] == f) note(report.smaller_components_removed, kept[f], max_examples);
+    }
+  }
+  std::vector<int> renumber(vertex_map.size(), -1);
+  for (int f = 0; f < nk; ++f) {
+    if (!output_face[f]) continue;
+    for (int k = 0; k < 3; ++k) renumber[corner_output[3 * f + k]] = 0;
+  }
+  for (std::size_t v = 0; v < vertex_map.size(); ++v) {
+    if (renumber[v] < 0) continue;
+    renumber[v] = static_cast<int>(result.vertex_map.size());
+    result.vertex_map.push_back(vertex_map[v]);
+  }
   const int no = static_cast<int>(result.vertex_map.size());
   result.mesh.positions.resize(no, 3);
   for (int v = 0; v < no; ++v) result.mesh.positions.row(v) = P.row(result.vertex_map[v]);
-  result.mesh.triangles.resize(nk, 3);
-  result.face_map = kept;
-  result.face_flipped.assign(nk, 0);
+  const int nout = static_cast<int>(std::count(output_face.begin(), output_face.end(), 1));
+  result.mesh.triangles.resize(nout, 3);
+  result.face_map.reserve(nout);
+  result.face_flipped.reserve(nout);
   for (int f = 0; f < nk; ++f) {
-    const int a = corner_output[3 * f], b = corner_output[3 * f + 1], c = corner_output[3 * f + 2];
+    if (!output_face[f]) continue;
+    const int row = static_cast<int>(result.face_map.size());
+    const int a = renumber[corner_output[3 * f]], b = renumber[corner_output[3 * f + 1]],
+              c = renumber[corner_output[3 * f + 2]];
     if (flip[f]) {
-      result.mesh.triangles.row(f) << a, c, b;
-      result.face_flipped[f] = 1;
+      result.mesh.triangles.row(row) << a, c, b;
     } else {
-      result.mesh.triangles.row(f) << a, b, c;
+      result.mesh.triangles.row(row) << a, b, c;
     }
+    result.face_map.push_back(kept[f]);
+    result.face_flipped.push_back(flip[f] ? 1 : 0);
   }
+  result.weld_map = std::move(representative);
   report.output_vertices = no;
-  report.output_faces = nk;
+  report.output_faces = nout;
 
   // Messages, in the order of the steps.
   std::vector<std::string>& out = report.messages;
@@ -599,7 +639,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
                   " vertices onto earlier vertices at the same position" +
                   (options.weld_tolerance > 0 ? " (within the weld tolerance)" : std::string()) +
                   (v >= 0 ? " (e.g. vertex " + std::to_string(v) + " onto vertex " +
-                                std::to_string(representative[v]) + ")"
+                                std::to_string(result.weld_map[v]) + ")"
                           : std::string()));
   }
   if (report.repeated_vertex_faces_removed.count > 0) {
@@ -645,6 +685,14 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
         "dropped " + std::to_string(report.unreferenced_vertices_dropped.count) +
         " unreferenced vertices" +
         examples_text(report.unreferenced_vertices_dropped.examples, "vertex", "vertices"));
+  }
+  if (report.smaller_components_removed.count > 0) {
+    out.push_back("removed " + std::to_string(report.smaller_components_removed.count) +
+                  " components smaller than the largest (" +
+                  std::to_string(report.smaller_component_faces_removed) + " faces; " +
+                  std::to_string(nout) + " faces kept)" +
+                  examples_text(report.smaller_components_removed.examples, "the one with face",
+                                "those with faces"));
   }
   if (report.non_orientable_components.count > 0) {
     out.push_back("not repaired: " + std::to_string(report.non_orientable_components.count) +

@@ -223,6 +223,36 @@ TEST(RepairMesh, SplitsTwoClosedSurfacesTouchingAtAVertex) {
   EXPECT_EQ(info.euler_characteristic, 4);
 }
 
+TEST(RepairMesh, KeepsOnlyTheLargestComponentWhenAsked) {
+  // A lone triangle (vertices 0-2) listed before a tetrahedron (vertices 3-6), one of whose
+  // vertices (7) repeats vertex 3's position.
+  Mesh mesh = make_mesh({{5, 5, 5},
+                         {6, 5, 5},
+                         {5, 6, 5},
+                         {1, 1, 1},
+                         {1, -1, -1},
+                         {-1, 1, -1},
+                         {-1, -1, 1},
+                         {1, 1, 1}},
+                        {{0, 1, 2}, {3, 4, 5}, {7, 5, 6}, {3, 6, 4}, {4, 6, 5}});
+  RepairOptions options;
+  EXPECT_EQ(repair_mesh(mesh, options).mesh.num_faces(), 5);
+  options.largest_component_only = true;
+  const RepairResult r = repair_mesh(mesh, options);
+  expect_maps_consistent(mesh, r);
+  EXPECT_EQ(r.report.smaller_components_removed.count, 1);
+  EXPECT_EQ(r.report.smaller_components_removed.examples, (std::vector<int>{0}));
+  EXPECT_EQ(r.report.smaller_component_faces_removed, 1);
+  EXPECT_EQ(r.face_map, (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(r.vertex_map, (std::vector<int>{3, 4, 5, 6}));
+  EXPECT_EQ(r.mesh.triangles, tetrahedron().triangles);
+  EXPECT_EQ(r.weld_map, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 3}));
+  EXPECT_EQ(r.report.unreferenced_vertices_dropped.count, 0);  // removed with their component
+  EXPECT_TRUE(mentions(r.report.messages,
+                       "removed 1 components smaller than the largest (1 "
+                       "faces; 4 faces kept) (e.g. the one with face 0)"));
+}
+
 TEST(RepairMesh, OrientsEachComponentByItsMajority) {
   Mesh mesh = torus(8, 6);
   for (int f = 0; f < 12; ++f) mesh.triangles.row(f) = mesh.triangles.row(f).reverse().eval();

@@ -42,8 +42,8 @@ struct ReadResult {
   int file_vertices = 0;              ///< vertices in the file, referenced or not
   std::vector<std::string> warnings;  ///< e.g. "bunny.obj: 12 polygons triangulated"
   int polygons_triangulated = 0;      ///< faces with more than three corners in the file
-  /// File indices (0-based) of the file's vertices that no output vertex copies: unreferenced
-  /// ones, and with options.repair also those welded onto another vertex.
+  /// File indices (0-based) of unreferenced vertices dropped (with options.repair also those
+  /// left without faces by the repair; vertices welded onto another are not listed).
   std::vector<int> dropped_vertices;
   /// #V: file index (0-based) of each output vertex (with options.repair, several output
   /// vertices may copy one file vertex that was split).

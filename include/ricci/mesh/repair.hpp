@@ -27,6 +27,9 @@ struct RepairOptions {
   /// Reverse faces so that every orientable component is consistently oriented (the side with
   /// more faces keeps its orientation).
   bool orient = true;
+  /// Keep only the connected component with the most faces (the first on ties), for algorithms
+  /// that take one surface (parameterize); the others are removed and reported.
+  bool largest_component_only = false;
   /// Examples kept per kind of change.
   int max_examples = 5;
 };
@@ -59,6 +62,10 @@ struct RepairReport {
   RepairCount faces_flipped;
   /// Vertices no face uses (from the start, or after faces were removed), dropped.
   RepairCount unreferenced_vertices_dropped;
+  /// With largest_component_only: the components removed (examples: one input face of each)
+  /// and their faces.
+  RepairCount smaller_components_removed;
+  int smaller_component_faces_removed = 0;
   /// Not repaired: components that admit no consistent orientation; examples: one input face of
   /// each (left as they were).
   RepairCount non_orientable_components;
@@ -79,6 +86,9 @@ struct RepairResult {
   /// or with corners 1 and 2 exchanged where face_flipped is set.
   std::vector<int> face_map;
   std::vector<char> face_flipped;  ///< #F: 1 where the face was reversed
+  /// #V of the input: the vertex each input vertex was welded onto (itself when it was not);
+  /// an input vertex v appears in the output as the copies of weld_map[v].
+  std::vector<int> weld_map;
   RepairReport report;
 };
 
@@ -87,7 +97,8 @@ struct RepairResult {
 /// set as an earlier face; (3) splits non-manifold edges, keeping together the pairs of faces
 /// that bound the same wedge of space around the edge (its faces sorted by angle), and gives
 /// every vertex one copy per fan of faces; (4) reverses faces so that each orientable component
-/// is consistently oriented; (5) drops vertices no face uses. A mesh without such defects comes
+/// is consistently oriented; (5) drops vertices no face uses (and, when asked, every component
+/// but the largest). A mesh without such defects comes
 /// back unchanged (identity maps). Zero-area faces, non-finite coordinates and non-orientable
 /// components are left as they are: validate the result (report.messages names what is left).
 /// \param mesh #V by 3 positions and #F by 3 triangles

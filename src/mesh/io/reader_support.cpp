@@ -382,7 +382,7 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   std::vector<char> copied(nv, 0);
   for (int v : result.vertex_map) copied[v] = 1;
   for (int v = 0; v < nv; ++v) {
-    if (!copied[v]) result.dropped_vertices.push_back(v);
+    if (!copied[v] && repaired.weld_map[v] == v) result.dropped_vertices.push_back(v);
   }
   if (options.validate) {
     result.validation = find_defects(result.mesh);
