@@ -90,17 +90,6 @@ class ByteWriter {
   std::string data_;
 };
 
-const char* kTetrahedronObj =
-    "# a regular tetrahedron\n"
-    "v 1 1 1\n"
-    "v 1 -1 -1\n"
-    "v -1 1 -1\n"
-    "v -1 -1 1\n"
-    "f 1 2 3\n"
-    "f 1 3 4\n"
-    "f 1 4 2\n"
-    "f 2 4 3\n";
-
 // ------------------------------------------------------------------------------------------
 // Reading good files
 
@@ -133,25 +122,6 @@ TEST(ReadObj, NegativeIndicesCountBackFromTheLastVertex) {
   EXPECT_EQ(result.mesh.triangles.row(2), Eigen::RowVector3i(0, 3, 1));
 }
 
-TEST(ReadObj, QuadsAreTriangulatedWithAWarning) {
-  // A unit cube of six outward-facing quads.
-  const std::string path =
-      write_test_file("cube.obj",
-                      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
-  const ReadResult result = read_mesh(path);
-  EXPECT_EQ(result.polygons_triangulated, 6);
-  EXPECT_EQ(result.mesh.num_faces(), 12);
-  ASSERT_EQ(result.warnings.size(), 1u);
-  expect_mentions(result.warnings[0], {"cube.obj", "6 polygons", "triangulated"});
-  // Convex quads are fanned from their first corner.
-  EXPECT_EQ(result.mesh.triangles.row(0), Eigen::RowVector3i(0, 3, 2));
-  EXPECT_EQ(result.mesh.triangles.row(1), Eigen::RowVector3i(0, 2, 1));
-  const MeshInfo info = mesh_info(result.mesh);
-  EXPECT_EQ(info.euler_characteristic, 2);
-  EXPECT_EQ(info.edges, 18);
-}
-
 TEST(ReadObj, NonConvexPolygonIsEarClipped) {
   // A dart with a reflex corner at its second vertex: the fan from the first corner would give
   // a clockwise triangle (0, 1, 2), so ear clipping takes over. Its area is 1.7.
@@ -173,25 +143,6 @@ TEST(ReadObj, NonConvexPolygonIsEarClipped) {
   EXPECT_NEAR(area, 1.7, 1e-14);
 }
 
-TEST(ReadObj, UnreferencedVerticesAreDroppedAndReported) {
-  const std::string path =
-      write_test_file("unreferenced.obj",
-                      "v 1 1 1\nv 1 -1 -1\nv 5 5 5\nv -1 1 -1\nv -1 -1 1\nv 7 7 7\n"
-                      "f 1 2 4\nf 1 4 5\nf 1 5 2\nf 2 5 4\n");
-  const ReadResult result = read_mesh(path);
-  EXPECT_EQ(result.dropped_vertices, (std::vector<int>{2, 5}));
-  EXPECT_EQ(result.vertex_map, (std::vector<int>{0, 1, 3, 4}));
-  ASSERT_EQ(result.mesh.num_vertices(), 4);
-  EXPECT_EQ(result.mesh.positions.row(2), Eigen::RowVector3d(-1, 1, -1));
-  EXPECT_EQ(result.mesh.triangles.row(3), Eigen::RowVector3i(1, 3, 2));
-  ASSERT_EQ(result.warnings.size(), 1u);
-  expect_mentions(result.warnings[0],
-                  {"unreferenced.obj", "2 unreferenced vertices dropped", "vertex 2", "line 3"});
-  ASSERT_EQ(result.validation.counts.size(), 1u);
-  EXPECT_EQ(result.validation.counts[0].first, DefectKind::UnreferencedVertex);
-  EXPECT_EQ(result.validation.counts[0].second, 2);
-}
-
 TEST(ReadOff, ColouredHeaderCommentsAndCountsOnTheHeaderLine) {
   const std::string path = write_test_file(
       "tetra.off",
@@ -211,8 +162,9 @@ TEST(ReadOff, ColouredHeaderCommentsAndCountsOnTheHeaderLine) {
   EXPECT_EQ(read_mesh(same_line).mesh.num_faces(), 4);
 }
 
-/// The tetrahedron of kTetrahedronObj as a PLY: vertices with extra properties (a uchar colour,
-/// a list of doubles), faces with an extra int, and an extra element, in the given encoding.
+/// A regular tetrahedron (alternate corners of a cube) as a PLY: vertices with extra properties (a
+/// uchar colour, a list of doubles), faces with an extra int, and an extra element, in the given
+/// encoding.
 std::string tetrahedron_ply(const std::string& format, bool big_endian, bool double_coordinates,
                             const std::string& index_name) {
   ByteWriter out(big_endian);
@@ -412,34 +364,8 @@ TEST(WriteAtomically, UnwritableFolderIsAnIoError) {
 }
 
 // ------------------------------------------------------------------------------------------
-// One test per class of bad input: the exception class, the file name and the element.
-
-TEST(BadInput, MissingFile) {
-  const std::string path = (io_tmp_dir() / "does_not_exist.obj").string();
-  const std::string message = message_of<IoError>([&] { read_mesh(path); });
-  expect_mentions(message, {"does_not_exist.obj", "no such file"});
-}
-
-TEST(BadInput, EmptyFile) {
-  const std::string empty = write_test_file("empty.off", "");
-  expect_mentions(message_of<IoError>([&] { read_mesh(empty); }), {"empty.off", "0 bytes"});
-  const std::string no_faces = write_test_file("nofaces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(no_faces); }), {"nofaces.obj", "no faces"});
-  const std::string no_faces_off = write_test_file("nofaces.off", "OFF\n1 0 0\n0 0 0\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(no_faces_off); }),
-                  {"nofaces.off", "line 2", "no faces"});
-}
-
-TEST(BadInput, TruncatedBinaryPly) {
-  const std::string full = tetrahedron_ply("binary_little_endian", false, false, "vertex_indices");
-  // Cut inside the third face: the header, 4 vertices, two faces of 4 + 2 + 12 bytes, 5 more.
-  const std::size_t header = full.find("end_header\n") + 11;
-  const std::size_t vertices = 4 * (4 + 1 + 4 + 1 + 4) + 8 * (0 + 1 + 2 + 3);
-  const std::size_t cut = header + vertices + 2 * 18 + 5;
-  const std::string path = write_test_file("truncated.ply", full.substr(0, cut));
-  const std::string message = message_of<IoError>([&] { read_mesh(path); });
-  expect_mentions(message, {"truncated.ply", "truncated", "face 2 of 4", "byte "});
-}
+// Bad input: every class of defect has its row in bad_input_catalogue_test.cpp; here only the
+// sweep over every truncation of a binary file.
 
 TEST(BadInput, EveryTruncationOfABinaryFileIsAnIoError) {
   for (const bool big_endian : {false, true}) {
@@ -451,183 +377,6 @@ TEST(BadInput, EveryTruncationOfABinaryFileIsAnIoError) {
       EXPECT_THROW(read_mesh(path), IoError) << "cut after " << cut << " bytes";
     }
   }
-}
-
-TEST(BadInput, TruncatedOffWithFewerFacesThanDeclared) {
-  const std::string path = write_test_file(
-      "truncated.off", "OFF\n4 6 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 2 3\n");
-  const std::string message = message_of<IoError>([&] { read_mesh(path); });
-  expect_mentions(message, {"truncated.off", "truncated", "declares 6 faces", "ends after 2"});
-}
-
-TEST(BadInput, TruncatedBinaryStl) {
-  ByteWriter out(false);
-  out.text(std::string(80, ' ')).put<std::uint32_t>(3);
-  for (int i = 0; i < 12; ++i) out.put(0.5f);
-  out.put<std::uint16_t>(0);
-  for (int i = 0; i < 5; ++i) out.put(0.5f);  // triangle 1 is cut off after 20 of its 50 bytes
-  const std::string path = write_test_file("truncated.stl", out.data());
-  const std::string message = message_of<IoError>([&] { read_mesh(path); });
-  expect_mentions(message, {"truncated.stl", "truncated", "declares 3 triangles",
-                            "triangle 1 at byte 134 is cut off"});
-}
-
-TEST(BadInput, UnknownFormat) {
-  const std::string path = write_test_file("mesh.xyz", kTetrahedronObj);
-  const std::string message = message_of<IoError>([&] { read_mesh(path); });
-  expect_mentions(message, {"mesh.xyz", "unknown mesh format", ".xyz"});
-}
-
-TEST(BadInput, MalformedNumber) {
-  const std::string obj = write_test_file("malformed.obj", "v 0 0 0\nv 1 0 0\nv 0 1.5x 0\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(obj); }),
-                  {"malformed.obj", "line 3", "malformed number", "'1.5x'", "vertex 2"});
-  const std::string ply = write_test_file(
-      "malformed.ply",
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-      "0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(ply); }),
-                  {"malformed.ply", "line 12", "'zero'", "vertex 2"});
-}
-
-TEST(BadInput, NonFiniteCoordinate) {
-  const std::string path = write_test_file(
-      "nan.obj",
-      "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\n\nv -1 nan 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
-  const std::string message = message_of<InvalidInput>([&] { read_mesh(path); });
-  expect_mentions(message, {"nan.obj", "line 5", "vertex 3", "non-finite", "nan"});
-  const std::string inf =
-      write_test_file("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n");
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(inf); }),
-                  {"inf.off", "line 4", "vertex 1", "inf"});
-}
-
-TEST(BadInput, IndexOutOfRange) {
-  const std::string obj = write_test_file(
-      "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n# faces\nf 1 2 3\nf 2 4 1000000000\n");
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(obj); }),
-                  {"range.obj", "line 7", "face 1", "1000000000"});
-  const std::string zero = write_test_file("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(zero); }),
-                  {"zero.obj", "line 4", "face 0", "index 0"});
-  const std::string off =
-      write_test_file("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(off); }),
-                  {"range.off", "line 6", "face 0", "index 3"});
-  ByteWriter ply(false);
-  ply.text(
-      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-      "property float y\nproperty float z\nelement face 1\n"
-      "property list uchar int vertex_indices\nend_header\n");
-  const std::size_t header = ply.data().size();
-  for (int i = 0; i < 9; ++i) ply.put(static_cast<float>(i == 3 || i == 7));
-  ply.put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(-5).put<std::int32_t>(1);
-  const std::string ply_path = write_test_file("range.ply", ply.data());
-  expect_mentions(message_of<InvalidInput>([&] { read_mesh(ply_path); }),
-                  {"range.ply", "byte " + std::to_string(header + 36), "face 0", "index -5"});
-}
-
-TEST(BadInput, FaceUsesAVertexTwice) {
-  const std::string path =
-      write_test_file("repeated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 3\n");
-  const std::string message = message_of<InvalidInput>([&] { read_mesh(path); });
-  expect_mentions(message, {"repeated.obj", "line 5", "face 1", "vertex 2 more than once"});
-}
-
-TEST(BadInput, DuplicateFace) {
-  const std::string path = write_test_file(
-      "duplicate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 3 1 2\n");
-  const std::string message = message_of<InvalidInput>([&] { read_mesh(path); });
-  expect_mentions(message, {"duplicate.obj", "line 7", "face 2", "same vertices as face 0"});
-}
-
-TEST(BadInput, NonManifoldEdge) {
-  // Three triangles on the edge (1, 2).
-  const std::string path = write_test_file(
-      "fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0.5 0.5 1\nf 1 2 3\nf 2 4 3\nf 2 5 3\n");
-  const std::string message = message_of<TopologyError>([&] { read_mesh(path); });
-  expect_mentions(message,
-                  {"fin.obj", "line 6", "non-manifold edge (1, 2)", "shared by 3 faces (0, 1, 2)"});
-}
-
-TEST(BadInput, NonManifoldVertex) {
-  // Two triangles touching only at vertex 2 (a bow tie).
-  const std::string path = write_test_file(
-      "bowtie.off", "OFF\n5 2 0\n0 0 0\n1 0 0\n0.5 1 0\n0 2 0\n1 2 0\n3 0 1 2\n3 2 4 3\n");
-  const std::string message = message_of<TopologyError>([&] { read_mesh(path); });
-  expect_mentions(message, {"bowtie.off", "line 5", "non-manifold vertex 2", "2 fans"});
-}
-
-TEST(BadInput, InconsistentOrientation) {
-  // Face 1 runs along edge 1 -> 2 like face 0 does: flipping it fixes the orientation.
-  const std::string path =
-      write_test_file("flipped.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 4 2 3\n");
-  const std::string message = message_of<TopologyError>([&] { read_mesh(path); });
-  expect_mentions(message, {"flipped.obj", "line 6", "inconsistent orientation", "faces 1 and 0",
-                            "edge (1, 2)", "orientable"});
-}
-
-/// A Moebius strip of 2n triangles: rails a_i, b_i around a circle, the rung a_i b_i turning by
-/// half a turn over the loop, so the last quad joins (a_{n-1}, b_{n-1}) to (b_0, a_0).
-std::string moebius_obj(int n) {
-  std::string text;
-  for (int i = 0; i < n; ++i) {
-    const double t = 2 * std::numbers::pi * i / n;
-    const Eigen::Vector3d centre(std::cos(t), std::sin(t), 0);
-    const Eigen::Vector3d rung =
-        0.3 * (std::cos(t / 2) * centre + std::sin(t / 2) * Eigen::Vector3d::UnitZ());
-    for (const Eigen::Vector3d& p :
-         {Eigen::Vector3d(centre + rung), Eigen::Vector3d(centre - rung)}) {
-      text += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " +
-              std::to_string(p.z()) + "\n";
-    }
-  }
-  for (int i = 0; i < n; ++i) {
-    const int a = 2 * i + 1, b = 2 * i + 2;  // 1-based
-    const int next_a = i + 1 < n ? a + 2 : 2, next_b = i + 1 < n ? b + 2 : 1;
-    text += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(next_b) +
-            "\nf " + std::to_string(a) + " " + std::to_string(next_b) + " " +
-            std::to_string(next_a) + "\n";
-  }
-  return text;
-}
-
-TEST(BadInput, NonOrientableSurface) {
-  const std::string path = write_test_file("moebius.obj", moebius_obj(8));
-  const std::string message = message_of<TopologyError>([&] { read_mesh(path); });
-  expect_mentions(message, {"moebius.obj", "line 17", "non-orientable", "16 faces", "face 0"});
-  // Without validation it reads, and mesh_info reports the defect instead of throwing.
-  const MeshInfo info = mesh_info(read_mesh(path, {.validate = false}).mesh);
-  EXPECT_EQ(info.genus, -1);
-  ASSERT_FALSE(info.validation.defects.empty());
-  EXPECT_EQ(info.validation.defects[0].kind, DefectKind::NonOrientable);
-}
-
-TEST(BadInput, ZeroAreaFace) {
-  const std::string path =
-      write_test_file("collinear.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 4 2\n");
-  const std::string message = message_of<InvalidInput>([&] { read_mesh(path); });
-  expect_mentions(message, {"collinear.obj", "line 6", "face 1", "zero area"});
-}
-
-TEST(BadInput, MalformedStructure) {
-  const std::string short_face = write_test_file("short.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(short_face); }),
-                  {"short.obj", "line 3", "face 0", "2 corners"});
-  const std::string unknown = write_test_file("unknown.obj", "v 0 0 0\nvx 1 0 0\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(unknown); }),
-                  {"unknown.obj", "line 2", "'vx'"});
-  const std::string bad_header = write_test_file("header.ply", "ply\nformat ascii 1.0\nelemnt x\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(bad_header); }),
-                  {"header.ply", "line 3", "'elemnt'"});
-  const std::string extra =
-      write_test_file("extra.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(extra); }),
-                  {"extra.off", "line 7", "after the last of the 1 declared faces"});
-  const std::string stl = write_test_file(
-      "bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertx 1 0 0\n");
-  expect_mentions(message_of<IoError>([&] { read_mesh(stl); }), {"bad.stl", "line 5", "'vertx'"});
 }
 
 // ------------------------------------------------------------------------------------------
@@ -646,27 +395,8 @@ TEST(SharedMeshes, ReadAndSummariseLikeTheManifest) {
   ASSERT_FALSE(meshes.empty());
   for (const testing::SharedMesh& m : meshes) {
     SCOPED_TRACE(m.file);
-    if (m.file == "degtri_sliding.off") {
-      expect_mentions(message_of<InvalidInput>([&] { read_mesh(m.path); }),
-                      {"degtri_sliding.off", "zero area", "line "});
-      continue;
-    }
-    if (!m.orientable) {
-      expect_mentions(message_of<TopologyError>([&] { read_mesh(m.path); }),
-                      {m.file, "non-orientable"});
-      continue;
-    }
-    if (!m.manifold) {
-      try {
-        read_mesh(m.path);
-        ADD_FAILURE() << "non-manifold mesh read without error";
-      } catch (const TopologyError& e) {
-        expect_mentions(e.what(), {m.file, "non-manifold"});
-      } catch (const InvalidInput& e) {
-        expect_mentions(e.what(), {m.file, "same vertices as face"});  // a duplicate face
-      }
-      continue;
-    }
+    // The defective ones have their rows in bad_input_catalogue_test.cpp.
+    if (!m.manifold || !m.orientable || m.file == "degtri_sliding.off") continue;
     const ReadResult result = read_mesh(m.path);
     EXPECT_EQ(result.polygons_triangulated, 0);
     const MeshInfo info = mesh_info(result.mesh);
