@@ -9,8 +9,9 @@
 # under SCRATCH_DIR is removed when every check passed and kept for inspection otherwise.
 set -u
 
+CLI_TEST_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 # shellcheck source=check_framework.sh
-source "$(dirname "${BASH_SOURCE[0]}")/check_framework.sh" cli "${1:-}"
+source "$CLI_TEST_DIR/check_framework.sh" cli "${1:-}"
 
 # ricci ARGS...: runs the program; stdout in $WORK/out.txt, stderr in $WORK/err.txt, code in $rc.
 rc=0
@@ -326,6 +327,116 @@ expect_rc "info --json on inconsistent orientation" 2
 cp "$WORK/out.txt" orientation.json
 expect_json "info --json on inconsistent orientation" orientation.json \
   'd["valid"] is False and [x["kind"] for x in d["defects"]] == ["inconsistent-orientation"]'
+
+# --- --repair ------------------------------------------------------------------------------------
+for cmd in info flow param; do
+  ricci "$cmd" --help
+  expect_out "$cmd --help shows --repair" "--repair" "--largest-component"
+done
+
+# repaired NAME FILE EXPR TEXT...: `info --repair --json` on FILE exits 0 with a valid mesh, the
+# "repair" object satisfies EXPR (r is d["repair"]) and stderr names FILE and every TEXT.
+repaired() {
+  local name="$1" file="$2" expr="$3"
+  shift 3
+  ricci info --repair --json "$file"
+  expect_rc "info --repair $name" 0
+  cp "$WORK/out.txt" repaired.json
+  expect_json "info --repair $name" repaired.json "d[\"valid\"] is True and (lambda r: $expr)(d[\"repair\"])"
+  expect_err "info --repair $name" "repair: $file: " "$@"
+}
+repaired "face repeats a vertex" bad/repeated.obj \
+  'r["repeated_vertex_faces_removed"] == {"count": 1, "examples": [1]} and r["output_faces"] == 3' \
+  "removed 1 faces that use a vertex twice"
+repaired "non-manifold edge" bad/nonmanifold_edge.obj \
+  'r["non_manifold_edges_split"] == {"count": 1, "examples": [[0, 1]]} and r["vertex_copies_added"] == 2' \
+  "split 1 non-manifold edges"
+repaired "non-manifold vertex" bad/bowtie.obj \
+  'r["non_manifold_vertices_split"] == {"count": 1, "examples": [0]} and r["output_vertices"] == 6' \
+  "split 1 non-manifold vertices"
+repaired "inconsistent orientation" bad/orientation.obj \
+  'r["faces_flipped"] == {"count": 1, "examples": [1]} and r["changed"] is True' "reversed 1 faces"
+ricci info --repair meshes/small_torus.obj --json
+expect_rc "info --repair on a clean mesh" 0
+expect_err "info --repair on a clean mesh" "repair: meshes/small_torus.obj: nothing to repair"
+cp "$WORK/out.txt" clean.json
+expect_json "info --repair on a clean mesh" clean.json 'd["repair"]["changed"] is False and d["vertices"] == 72'
+
+# flow --repair on the non-manifold edge: a flat square and a detached fin, both already flat.
+ricci flow --repair bad/nonmanifold_edge.obj --json -o repaired_flow.json
+expect_rc "flow --repair" 0
+expect_json "flow --repair" repaired_flow.json \
+  'd["converged"] is True and d["repair"]["non_manifold_edges_split"]["count"] == 1 and len(d["components"]) == 2 and d["vertex_data"]["file_index"] == [0, 1, 2, 3, 4, 0, 1]'
+
+# What repair cannot fix: exit 2, the changes still on stderr, the message saying why.
+bad_repair() {  # bad_repair NAME FILE TEXT...
+  local name="$1" file="$2"
+  shift 2
+  rm -f bad_out.json
+  ricci flow --repair "$file" -o bad_out.json
+  expect_rc "flow --repair $name" 2
+  expect_err "flow --repair $name" "repair: $file:" "$(basename "$file")" "after repair" "$@"
+  expect_no_file "flow --repair $name writes no output" bad_out.json
+}
+bad_repair "Moebius strip" bad/moebius.obj "not repaired: 1 non-orientable components" \
+  "repair cannot orient a non-orientable surface"
+bad_repair "zero-area face" bad/zero_area.obj "line 6" "repair does not remove zero-area faces"
+bad_repair "NaN coordinate" bad/nan.obj "line 3" "repair does not change coordinates"
+ricci flow --repair bad/index.obj
+expect_rc "flow --repair, index out of range" 2
+expect_err "flow --repair, index out of range" "line 6" "1000000000"
+
+# A triangle soup (every face with its own three vertices) of the small disk: read as it is with
+# a warning, welded back into the disk by --repair, then parameterized.
+"$PYTHON" - meshes/small_disk.obj soup.obj <<'EOF'
+import sys
+v, f = [], []
+for line in open(sys.argv[1]):
+    w = line.split()
+    if w and w[0] == "v": v.append(line)
+    elif w and w[0] == "f": f.append([int(x) for x in w[1:4]])
+with open(sys.argv[2], "w") as out:
+    for face in f:
+        out.writelines(v[i - 1] for i in face)
+    out.writelines(f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}\n" for i in range(len(f)))
+EOF
+ricci info soup.obj
+expect_rc "info on a triangle soup" 0
+expect_err "info on a triangle soup" "soup.obj: 227 vertices repeat the position of another vertex" "repair welds them"
+mkdir -p param
+ricci param --repair soup.obj --cones none -o param/soup_uv.obj --report param/soup.json
+expect_rc "param --repair on a triangle soup" 0
+expect_err "param --repair on a triangle soup" "repair: soup.obj: welded 227 vertices"
+expect_json "param --repair report" param/soup.json \
+  'd["converged"] and d["repair"]["welded_vertices"]["count"] == 227 and d["repair"]["output_vertices"] == 61 and d["repair"]["input_faces"] == 96'
+ricci render --help
+if [[ "$rc" == 0 ]]; then
+  ricci render --repair param/soup_uv.obj -o soup.png --width 64 --height 64
+  expect_rc "render --repair" 0
+  expect_err "render --repair" "repair: param/soup_uv.obj: nothing to repair"
+  expect_file "render --repair" soup.png
+fi
+
+# The non-manifold meshes of shared/meshes, when present.
+shared="${RICCI_SHARED_MESHES:-$CLI_TEST_DIR/../../../shared/meshes}"
+if [[ -f "$shared/teapot.obj" && -f "$shared/triple_vierbein.obj" ]]; then
+  ricci info --repair --json "$shared/teapot.obj"
+  expect_rc "info --repair teapot" 0
+  cp "$WORK/out.txt" teapot.json
+  expect_json "info --repair teapot" teapot.json \
+    'd["valid"] and d["repair"]["welded_vertices"]["count"] == 403 and d["components"] == 4 and d["euler_characteristic"] == 2'
+  ricci flow --repair "$shared/teapot.obj" --json
+  expect_rc "flow --repair teapot" 0
+  ricci param --repair "$shared/teapot.obj" -o param/teapot_uv.obj
+  expect_rc "param --repair teapot: several components" 2
+  expect_err "param --repair teapot: several components" "4 connected components"
+  ricci param --largest-component "$shared/triple_vierbein.obj" -o param/vierbein_uv.obj --report param/vierbein.json
+  expect_rc "param --largest-component triple_vierbein" 0
+  expect_json "param --largest-component triple_vierbein" param/vierbein.json \
+    'd["converged"] and d["repair"]["non_manifold_edges_split"]["count"] == 20 and d["repair"]["smaller_components_removed"]["count"] == 1'
+else
+  echo "note: $shared not found: --repair on the shared meshes not checked"
+fi
 
 # --- bad targets and options -------------------------------------------------------------------
 # bad_flow NAME TEXT... -- ARGS...: flow ARGS -o bad_out.json exits 2 naming every TEXT, no output.
