@@ -50,6 +50,8 @@ from ._ricci import (
     ParamResult,
     ReadOptions,
     ReadResult,
+    RepairOptions,
+    RepairResult,
     Scheme,
     SeamTransition,
     SolverError,
@@ -65,17 +67,18 @@ from ._ricci import (
     parse_curvature,
 )
 from ._flow import flow
-from ._mesh import info, read_mesh, validate, write_obj
+from ._mesh import info, read_mesh, repair, validate, write_obj
 from ._param import parameterize
 
 __all__ = [
-    "flow", "info", "parameterize", "read_mesh", "validate", "write_obj", "generate",
+    "flow", "info", "parameterize", "read_mesh", "repair", "validate", "write_obj", "generate",
     "AffineAtlas", "BoundaryChart", "BoundaryMode", "Component", "ComponentFlow", "ComponentInfo",
     "Cone", "ConeMode", "ConeSelection", "ConeSelectionOptions", "ConformalStructure", "CutGraph",
     "CutMesh", "Defect", "DefectKind", "Distortion", "Error", "FlowOptions", "FlowResult",
     "FlowSolver", "FlowStatus", "FlowTimings", "InvalidInput", "IoError", "IterationRecord",
     "Layout", "Mesh", "MeshFlowOptions", "MeshFlowResult", "MeshFormat", "MeshInfo", "PackingInit",
-    "ParamOptions", "ParamResult", "ReadOptions", "ReadResult", "Scheme", "SeamTransition",
+    "ParamOptions", "ParamResult", "ReadOptions", "ReadResult", "RepairOptions", "RepairResult",
+    "Scheme", "SeamTransition",
     "SolverError", "StructureOptions", "StructureResult", "Target", "TargetKind", "TargetSpec",
     "Topology", "TopologyError", "ValidationReport", "parse_cone_list", "parse_curvature",
 ]

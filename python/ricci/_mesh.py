@@ -7,7 +7,7 @@ import numpy as np
 from . import _arrays, _ricci
 
 
-def read_mesh(path, *, validate=True):
+def read_mesh(path, *, validate=True, repair=False, repair_options=None):
     """Reads an OBJ, OFF, PLY (ASCII or binary) or STL (ASCII or binary) file.
 
     Returns ``(V, F, info)``: V float64 (n, 3) positions, F int32 (m, 3) counter-clockwise
@@ -15,12 +15,39 @@ def read_mesh(path, *, validate=True):
     with ``warnings``, ``dropped_vertices``, ``vertex_map`` (file index of each vertex),
     ``polygons_triangulated``, ``format`` and ``validation``.
 
+    With ``repair=True`` the triangles go through ``repair_mesh`` before validation (weld
+    duplicate vertices, remove duplicate and collapsed faces, split non-manifold edges and
+    vertices, orient, drop unreferenced vertices; ``repair_options`` is a ``RepairOptions`` or a
+    dict of its fields), and ``info.repair`` is a dict of what changed: the same keys as the
+    "repair" object of ``ricci info --repair --json`` (``welded_vertices``,
+    ``non_manifold_edges_split``, ... each with ``count`` and ``examples``, and ``messages``).
+    Without repair ``info.repair`` is None.
+
     Raises IoError for a missing or malformed file (naming file and line), InvalidInput or
-    TopologyError for a defective mesh when ``validate`` is set.
+    TopologyError for a defective mesh when ``validate`` is set (after repair: for what repair
+    cannot fix, e.g. zero-area faces or a Moebius strip, saying so).
     """
-    result = _ricci.read_mesh(os.fspath(path), _ricci.ReadOptions(validate=validate))
+    options = _ricci.ReadOptions(validate=validate, repair=bool(repair))
+    if repair_options is not None:
+        if isinstance(repair_options, dict):
+            repair_options = _ricci.RepairOptions(**repair_options)
+        options.repair_options = repair_options
+    result = _ricci.read_mesh(os.fspath(path), options)
     V, F = _arrays.arrays(result.mesh)
     return V, F, result
+
+
+def repair(V, F, **options):
+    """Repairs a triangle soup (see ``read_mesh(..., repair=True)``); keyword arguments are the
+    fields of ``RepairOptions`` (``weld_tolerance``, ``largest_component_only``, ...).
+
+    Returns ``(V, F, result)``: the repaired arrays and the C++ ``RepairResult`` with
+    ``vertex_map`` (input vertex of each output vertex), ``face_map``, ``face_flipped``,
+    ``weld_map`` and ``report`` (the dict ``read_mesh`` gives as ``info.repair``).
+    """
+    result = _ricci.repair_mesh(_arrays.mesh(V, F), _ricci.RepairOptions(**options))
+    V2, F2 = _arrays.arrays(result.mesh)
+    return V2, F2, result
 
 
 def write_obj(path, V, F, uv=None, uv_triangles=None):

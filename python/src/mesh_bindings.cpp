@@ -7,10 +7,46 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/repair.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/mesh/validate.hpp"
 
 namespace ricci::python {
+namespace {
+
+/// The repair report as a dict, with the keys of the "repair" object of `ricci ... --json`.
+py::dict repair_dict(const RepairReport& r) {
+  auto count = [](const RepairCount& c) {
+    py::dict d;
+    d["count"] = c.count;
+    d["examples"] = c.examples;
+    return d;
+  };
+  py::dict d;
+  d["changed"] = r.changed();
+  d["input_vertices"] = r.input_vertices;
+  d["input_faces"] = r.input_faces;
+  d["output_vertices"] = r.output_vertices;
+  d["output_faces"] = r.output_faces;
+  d["welded_vertices"] = count(r.welded_vertices);
+  d["repeated_vertex_faces_removed"] = count(r.repeated_vertex_faces_removed);
+  d["duplicate_faces_removed"] = count(r.duplicate_faces_removed);
+  py::dict edges;
+  edges["count"] = r.non_manifold_edges_split;
+  edges["examples"] = r.non_manifold_edge_examples;
+  d["non_manifold_edges_split"] = edges;
+  d["non_manifold_vertices_split"] = count(r.non_manifold_vertices_split);
+  d["vertex_copies_added"] = r.vertex_copies_added;
+  d["faces_flipped"] = count(r.faces_flipped);
+  d["unreferenced_vertices_dropped"] = count(r.unreferenced_vertices_dropped);
+  d["smaller_components_removed"] = count(r.smaller_components_removed);
+  d["smaller_component_faces_removed"] = r.smaller_component_faces_removed;
+  d["non_orientable_components"] = count(r.non_orientable_components);
+  d["messages"] = r.messages;
+  return d;
+}
+
+}  // namespace
 
 void bind_mesh(py::module_& m) {
   StructBinding<Mesh>(m, "Mesh", "A triangle mesh: positions (#V, 3) and triangles (#F, 3).")
@@ -62,9 +98,27 @@ void bind_mesh(py::module_& m) {
       .computed("ok", &ValidationReport::ok, "no defect other than UnreferencedVertex")
       .repr();
 
+  StructBinding<RepairOptions>(m, "RepairOptions", "Options of repair_mesh.")
+      .field("weld_vertices", &RepairOptions::weld_vertices,
+             "weld vertices at the same position into one (the smallest index)")
+      .field("weld_tolerance", &RepairOptions::weld_tolerance,
+             "weld vertices closer than this times the bounding-box diagonal; 0: exact positions")
+      .field("split_non_manifold", &RepairOptions::split_non_manifold,
+             "split non-manifold edges and vertices")
+      .field("orient", &RepairOptions::orient,
+             "reverse faces so that each orientable component is consistently oriented")
+      .field("largest_component_only", &RepairOptions::largest_component_only,
+             "keep only the connected component with the most faces")
+      .field("max_examples", &RepairOptions::max_examples, "examples kept per kind of change")
+      .keyword_constructor()
+      .repr();
+
   StructBinding<ReadOptions>(m, "ReadOptions", "Options of read_mesh.")
       .field("validate", &ReadOptions::validate,
              "run validate_mesh on the result and throw on the first defect")
+      .field("repair", &ReadOptions::repair,
+             "run repair_mesh on the file's triangles before validating")
+      .field("repair_options", &ReadOptions::repair_options, "RepairOptions of that repair")
       .keyword_constructor()
       .repr();
 
@@ -80,7 +134,34 @@ void bind_mesh(py::module_& m) {
                 "#V: file index (0-based) of each output vertex")
       .readonly("validation", &ReadResult::validation,
                 "defects found when validating (warnings only, since errors raise)")
+      .readonly("file_vertices", &ReadResult::file_vertices, "vertices in the file")
+      .readonly("repaired", &ReadResult::repaired, "options.repair was set")
+      .computed(
+          "repair",
+          [](const ReadResult& r) -> py::object {
+            if (!r.repaired) return py::none();
+            return repair_dict(r.repair);
+          },
+          "what repair changed, as a dict (the 'repair' object of the command line's --json), "
+          "or None without repair")
       .repr();
+
+  StructBinding<RepairResult>(m, "RepairResult", "What repair_mesh returns.")
+      .readonly("mesh", &RepairResult::mesh, "the repaired mesh")
+      .readonly("vertex_map", &RepairResult::vertex_map, "#V: input vertex of each output vertex")
+      .readonly("face_map", &RepairResult::face_map, "#F: input face of each output face")
+      .flags("face_flipped", &RepairResult::face_flipped, "#F: the face was reversed")
+      .readonly("weld_map", &RepairResult::weld_map,
+                "input #V: the vertex each input vertex was welded onto (itself if not)")
+      .computed(
+          "report", [](const RepairResult& r) { return repair_dict(r.report); },
+          "what changed, as a dict")
+      .repr();
+  m.def("repair_mesh", &repair_mesh, py::arg("mesh"), py::arg("options") = RepairOptions{},
+        "Welds duplicate vertices, removes duplicate and collapsed faces, splits non-manifold "
+        "edges and vertices, orients components and drops unreferenced vertices. Raises "
+        "InvalidInput on an index out of range.",
+        py::call_guard<py::gil_scoped_release>());
 
   StructBinding<ValidationOptions>(m, "ValidationOptions", "Options of find_defects.")
       .field("zero_area_tolerance", &ValidationOptions::zero_area_tolerance,
