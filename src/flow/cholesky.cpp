@@ -8,7 +8,120 @@
 
 #include "ricci/errors.hpp"
 
+#if defined(RICCI_HAVE_CHOLMOD) && defined(__linux__)
+#include <dlfcn.h>
+#include <link.h>
+
+#include <mutex>
+#include <string>
+#include <vector>
+#define RICCI_PIN_BLAS_THREADS 1
+#endif
+
 namespace ricci {
+
+namespace {
+
+#ifdef RICCI_PIN_BLAS_THREADS
+// Determinism across thread counts. CHOLMOD's supernodal factorisation hands its dense blocks to
+// the BLAS and LAPACK (dsyrk, dgemm, dtrsm, dpotrf); OpenBLAS splits those among its threads in a
+// way that changes the order of the sums, so OPENBLAS_NUM_THREADS=1 and =2 give factors (and flow
+// results) that differ in the last bits. Pinning OpenBLAS to one thread for the factorisation and
+// the solves makes them bit-identical whatever the process's thread count; on the 1M-face torus
+// this costs less than CHOLMOD's simplicial factorisation, which needs no BLAS but is several
+// times slower (docs/architecture.md, "Robustness", has the figures).
+//
+// OpenBLAS's thread control is looked up at run time, so that ricci links only the generic BLAS
+// and runs unchanged on the reference BLAS or another implementation (which are then left alone).
+
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+
+struct OpenBlasThreadControl {
+  SetThreads set = nullptr;
+  GetThreads get = nullptr;
+};
+
+void* find_loaded_symbol(const char* name) {
+  if (void* symbol = dlsym(RTLD_DEFAULT, name)) return symbol;
+  // Not in the global scope: ricci was loaded with RTLD_LOCAL (a Python extension module), and
+  // its BLAS with it. Look in every loaded object; dlopen is called only after the iteration,
+  // which holds the loader's lock.
+  std::vector<std::string> objects;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* names) {
+        if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0') {
+          static_cast<std::vector<std::string>*>(names)->emplace_back(info->dlpi_name);
+        }
+        return 0;
+      },
+      &objects);
+  for (const std::string& object : objects) {
+    void* handle = dlopen(object.c_str(), RTLD_LAZY | RTLD_NOLOAD);
+    if (handle == nullptr) continue;
+    void* symbol = dlsym(handle, name);
+    dlclose(handle);  // balances this dlopen; the object stays loaded
+    if (symbol != nullptr) return symbol;
+  }
+  return nullptr;
+}
+
+const OpenBlasThreadControl& openblas_thread_control() {
+  static const OpenBlasThreadControl control = [] {
+    OpenBlasThreadControl c;
+    c.set = reinterpret_cast<SetThreads>(find_loaded_symbol("openblas_set_num_threads"));
+    c.get = reinterpret_cast<GetThreads>(find_loaded_symbol("openblas_get_num_threads"));
+    if (c.set == nullptr || c.get == nullptr) c = {};
+    return c;
+  }();
+  return control;
+}
+
+/// Holds OpenBLAS at one thread while alive and restores the previous count afterwards.
+/// Holders in several threads at once share one save and one restore (the last one out
+/// restores). While any holder lives, other BLAS calls of the process also run on one thread.
+class SingleThreadedBlas {
+ public:
+  SingleThreadedBlas() {
+    const OpenBlasThreadControl& blas = openblas_thread_control();
+    if (blas.set == nullptr) return;
+    const std::lock_guard<std::mutex> lock(mutex());
+    State& s = state();
+    if (s.holders++ == 0) {
+      s.saved = blas.get();
+      if (s.saved != 1) blas.set(1);
+    }
+  }
+  ~SingleThreadedBlas() {
+    const OpenBlasThreadControl& blas = openblas_thread_control();
+    if (blas.set == nullptr) return;
+    const std::lock_guard<std::mutex> lock(mutex());
+    State& s = state();
+    if (--s.holders == 0 && s.saved != 1) blas.set(s.saved);
+  }
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+ private:
+  struct State {
+    int holders = 0;
+    int saved = 1;
+  };
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static State& state() {
+    static State s;
+    return s;
+  }
+};
+#else
+// Without CHOLMOD (Eigen's own solver) or off Linux: nothing to pin.
+class SingleThreadedBlas {};
+#endif
+
+}  // namespace
 
 struct SparseCholesky::Impl {
   bool use_cholmod = false;
@@ -33,6 +146,14 @@ SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 bool SparseCholesky::cholmod_available() {
 #ifdef RICCI_HAVE_CHOLMOD
   return true;
+#else
+  return false;
+#endif
+}
+
+bool SparseCholesky::blas_threads_pinned() {
+#ifdef RICCI_PIN_BLAS_THREADS
+  return openblas_thread_control().set != nullptr;
 #else
   return false;
 #endif
@@ -68,7 +189,10 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   if (!impl_->analyzed) analyze(A);
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
-    impl_->cholmod.factorize(A);
+    {
+      [[maybe_unused]] const SingleThreadedBlas one_thread;
+      impl_->cholmod.factorize(A);
+    }
     if (impl_->cholmod.info() != Eigen::Success) {
       throw SolverError(
           "SparseCholesky::factorize: the matrix is not positive definite "
@@ -85,7 +209,10 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
 #ifdef RICCI_HAVE_CHOLMOD
-  if (impl_->use_cholmod) return impl_->cholmod.solve(b);
+  if (impl_->use_cholmod) {
+    [[maybe_unused]] const SingleThreadedBlas one_thread;
+    return impl_->cholmod.solve(b);
+  }
 #endif
   return impl_->eigen.solve(b);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "ricci/errors.hpp"
 
@@ -41,6 +42,34 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
   return view;
 }
 
+/// Writes a component's flipped connectivity into the whole mesh's arrays. Flips reuse face and
+/// edge indices, so face f and edge e of the component stay face comp.faces[f] and edge
+/// view.edge_map[e] of the whole mesh; only what they join changes.
+void transplant(const Topology& local, const Component& comp, const ComponentView& view,
+                Topology& whole) {
+  auto halfedge = [&](int h) { return h < 0 ? -1 : 3 * comp.faces[h / 3] + h % 3; };
+  for (int f = 0; f < local.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int h = 3 * f + k, hw = halfedge(h), fw = comp.faces[f];
+      whole.triangles(fw, k) = view.vertex_map[local.triangles(f, k)];
+      whole.face_edges(fw, k) = view.edge_map[local.face_edges(f, k)];
+      whole.halfedge_edge[hw] = view.edge_map[local.halfedge_edge[h]];
+      whole.halfedge_twin[hw] = halfedge(local.halfedge_twin[h]);
+    }
+  }
+  for (int e = 0; e < local.num_edges; ++e) {
+    const int ew = view.edge_map[e];
+    // vertex_map is ascending, so the smaller end stays first.
+    whole.edge_vertices(ew, 0) = view.vertex_map[local.edge_vertices(e, 0)];
+    whole.edge_vertices(ew, 1) = view.vertex_map[local.edge_vertices(e, 1)];
+    whole.edge_halfedges(ew, 0) = halfedge(local.edge_halfedges(e, 0));
+    whole.edge_halfedges(ew, 1) = halfedge(local.edge_halfedges(e, 1));
+  }
+  for (int i = 0; i < local.num_vertices; ++i) {
+    whole.vertex_degree[view.vertex_map[i]] = local.vertex_degree[i];
+  }
+}
+
 }  // namespace
 
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
@@ -68,6 +97,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   // Checked on the whole mesh so that messages name whole-mesh vertices.
   AdmissibilityOptions admissibility;
   admissibility.vertex_labels = options.vertex_labels;
+  admissibility.edge_flips = uses_edge_flips(structure, options.flow);
   check_admissible(whole, structure, result.target, admissibility);
   result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
@@ -77,7 +107,8 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   result.lengths = lbar;
   result.converged = true;
 
-  Triangles final_triangles = whole.triangles;
+  // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
+  std::optional<Topology> flipped;
   for (const Component& comp : whole.components) {
     ComponentFlow out;
     out.vertices = comp.vertices;
@@ -119,45 +150,20 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
       }
       for (int e = 0; e < ne; ++e) result.lengths[view.edge_map[e]] = out.flow.lengths[e];
       if (out.flow.flips > 0) {
-        for (std::size_t f = 0; f < comp.faces.size(); ++f) {
-          for (int k = 0; k < 3; ++k) {
-            final_triangles(comp.faces[f], k) =
-                view.vertex_map[out.flow.triangles(static_cast<Eigen::Index>(f), k)];
-          }
-        }
+        if (!flipped) flipped = whole;
+        transplant(*out.flow.intrinsic_topology, comp, view, *flipped);
       }
     }
-    if (whole.components.size() == 1 && out.flow.flips > 0) final_triangles = out.flow.triangles;
+    if (whole.components.size() == 1 && out.flow.flips > 0) {
+      flipped = *out.flow.intrinsic_topology;
+    }
     result.flips += out.flow.flips;
     result.blocked_flips += out.flow.blocked_flips;
     result.converged = result.converged && out.flow.converged;
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
   }
-  if (result.flips > 0) {
-    // The whole mesh's intrinsic triangulation: faces keep their indices (flips reuse them), so
-    // each edge's length is read through one of its halfedges from its component's result.
-    Topology flipped = build_topology(final_triangles, whole.num_vertices);
-    Eigen::VectorXd lengths(flipped.num_edges);
-    for (std::size_t c = 0; c < result.components.size(); ++c) {
-      const FlowResult& flow = result.components[c].flow;
-      const std::vector<int>& faces = whole.components[c].faces;
-      const Topology local = whole.components.size() == 1
-                                 ? Topology{}
-                                 : build_topology(flow.triangles, static_cast<int>(flow.u.size()));
-      for (std::size_t f = 0; f < faces.size(); ++f) {
-        for (int k = 0; k < 3; ++k) {
-          const int h_local = 3 * static_cast<int>(f) + k;
-          const int h_whole = 3 * faces[f] + k;
-          const int e_local = whole.components.size() == 1 ? flipped.halfedge_edge[h_whole]
-                                                           : local.halfedge_edge[h_local];
-          lengths[flipped.halfedge_edge[h_whole]] = flow.lengths[e_local];
-        }
-      }
-    }
-    result.lengths = std::move(lengths);
-    result.topology = std::move(flipped);
-  }
+  if (flipped) result.topology = std::move(*flipped);
   result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

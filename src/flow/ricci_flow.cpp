@@ -60,11 +60,7 @@ const char* edge_flips_name(EdgeFlips flips) {
   return "unknown";
 }
 
-namespace {
-
-/// Whether a flow with these options flips edges. \throw InvalidInput for Delaunay flips on a
-/// scheme whose conformal class Ptolemy flips do not preserve.
-bool flips_enabled(const ConformalStructure& structure, const FlowOptions& options) {
+bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options) {
   if (options.flips == EdgeFlips::Off) return false;
   const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
   if (options.flips == EdgeFlips::Auto) return vertex_scaling;
@@ -77,8 +73,6 @@ bool flips_enabled(const ConformalStructure& structure, const FlowOptions& optio
   }
   return true;
 }
-
-}  // namespace
 
 const char* flow_status_name(FlowStatus status) {
   switch (status) {
@@ -143,7 +137,7 @@ struct RicciFlow::State {
   int analyses = 0, factorizations = 0, cg_iterations = 0;
 
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
-      : flips(flips_enabled(s, o)),
+      : flips(uses_edge_flips(s, o)),
         owned_topology(flips ? std::optional<Topology>(t) : std::nullopt),
         topology(flips ? *owned_topology : t),
         structure(s),
@@ -472,8 +466,10 @@ struct RicciFlow::State {
             << backtracks << " halvings reduced max |K-bar - K| = " << format(max0);
         if (triangle_failures > 0) {
           why << " (" << triangle_failures
-              << " trial steps broke a triangle inequality: the target may need edge flips or "
-                 "another scheme)";
+              << (flips ? " trial steps broke a triangle inequality next to the boundary, which "
+                          "interior flips cannot repair)"
+                        : " trial steps broke a triangle inequality: the target may need edge "
+                          "flips (--flips delaunay with vertex-scaling) or another scheme)");
         }
         if (length_failures > 0) {
           why << " (" << length_failures
@@ -525,7 +521,9 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     throw InvalidInput("RicciFlow: tolerance must be positive, got " +
                        State::format(options.tolerance));
   }
-  check_admissible(topology, structure, target);
+  AdmissibilityOptions admissibility;
+  admissibility.edge_flips = s.flips;
+  check_admissible(topology, structure, target, admissibility);
   if (s.options.max_iterations <= 0) {
     s.options.max_iterations = options.solver == FlowSolver::Newton ? 200 : 1000000;
   }
@@ -635,14 +633,7 @@ FlowResult RicciFlow::result() const {
   r.triangles = s.topology.triangles;
   r.flips = s.total_flips;
   r.blocked_flips = s.blocked_flips;
-  if (s.total_flips > 0) {
-    // Number the edges as build_topology numbers them on the final triangles (halfedge indices
-    // do not depend on the numbering).
-    const Topology renumbered = build_topology(s.topology.triangles, s.topology.num_vertices);
-    for (int e = 0; e < renumbered.num_edges; ++e) {
-      r.lengths[e] = s.lengths[s.topology.halfedge_edge[renumbered.edge_halfedges(e, 0)]];
-    }
-  }
+  if (s.total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(s.topology);
   r.iterations = s.iteration;
   r.max_error = s.history.back().max_error;
   r.history = s.history;

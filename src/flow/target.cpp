@@ -238,7 +238,7 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                          format_value(k) + ", which must be below " + format_value(top) +
                          " (its angle sum must stay positive)");
     }
-    if (!(k > lower)) {
+    if (!options.edge_flips && !(k > lower)) {
       throw InvalidInput(
           "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
           " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +

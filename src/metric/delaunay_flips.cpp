@@ -1,6 +1,8 @@
 #include "ricci/metric/delaunay_flips.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "ricci/errors.hpp"
@@ -66,10 +68,12 @@ double delaunay_margin(double ab, double ca, double cb, double da, double db) {
   return cosine_term(ab, ca, cb) + cosine_term(ab, da, db);
 }
 
-bool can_flip_edge(const Topology& t, int e) {
+bool can_flip_edge(const Topology& t, int e, bool keep_simplicial) {
   if (t.edge_halfedges(e, 1) < 0) return false;
   const Quad q = quad_of(t, e);
-  if (q.h0 / 3 == q.h1 / 3 || q.c == q.d) return false;
+  if (q.h0 / 3 == q.h1 / 3) return false;  // an edge inside one self-glued face
+  if (!keep_simplicial) return true;
+  if (q.c == q.d) return false;
   // The halfedge c -> a of face f0 leaves c.
   const int leaving_c = 3 * (q.h0 / 3) + (q.h0 % 3 + 2) % 3;
   return !joined(t, leaving_c, q.d);
@@ -85,10 +89,20 @@ void flip_edge(Topology& t, int e) {
                        3 * f0 + (k0 + 1) % 3};
   const int to[4] = {3 * f0 + (k0 + 1) % 3, 3 * f0 + (k0 + 2) % 3, 3 * f1 + (k1 + 1) % 3,
                      3 * f1 + (k1 + 2) % 3};
-  int edge[4], twin[4];
+  // In a triangulation with multi-edges and loops two outer halfedges can be twins, or halves of
+  // one edge, so every stored halfedge index goes through this map.
+  auto moved = [&](int g) {
+    for (int j = 0; j < 4; ++j) {
+      if (g == from[j]) return to[j];
+    }
+    return g;
+  };
+  int edge[4], twin[4], halves[4][2];
   for (int i = 0; i < 4; ++i) {
     edge[i] = t.halfedge_edge[from[i]];
     twin[i] = t.halfedge_twin[from[i]];
+    halves[i][0] = t.edge_halfedges(edge[i], 0);
+    halves[i][1] = t.edge_halfedges(edge[i], 1);
   }
   t.triangles(f0, k0) = q.a;
   t.triangles(f0, (k0 + 1) % 3) = q.d;
@@ -99,15 +113,11 @@ void flip_edge(Topology& t, int e) {
   for (int i = 0; i < 4; ++i) {
     const int h = to[i];
     t.halfedge_edge[h] = edge[i];
-    t.halfedge_twin[h] = twin[i];
-    if (twin[i] >= 0) t.halfedge_twin[twin[i]] = h;
-    for (int s = 0; s < 2; ++s) {
-      if (t.edge_halfedges(edge[i], s) == from[i]) {
-        t.edge_halfedges(edge[i], s) = h;
-        break;
-      }
-    }
     t.face_edges(h / 3, h % 3) = edge[i];
+    t.halfedge_twin[h] = twin[i] < 0 ? -1 : moved(twin[i]);
+    if (twin[i] >= 0) t.halfedge_twin[moved(twin[i])] = h;
+    t.edge_halfedges(edge[i], 0) = halves[i][0] < 0 ? -1 : moved(halves[i][0]);
+    t.edge_halfedges(edge[i], 1) = halves[i][1] < 0 ? -1 : moved(halves[i][1]);
   }
   t.edge_vertices(e, 0) = std::min(q.c, q.d);
   t.edge_vertices(e, 1) = std::max(q.c, q.d);
@@ -115,6 +125,17 @@ void flip_edge(Topology& t, int e) {
   --t.vertex_degree[q.b];
   ++t.vertex_degree[q.c];
   ++t.vertex_degree[q.d];
+}
+
+bool is_simplicial(const Topology& t) {
+  for (int f = 0; f < t.num_faces; ++f) {
+    const int a = t.triangles(f, 0), b = t.triangles(f, 1), c = t.triangles(f, 2);
+    if (a == b || b == c || c == a) return false;
+  }
+  std::vector<std::pair<int, int>> pairs(static_cast<std::size_t>(t.num_edges));
+  for (int e = 0; e < t.num_edges; ++e) pairs[e] = {t.edge_vertices(e, 0), t.edge_vertices(e, 1)};
+  std::sort(pairs.begin(), pairs.end());
+  return std::adjacent_find(pairs.begin(), pairs.end()) == pairs.end();
 }
 
 double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
@@ -165,7 +186,7 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     const Quad q = quad_of(t, e);
     const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
     if (!(delaunay_margin(ab, ca, cb, da, db) < -options.tolerance)) continue;
-    if (!can_flip_edge(t, e)) {
+    if (!can_flip_edge(t, e, options.keep_simplicial)) {
       ++result.blocked;
       continue;
     }

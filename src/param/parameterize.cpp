@@ -1,5 +1,7 @@
 #include "ricci/param/parameterize.hpp"
 
+#include "ricci/metric/delaunay_flips.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -195,7 +197,21 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   // the flat metric lives on the intrinsic triangulation: the same vertices and positions, some
   // edges replaced, and that triangulation is what gets cut, laid out and written.
   const Topology& topology = result.flow.topology;
-  if (result.flow.flips > 0) result.mesh.triangles = topology.triangles;
+  if (result.flow.flips > 0) {
+    if (!is_simplicial(topology)) {
+      // A face using a vertex twice or two edges between the same vertices cannot be written as
+      // an ordinary mesh on the input's vertices (nor cut by the tree-cotree code, which pairs
+      // edges by their ends).
+      result.converged = false;
+      result.message =
+          "the flow converged on an intrinsic Delaunay triangulation that is not a simplicial "
+          "complex (it has a loop or a double edge), which cannot be laid out on the input's "
+          "vertices; use --flips off or the thurston scheme";
+      result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      return result;
+    }
+    result.mesh.triangles = topology.triangles;
+  }
   const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);

@@ -14,9 +14,9 @@
 namespace ricci {
 namespace {
 
-/// Every array of a flipped topology agrees with the others, and with build_topology run on its
-/// triangles.
-void expect_consistent(const Topology& t) {
+/// Every array of a flipped topology agrees with the others, and (for a simplicial complex) with
+/// build_topology run on its triangles.
+void expect_consistent(const Topology& t, bool simplicial = true) {
   const int nh = 3 * t.num_faces;
   std::vector<int> degree(t.num_vertices, 0);
   for (int h = 0; h < nh; ++h) {
@@ -37,6 +37,8 @@ void expect_consistent(const Topology& t) {
     ++degree[t.edge_vertices(e, 1)];
   }
   for (int v = 0; v < t.num_vertices; ++v) EXPECT_EQ(t.vertex_degree[v], degree[v]) << v;
+  EXPECT_EQ(is_simplicial(t), simplicial);
+  if (!simplicial) return;
   const Topology rebuilt = build_topology(t.triangles, t.num_vertices);  // throws if broken
   EXPECT_EQ(rebuilt.num_edges, t.num_edges);
   EXPECT_EQ(rebuilt.euler_characteristic(), t.euler_characteristic());
@@ -70,7 +72,7 @@ TEST(FlipEdge, KeepsEveryArrayConsistentThroughRandomFlips) {
     int flipped = 0;
     for (int trial = 0; trial < 400; ++trial) {
       const int e = static_cast<int>(random() % t.num_edges);
-      if (!can_flip_edge(t, e)) continue;
+      if (!can_flip_edge(t, e, /*keep_simplicial=*/true)) continue;
       const int c = t.triangles(t.edge_halfedges(e, 0) / 3, t.edge_halfedges(e, 0) % 3);
       const int d = t.triangles(t.edge_halfedges(e, 1) / 3, t.edge_halfedges(e, 1) % 3);
       flip_edge(t, e);
@@ -83,15 +85,39 @@ TEST(FlipEdge, KeepsEveryArrayConsistentThroughRandomFlips) {
   }
 }
 
+TEST(FlipEdge, MakesDeltaComplexesWhenAllowed) {
+  // Random flips with no restriction: double edges, loops and faces using a vertex twice appear,
+  // and every array stays consistent.
+  const Mesh mesh = make_icosphere(1);
+  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  std::mt19937 random(11);
+  int flipped = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int e = static_cast<int>(random() % t.num_edges);
+    if (!can_flip_edge(t, e)) continue;
+    flip_edge(t, e);
+    ++flipped;
+  }
+  EXPECT_GT(flipped, 1000);
+  expect_consistent(t, /*simplicial=*/false);
+  EXPECT_EQ(t.euler_characteristic(), 2);
+}
+
 TEST(FlipEdge, RefusesBoundaryEdgesAndDuplicateEdges) {
-  // A tetrahedron: flipping any edge would join two vertices already joined.
+  // A tetrahedron: flipping any edge would join two vertices already joined (a Delta-complex
+  // allows it).
   const Mesh tet = testing::tetrahedron();
   const Topology t = build_topology(tet.triangles, tet.num_vertices());
-  for (int e = 0; e < t.num_edges; ++e) EXPECT_FALSE(can_flip_edge(t, e));
+  for (int e = 0; e < t.num_edges; ++e) {
+    EXPECT_FALSE(can_flip_edge(t, e, /*keep_simplicial=*/true));
+    EXPECT_TRUE(can_flip_edge(t, e));
+  }
   const Mesh disk = make_disk(3);
   const Topology d = build_topology(disk.triangles, disk.num_vertices());
   for (int e = 0; e < d.num_edges; ++e) {
-    if (d.is_boundary_edge[e]) EXPECT_FALSE(can_flip_edge(d, e));
+    if (d.is_boundary_edge[e]) {
+      EXPECT_FALSE(can_flip_edge(d, e));
+    }
   }
 }
 
@@ -112,7 +138,7 @@ TEST(FlipToDelaunay, PtolemyGivesTheTrueDiagonalOfACyclicQuad) {
   for (int e = 0; e < t.num_edges; ++e) {
     if (!t.is_boundary_edge[e]) diagonal = e;
   }
-  ASSERT_TRUE(can_flip_edge(t, diagonal));
+  ASSERT_TRUE(can_flip_edge(t, diagonal, true));
   flip_edge(t, diagonal);
   // Ptolemy by hand: the new diagonal 1-3.
   const double expected = (quad.positions.row(1) - quad.positions.row(3)).norm();
@@ -173,18 +199,17 @@ TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   ASSERT_GT(r.flips, 10);
   EXPECT_TRUE(r.complete);
-  expect_consistent(t);
-  EXPECT_EQ(count_non_delaunay_edges(t, l), r.blocked);
+  expect_consistent(t, is_simplicial(t));
+  EXPECT_EQ(r.blocked, 0);
+  EXPECT_EQ(count_non_delaunay_edges(t, l), 0);
   // Lengths at u follow from the flipped constants.
   Eigen::VectorXd check;
   edge_lengths(t, s, u, check);
   EXPECT_LT(((check - l).array() / l.array()).abs().maxCoeff(), 1e-14);
   // Every triangle of a Delaunay triangulation of a closed surface satisfies the triangle
   // inequality: a broken triangle's long edge would need a broken neighbour with a longer one.
-  if (r.blocked == 0) {
-    CornerAngles angles;
-    EXPECT_EQ(corner_angles(t, l, angles), -1);
-  }
+  CornerAngles angles;
+  EXPECT_EQ(corner_angles(t, l, angles), -1);
 }
 
 TEST(FlipToDelaunay, RepairsBrokenTrianglesOfAStrongScaling) {
@@ -201,8 +226,9 @@ TEST(FlipToDelaunay, RepairsBrokenTrianglesOfAStrongScaling) {
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   EXPECT_GT(r.flips, 0);
   EXPECT_EQ(r.blocked, 0);
+  EXPECT_EQ(count_non_delaunay_edges(t, l), 0);
   EXPECT_EQ(corner_angles(t, l, angles), -1);
-  expect_consistent(t);
+  expect_consistent(t, is_simplicial(t));
 }
 
 TEST(FlipToDelaunay, RejectsSchemesWithoutPtolemy) {

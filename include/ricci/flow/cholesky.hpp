@@ -4,6 +4,10 @@
 /// when ricci was built with it, Eigen's SimplicialLDLT otherwise. The symbolic analysis (fill-
 /// reducing ordering, elimination tree) is separate from the numeric factorisation so that a
 /// solver can analyse once and refactorise as long as the sparsity pattern holds.
+///
+/// Results are bit-identical whatever the BLAS thread count: CHOLMOD's factorisation and solves
+/// run with OpenBLAS held at one thread (found at run time; restored afterwards), because
+/// OpenBLAS's threaded kernels sum in an order that depends on the thread count.
 
 #include <memory>
 
@@ -34,6 +38,9 @@ class SparseCholesky {
   const char* backend() const;
   /// Whether CHOLMOD was compiled in.
   static bool cholmod_available();
+  /// Whether the BLAS under CHOLMOD is OpenBLAS and is held at one thread while CHOLMOD factorises
+  /// and solves (false with another BLAS, whose thread count is left alone, or without CHOLMOD).
+  static bool blas_threads_pinned();
 
  private:
   struct Impl;

@@ -77,6 +77,10 @@ struct FlowOptions {
   FlowProgress progress;  ///< optional callback after each iteration
 };
 
+/// Whether a flow with these options flips edges (Auto: exactly for vertex scaling).
+/// \throw InvalidInput for EdgeFlips::Delaunay with a scheme other than vertex scaling
+bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options);
+
 /// Why a flow stopped.
 enum class FlowStatus {
   Converged,         ///< max error <= tolerance
@@ -107,15 +111,18 @@ struct FlowResult {
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature K
   Eigen::VectorXd target_curvature;  ///< #V K-bar (the final K where the vertex is fixed)
-  /// #E final edge lengths, edges numbered as build_topology(triangles, #V) numbers them: the
-  /// input topology's numbering when no edge was flipped.
+  /// #E final edge lengths, edges as in the input topology, or as in intrinsic_topology after
+  /// flips (a flip reuses the index of the edge it replaces).
   Eigen::VectorXd lengths;
   /// The final triangulation (#F by 3): the input's faces, or its intrinsic Delaunay
-  /// triangulation after flips (the same vertices, face count and Euler characteristic).
+  /// triangulation after flips (the same vertices, face count and Euler characteristic; possibly
+  /// a Delta-complex, see ricci/metric/delaunay_flips.hpp).
   Triangles triangles;
+  /// After flips: the whole final connectivity (edges for `lengths`); null without flips.
+  std::shared_ptr<const Topology> intrinsic_topology;
   int flips = 0;          ///< edges flipped over the whole flow (initial Delaunay flips included)
-  int blocked_flips = 0;  ///< non-Delaunay edges left at the end because a flip would have
-                          ///< duplicated an edge (the result stays a simplicial complex)
+  int blocked_flips = 0;  ///< non-Delaunay edges left unflipped at the end (see
+                          ///< DelaunayFlipResult::blocked)
   int iterations = 0;
   double max_error = 0;                  ///< final max |K-bar - K| over vertices with a target
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last

@@ -63,13 +63,16 @@ struct AdmissibilityOptions {
   /// Numbers shown for vertices in messages (e.g. their index in the input file); empty: the
   /// vertex index.
   std::vector<int> vertex_labels;
+  /// The flow flips edges (EdgeFlips): a vertex's valence is not fixed, so the single-vertex
+  /// lower bound does not apply (Gauss-Bonnet and K-bar < 2 pi, pi on the boundary, still do).
+  bool edge_flips = false;
 };
 
 /// Rejects a target that cannot be reached: on every component without fixed vertices the target
 /// must satisfy Gauss-Bonnet; every vertex with a target must satisfy the single-vertex bound
 /// K-bar_i > 2 pi - sum over its faces of (pi - Phi_opposite) (pi instead of 2 pi on the boundary;
 /// Phi = arccos eta for Thurston and tangential packings, 0 for the other schemes) and
-/// K-bar_i < 2 pi (pi on the boundary).
+/// K-bar_i < 2 pi (pi on the boundary); the lower bound is skipped with options.edge_flips.
 /// \throw InvalidInput naming the vertex (or component), the value and the bound
 void check_admissible(const Topology& topology, const ConformalStructure& structure,
                       const Target& target, const AdmissibilityOptions& options = {});

@@ -14,9 +14,13 @@
 /// triangle inequality (cos theta_c + cos theta_d >= 0 expressed through the lengths), which is
 /// what lets the flips repair a metric whose triangles have already broken.
 ///
-/// Flips keep the triangulation a simplicial complex: a flip that would create a second edge
-/// between two vertices (or an edge from a vertex to itself) is skipped and counted as blocked,
-/// so the result can be written as an ordinary mesh on the input's own vertices.
+/// The flipped triangulation is in general a Delta-complex: two edges may join the same two
+/// vertices, an edge may join a vertex to itself, and a face may use a vertex twice (CAD meshes
+/// with needle fans get these at once: their intrinsic Delaunay triangulation is not a simplicial
+/// complex). Every array of Topology stays meaningful for such triangulations, and the metric
+/// kernels (lengths, angles, curvature, Hessian) work on them unchanged; only build_topology,
+/// which pairs halfedges by their end vertices, cannot rebuild one. keep_simplicial restricts
+/// the flips to those that leave a simplicial complex (counting the others as blocked).
 
 #include <Eigen/Core>
 
@@ -30,16 +34,19 @@ namespace ricci {
 /// \param ab the edge; ca, cb the other sides of the triangle with c; da, db those with d
 double delaunay_margin(double ab, double ca, double cb, double da, double db);
 
-/// Whether interior edge e can be flipped without leaving a simplicial complex: its two faces
-/// differ and the opposite vertices c, d are distinct and not yet joined by an edge.
-bool can_flip_edge(const Topology& topology, int e);
+/// Whether interior edge e can be flipped: its two faces differ and, with keep_simplicial, the
+/// opposite vertices c, d are distinct and not yet joined by an edge.
+bool can_flip_edge(const Topology& topology, int e, bool keep_simplicial = false);
+
+/// Whether no face uses a vertex twice and no two edges join the same two vertices (the
+/// triangulation can be written as an ordinary mesh and rebuilt by build_topology).
+bool is_simplicial(const Topology& topology);
 
 /// Flips interior edge e in place: the faces (c, a, b) and (d, b, a) become (a, d, c) and
-/// (b, c, d); edge e now joins c and d. Face and edge indices are kept (edge e is reused), so
-/// per-face and per-edge arrays stay aligned; halfedge arrays, face_edges, edge_vertices,
-/// edge_halfedges and vertex_degree are updated. Boundaries, components and the Euler
-/// characteristic do not change.
-/// \pre can_flip_edge(topology, e)
+/// (b, c, d); edge e now joins c and d (possibly c == d, a loop). Face and edge indices are kept
+/// (edge e is reused), so per-face and per-edge arrays stay aligned; halfedge arrays, face_edges,
+/// edge_vertices, edge_halfedges and vertex_degree are updated. Boundaries, components and the
+/// Euler characteristic do not change. \pre can_flip_edge(topology, e)
 void flip_edge(Topology& topology, int e);
 
 /// Flips interior edge e of a vertex-scaling metric at log radii u: the new edge's length by
@@ -55,12 +62,15 @@ struct DelaunayFlipOptions {
   /// cocircular quads (margin 0 up to rounding) from flipping back and forth.
   double tolerance = 1e-12;
   int max_flips = 0;  ///< safety stop; 0: 50 #E
+  /// Skip flips that would leave a simplicial complex (see the file comment).
+  bool keep_simplicial = false;
 };
 
 /// What flip_to_delaunay did.
 struct DelaunayFlipResult {
   int flips = 0;         ///< edges flipped
-  int blocked = 0;       ///< non-Delaunay edges left because flipping them would duplicate an edge
+  int blocked = 0;       ///< non-Delaunay edges left unflipped (keep_simplicial, or an edge
+                         ///< inside a single self-glued face)
   bool complete = true;  ///< false when max_flips stopped the algorithm
 };
 
