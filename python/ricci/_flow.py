@@ -44,7 +44,7 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
          max_intersection_angle=None, fit_sweeps=None, fit_tolerance=None, solver=None,
          tolerance=None, max_iterations=None, gradient_step=None, armijo=None,
          max_backtracks=None, use_cholmod=None, reuse_factorization_cg_iterations=None,
-         progress=None, vertex_labels=None, options=None):
+         progress=None, flips=None, vertex_labels=None, options=None):
     """Runs the discrete Ricci flow on every connected component of a mesh (``flow_mesh``).
 
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles.
@@ -63,13 +63,16 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
       (1e-10 radians), max_iterations (0: 200 Newton, 1e6 gradient), gradient_step, armijo,
       max_backtracks, use_cholmod, reuse_factorization_cg_iterations, and progress: a callable
       taking an ``IterationRecord`` after every iteration; returning False stops the flow
-      (status ``FlowStatus.Cancelled``).
+      (status ``FlowStatus.Cancelled``). flips: ``"auto"`` (the default: intrinsic Delaunay edge
+      flips for vertex scaling, which then reaches every target that satisfies Gauss-Bonnet),
+      ``"off"`` or ``"delaunay"``; after flips ``triangles`` and ``edges`` describe the intrinsic
+      triangulation of the same vertices.
     vertex_labels: numbers error messages show for vertices.
     options: a ``MeshFlowOptions`` to start from (copied); the other arguments, when not None,
       override its fields. None everywhere means the C++ default.
 
     Returns a ``MeshFlowResult``: converged, status, message, max_error, u, curvature,
-    target_curvature (n,), edges (E, 2), lengths (E,), history (per component, a list of
+    target_curvature (n,), edges (E, 2), lengths (E,), triangles (m, 3), flips, history (per component, a list of
     IterationRecord), timings (per component), fit_error, components, structure, target,
     topology. Non-convergence is reported there, not raised.
 
@@ -107,7 +110,7 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
                              gradient_step=gradient_step, armijo=armijo,
                              max_backtracks=max_backtracks, use_cholmod=use_cholmod,
                              reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
-                             progress=progress)
+                             progress=progress, flips=flips)
     if vertex_labels is not None:
         opts.vertex_labels = [int(v) for v in vertex_labels]
     return _ricci.flow_mesh(mesh, opts)
@@ -116,7 +119,7 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
 def set_structure_and_solver(opts, *, scheme, packing_init, max_intersection_angle, fit_sweeps,
                              fit_tolerance, solver, tolerance, max_iterations, gradient_step,
                              armijo, max_backtracks, use_cholmod,
-                             reuse_factorization_cg_iterations, progress):
+                             reuse_factorization_cg_iterations, progress, flips=None):
     """Sets the StructureOptions and FlowOptions fields shared by flow() and parameterize() on
     an options object with .structure and .flow; None keeps a field's default."""
     set_fields(opts.structure, scheme=scheme, packing_init=packing_init,
@@ -126,4 +129,4 @@ def set_structure_and_solver(opts, *, scheme, packing_init, max_intersection_ang
                gradient_step=gradient_step, armijo=armijo, max_backtracks=max_backtracks,
                use_cholmod=use_cholmod,
                reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
-               progress=progress)
+               progress=progress, flips=flips)

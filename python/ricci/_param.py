@@ -16,7 +16,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  scheme=None, packing_init=None, max_intersection_angle=None, fit_sweeps=None,
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
-                 reuse_factorization_cg_iterations=None, progress=None, options=None):
+                 reuse_factorization_cg_iterations=None, progress=None, flips=None, options=None):
     """Global conformal parameterization of a single-component manifold mesh: cones, valence
     raising, Ricci flow to a flat metric, cut graph, layout, atlas, distortion, uv in the unit
     square.
@@ -32,7 +32,9 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     Automatic cones (``ConeSelectionOptions``): max_log_scale (1.0), max_cones (64),
       try_first_cone_candidates (1).
     modify_connectivity: split edges around cones whose valence is too low (True).
-    Metric and solver: as ``ricci.flow`` (tolerance defaults to 1e-12 here).
+    Metric and solver: as ``ricci.flow`` (tolerance defaults to 1e-12 here), flips included:
+      after Delaunay flips the triangles returned are the intrinsic Delaunay triangulation of
+      the input vertices.
     options: a ``ParamOptions`` to start from (copied); other arguments, when not None,
       override its fields.
 
@@ -71,5 +73,5 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                              gradient_step=gradient_step, armijo=armijo,
                              max_backtracks=max_backtracks, use_cholmod=use_cholmod,
                              reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
-                             progress=progress)
+                             progress=progress, flips=flips)
     return _ricci.parameterize(mesh, opts)

@@ -76,6 +76,13 @@ void bind_flow(py::module_& m) {
   solver.value("Newton", FlowSolver::Newton).value("Gradient", FlowSolver::Gradient);
   construct_from_name(solver, &parse_flow_solver);
 
+  py::enum_<EdgeFlips> flips(m, "EdgeFlips",
+                             "Intrinsic Delaunay edge flips during the flow (vertex scaling).");
+  flips.value("Auto", EdgeFlips::Auto)
+      .value("Off", EdgeFlips::Off)
+      .value("Delaunay", EdgeFlips::Delaunay);
+  construct_from_name(flips, &parse_edge_flips);
+
   py::enum_<FlowStatus>(m, "FlowStatus", "Why a flow stopped.")
       .value("Converged", FlowStatus::Converged)
       .value("MaxIterations", FlowStatus::MaxIterations)
@@ -165,6 +172,7 @@ void bind_flow(py::module_& m) {
       .readonly("backtracks", &IterationRecord::backtracks, "step halvings of the line search")
       .readonly("triangle_failures", &IterationRecord::triangle_failures,
                 "trial steps rejected for breaking a triangle inequality")
+      .readonly("flips", &IterationRecord::flips, "edges flipped by the accepted step")
       .readonly("seconds", &IterationRecord::seconds, "wall time since the solve started")
       .repr();
 
@@ -173,6 +181,8 @@ void bind_flow(py::module_& m) {
                   "FlowSolver (or 'newton', 'gradient')")
       .field("tolerance", &FlowOptions::tolerance,
              "stop when max |K-bar - K| <= tolerance (radians)")
+      .enum_field("flips", &FlowOptions::flips, &parse_edge_flips,
+                  "EdgeFlips (or 'auto': Delaunay flips for vertex scaling, 'off', 'delaunay')")
       .field("max_iterations", &FlowOptions::max_iterations,
              "0: 200 for Newton, 1000000 for the gradient flow")
       .field("gradient_step", &FlowOptions::gradient_step,
@@ -211,6 +221,10 @@ void bind_flow(py::module_& m) {
       .readonly("curvature", &FlowResult::curvature, "#V final curvature K")
       .readonly("target_curvature", &FlowResult::target_curvature, "#V K-bar")
       .readonly("lengths", &FlowResult::lengths, "#E final edge lengths")
+      .readonly("triangles", &FlowResult::triangles,
+                "#F by 3 final triangulation (the intrinsic Delaunay one after flips)")
+      .readonly("flips", &FlowResult::flips, "edges flipped over the whole flow")
+      .readonly("blocked_flips", &FlowResult::blocked_flips, "non-Delaunay edges left")
       .readonly("iterations", &FlowResult::iterations, "")
       .readonly("max_error", &FlowResult::max_error, "final max |K-bar - K|")
       .readonly("history", &FlowResult::history, "IterationRecord list, initial state first")
@@ -253,6 +267,12 @@ void bind_flow(py::module_& m) {
           "edges", [](const MeshFlowResult& r) { return r.topology.edge_vertices; },
           "#E by 2 edge end vertices (topology.edge_vertices), the order of `lengths`")
       .readonly("lengths", &MeshFlowResult::lengths, "#E final lengths")
+      .computed(
+          "triangles", [](const MeshFlowResult& r) { return r.topology.triangles; },
+          "#F by 3 final triangulation: the input's, or its intrinsic Delaunay triangulation "
+          "after flips (same vertices)")
+      .readonly("flips", &MeshFlowResult::flips, "edges flipped, all components")
+      .readonly("blocked_flips", &MeshFlowResult::blocked_flips, "non-Delaunay edges left")
       .computed(
           "history",
           [](const MeshFlowResult& r) {
