@@ -216,6 +216,30 @@ for scheme in thurston tangential inversive-distance vertex-scaling virtual-radi
 done
 flow_ok "--init unit" meshes/small_torus.obj --init unit
 
+# Intrinsic Delaunay flips: a cone of angle 4 pi at a degree-5 vertex breaks triangles without
+# flips (exit 3, saying so) and converges with them (the default for vertex scaling).
+strong_cones='0:-2pi,5:1.5pi,11:1.5pi,20:1.5pi,30:1.5pi'
+ricci flow meshes/icosphere.obj --scheme vertex-scaling --flips off --cones "$strong_cones"
+expect_rc "--flips off on strong cones" 3
+expect_out "--flips off on strong cones" "triangle inequality" "--flips delaunay"
+flow_ok "--flips auto on strong cones" meshes/icosphere.obj --scheme vertex-scaling \
+  --cones "$strong_cones" -o flips.json
+expect_json "--flips auto flipped" flow.json \
+  'd["flips"] == "auto" and d["flipped_edges"] > 0 and sum(r["flips"] for r in d["components"][0]["history"]) == d["flipped_edges"]'
+expect_json "--flips -o has the intrinsic triangles" flips.json \
+  'len(d["vertex_data"]["triangles"]) == d["faces"] and len(d["vertex_data"]["edges"]) == d["edges"]'
+ricci flow meshes/icosphere.obj --scheme thurston --flips delaunay
+expect_rc "--flips delaunay with thurston" 2
+expect_err "--flips delaunay with thurston" "vertex-scaling"
+ricci flow meshes/icosphere.obj --flips sometimes
+expect_rc "--flips unknown" 2
+ricci param meshes/icosphere.obj -o flipped_param.obj --scheme vertex-scaling \
+  --cones "$strong_cones" --json
+expect_rc "param with flips" 0
+expect_out "param with flips" '"flipped_edges"'
+expect_json "param with flips: input vertices, intrinsic faces" "$WORK/out.txt" \
+  'd["flow"]["flipped_edges"] > 0 and d["distortion"]["flipped_faces"] == 0'
+
 ricci flow meshes/small_torus.obj --progress
 expect_rc "--progress" 0
 expect_err "--progress" "iteration    0" "max |K-bar - K|"
