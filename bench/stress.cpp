@@ -96,6 +96,30 @@ std::string first_failure(const ricci::MeshFlowResult& r) {
   return "converged";
 }
 
+/// Runs a vertex-scaling flow (flips as --flips says), fills the row's outcome and prints it.
+void run_flow_case(Row row, const ricci::Mesh& mesh, ricci::MeshFlowOptions options) {
+  options.structure.scheme = ricci::Scheme::VertexScaling;
+  options.flow.progress = progress();
+  options.flow.flips = flips_mode;
+  const auto start = Clock::now();
+  try {
+    const ricci::MeshFlowResult r = ricci::flow_mesh(mesh, options);
+    row.success = r.converged;
+    row.status = first_failure(r);
+    row.iterations = total_iterations(r);
+    row.max_error = r.max_error;
+    row.flips = r.flips;
+    for (const auto& c : r.components) {
+      if (!c.flow.converged) row.note += (row.note.empty() ? "" : " ") + c.flow.message;
+    }
+  } catch (const std::exception& e) {
+    row.status = "exception";
+    row.note += (row.note.empty() ? "" : " ") + std::string(e.what());
+  }
+  row.seconds = seconds_since(start);
+  print(row);
+}
+
 std::vector<ricci::Cone> random_cones(const ricci::Mesh& sphere, std::mt19937_64& random,
                                       std::string& text) {
   const std::vector<ricci::Cone> cones =
@@ -118,25 +142,9 @@ void sphere_suite(int runs, std::uint64_t seed) {
     row.name = "run " + std::to_string(run);
     row.vertices = sphere.num_vertices();
     ricci::MeshFlowOptions options;
-    options.structure.scheme = ricci::Scheme::VertexScaling;
     options.target.kind = ricci::TargetKind::Flat;
     options.target.cones = random_cones(sphere, random, row.note);
-    options.flow.progress = progress();
-    options.flow.flips = flips_mode;
-    const auto start = Clock::now();
-    try {
-      const ricci::MeshFlowResult r = ricci::flow_mesh(sphere, options);
-      row.success = r.converged;
-      row.status = first_failure(r);
-      row.iterations = total_iterations(r);
-      row.max_error = r.max_error;
-      row.flips = r.flips;
-    } catch (const std::exception& e) {
-      row.status = "exception";
-      row.note += std::string(" ") + e.what();
-    }
-    row.seconds = seconds_since(start);
-    print(row);
+    run_flow_case(row, sphere, options);
   }
 }
 
@@ -199,30 +207,9 @@ void random_target_case(const std::string& name, const ricci::Mesh& mesh, std::u
   const ricci::Topology t = ricci::build_topology(mesh.triangles, mesh.num_vertices());
   const Eigen::VectorXd values = ricci::testing::random_admissible_curvature(mesh, t, seed);
   ricci::MeshFlowOptions options;
-  options.structure.scheme = ricci::Scheme::VertexScaling;
   options.target.kind = ricci::TargetKind::Values;
   options.target.values = values;
-  options.flow.progress = progress();
-  options.flow.flips = flips_mode;
-  const auto start = Clock::now();
-  try {
-    const ricci::MeshFlowResult r = ricci::flow_mesh(mesh, options);
-    row.success = r.converged;
-    row.status = first_failure(r);
-    row.iterations = total_iterations(r);
-    row.max_error = r.max_error;
-    row.flips = r.flips;
-    if (!r.converged) {
-      for (const auto& c : r.components) {
-        if (!c.flow.converged) row.note = c.flow.message;
-      }
-    }
-  } catch (const std::exception& e) {
-    row.status = "exception";
-    row.note = e.what();
-  }
-  row.seconds = seconds_since(start);
-  print(row);
+  run_flow_case(row, mesh, options);
 }
 
 void mesh_suite(const std::filesystem::path& dir, std::uint64_t seed) {
