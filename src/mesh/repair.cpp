@@ -212,90 +212,19 @@ std::string examples_text(const std::vector<int>& examples, const char* one, con
   return text + ")";
 }
 
-}  // namespace
+/// Steps (3) and (4) of repair_mesh on the kept faces (kept[i] is the input face of kept face i,
+/// T the welded triangles): which faces stay joined, the vertex copies, the orientation.
+struct Split {
+  std::vector<int> corner_output;   ///< 3 #kept: output vertex of each corner
+  std::vector<int> vertex_map;      ///< output vertex -> (welded) input vertex
+  std::vector<signed char> flip;    ///< #kept: 1 where the face must be reversed
+  std::vector<int> non_orientable;  ///< a kept face of each non-orientable component
+  std::vector<std::array<int, 2>> non_manifold_edges;  ///< edges with more than two faces
+};
 
-bool RepairReport::changed() const {
-  return welded_vertices.count > 0 || repeated_vertex_faces_removed.count > 0 ||
-         duplicate_faces_removed.count > 0 || non_manifold_edges_split > 0 ||
-         non_manifold_vertices_split.count > 0 || faces_flipped.count > 0 ||
-         unreferenced_vertices_dropped.count > 0 || smaller_components_removed.count > 0;
-}
-
-RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
-  const Positions& P = mesh.positions;
-  const int nv = mesh.num_vertices();
-  const int nf = mesh.num_faces();
-  const double tolerance = options.weld_tolerance;
-  if (!std::isfinite(tolerance) || tolerance < 0 || (tolerance > 0 && tolerance < 1e-15)) {
-    throw InvalidInput("repair_mesh: weld_tolerance " + std::to_string(tolerance) +
-                       " must be 0 (exact positions) or at least 1e-15 (relative to the "
-                       "bounding-box diagonal)");
-  }
-  std::vector<char> referenced(nv, 0);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.triangles(f, k);
-      if (v < 0 || v >= nv) {
-        throw InvalidInput("repair_mesh: face " + std::to_string(f) + " uses vertex " +
-                           std::to_string(v) + ", outside [0, " + std::to_string(nv) + ")");
-      }
-      referenced[v] = 1;
-    }
-  }
-  const int max_examples = std::max(options.max_examples, 0);
-  RepairResult result;
-  RepairReport& report = result.report;
-  report.input_vertices = nv;
-  report.input_faces = nf;
-
-  // (1) Welding.
-  std::vector<int> representative(nv);
-  std::iota(representative.begin(), representative.end(), 0);
-  if (options.weld_vertices) representative = weld(P, referenced, tolerance);
-  for (int v = 0; v < nv; ++v) {
-    if (representative[v] != v) note(report.welded_vertices, v, max_examples);
-  }
-  Triangles T(nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) T(f, k) = representative[mesh.triangles(f, k)];
-  }
-
-  // (2) Faces that use a vertex twice, then faces with the vertex set of an earlier face.
-  std::vector<char> keep(nf, 1);
-  for (int f = 0; f < nf; ++f) {
-    if (T(f, 0) != T(f, 1) && T(f, 1) != T(f, 2) && T(f, 0) != T(f, 2)) continue;
-    keep[f] = 0;
-    note(report.repeated_vertex_faces_removed, f, max_examples);
-  }
-  std::vector<int> duplicate_of(nf, -1);
-  {
-    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
-    keyed.reserve(nf);
-    for (int f = 0; f < nf; ++f) {
-      if (!keep[f]) continue;
-      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
-      std::sort(key.begin(), key.begin() + 3);
-      keyed.push_back(key);
-    }
-    std::sort(keyed.begin(), keyed.end());
-    for (std::size_t i = 1, first = 0; i < keyed.size(); ++i) {
-      if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[first].begin())) {
-        duplicate_of[keyed[i][3]] = keyed[first][3];
-      } else {
-        first = i;
-      }
-    }
-    for (int f = 0; f < nf; ++f) {
-      if (duplicate_of[f] < 0) continue;
-      keep[f] = 0;
-      note(report.duplicate_faces_removed, f, max_examples);
-    }
-  }
-  std::vector<int> kept;  // input face of each kept face, in input order
-  kept.reserve(nf);
-  for (int f = 0; f < nf; ++f) {
-    if (keep[f]) kept.push_back(f);
-  }
+Split split_and_orient(const Positions& P, const Triangles& T, const std::vector<int>& kept, int nv,
+                       const RepairOptions& options) {
+  Split out;
   const int nk = static_cast<int>(kept.size());
   const int nh = 3 * nk;
   auto tail = [&](int h) { return T(kept[h / 3], (h % 3 + 1) % 3); };
@@ -496,28 +425,6 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
     }
     if (!detached) break;
   }
-  report.non_manifold_edges_split =
-      options.split_non_manifold ? static_cast<int>(non_manifold_edges.size()) : 0;
-  if (options.split_non_manifold) {
-    for (std::size_t i = 0; i < non_manifold_edges.size() && static_cast<int>(i) < max_examples;
-         ++i) {
-      report.non_manifold_edge_examples.push_back(non_manifold_edges[i]);
-    }
-  }
-  {
-    std::vector<int> copies(nv, 0);
-    for (int v : vertex_map) ++copies[v];
-    for (int v = 0; v < nv; ++v) {
-      if (copies[v] > 1) note(report.non_manifold_vertices_split, v, max_examples);
-      if (copies[v] == 0 && representative[v] == v) {
-        note(report.unreferenced_vertices_dropped, v, max_examples);
-      }
-    }
-    report.vertex_copies_added =
-        static_cast<int>(vertex_map.size()) -
-        static_cast<int>(std::count_if(copies.begin(), copies.end(), [](int n) { return n > 0; }));
-  }
-
   // (4) Orientation: breadth-first search across the output's two-faced edges gives each face a
   // flip bit such that neighbours traverse their edge in opposite directions; in each component
   // the side with fewer faces is reversed. A contradiction means no orientation exists: the
@@ -558,7 +465,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
         }
       }
       if (!orientable) {
-        note(report.non_orientable_components, kept[seed], max_examples);
+        out.non_orientable.push_back(seed);
         continue;
       }
       std::size_t ones = 0;
@@ -566,9 +473,151 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
       const int minority = 2 * ones <= queue.size() ? 1 : 0;
       for (int f : queue) flip[f] = static_cast<signed char>(bit[f] == minority);
     }
-    for (int f = 0; f < nk; ++f) {
-      if (flip[f]) note(report.faces_flipped, kept[f], max_examples);
+  }
+  out.corner_output = std::move(corner_output);
+  out.vertex_map = std::move(vertex_map);
+  out.flip = std::move(flip);
+  out.non_manifold_edges = std::move(non_manifold_edges);
+  return out;
+}
+
+}  // namespace
+
+bool RepairReport::changed() const {
+  return welded_vertices.count > 0 || repeated_vertex_faces_removed.count > 0 ||
+         duplicate_faces_removed.count > 0 || non_manifold_edges_split > 0 ||
+         non_manifold_vertices_split.count > 0 || faces_flipped.count > 0 ||
+         unreferenced_vertices_dropped.count > 0 || smaller_components_removed.count > 0;
+}
+
+RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
+  const Positions& P = mesh.positions;
+  const int nv = mesh.num_vertices();
+  const int nf = mesh.num_faces();
+  const double tolerance = options.weld_tolerance;
+  if (!std::isfinite(tolerance) || tolerance < 0 || (tolerance > 0 && tolerance < 1e-15)) {
+    throw InvalidInput("repair_mesh: weld_tolerance " + std::to_string(tolerance) +
+                       " must be 0 (exact positions) or at least 1e-15 (relative to the "
+                       "bounding-box diagonal)");
+  }
+  std::vector<char> referenced(nv, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles(f, k);
+      if (v < 0 || v >= nv) {
+        throw InvalidInput("repair_mesh: face " + std::to_string(f) + " uses vertex " +
+                           std::to_string(v) + ", outside [0, " + std::to_string(nv) + ")");
+      }
+      referenced[v] = 1;
     }
+  }
+  const int max_examples = std::max(options.max_examples, 0);
+  RepairResult result;
+  RepairReport& report = result.report;
+  report.input_vertices = nv;
+  report.input_faces = nf;
+
+  // (1) Welding.
+  std::vector<int> representative(nv);
+  std::iota(representative.begin(), representative.end(), 0);
+  if (options.weld_vertices) representative = weld(P, referenced, tolerance);
+  for (int v = 0; v < nv; ++v) {
+    if (representative[v] != v) note(report.welded_vertices, v, max_examples);
+  }
+  Triangles T(nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) T(f, k) = representative[mesh.triangles(f, k)];
+  }
+
+  // (2) Faces that use a vertex twice, then faces with the vertex set of an earlier face.
+  std::vector<char> keep(nf, 1);
+  for (int f = 0; f < nf; ++f) {
+    if (T(f, 0) != T(f, 1) && T(f, 1) != T(f, 2) && T(f, 0) != T(f, 2)) continue;
+    keep[f] = 0;
+    note(report.repeated_vertex_faces_removed, f, max_examples);
+  }
+  std::vector<int> duplicate_of(nf, -1);
+  {
+    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
+    keyed.reserve(nf);
+    for (int f = 0; f < nf; ++f) {
+      if (!keep[f]) continue;
+      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
+      std::sort(key.begin(), key.begin() + 3);
+      keyed.push_back(key);
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 1, first = 0; i < keyed.size(); ++i) {
+      if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[first].begin())) {
+        duplicate_of[keyed[i][3]] = keyed[first][3];
+      } else {
+        first = i;
+      }
+    }
+    for (int f = 0; f < nf; ++f) {
+      if (duplicate_of[f] < 0) continue;
+      keep[f] = 0;
+      note(report.duplicate_faces_removed, f, max_examples);
+    }
+  }
+  std::vector<int> kept;  // input face of each kept face, in input order
+  kept.reserve(nf);
+  for (int f = 0; f < nf; ++f) {
+    if (keep[f]) kept.push_back(f);
+  }
+  const int nk = static_cast<int>(kept.size());
+
+  // (3) and (4). A non-manifold edge whose faces all run the same way has no pair to keep until
+  // the orientation is fixed; so split again on the reversed faces while that saves copies.
+  Triangles oriented = T;                    // T with the faces reversed so far
+  std::vector<signed char> reversed(nk, 0);  // relative to T
+  Split split = split_and_orient(P, oriented, kept, nv, options);
+  for (int round = 0;
+       round < 4 && options.split_non_manifold && options.orient &&
+       !split.non_manifold_edges.empty() && std::count(split.flip.begin(), split.flip.end(), 1) > 0;
+       ++round) {
+    Triangles next_oriented = oriented;
+    for (int i = 0; i < nk; ++i) {
+      if (split.flip[i]) std::swap(next_oriented(kept[i], 1), next_oriented(kept[i], 2));
+    }
+    Split next = split_and_orient(P, next_oriented, kept, nv, options);
+    if (next.vertex_map.size() >= split.vertex_map.size() ||
+        next.non_orientable.size() > split.non_orientable.size()) {
+      break;
+    }
+    for (int i = 0; i < nk; ++i) reversed[i] ^= split.flip[i];
+    oriented = std::move(next_oriented);
+    split = std::move(next);
+  }
+  const std::vector<int>& corner_output = split.corner_output;
+  const std::vector<int>& vertex_map = split.vertex_map;
+  const std::vector<signed char>& flip = split.flip;  // relative to `oriented`
+  const std::vector<std::array<int, 2>>& non_manifold_edges = split.non_manifold_edges;
+  report.non_manifold_edges_split =
+      options.split_non_manifold ? static_cast<int>(non_manifold_edges.size()) : 0;
+  if (options.split_non_manifold) {
+    for (std::size_t i = 0; i < non_manifold_edges.size() && static_cast<int>(i) < max_examples;
+         ++i) {
+      report.non_manifold_edge_examples.push_back(non_manifold_edges[i]);
+    }
+  }
+  {
+    std::vector<int> copies(nv, 0);
+    for (int v : vertex_map) ++copies[v];
+    for (int v = 0; v < nv; ++v) {
+      if (copies[v] > 1) note(report.non_manifold_vertices_split, v, max_examples);
+      if (copies[v] == 0 && representative[v] == v) {
+        note(report.unreferenced_vertices_dropped, v, max_examples);
+      }
+    }
+    report.vertex_copies_added =
+        static_cast<int>(vertex_map.size()) -
+        static_cast<int>(std::count_if(copies.begin(), copies.end(), [](int n) { return n > 0; }));
+  }
+
+  for (int i : split.non_orientable) note(report.non_orientable_components, kept[i], max_examples);
+  for (int i = 0; i < nk; ++i) {
+    if (reversed[i] != flip[i]) note(report.faces_flipped, kept[i], max_examples);
   }
 
   // (5) The output. Unreferenced vertices are gone already: copies exist only for corners.
@@ -625,7 +674,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
       result.mesh.triangles.row(row) << a, b, c;
     }
     result.face_map.push_back(kept[f]);
-    result.face_flipped.push_back(flip[f] ? 1 : 0);
+    result.face_flipped.push_back(reversed[f] != flip[f] ? 1 : 0);
   }
   result.weld_map = std::move(representative);
   report.output_vertices = no;
