@@ -102,7 +102,7 @@ struct RepairResult {
 /// vertices no face uses (and, when asked, every component but the largest). A mesh without
 /// such defects comes back unchanged (identity maps). Zero-area faces, non-finite coordinates
 /// and non-orientable components are left as they are: validate the result (report.messages
-/// names what is left). Runs in O(F log F) per split round (at most five).
+/// names what is left).
 /// \param mesh #V by 3 positions and #F by 3 triangles
 /// \throw InvalidInput naming the face when a vertex index is out of range, or when an option
 ///        is out of range (weld_tolerance negative, not finite, or below 1e-15 but not 0)
