@@ -178,6 +178,7 @@ void param_case(const std::string& name, const ricci::Mesh& mesh, ricci::Scheme 
   row.vertices = mesh.num_vertices();
   ricci::ParamOptions options;
   options.structure.scheme = scheme;
+  if (scheme == ricci::Scheme::VertexScaling) options.flow.flips = flips_mode;
   const auto start = Clock::now();
   try {
     const ricci::ParamResult r = ricci::parameterize(mesh, options);
@@ -190,6 +191,7 @@ void param_case(const std::string& name, const ricci::Mesh& mesh, ricci::Scheme 
     note << r.cones.size() << " cones, " << r.edge_splits << " edge splits"
          << (r.subdivided ? " (subdivided)" : "") << ", " << r.distortion.flipped_faces
          << " flipped uv faces";
+    if (!r.converged) note << ": " << r.message;
     row.note = note.str();
   } catch (const std::exception& e) {
     row.status = "exception";

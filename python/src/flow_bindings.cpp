@@ -183,6 +183,8 @@ void bind_flow(py::module_& m) {
              "stop when max |K-bar - K| <= tolerance (radians)")
       .enum_field("flips", &FlowOptions::flips, &parse_edge_flips,
                   "EdgeFlips (or 'auto': Delaunay flips for vertex scaling, 'off', 'delaunay')")
+      .field("simplicial_flips", &FlowOptions::simplicial_flips,
+             "only flips that keep a simplicial complex (no double edge, no loop)")
       .field("max_iterations", &FlowOptions::max_iterations,
              "0: 200 for Newton, 1000000 for the gradient flow")
       .field("gradient_step", &FlowOptions::gradient_step,

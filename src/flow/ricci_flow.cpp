@@ -168,8 +168,8 @@ struct RicciFlow::State {
     if (count_non_delaunay_edges(topology, trial_lengths) > blocked_flips) {
       trial_topology = topology;
       trial_structure = structure;
-      const DelaunayFlipResult r =
-          flip_to_delaunay(*trial_topology, trial_structure, trial_u, trial_lengths);
+      const DelaunayFlipResult r = flip_to_delaunay(*trial_topology, trial_structure, trial_u,
+                                                    trial_lengths, flip_options());
       if (!r.complete) return Evaluation::TriangleInequality;
       trial_flipped = r.flips > 0;
       trial_flips = r.flips;
@@ -179,6 +179,12 @@ struct RicciFlow::State {
     if (corner_angles(*t, trial_lengths, trial_angles) >= 0) return Evaluation::TriangleInequality;
     vertex_curvature(*t, trial_angles, trial_curvature);
     return Evaluation::Valid;
+  }
+
+  DelaunayFlipOptions flip_options() const {
+    DelaunayFlipOptions o;
+    o.keep_simplicial = options.simplicial_flips;
+    return o;
   }
 
   /// Makes the trial triangulation the current one: a new sparsity pattern, analysed afresh.

@@ -197,6 +197,19 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   // the flat metric lives on the intrinsic triangulation: the same vertices and positions, some
   // edges replaced, and that triangulation is what gets cut, laid out and written.
   const Topology& topology = result.flow.topology;
+  if (result.flow.flips > 0 && !is_simplicial(result.flow.topology)) {
+    // The intrinsic Delaunay triangulation is a Delta-complex; flip again, keeping a simplicial
+    // complex (a few edges may stay non-Delaunay, which the flow usually survives).
+    flow_options.flow.simplicial_flips = true;
+    result.flow = flow_mesh(result.mesh, flow_options);
+    result.converged = result.flow.converged;
+    if (!result.converged) {
+      result.message = "with flips restricted to a simplicial complex: " +
+                       result.flow.components.front().flow.message;
+      result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      return result;
+    }
+  }
   if (result.flow.flips > 0) {
     if (!is_simplicial(topology)) {
       // A face using a vertex twice or two edges between the same vertices cannot be written as

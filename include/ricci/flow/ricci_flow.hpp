@@ -74,6 +74,10 @@ struct FlowOptions {
   /// Gauss-Bonnet (and K < 2 pi inside): no triangle inequality can break. Delaunay with another
   /// scheme is an InvalidInput.
   EdgeFlips flips = EdgeFlips::Auto;
+  /// Only flips that keep a simplicial complex (no double edge, no loop): the result can be
+  /// written as an ordinary mesh, at the price of leaving some edges non-Delaunay (the
+  /// parameterization falls back to this when the unrestricted result is a Delta-complex).
+  bool simplicial_flips = false;
   FlowProgress progress;  ///< optional callback after each iteration
 };
 
