@@ -197,6 +197,11 @@ int main(int argc, char** argv) {
   } catch (const ricci::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kBadInput;
+  } catch (const ricci::SolverError& e) {
+    // The linear algebra broke down on this input (a metric degenerating): the computation did
+    // not converge, which is not a bug of the program.
+    std::cerr << "error: numerical breakdown: " << e.what() << "\n";
+    return kNotConverged;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return kInternalError;

@@ -8,11 +8,42 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/curvature.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
 
 namespace ricci {
 namespace {
+
+/// Whether L plus a large penalty on vertex 0 (the gauge) factorises: a connected component's
+/// Laplacian with non-negative enough weights does.
+bool positive_definite_with_one_pin(const Eigen::SparseMatrix<double>& L) {
+  Eigen::SparseMatrix<double> A = L;
+  A.coeffRef(0, 0) += 1e10 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  SparseCholesky cholesky;
+  try {
+    cholesky.factorize(A);
+  } catch (const SolverError&) {
+    return false;
+  }
+  return true;
+}
+
+/// The cotangent Laplacian of the input metric's intrinsic Delaunay triangulation (#V by #V).
+Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Mesh& mesh, const Topology& t) {
+  Topology flipped = t;
+  StructureOptions vertex_scaling;
+  vertex_scaling.scheme = Scheme::VertexScaling;
+  Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  ConformalStructure s = make_conformal_structure(t, lengths, vertex_scaling).structure;
+  flip_to_delaunay(flipped, s, s.initial_u, lengths);
+  CornerAngles angles;
+  corner_angles(flipped, lengths, angles);
+  Eigen::VectorXd hw, ew;
+  halfedge_weights(flipped, s, s.initial_u, lengths, angles, hw);
+  edge_weights(flipped, hw, ew);
+  return curvature_hessian(flipped, ew);
+}
 
 /// Lowers hops[v] to the number of edges from `source` to v, for every v within max_rings edges
 /// of it (breadth-first over the vertex neighbour lists).
@@ -57,7 +88,13 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   vertex_curvature(t, angles, curvature);
   halfedge_weights(t, s, s.initial_u, lengths, angles, hw);
   edge_weights(t, hw, ew);
-  const Eigen::SparseMatrix<double> L = curvature_hessian(t, ew);
+  Eigen::SparseMatrix<double> L = curvature_hessian(t, ew);
+  if (!positive_definite_with_one_pin(L)) {
+    // Obtuse needles make some weights negative enough that L is indefinite (the repaired
+    // Stanford dragon): the linearised problem then uses the cotangent Laplacian of the input's
+    // intrinsic Delaunay triangulation, whose weights are all non-negative.
+    L = intrinsic_delaunay_laplacian(mesh, t);
+  }
 
   // Dirichlet vertices are held at u = 0 by a penalty on the diagonal, so that the sparsity
   // pattern (and CHOLMOD's analysis) stays the same while the cone set grows.
