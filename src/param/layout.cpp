@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <queue>
 #include <string>
 #include <unordered_map>
@@ -165,6 +166,8 @@ SeamTransition make_transition(int edge, int segment, const RigidFit& fit) {
   t.rotation = fit.rotation;
   t.translation = fit.translation;
   t.angle = std::arg(fit.rotation);
+  // std::arg returns [-pi, pi]; a half turn must print the same however rounding falls.
+  if (t.angle <= -std::numbers::pi + 1e-9) t.angle += 2 * std::numbers::pi;
   return t;
 }
 

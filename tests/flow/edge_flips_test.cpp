@@ -24,10 +24,10 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-/// A cone of angle 4 pi (curvature -2 pi) at a valence-5 vertex of an icosphere and four of
+/// A cone of angle 4 pi (curvature -2 pi) at a valence-5 vertex of make_icosphere(3) and four of
 /// curvature 1.5 pi: admissible, but without flips vertex scaling breaks triangles around the
 /// big cone (each of its five angles must approach 4 pi / 5) and stops.
-MeshFlowOptions strong_cones(const Mesh& sphere, EdgeFlips flips) {
+MeshFlowOptions strong_cones(EdgeFlips flips) {
   MeshFlowOptions options;
   options.structure.scheme = Scheme::VertexScaling;
   options.target.kind = TargetKind::Flat;
@@ -48,7 +48,7 @@ void expect_metric_consistent(const MeshFlowResult& r) {
 
 TEST(EdgeFlips, StrongConesBreakATriangleWithoutFlipsAndConvergeWithThem) {
   const Mesh sphere = make_icosphere(3);
-  const MeshFlowResult without = flow_mesh(sphere, strong_cones(sphere, EdgeFlips::Off));
+  const MeshFlowResult without = flow_mesh(sphere, strong_cones(EdgeFlips::Off));
   EXPECT_FALSE(without.converged);
   int triangle_failures = 0;
   for (const IterationRecord& r : without.components[0].flow.history) {
@@ -56,7 +56,7 @@ TEST(EdgeFlips, StrongConesBreakATriangleWithoutFlipsAndConvergeWithThem) {
   }
   EXPECT_GT(triangle_failures, 0);
 
-  const MeshFlowResult with = flow_mesh(sphere, strong_cones(sphere, EdgeFlips::Auto));
+  const MeshFlowResult with = flow_mesh(sphere, strong_cones(EdgeFlips::Auto));
   ASSERT_TRUE(with.converged) << with.components[0].flow.message;
   EXPECT_LE(with.max_error, 1e-10);
   EXPECT_GT(with.flips, 0);
@@ -73,14 +73,16 @@ TEST(EdgeFlips, StrongConesBreakATriangleWithoutFlipsAndConvergeWithThem) {
 
 TEST(EdgeFlips, NewtonStaysQuadraticAcrossFlips) {
   const Mesh sphere = make_icosphere(3);
-  const MeshFlowResult r = flow_mesh(sphere, strong_cones(sphere, EdgeFlips::Auto));
+  const MeshFlowResult r = flow_mesh(sphere, strong_cones(EdgeFlips::Auto));
   ASSERT_TRUE(r.converged);
   const auto& history = r.components[0].flow.history;
   // The last steps, past the flips, square the error (up to a constant).
   const int n = static_cast<int>(history.size());
   ASSERT_GE(n, 4);
   const double e1 = history[n - 3].max_error, e2 = history[n - 2].max_error;
-  if (e1 < 1e-2 && e2 > 1e-13) EXPECT_LE(e2, 10 * e1 * e1) << e1 << " -> " << e2;
+  if (e1 < 1e-2 && e2 > 1e-13) {
+    EXPECT_LE(e2, 10 * e1 * e1) << e1 << " -> " << e2;
+  }
 }
 
 TEST(EdgeFlips, OffKeepsTheInputTriangulationAndOtherSchemesRefuseDelaunay) {
@@ -121,7 +123,7 @@ TEST(EdgeFlips, EveryComponentOfAMeshFlipsIntoTheWholeMeshTriangulation) {
   for (int v = 0; v < a.num_vertices(); ++v) {
     options.target.values[v] = 4 * kPi / a.num_vertices();
   }
-  for (const Cone& c : strong_cones(a, EdgeFlips::Auto).target.cones) {
+  for (const Cone& c : strong_cones(EdgeFlips::Auto).target.cones) {
     options.target.values[a.num_vertices() + c.vertex] = c.curvature;
   }
   const MeshFlowResult r = flow_mesh(both, options);
@@ -137,7 +139,7 @@ TEST(EdgeFlips, ParameterizationLaysOutTheIntrinsicTriangulation) {
   ParamOptions options;
   options.structure.scheme = Scheme::VertexScaling;
   options.cone_mode = ConeMode::User;
-  options.cones = strong_cones(sphere, EdgeFlips::Auto).target.cones;
+  options.cones = strong_cones(EdgeFlips::Auto).target.cones;
   options.modify_connectivity = false;
   const ParamResult r = parameterize(sphere, options);
   ASSERT_TRUE(r.converged) << r.message;
