@@ -272,29 +272,9 @@ TEST(RepairMesh, OrientsEachComponentByItsMajority) {
   }
 }
 
-/// A Moebius strip of 2n triangles (as in validate_test.cpp).
-Mesh moebius(int n) {
-  Mesh mesh;
-  mesh.positions.resize(2 * n, 3);
-  mesh.triangles.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double t = 2 * std::numbers::pi * i / n;
-    const Eigen::RowVector3d centre(std::cos(t), std::sin(t), 0);
-    const Eigen::RowVector3d rung =
-        0.3 * (std::cos(t / 2) * centre + std::sin(t / 2) * Eigen::RowVector3d::UnitZ());
-    mesh.positions.row(2 * i) = centre + rung;
-    mesh.positions.row(2 * i + 1) = centre - rung;
-    const int a = 2 * i, b = 2 * i + 1;
-    const int next_a = i + 1 < n ? a + 2 : 1, next_b = i + 1 < n ? b + 2 : 0;
-    mesh.triangles.row(2 * i) << a, b, next_b;
-    mesh.triangles.row(2 * i + 1) << a, next_b, next_a;
-  }
-  return mesh;
-}
-
 TEST(RepairMesh, LeavesANonOrientableComponentAndSaysSo) {
   // A Moebius strip beside a tetrahedron with one face reversed: the tetrahedron is fixed.
-  const Mesh strip = moebius(7);
+  const Mesh strip = testing::moebius_strip(7);
   Mesh mesh;
   mesh.positions.resize(18, 3);
   mesh.positions << strip.positions, tetrahedron().positions.array() + 5.0;

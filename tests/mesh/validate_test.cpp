@@ -23,26 +23,6 @@ using testing::make_mesh;
 using testing::tetrahedron;
 using testing::torus;
 
-/// A Moebius strip of 2n triangles (see io_test.cpp for the construction).
-Mesh moebius(int n) {
-  Mesh mesh;
-  mesh.positions.resize(2 * n, 3);
-  mesh.triangles.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double t = 2 * std::numbers::pi * i / n;
-    const Eigen::RowVector3d centre(std::cos(t), std::sin(t), 0);
-    const Eigen::RowVector3d rung =
-        0.3 * (std::cos(t / 2) * centre + std::sin(t / 2) * Eigen::RowVector3d::UnitZ());
-    mesh.positions.row(2 * i) = centre + rung;
-    mesh.positions.row(2 * i + 1) = centre - rung;
-    const int a = 2 * i, b = 2 * i + 1;
-    const int next_a = i + 1 < n ? a + 2 : 1, next_b = i + 1 < n ? b + 2 : 0;
-    mesh.triangles.row(2 * i) << a, b, next_b;
-    mesh.triangles.row(2 * i + 1) << a, next_b, next_a;
-  }
-  return mesh;
-}
-
 int count_of(const ValidationReport& report, DefectKind kind) {
   for (const auto& [k, c] : report.counts) {
     if (k == kind) return c;
@@ -179,13 +159,14 @@ TEST(FindDefects, InconsistentOrientationNamesTheFacesToFlip) {
 }
 
 TEST(FindDefects, NonOrientable) {
-  const ValidationReport report = find_defects(moebius(7));
+  const ValidationReport report = find_defects(testing::moebius_strip(7));
   ASSERT_EQ(report.defects.size(), 1u);
   EXPECT_EQ(report.defects[0].kind, DefectKind::NonOrientable);
   EXPECT_EQ(report.defects[0].element, 0);
   expect_mentions(report.defects[0].message, {"non-orientable", "14 faces connected to face 0"});
-  expect_mentions(message_of<TopologyError>([&] { validate_mesh(moebius(7), "strip.ply"); }),
-                  {"strip.ply: non-orientable"});
+  expect_mentions(
+      message_of<TopologyError>([&] { validate_mesh(testing::moebius_strip(7), "strip.ply"); }),
+      {"strip.ply: non-orientable"});
 }
 
 TEST(FindDefects, ZeroAreaWithScaleFreeTolerance) {

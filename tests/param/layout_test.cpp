@@ -328,7 +328,10 @@ void expect_valid_layout(const Flattened& f, const std::string& what) {
     ASSERT_TRUE(f.cut.is_cut_edge.at(t.edge));
     EXPECT_NEAR(std::abs(t.rotation), 1.0, 1e-15);
     EXPECT_LE(t.mismatch, 1e-9) << "edge " << t.edge;
-    EXPECT_DOUBLE_EQ(t.angle, std::arg(t.rotation));
+    // arg(a), with a half turn always +pi (never -pi by rounding): (-pi, pi].
+    EXPECT_NEAR(std::remainder(t.angle - std::arg(t.rotation), 2 * std::numbers::pi), 0.0, 1e-15);
+    EXPECT_GT(t.angle, -std::numbers::pi + 1e-9);
+    EXPECT_LE(t.angle, std::numbers::pi + 1e-9);
     // Side B of the edge lands on side A: check the ends directly.
     const int ha = topology.edge_halfedges(t.edge, 0), hb = topology.edge_halfedges(t.edge, 1);
     const Topology& ct = f.cut_mesh.topology;

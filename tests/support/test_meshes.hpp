@@ -58,6 +58,27 @@ inline Mesh torus(int n, int m) {
   return mesh;
 }
 
+/// A Moebius strip of 2n triangles: a band of n quads around the unit circle whose rungs turn
+/// by half a turn, the last quad glued to the first with its ends swapped (non-orientable).
+inline Mesh moebius_strip(int n) {
+  Mesh mesh;
+  mesh.positions.resize(2 * n, 3);
+  mesh.triangles.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * i / n;
+    const Eigen::RowVector3d centre(std::cos(t), std::sin(t), 0);
+    const Eigen::RowVector3d rung =
+        0.3 * (std::cos(t / 2) * centre + std::sin(t / 2) * Eigen::RowVector3d::UnitZ());
+    mesh.positions.row(2 * i) = centre + rung;
+    mesh.positions.row(2 * i + 1) = centre - rung;
+    const int a = 2 * i, b = 2 * i + 1;
+    const int next_a = i + 1 < n ? a + 2 : 1, next_b = i + 1 < n ? b + 2 : 0;
+    mesh.triangles.row(2 * i) << a, b, next_b;
+    mesh.triangles.row(2 * i + 1) << a, next_b, next_a;
+  }
+  return mesh;
+}
+
 /// The vertex of a unit sphere mesh nearest a direction.
 inline int nearest_vertex(const Mesh& sphere, const Eigen::Vector3d& direction) {
   int best = 0;

@@ -24,7 +24,7 @@ struct SeamTransition {
   int segment = -1;                     ///< cut segment the edge belongs to
   std::complex<double> rotation{1};     ///< unit complex number a
   std::complex<double> translation{0};  ///< b (takes the midpoint of side B's ends onto side A's)
-  double angle = 0;                     ///< arg(a), radians in (-pi, pi]
+  double angle = 0;                     ///< arg(a), radians in (-pi + 1e-9, pi + 1e-9]
   /// max over the edge's two ends of |a z_B + b - z_A| / length; for a segment, over the ends of
   /// all its edges, each relative to its edge's length
   double mismatch = 0;
