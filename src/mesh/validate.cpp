@@ -122,6 +122,13 @@ const char* defect_name(DefectKind kind) {
   return "unknown";
 }
 
+int ValidationReport::count(DefectKind kind) const {
+  for (const auto& [k, c] : counts) {
+    if (k == kind) return c;
+  }
+  return 0;
+}
+
 bool ValidationReport::ok() const {
   for (const auto& [kind, count] : counts) {
     if (kind != DefectKind::UnreferencedVertex && count > 0) return false;

@@ -482,13 +482,6 @@ struct SharedRow {
   Expect repaired = {};
 };
 
-int count_of(const ValidationReport& report, DefectKind kind) {
-  for (const auto& [k, c] : report.counts) {
-    if (k == kind) return c;
-  }
-  return 0;
-}
-
 std::vector<SharedRow> shared_rows() {
   return {
       // Unwelded patch seams: non-manifold where patches meet at a point.
@@ -554,7 +547,7 @@ std::vector<SharedRow> shared_rows() {
         {"1113 unreferenced vertices dropped"},
         [](const ReadResult& r) {
           EXPECT_EQ(r.dropped_vertices.size(), 1113u);
-          EXPECT_EQ(count_of(r.validation, DefectKind::UnreferencedVertex), 1113);
+          EXPECT_EQ(r.validation.count(DefectKind::UnreferencedVertex), 1113);
         }},
        {Thrown::Nothing,
         {"dropped 1113 unreferenced vertices"},

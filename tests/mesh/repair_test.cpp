@@ -22,13 +22,6 @@ using testing::make_mesh;
 using testing::tetrahedron;
 using testing::torus;
 
-int count_of(const ValidationReport& report, DefectKind kind) {
-  for (const auto& [k, c] : report.counts) {
-    if (k == kind) return c;
-  }
-  return 0;
-}
-
 bool mentions(const std::vector<std::string>& lines, const std::string& piece) {
   return std::any_of(lines.begin(), lines.end(), [&](const std::string& line) {
     return line.find(piece) != std::string::npos;
@@ -85,7 +78,7 @@ TEST(RepairMesh, WeldsATriangleSoupIntoAClosedSurface) {
       soup.triangles(f, k) = 3 * f + k;
     }
   }
-  ASSERT_GT(count_of(find_defects(soup), DefectKind::InconsistentOrientation) +
+  ASSERT_GT(find_defects(soup).count(DefectKind::InconsistentOrientation) +
                 mesh_info(soup).boundary_loops,
             0);
   const RepairResult r = repair_mesh(soup);
@@ -159,8 +152,8 @@ TEST(RepairMesh, SplitsTwoTetrahedraSharingAnEdge) {
       {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0.2}, {0.5, 0.5, 1}, {0.5, -1, 0.2}, {0.5, -0.5, -1}},
       {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 1}, {0, 1, 5}, {0, 5, 4}, {1, 4, 5}});
   ASSERT_TRUE(find_defects(tetrahedron()).counts.empty());
-  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::NonManifoldEdge), 1);
-  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::InconsistentOrientation), 0);
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::NonManifoldEdge), 1);
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::InconsistentOrientation), 0);
   const RepairResult r = repair_mesh(mesh);
   expect_maps_consistent(mesh, r);
   EXPECT_EQ(r.report.non_manifold_edges_split, 1);
@@ -215,7 +208,7 @@ TEST(RepairMesh, SplitsTwoClosedSurfacesTouchingAtAVertex) {
   Mesh mesh = make_mesh(
       {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}},
       {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}});
-  ASSERT_EQ(count_of(find_defects(mesh), DefectKind::NonManifoldVertex), 1);
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::NonManifoldVertex), 1);
   const RepairResult r = repair_mesh(mesh);
   EXPECT_EQ(r.report.non_manifold_vertices_split.count, 1);
   const MeshInfo info = mesh_info(r.mesh);
@@ -290,7 +283,7 @@ TEST(RepairMesh, LeavesANonOrientableComponentAndSaysSo) {
   EXPECT_TRUE(mentions(r.report.messages, "not repaired: 1 non-orientable components"));
   const ValidationReport after = find_defects(r.mesh);
   EXPECT_EQ(after.counts.size(), 1u);
-  EXPECT_EQ(count_of(after, DefectKind::NonOrientable), 1);
+  EXPECT_EQ(after.count(DefectKind::NonOrientable), 1);
 }
 
 TEST(RepairMesh, ZeroAreaFacesAndNonFiniteCoordinatesAreLeft) {
@@ -298,13 +291,13 @@ TEST(RepairMesh, ZeroAreaFacesAndNonFiniteCoordinatesAreLeft) {
   mesh.triangles.row(1) << 1, 3, 0;  // collinear, and oriented like face 0
   RepairResult r = repair_mesh(mesh);
   EXPECT_EQ(r.mesh.num_faces(), 2);
-  EXPECT_EQ(count_of(find_defects(r.mesh), DefectKind::ZeroAreaFace), 1);
+  EXPECT_EQ(find_defects(r.mesh).count(DefectKind::ZeroAreaFace), 1);
 
   mesh = tetrahedron();
   mesh.positions(2, 1) = std::nan("");
   r = repair_mesh(mesh);
   EXPECT_FALSE(r.report.changed());
-  EXPECT_EQ(count_of(find_defects(r.mesh), DefectKind::NonFiniteCoordinate), 1);
+  EXPECT_EQ(find_defects(r.mesh).count(DefectKind::NonFiniteCoordinate), 1);
 }
 
 TEST(RepairMesh, OptionsSwitchStepsOff) {
@@ -348,7 +341,7 @@ TEST(RepairMesh, RandomSoupsComeOutManifoldAndOriented) {
     for (const auto& [kind, count] : after.counts) {
       EXPECT_EQ(kind, DefectKind::NonOrientable) << defect_name(kind) << ": " << count;
     }
-    EXPECT_EQ(count_of(after, DefectKind::NonOrientable), r.report.non_orientable_components.count);
+    EXPECT_EQ(after.count(DefectKind::NonOrientable), r.report.non_orientable_components.count);
     non_orientable += r.report.non_orientable_components.count;
     // A repaired mesh is left alone (welding would join the copies of split vertices again).
     RepairOptions no_weld;

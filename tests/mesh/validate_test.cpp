@@ -23,13 +23,6 @@ using testing::make_mesh;
 using testing::tetrahedron;
 using testing::torus;
 
-int count_of(const ValidationReport& report, DefectKind kind) {
-  for (const auto& [k, c] : report.counts) {
-    if (k == kind) return c;
-  }
-  return 0;
-}
-
 /// Runs `action`, which must throw exactly E, and returns the message.
 template <class E>
 std::string message_of(const std::function<void()>& action) {
@@ -61,7 +54,7 @@ TEST(FindDefects, NonFiniteCoordinate) {
   mesh.positions(2, 1) = std::numeric_limits<double>::quiet_NaN();
   mesh.positions(3, 0) = -std::numeric_limits<double>::infinity();
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::NonFiniteCoordinate), 2);
+  EXPECT_EQ(report.count(DefectKind::NonFiniteCoordinate), 2);
   ASSERT_EQ(report.defects.size(), 2u);  // the faces using them are not checked for area
   EXPECT_EQ(report.defects[0].element, 2);
   expect_mentions(report.defects[0].message, {"vertex 2", "(-1, nan, -1)"});
@@ -75,7 +68,7 @@ TEST(FindDefects, IndexOutOfRange) {
   mesh.triangles(1, 2) = 7;
   mesh.triangles(3, 0) = -1;
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::IndexOutOfRange), 2);
+  EXPECT_EQ(report.count(DefectKind::IndexOutOfRange), 2);
   ASSERT_GE(report.defects.size(), 2u);
   EXPECT_EQ(report.defects[0].kind, DefectKind::IndexOutOfRange);
   EXPECT_EQ(report.defects[0].element, 1);
@@ -88,7 +81,7 @@ TEST(FindDefects, RepeatedVertex) {
   Mesh mesh = tetrahedron();
   mesh.triangles.row(2) << 0, 3, 0;
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::RepeatedVertex), 1);
+  EXPECT_EQ(report.count(DefectKind::RepeatedVertex), 1);
   EXPECT_EQ(report.defects[0].element, 2);
   expect_mentions(report.defects[0].message, {"face 2 uses vertex 0 more than once (0, 3, 0)"});
 }
@@ -97,13 +90,13 @@ TEST(FindDefects, DuplicateFaceInEitherOrientation) {
   Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}},
                         {{0, 1, 2}, {1, 3, 2}, {2, 1, 0}, {0, 1, 2}});
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::DuplicateFace), 2);
+  EXPECT_EQ(report.count(DefectKind::DuplicateFace), 2);
   ASSERT_GE(report.defects.size(), 2u);
   EXPECT_EQ(report.defects[0].element, 2);
   expect_mentions(report.defects[0].message, {"face 2 (2, 1, 0) has the same vertices as face 0"});
   EXPECT_EQ(report.defects[1].element, 3);
   // Three copies of face 0 put three faces on each of its edges.
-  EXPECT_EQ(count_of(report, DefectKind::NonManifoldEdge), 3);
+  EXPECT_EQ(report.count(DefectKind::NonManifoldEdge), 3);
   expect_mentions(message_of<InvalidInput>([&] { validate_mesh(mesh, "d.off"); }),
                   {"d.off: face 2"});
 }
@@ -113,7 +106,7 @@ TEST(FindDefects, NonManifoldEdge) {
       make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 1}, {0.5, 0.5, -1}},
                 {{0, 1, 2}, {1, 3, 2}, {1, 4, 2}, {2, 5, 1}});
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::NonManifoldEdge), 1);
+  EXPECT_EQ(report.count(DefectKind::NonManifoldEdge), 1);
   ASSERT_FALSE(report.defects.empty());
   EXPECT_EQ(report.defects[0].element, 0);
   expect_mentions(report.defects[0].message,
@@ -140,7 +133,7 @@ TEST(FindDefects, InconsistentOrientationNamesTheFacesToFlip) {
   mesh.triangles.row(3) << 1, 2, 3;  // reversed
   const ValidationReport report = find_defects(mesh);
   // All three edges of face 3 are traversed twice the same way; face 3 is the one to reverse.
-  EXPECT_EQ(count_of(report, DefectKind::InconsistentOrientation), 3);
+  EXPECT_EQ(report.count(DefectKind::InconsistentOrientation), 3);
   ASSERT_EQ(report.defects.size(), 3u);
   for (const Defect& defect : report.defects) EXPECT_EQ(defect.element, 3);
   expect_mentions(report.defects[0].message,
@@ -152,8 +145,8 @@ TEST(FindDefects, InconsistentOrientationNamesTheFacesToFlip) {
   Mesh band = torus(8, 6);
   for (int f = 0; f < 12; ++f) band.triangles.row(f) = band.triangles.row(f).reverse().eval();
   const ValidationReport band_report = find_defects(band);
-  EXPECT_GT(count_of(band_report, DefectKind::InconsistentOrientation), 0);
-  EXPECT_EQ(count_of(band_report, DefectKind::NonOrientable), 0);
+  EXPECT_GT(band_report.count(DefectKind::InconsistentOrientation), 0);
+  EXPECT_EQ(band_report.count(DefectKind::NonOrientable), 0);
   for (const Defect& defect : band_report.defects) EXPECT_LT(defect.element, 12);
   expect_mentions(band_report.defects[0].message, {"and the other 11 faces on its side"});
 }
@@ -183,14 +176,14 @@ TEST(FindDefects, ZeroAreaWithScaleFreeTolerance) {
                                {4e6, 5e6, 0}},
                               {{0, 1, 2}, {0, 3, 1}, {0, 2, 4}, {5, 7, 6}});
   const ValidationReport report = find_defects(mesh);
-  EXPECT_EQ(count_of(report, DefectKind::ZeroAreaFace), 2);
+  EXPECT_EQ(report.count(DefectKind::ZeroAreaFace), 2);
   ASSERT_EQ(report.defects.size(), 2u);
   EXPECT_EQ(report.defects[0].element, 1);
   EXPECT_EQ(report.defects[1].element, 2);
   expect_mentions(report.defects[0].message, {"face 1 (0, 3, 1) has zero area"});
   ValidationOptions loose;
   loose.zero_area_tolerance = 1e-9;
-  EXPECT_EQ(count_of(find_defects(mesh, loose), DefectKind::ZeroAreaFace), 3);
+  EXPECT_EQ(find_defects(mesh, loose).count(DefectKind::ZeroAreaFace), 3);
   expect_mentions(message_of<InvalidInput>([&] { validate_mesh(mesh, "z"); }),
                   {"z: face 1", "zero area", "(and 1 more zero-area-face defect)"});
 }
@@ -201,7 +194,7 @@ TEST(FindDefects, UnreferencedVertexIsOnlyAWarning) {
   mesh.positions.bottomRows(2).setZero();
   const ValidationReport report = find_defects(mesh);
   EXPECT_TRUE(report.ok());
-  EXPECT_EQ(count_of(report, DefectKind::UnreferencedVertex), 2);
+  EXPECT_EQ(report.count(DefectKind::UnreferencedVertex), 2);
   ASSERT_EQ(report.defects.size(), 2u);
   EXPECT_EQ(report.defects[1].element, 5);
   expect_mentions(report.defects[0].message, {"vertex 4 is not used by any face"});
@@ -241,7 +234,7 @@ TEST(FindDefects, ListsAtMostMaxDefectsPerKindButCountsAll) {
   options.max_defects_per_kind = 4;
   const ValidationReport report = find_defects(mesh, options);
   EXPECT_EQ(report.defects.size(), 4u);
-  EXPECT_EQ(count_of(report, DefectKind::ZeroAreaFace), 50);
+  EXPECT_EQ(report.count(DefectKind::ZeroAreaFace), 50);
   EXPECT_EQ(report.defects[3].element, 3);
 }
 

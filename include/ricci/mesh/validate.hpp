@@ -49,6 +49,8 @@ struct ValidationReport {
   std::vector<std::pair<DefectKind, int>> counts;  ///< total count of every kind found
   /// True when no defect other than UnreferencedVertex was found.
   bool ok() const;
+  /// Total count of one kind of defect (0 when none was found).
+  int count(DefectKind kind) const;
 };
 
 /// Lists every defect of the mesh.
