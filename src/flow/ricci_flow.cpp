@@ -13,6 +13,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
 
 namespace ricci {
@@ -62,6 +63,12 @@ const char* edge_flips_name(EdgeFlips flips) {
 
 bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options) {
   if (options.flips == EdgeFlips::Off) return false;
+  if (structure.geometry == Geometry::Hyperbolic) {
+    if (options.flips == EdgeFlips::Auto) return false;
+    throw InvalidInput(
+        "RicciFlow: Delaunay edge flips are implemented for the Euclidean background only (the "
+        "hyperbolic Ptolemy relation is not); use --flips off (the default there)");
+  }
   const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
   if (options.flips == EdgeFlips::Auto) return vertex_scaling;
   if (!vertex_scaling) {
@@ -94,6 +101,7 @@ struct RicciFlow::State {
   // With flips the state owns a copy of the topology, which the flips change; `topology` refers
   // to that copy, or to the caller's topology without flips.
   const bool flips;
+  const bool hyperbolic;  // hyperbolic background: no gauge, a diagonal term in the Hessian
   std::optional<Topology> owned_topology;
   const Topology& topology;
   ConformalStructure structure;
@@ -126,6 +134,7 @@ struct RicciFlow::State {
   std::vector<int> diagonal_slot;  // per row
   SparseCholesky cholesky;
   Eigen::VectorXd halfedge_w, edge_w;
+  Eigen::VectorXd corner_diagonal, vertex_diagonal;  // hyperbolic only (see hyperbolic.hpp)
 
   double gradient_dt = 0;
   int iteration = 0;
@@ -138,6 +147,7 @@ struct RicciFlow::State {
 
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
       : flips(uses_edge_flips(s, o)),
+        hyperbolic(s.geometry == Geometry::Hyperbolic),
         owned_topology(flips ? std::optional<Topology>(t) : std::nullopt),
         topology(flips ? *owned_topology : t),
         structure(s),
@@ -150,7 +160,9 @@ struct RicciFlow::State {
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
     if (edge_lengths(topology, structure, at, l) > 0) return Evaluation::BadLength;
-    if (corner_angles(topology, l, a) >= 0) return Evaluation::TriangleInequality;
+    if (corner_angles(topology, l, a, structure.geometry) >= 0) {
+      return Evaluation::TriangleInequality;
+    }
     vertex_curvature(topology, a, k);
     return Evaluation::Valid;
   }
@@ -260,7 +272,8 @@ struct RicciFlow::State {
     const int nv = topology.num_vertices;
     row_of_vertex.assign(nv, -1);
     vertex_of_row.clear();
-    closed = !target.has_fixed_vertices();
+    // The hyperbolic energy is strictly convex: no gauge, every vertex with a target is free.
+    closed = !hyperbolic && !target.has_fixed_vertices();
     for (int v = 0; v < nv; ++v) {
       if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
       if (closed && pinned_vertex < 0) pinned_vertex = v;  // the gauge: u of one vertex stays put
@@ -304,7 +317,17 @@ struct RicciFlow::State {
   }
 
   void compute_edge_weights() {
-    halfedge_weights(topology, structure, u, lengths, angles, halfedge_w);
+    if (hyperbolic) {
+      hyperbolic_hessian_terms(topology, structure, u, lengths, angles, halfedge_w,
+                               corner_diagonal);
+      vertex_diagonal.setZero(topology.num_vertices);
+      for (int f = 0; f < topology.num_faces; ++f) {
+        for (int k = 0; k < 3; ++k)
+          vertex_diagonal[topology.triangles(f, k)] += corner_diagonal[3 * f + k];
+      }
+    } else {
+      halfedge_weights(topology, structure, u, lengths, angles, halfedge_w);
+    }
     edge_weights(topology, halfedge_w, edge_w);
   }
 
@@ -320,6 +343,11 @@ struct RicciFlow::State {
       if (s[1] >= 0) values[s[1]] -= w;
       if (s[2] >= 0) values[s[2]] += w;
       if (s[3] >= 0) values[s[3]] += w;
+    }
+    if (hyperbolic) {
+      for (std::size_t r = 0; r < vertex_of_row.size(); ++r) {
+        values[diagonal_slot[r]] += vertex_diagonal[vertex_of_row[r]];
+      }
     }
     timings.assembly += seconds_since(t0);
   }
@@ -561,7 +589,7 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
     throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
   }
   if (ev == Evaluation::TriangleInequality) {
-    const int f = corner_angles(s.topology, s.lengths, s.angles);
+    const int f = corner_angles(s.topology, s.lengths, s.angles, s.structure.geometry);
     throw InvalidInput("RicciFlow: face " + std::to_string(f) +
                        " of the initial metric breaks a triangle inequality");
   }
@@ -591,6 +619,7 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
         diagonal[s.topology.edge_vertices(e, 0)] += std::abs(s.edge_w[e]);
         diagonal[s.topology.edge_vertices(e, 1)] += std::abs(s.edge_w[e]);
       }
+      if (s.hyperbolic) diagonal += s.vertex_diagonal.cwiseAbs();
       const double top = diagonal.maxCoeff();
       s.gradient_dt = top > 0 ? 1.0 / top : 0.1;
     }
@@ -649,7 +678,13 @@ FlowResult RicciFlow::result() const {
   r.factorizations = s.factorizations;
   r.cg_iterations = s.cg_iterations;
   r.linear_solver = s.options.solver == FlowSolver::Newton ? s.cholesky.backend() : "none";
-  r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(s.topology, s.curvature);
+  if (s.hyperbolic) {
+    r.total_area = hyperbolic_total_area(s.angles);
+    r.gauss_bonnet_relative_error =
+        hyperbolic_gauss_bonnet_relative_error(s.topology, s.curvature, r.total_area);
+  } else {
+    r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(s.topology, s.curvature);
+  }
   return r;
 }
 

@@ -85,8 +85,9 @@ BoundaryMode parse_boundary_mode(const std::string& name) {
   if (name == "free") return BoundaryMode::Free;
   if (name == "disk") return BoundaryMode::DiskUniform;
   if (name == "disk-length") return BoundaryMode::DiskLength;
+  if (name == "geodesic") return BoundaryMode::Geodesic;
   throw InvalidInput("parse_boundary_mode: unknown boundary '" + name +
-                     "'; expected free, disk or disk-length");
+                     "'; expected free, disk, disk-length or geodesic");
 }
 
 const char* boundary_mode_name(BoundaryMode mode) {
@@ -97,6 +98,8 @@ const char* boundary_mode_name(BoundaryMode mode) {
       return "disk";
     case BoundaryMode::DiskLength:
       return "disk-length";
+    case BoundaryMode::Geodesic:
+      return "geodesic";
   }
   return "unknown";
 }
@@ -136,6 +139,8 @@ Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMo
   if (t.num_boundary_loops() > 0) {
     if (boundary == BoundaryMode::Free) {
       for (int v = 0; v < t.num_vertices; ++v) target.fixed[v] = t.is_boundary_vertex[v];
+    } else if (boundary == BoundaryMode::Geodesic) {
+      // K-bar = 0 on the boundary already (zero geodesic curvature); cones keep theirs.
     } else {
       if (boundary == BoundaryMode::DiskLength && input_lengths.size() != t.num_edges) {
         throw InvalidInput("flat_target: the disk-length boundary needs the #E input lengths");
@@ -265,6 +270,20 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
     if (any_fixed) continue;
     sum += compensation;
     const double expected = 2 * kPi * comp.euler_characteristic;
+    if (structure.geometry == Geometry::Hyperbolic) {
+      // sum K - area = 2 pi chi with a positive area: the sum must exceed 2 pi chi.
+      if (!(sum - expected > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude))) {
+        throw InvalidInput("check_admissible: component " + std::to_string(c) +
+                           " cannot carry a hyperbolic metric with this target: its target "
+                           "curvatures sum to " +
+                           format_value(sum) +
+                           ", which must exceed 2 pi chi = " + format_value(expected) +
+                           " (chi = " + std::to_string(comp.euler_characteristic) +
+                           ") by the metric's area; zero curvature needs chi < 0 (genus >= 2, "
+                           "or boundaries)");
+      }
+      continue;
+    }
     if (std::abs(sum - expected) > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
       throw InvalidInput("check_admissible: component " + std::to_string(c) +
                          " breaks Gauss-Bonnet: its target curvatures sum to " + format_value(sum) +

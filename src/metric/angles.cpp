@@ -35,6 +35,32 @@ double angle_from_lengths(double a, double b, double c) {
   return 2.0 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
 }
 
+int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles,
+                  Geometry geometry) {
+  if (geometry == Geometry::Euclidean) return corner_angles(topology, lengths, angles);
+  const int nf = topology.num_faces;
+  angles.resize(nf, 3);
+  int first_bad = -1;
+  for (int f = 0; f < nf; ++f) {
+    const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
+                         lengths[topology.face_edges(f, 2)]};
+    double two_s, d[3];
+    if (!half_perimeter_terms(l, two_s, d)) {
+      angles.row(f).setConstant(std::numeric_limits<double>::quiet_NaN());
+      if (first_bad < 0) first_bad = f;
+      continue;
+    }
+    // sinh of the half-perimeter terms, each computed from a difference that did not cancel.
+    const double sinh_s = std::sinh(0.5 * two_s);
+    const double sinh_d[3] = {std::sinh(0.5 * d[0]), std::sinh(0.5 * d[1]), std::sinh(0.5 * d[2])};
+    for (int k = 0; k < 3; ++k) {
+      angles(f, k) = 2.0 * std::atan2(std::sqrt(sinh_d[(k + 1) % 3] * sinh_d[(k + 2) % 3]),
+                                      std::sqrt(sinh_s * sinh_d[k]));
+    }
+  }
+  return first_bad;
+}
+
 int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles) {
   const int nf = topology.num_faces;
   angles.resize(nf, 3);

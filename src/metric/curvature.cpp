@@ -44,4 +44,11 @@ double gauss_bonnet_relative_error(const Topology& topology, const Eigen::Vector
   return std::abs(accurate_sum(curvature) - expected) / scale;
 }
 
+double hyperbolic_gauss_bonnet_relative_error(const Topology& topology,
+                                              const Eigen::VectorXd& curvature, double area) {
+  const double expected = 2 * std::numbers::pi * topology.euler_characteristic();
+  const double scale = std::max(1.0, 2 * std::numbers::pi * topology.num_referenced_vertices());
+  return std::abs((accurate_sum(curvature) - area) - expected) / scale;
+}
+
 }  // namespace ricci

@@ -1,7 +1,12 @@
 #include "ricci/metric/hyperbolic.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include "ricci/errors.hpp"
+#include "ricci/metric/curvature.hpp"
 
 namespace ricci {
 
@@ -28,6 +33,213 @@ double hyperbolic_angle_from_lengths(double a, double b, double c) {
   if (!(sa >= 0 && sb >= 0 && sc >= 0)) return std::numeric_limits<double>::quiet_NaN();
   return 2.0 * std::atan2(std::sqrt(std::sinh(sb) * std::sinh(sc)),
                           std::sqrt(std::sinh(s) * std::sinh(sa)));
+}
+
+namespace {
+
+/// q = sinh^2(l / 2) of the hyperbolic form and its two denominators' factors 1 - eps t^2.
+struct EdgeTerms {
+  double q, ti, tj, fi, fj;
+};
+
+EdgeTerms edge_terms(double u_i, double u_j, double epsilon_i, double epsilon_j, double eta) {
+  EdgeTerms e;
+  e.ti = std::exp(u_i);
+  e.tj = std::exp(u_j);
+  const double ai = epsilon_i * e.ti * e.ti, aj = epsilon_j * e.tj * e.tj;
+  e.fi = 1.0 - ai;
+  e.fj = 1.0 - aj;
+  // The numerator is the Euclidean unified form's l^2 at radii t.
+  e.q = (ai + aj + 2.0 * eta * e.ti * e.tj) / (e.fi * e.fj);
+  return e;
+}
+
+/// cosh(x) - 1 without cancellation.
+double cosh_minus_one(double x) {
+  const double h = std::sinh(0.5 * x);
+  return 2.0 * h * h;
+}
+
+}  // namespace
+
+int hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
+  const int ne = topology.num_edges;
+  lengths.resize(ne);
+  int invalid = 0;
+  for (int e = 0; e < ne; ++e) {
+    const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+    const EdgeTerms t =
+        edge_terms(u[i], u[j], structure.epsilon[i], structure.epsilon[j], structure.eta[e]);
+    if (t.fi > 0 && t.fj > 0 && t.q > 0 && std::isfinite(t.q)) {
+      lengths[e] = 2.0 * std::asinh(std::sqrt(t.q));
+    } else {
+      lengths[e] = std::numeric_limits<double>::quiet_NaN();
+      ++invalid;
+    }
+  }
+  return invalid;
+}
+
+Eigen::Vector2d hyperbolic_length_derivatives(double u_i, double u_j, double epsilon_i,
+                                              double epsilon_j, double eta, double length) {
+  const EdgeTerms t = edge_terms(u_i, u_j, epsilon_i, epsilon_j, eta);
+  const double d = t.fi * t.fj;
+  // dq/du_i = (d numerator / du_i) / D - q (dD/du_i) / D, with dD/du_i / D = -2 eps_i t_i^2 / f_i;
+  // dq/dl = sinh(l) / 2.
+  const double ai = epsilon_i * t.ti * t.ti, aj = epsilon_j * t.tj * t.tj;
+  const double cross = 2.0 * eta * t.ti * t.tj;
+  const double dq_i = (2.0 * ai + cross) / d + t.q * 2.0 * ai / t.fi;
+  const double dq_j = (2.0 * aj + cross) / d + t.q * 2.0 * aj / t.fj;
+  const double factor = 2.0 / std::sinh(length);
+  return {factor * dq_i, factor * dq_j};
+}
+
+Eigen::Matrix3d hyperbolic_face_jacobian(const Topology& topology,
+                                         const ConformalStructure& structure,
+                                         const Eigen::VectorXd& u, const Eigen::VectorXd& lengths,
+                                         const CornerAngles& angles, int f) {
+  double l[3], sh[3], cs[3];
+  int v[3];
+  for (int k = 0; k < 3; ++k) {
+    l[k] = lengths[topology.face_edges(f, k)];
+    sh[k] = std::sinh(l[k]);
+    cs[k] = std::cos(angles(f, k));
+    v[k] = topology.triangles(f, k);
+  }
+  // dtheta / dl: row i, column = edge opposite corner column.
+  Eigen::Matrix3d a;
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    const double d = sh[i] / (sh[j] * sh[k] * std::sin(angles(f, i)));
+    a(i, i) = d;
+    a(i, j) = -d * cs[k];
+    a(i, k) = -d * cs[j];
+  }
+  // dl / du: row = edge opposite corner, column = corner.
+  Eigen::Matrix3d b = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int e = topology.face_edges(f, k);
+    const int p = (k + 1) % 3, q = (k + 2) % 3;
+    const Eigen::Vector2d dl = hyperbolic_length_derivatives(
+        u[v[p]], u[v[q]], structure.epsilon[v[p]], structure.epsilon[v[q]], structure.eta[e], l[k]);
+    b(k, p) = dl[0];
+    b(k, q) = dl[1];
+  }
+  return a * b;
+}
+
+void hyperbolic_hessian_terms(const Topology& topology, const ConformalStructure& structure,
+                              const Eigen::VectorXd& u, const Eigen::VectorXd& lengths,
+                              const CornerAngles& angles, Eigen::VectorXd& weights,
+                              Eigen::VectorXd& corner_diagonal) {
+  const int nf = topology.num_faces;
+  weights.resize(3 * static_cast<Eigen::Index>(nf));
+  corner_diagonal.resize(3 * static_cast<Eigen::Index>(nf));
+  for (int f = 0; f < nf; ++f) {
+    const Eigen::Matrix3d j = hyperbolic_face_jacobian(topology, structure, u, lengths, angles, f);
+    for (int k = 0; k < 3; ++k) {
+      const int p = (k + 1) % 3, q = (k + 2) % 3;
+      weights[3 * f + k] = 0.5 * (j(p, q) + j(q, p));
+      corner_diagonal[3 * f + k] = -j.row(k).sum();
+    }
+  }
+}
+
+double hyperbolic_total_area(const CornerAngles& angles) {
+  Eigen::VectorXd area(angles.rows());
+  for (Eigen::Index f = 0; f < angles.rows(); ++f) area[f] = std::numbers::pi - angles.row(f).sum();
+  return accurate_sum(area);
+}
+
+double hyperbolic_length_scale(const Topology& t, const Eigen::VectorXd& lbar, double requested) {
+  if (requested > 0) {
+    if (!std::isfinite(requested)) {
+      throw InvalidInput("hyperbolic_length_scale: the scale must be finite");
+    }
+    return requested;
+  }
+  if (requested < 0) {
+    throw InvalidInput("hyperbolic_length_scale: the scale must be positive (or 0 for automatic)");
+  }
+  double area = 0;
+  for (int f = 0; f < t.num_faces; ++f) {
+    const double a = lbar[t.face_edges(f, 0)], b = lbar[t.face_edges(f, 1)],
+                 c = lbar[t.face_edges(f, 2)];
+    const double s = 0.5 * (a + b + c);
+    area += std::sqrt(std::max(0.0, s * (s - a) * (s - b) * (s - c)));
+  }
+  int chi = 0;
+  for (const Component& c : t.components) chi += c.euler_characteristic;
+  const double wanted = chi != 0 ? 2.0 * std::numbers::pi * std::abs(chi) : 4.0 * std::numbers::pi;
+  if (!(area > 0)) throw InvalidInput("hyperbolic_length_scale: the mesh has no area");
+  return std::sqrt(wanted / area);
+}
+
+StructureResult make_hyperbolic_structure(const Topology& t, const Eigen::VectorXd& lbar,
+                                          const StructureOptions& options) {
+  if (options.scheme == Scheme::VirtualRadius) {
+    // Its hyperbolic Hessian is indefinite already at the fitted metric (measured on a generated
+    // genus-2 surface: eigenvalues down to -1.8), so Newton has no convex energy to descend.
+    throw InvalidInput(
+        "make_conformal_structure: the virtual-radius scheme has no convex Ricci energy in the "
+        "hyperbolic background; use thurston, tangential, inversive-distance or vertex-scaling");
+  }
+  const double scale = hyperbolic_length_scale(t, lbar, options.hyperbolic_length_scale);
+  const Eigen::VectorXd big_l = scale * lbar;
+  StructureOptions flat = options;
+  flat.geometry = Geometry::Euclidean;
+  // The Euclidean fit of the scaled lengths gives the radii (and eta where it stays).
+  StructureResult result = make_conformal_structure(t, big_l, flat);
+  ConformalStructure& s = result.structure;
+  s.geometry = Geometry::Hyperbolic;
+  s.length_scale = scale;
+  const int nv = t.num_vertices, ne = t.num_edges;
+  const bool unit = options.packing_init == PackingInit::UnitRadii;
+  switch (options.scheme) {
+    case Scheme::Thurston:
+    case Scheme::Tangential:
+    case Scheme::InversiveDistance: {
+      const Eigen::VectorXd r = s.initial_u.array().exp().matrix();
+      const double c =
+          std::cos(std::clamp(options.max_intersection_angle, 0.0, std::numbers::pi / 2));
+      for (int e = 0; e < ne; ++e) {
+        const double ri = r[t.edge_vertices(e, 0)], rj = r[t.edge_vertices(e, 1)];
+        if (options.scheme == Scheme::Tangential || unit) {
+          s.eta[e] = 1.0;
+          continue;
+        }
+        // eta = (cosh L - cosh r_i cosh r_j) / (sinh r_i sinh r_j), every cosh - 1 exact.
+        const double ci = cosh_minus_one(ri), cj = cosh_minus_one(rj);
+        const double eta =
+            (cosh_minus_one(big_l[e]) - (ci * cj + ci + cj)) / (std::sinh(ri) * std::sinh(rj));
+        s.eta[e] = options.scheme == Scheme::Thurston ? std::clamp(eta, c, 1.0) : eta;
+      }
+      for (int v = 0; v < nv; ++v) s.initial_u[v] = hyperbolic_log_radius(r[v]);
+      break;
+    }
+    case Scheme::VertexScaling:
+      for (int e = 0; e < ne; ++e) {
+        const double h = std::sinh(0.5 * big_l[e]);
+        s.eta[e] = 0.5 * h * h;
+      }
+      s.initial_u.setZero(nv);
+      break;
+    case Scheme::VirtualRadius:
+      break;  // refused above
+  }
+  Eigen::VectorXd l;
+  hyperbolic_edge_lengths(t, s, s.initial_u, l);
+  double sum_sq = 0, sum_ref = 0, max_rel = 0;
+  for (int e = 0; e < ne; ++e) {
+    const double d = l[e] - big_l[e];
+    sum_sq += d * d;
+    sum_ref += big_l[e] * big_l[e];
+    max_rel = std::max(max_rel, std::abs(d) / big_l[e]);
+  }
+  result.fit_rms_relative_error = ne > 0 ? std::sqrt(sum_sq / sum_ref) : 0.0;
+  result.fit_max_relative_error = max_rel;
+  return result;
 }
 
 }  // namespace ricci

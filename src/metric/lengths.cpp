@@ -3,10 +3,15 @@
 #include <cmath>
 #include <limits>
 
+#include "ricci/metric/hyperbolic.hpp"
+
 namespace ricci {
 
 int edge_lengths(const Topology& topology, const ConformalStructure& structure,
                  const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
+  if (structure.geometry == Geometry::Hyperbolic) {
+    return hyperbolic_edge_lengths(topology, structure, u, lengths);
+  }
   const int ne = topology.num_edges;
   lengths.resize(ne);
   int invalid = 0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
 namespace {
@@ -125,6 +126,17 @@ int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& 
 
 }  // namespace
 
+const char* geometry_name(Geometry geometry) {
+  return geometry == Geometry::Hyperbolic ? "hyperbolic" : "euclidean";
+}
+
+Geometry parse_geometry(const std::string& name) {
+  if (name == "euclidean") return Geometry::Euclidean;
+  if (name == "hyperbolic") return Geometry::Hyperbolic;
+  throw InvalidInput("parse_geometry: unknown geometry '" + name +
+                     "'; expected euclidean or hyperbolic");
+}
+
 const char* scheme_name(Scheme scheme) {
   switch (scheme) {
     case Scheme::Tangential:
@@ -176,6 +188,7 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
                          std::to_string(lbar[e]));
     }
   }
+  if (options.geometry == Geometry::Hyperbolic) return make_hyperbolic_structure(t, lbar, options);
   const int nv = t.num_vertices, ne = t.num_edges;
   const VertexEdges ve = vertex_edges(t);
   StructureResult result;

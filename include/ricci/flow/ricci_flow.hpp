@@ -132,8 +132,11 @@ struct FlowResult {
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;
-  std::string linear_solver;               ///< backend of the Cholesky factorisation (Newton)
-  double gauss_bonnet_relative_error = 0;  ///< of the final curvature
+  std::string linear_solver;  ///< backend of the Cholesky factorisation (Newton)
+  /// Of the final curvature: |sum K - 2 pi chi| (Euclidean) or |sum K - area - 2 pi chi|
+  /// (hyperbolic) relative to max(1, 2 pi #V).
+  double gauss_bonnet_relative_error = 0;
+  double total_area = 0;  ///< hyperbolic background: total area of the final metric (else 0)
 };
 
 /// A flow in progress, one iteration per step(); ricci_flow runs it to the end.

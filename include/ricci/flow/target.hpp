@@ -33,9 +33,10 @@ enum class BoundaryMode {
   Free,         ///< u fixed on the boundary: the curvature settles along it by itself
   DiskUniform,  ///< boundary curvature (2 pi chi - sum of cones) / m at each of m vertices
   DiskLength,   ///< the same total, shared in proportion to the boundary length at each vertex
+  Geodesic,     ///< K-bar = 0 on the boundary: geodesic boundary (the hyperbolic default)
 };
 
-/// "free", "disk", "disk-length". \throw InvalidInput on any other string
+/// "free", "disk", "disk-length", "geodesic". \throw InvalidInput on any other string
 BoundaryMode parse_boundary_mode(const std::string& name);
 const char* boundary_mode_name(BoundaryMode mode);
 
@@ -69,7 +70,8 @@ struct AdmissibilityOptions {
 };
 
 /// Rejects a target that cannot be reached: on every component without fixed vertices the target
-/// must satisfy Gauss-Bonnet; every vertex with a target must satisfy the single-vertex bound
+/// must satisfy Gauss-Bonnet (hyperbolic background: sum K-bar > 2 pi chi, the area being
+/// positive); every vertex with a target must satisfy the single-vertex bound
 /// K-bar_i > 2 pi - sum over its faces of (pi - Phi_opposite) (pi instead of 2 pi on the boundary;
 /// Phi = arccos eta for Thurston and tangential packings, 0 for the other schemes) and
 /// K-bar_i < 2 pi (pi on the boundary); the lower bound is skipped with options.edge_flips.

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "ricci/mesh/topology.hpp"
+#include "ricci/metric/geometry.hpp"
 
 namespace ricci {
 
@@ -22,5 +23,11 @@ double angle_from_lengths(double a, double b, double c);
 /// \param[out] angles #F by 3 (resized)
 /// \return index of the first face that breaks a triangle inequality (its angles are NaN), or -1
 int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles);
+
+/// The same in a chosen background geometry: hyperbolic triangles by the half-angle form of the
+/// hyperbolic law of cosines, tan(theta_k / 2) = sqrt(sinh(s - l_{k+1}) sinh(s - l_{k+2}) /
+/// (sinh s sinh(s - l_k))).
+int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles,
+                  Geometry geometry);
 
 }  // namespace ricci

@@ -20,6 +20,9 @@ Eigen::VectorXd vertex_curvature(const Topology& topology, const CornerAngles& a
 /// (the angle sums that make up K are each of order 2 pi).
 double gauss_bonnet_relative_error(const Topology& topology, const Eigen::VectorXd& curvature);
 
+/// Gauss-Bonnet in the hyperbolic background: |sum K - area - 2 pi chi| / max(1, 2 pi #V).
+double hyperbolic_gauss_bonnet_relative_error(const Topology& topology,
+                                              const Eigen::VectorXd& curvature, double area);
 /// Compensated (Neumaier) sum, for totals that must hold to the last digits.
 double accurate_sum(const Eigen::VectorXd& values);
 

@@ -11,6 +11,7 @@
 
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
+#include "ricci/metric/geometry.hpp"
 
 namespace ricci {
 
@@ -31,8 +32,19 @@ Scheme parse_scheme(const std::string& name);
 
 /// One conformal class of metrics on a mesh: the constants of the unified form and the log radii
 /// that best reproduce the input mesh's edge lengths.
+///
+/// In the hyperbolic background (THEORY.md section 9) the same constants enter
+///     sinh^2(l_ij / 2) = (eps_i t_i^2 + eps_j t_j^2 + 2 eta_ij t_i t_j)
+///                        / ((1 - eps_i t_i^2)(1 - eps_j t_j^2)),   t = e^u,
+/// which for circle packings (eps = 1, t = tanh(r / 2)) is cosh l = cosh r_i cosh r_j +
+/// eta sinh r_i sinh r_j, and for vertex scaling (eps = 0) is sinh(l / 2) = e^{(u_i + u_j) / 2}
+/// sinh(lbar / 2) (hyperbolic discrete conformal equivalence).
 struct ConformalStructure {
   Scheme scheme = Scheme::Thurston;
+  Geometry geometry = Geometry::Euclidean;
+  /// Hyperbolic background: the input lengths were multiplied by this before they were read as
+  /// hyperbolic lengths (1 in the Euclidean background, where scale does not matter).
+  double length_scale = 1.0;
   Eigen::VectorXd epsilon;    ///< #V scheme constants
   Eigen::VectorXd eta;        ///< #E edge constants
   Eigen::VectorXd initial_u;  ///< #V log radii of the initial (fitted) metric
@@ -52,6 +64,13 @@ struct StructureOptions {
   /// face gives its vertex at most pi - Phi of angle, so at pi/2 a valence-4 vertex whose edges
   /// all fit best at pi/2 could never be flat (fertility.off has one); 80 degrees leaves room.
   double max_intersection_angle = 80.0 * 3.14159265358979323846 / 180.0;
+  /// Background geometry. Hyperbolic: the input lengths, scaled by hyperbolic_length_scale, are
+  /// the hyperbolic lengths the structure reproduces (Thurston: fits).
+  Geometry geometry = Geometry::Euclidean;
+  /// Hyperbolic background: factor on the input lengths; 0 picks the one that gives the input
+  /// mesh (as Euclidean triangles) the total area 2 pi |chi| (4 pi when chi = 0), the area of
+  /// the hyperbolic metric with zero vertex curvature, so that the flow changes sizes little.
+  double hyperbolic_length_scale = 0.0;
   int fit_sweeps = 30;  ///< most Gauss-Seidel sweeps of the radius fit (Thurston, tangential)
   /// Stop the fit when a sweep lowers the sum of squared length errors by less than this
   /// fraction (the RMS error then changes in its fifth digit).
@@ -71,7 +90,8 @@ struct StructureResult {
 /// Edge lengths of the mesh in R^3, #E in the order of topology.edge_vertices.
 Eigen::VectorXd input_edge_lengths(const Mesh& mesh, const Topology& topology);
 
-/// Builds the conformal structure of a scheme from the input edge lengths.
+/// Builds the conformal structure of a scheme from the input edge lengths (in the geometry
+/// options.geometry asks for).
 /// \param input_lengths #E positive edge lengths (input_edge_lengths)
 /// \throw InvalidInput when a length is not positive and finite
 StructureResult make_conformal_structure(const Topology& topology,
