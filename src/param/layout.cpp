@@ -14,6 +14,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "layout_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/angles.hpp"
@@ -30,95 +31,6 @@ constexpr double kTranslationAngleTolerance = 1e-6;
 
 std::string face_message(const std::string& what, int f) {
   return "layout_flat: face " + std::to_string(f) + ": " + what;
-}
-
-void check_inputs(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
-                  const CutMesh& cut_mesh, const LayoutOptions& options) {
-  const int nf = topology.num_faces;
-  if (lengths.size() != topology.num_edges) {
-    throw InvalidInput("layout_flat: " + std::to_string(lengths.size()) + " lengths for " +
-                       std::to_string(topology.num_edges) + " edges");
-  }
-  if (!cut.is_cut_edge.empty() && static_cast<int>(cut.is_cut_edge.size()) != topology.num_edges) {
-    throw InvalidInput("layout_flat: the cut flags " + std::to_string(cut.is_cut_edge.size()) +
-                       " edges, the mesh has " + std::to_string(topology.num_edges));
-  }
-  if (cut_mesh.triangles.rows() != nf || cut_mesh.topology.num_faces != nf) {
-    throw InvalidInput("layout_flat: the cut mesh has " +
-                       std::to_string(cut_mesh.triangles.rows()) + " faces, the mesh " +
-                       std::to_string(nf));
-  }
-  const int ncv = cut_mesh.topology.num_vertices;
-  if (static_cast<int>(cut_mesh.to_original.size()) != ncv) {
-    throw InvalidInput("layout_flat: the cut mesh maps " +
-                       std::to_string(cut_mesh.to_original.size()) + " of its " +
-                       std::to_string(ncv) + " vertices to the mesh");
-  }
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = cut_mesh.topology.triangles(f, k);
-      if (v < 0 || v >= ncv || cut_mesh.to_original[v] != topology.triangles(f, k)) {
-        throw InvalidInput(face_message("the cut mesh's corners do not copy the mesh's", f));
-      }
-    }
-  }
-  for (const Component& c : cut_mesh.topology.components) {
-    if (c.euler_characteristic != 1) {
-      throw InvalidInput(
-          "layout_flat: the cut mesh is not a union of topological disks: its component with "
-          "face " +
-          std::to_string(c.faces.front()) + " has chi = " + std::to_string(c.euler_characteristic) +
-          " and " + std::to_string(c.num_boundary_loops) + " boundary loops");
-    }
-  }
-  if (options.root_face < -1 || options.root_face >= nf) {
-    throw InvalidInput("layout_flat: root face " + std::to_string(options.root_face) +
-                       " out of range [0, " + std::to_string(nf) + ")");
-  }
-  for (std::size_t s = 0; s < cut.segments.size(); ++s) {
-    for (int v : cut.segments[s]) {
-      if (v < 0 || v >= topology.num_vertices) {
-        throw InvalidInput("layout_flat: segment " + std::to_string(s) + " names vertex " +
-                           std::to_string(v) + ", out of range");
-      }
-    }
-  }
-}
-
-/// Per component of the cut mesh, the face farthest from its boundary in steps across edges of
-/// the dual graph (a multi-source breadth-first search from every face on the boundary): the
-/// root of the layout tree, so that the tree is shallow and rounding errors accumulate over as
-/// few placements as possible.
-std::vector<int> central_faces(const Topology& cut_topology) {
-  const int nf = cut_topology.num_faces;
-  std::vector<int> queue;
-  queue.reserve(nf);
-  std::vector<char> seen(nf, 0);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      if (cut_topology.halfedge_twin[3 * f + k] < 0) {
-        seen[f] = 1;
-        queue.push_back(f);
-        break;
-      }
-    }
-  }
-  std::vector<int> roots(cut_topology.components.size(), -1);
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const int f = queue[head];
-    roots[cut_topology.face_component[f]] = f;  // breadth-first: the last one is the farthest
-    for (int k = 0; k < 3; ++k) {
-      const int t = cut_topology.halfedge_twin[3 * f + k];
-      if (t >= 0 && !seen[t / 3]) {
-        seen[t / 3] = 1;
-        queue.push_back(t / 3);
-      }
-    }
-  }
-  for (std::size_t c = 0; c < roots.size(); ++c) {
-    if (roots[c] < 0) roots[c] = cut_topology.components[c].faces.front();  // closed component
-  }
-  return roots;
 }
 
 /// The two copies of a cut edge's ends: a0, a1 on the side of halfedge `ha` (in its direction),
@@ -313,7 +225,7 @@ void refine_least_squares(const Topology& topology, const Topology& cut_topology
 
 Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
                    const CutMesh& cut_mesh, const LayoutOptions& options) {
-  check_inputs(topology, lengths, cut, cut_mesh, options);
+  layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
@@ -330,13 +242,8 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   }
 
   Layout layout;
-  std::vector<int> roots = central_faces(cut_topology);
-  if (options.root_face >= 0) {
-    roots[cut_topology.face_component[options.root_face]] = options.root_face;
-    layout.root_face = options.root_face;
-  } else if (!roots.empty()) {
-    layout.root_face = roots.front();
-  }
+  const std::vector<int> roots =
+      layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
 
   // Each vertex is placed from a face whose other two corners are placed: the direction i -> j
   // turned by the corner angle at i, scaled to l_ik (normalised rather than multiplied by
@@ -349,71 +256,25 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   // face.obj with a vertex-scaling metric this cuts the largest length error from 1.3e-6
   // (breadth-first) to 2.8e-8, and on a 1M-face torus from 3.5e-10 to 2.0e-10.
   std::vector<Complex> uv(ncv, Complex{0});
-  std::vector<char> placed(ncv, 0);
-  std::vector<char> expanded(nf, 0);
-  std::vector<double> magnification(ncv, 0.0);
-  // Vertex -> faces of the cut mesh, compressed rows.
-  std::vector<int> corner_start(ncv + 1, 0), corner_face(3 * static_cast<std::size_t>(nf));
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) ++corner_start[cut_topology.triangles(f, k) + 1];
-  }
-  for (int v = 0; v < ncv; ++v) corner_start[v + 1] += corner_start[v];
-  {
-    std::vector<int> fill(corner_start.begin(), corner_start.end() - 1);
-    for (int f = 0; f < nf; ++f) {
-      for (int k = 0; k < 3; ++k) corner_face[fill[cut_topology.triangles(f, k)]++] = f;
-    }
-  }
-  using Candidate = std::pair<double, int>;  // (error growth, halfedge of the target face)
-  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> candidates;
-  auto expand = [&](int f) {
-    if (expanded[f]) return;
-    expanded[f] = 1;
-    for (int k = 0; k < 3; ++k) {
-      const int t = cut_topology.halfedge_twin[3 * f + k];
-      if (t < 0) continue;
-      const int g = t / 3, kg = t % 3;
-      if (placed[cut_topology.triangles(g, kg)]) continue;
-      const int vi = cut_topology.triangles(g, (kg + 1) % 3);
-      const int vj = cut_topology.triangles(g, (kg + 2) % 3);
-      const double base = lengths[topology.face_edges(g, kg)];
-      const double side = std::max(lengths[topology.face_edges(g, (kg + 1) % 3)],
-                                   lengths[topology.face_edges(g, (kg + 2) % 3)]);
-      candidates.emplace(std::max(magnification[vi], magnification[vj]) + side / base, t);
-    }
-  };
-  auto expand_around = [&](int v) {
-    for (int c = corner_start[v]; c < corner_start[v + 1]; ++c) {
-      const int f = corner_face[c];
-      if (placed[cut_topology.triangles(f, 0)] && placed[cut_topology.triangles(f, 1)] &&
-          placed[cut_topology.triangles(f, 2)]) {
-        expand(f);
-      }
-    }
-  };
   for (int root : roots) {
     const int a = cut_topology.triangles(root, 0), b = cut_topology.triangles(root, 1),
               c = cut_topology.triangles(root, 2);
     uv[a] = 0;
     uv[b] = lengths[topology.face_edges(root, 2)];
     uv[c] = std::polar(lengths[topology.face_edges(root, 1)], angles(root, 0));
-    placed[a] = placed[b] = placed[c] = 1;
-    expand(root);
   }
-  while (!candidates.empty()) {
-    const auto [amount, t] = candidates.top();
-    candidates.pop();
+  // Each vertex is placed from a face whose other two corners are placed: the direction i -> j
+  // turned by the corner angle at i, scaled to l_ik (normalised rather than multiplied by
+  // l_ik / l_ij, so that the new edge has its metric length whatever rounding |p_j - p_i|
+  // carries), in the order of least error growth (layout_support::placement_order).
+  for (int t : layout_support::placement_order(topology, cut_topology, lengths, roots)) {
     const int g = t / 3, kg = t % 3, ki = (kg + 1) % 3;
-    const int vk = cut_topology.triangles(g, kg);
-    if (placed[vk]) continue;
     // Counter-clockwise, face g reads i -> j -> k with i the tail and j the head of t.
     const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
     const Complex direction = uv[vj] - uv[vi];
-    uv[vk] = uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
-                          (direction / std::abs(direction));
-    placed[vk] = 1;
-    magnification[vk] = amount;
-    expand_around(vk);
+    uv[cut_topology.triangles(g, kg)] =
+        uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
+                     (direction / std::abs(direction));
   }
 
   if (options.refine_above >= 0 &&
@@ -445,34 +306,9 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
 
   if (cut.is_cut_edge.empty()) return layout;
 
-  // Which segment each cut edge belongs to, and each segment's edges in path order.
-  std::vector<int> edge_segment(topology.num_edges, -1);
-  std::vector<std::vector<int>> segment_edges(cut.segments.size());
-  {
-    std::unordered_map<std::uint64_t, int> cut_edge_of;
-    auto key = [](int v, int w) {
-      if (v > w) std::swap(v, w);
-      return (static_cast<std::uint64_t>(v) << 32) | static_cast<std::uint32_t>(w);
-    };
-    for (int e = 0; e < topology.num_edges; ++e) {
-      if (cut.is_cut_edge[e]) {
-        cut_edge_of.emplace(key(topology.edge_vertices(e, 0), topology.edge_vertices(e, 1)), e);
-      }
-    }
-    for (std::size_t s = 0; s < cut.segments.size(); ++s) {
-      const std::vector<int>& path = cut.segments[s];
-      for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-        const auto it = cut_edge_of.find(key(path[i], path[i + 1]));
-        if (it == cut_edge_of.end()) {
-          throw InvalidInput("layout_flat: segment " + std::to_string(s) + " steps from vertex " +
-                             std::to_string(path[i]) + " to " + std::to_string(path[i + 1]) +
-                             ", which is not a cut edge");
-        }
-        edge_segment[it->second] = static_cast<int>(s);
-        segment_edges[s].push_back(it->second);
-      }
-    }
-  }
+  const layout_support::SegmentEdges segments =
+      layout_support::segment_edges("layout_flat", topology, cut);
+  const std::vector<int>& edge_segment = segments.edge_segment;
 
   // One rigid motion per cut edge, side B onto side A.
   for (int e = 0; e < topology.num_edges; ++e) {
@@ -493,20 +329,13 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   // right of its direction) for the others: edge_halfedges(e, 0) alone may switch sides along a
   // path.
   for (std::size_t s = 0; s < cut.segments.size(); ++s) {
-    const std::vector<int>& path = cut.segments[s];
-    const std::vector<int>& edges = segment_edges[s];
+    const std::vector<int>& edges = segments.segment_edges[s];
     std::vector<Complex> from, to;
     std::vector<double> scale;
-    bool side_a_is_left = true;
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-      const int e = edges[i];
-      int forward = topology.edge_halfedges(e, 0), backward = topology.edge_halfedges(e, 1);
-      if (forward < 0 || backward < 0) continue;
-      const bool first_is_forward = topology.tail(forward) == path[i];
-      if (!first_is_forward) std::swap(forward, backward);
-      if (i == 0) side_a_is_left = first_is_forward;
-      const EdgeCopies c = side_a_is_left ? edge_copies(cut_topology, uv, forward, backward)
-                                          : edge_copies(cut_topology, uv, backward, forward);
+    for (int e : edges) {
+      const int ha = segments.side_a_halfedge[e];
+      if (ha < 0) continue;
+      const EdgeCopies c = edge_copies(cut_topology, uv, ha, topology.halfedge_twin[ha]);
       from.insert(from.end(), {c.b0, c.b1});
       to.insert(to.end(), {c.a0, c.a1});
       scale.insert(scale.end(), {lengths[e], lengths[e]});
