@@ -137,6 +137,8 @@ int run_info(const InfoArgs& args) {
 int run_flow(const FlowArgs& args) {
   MeshFlowOptions options;
   options.structure.scheme = parse_scheme(args.scheme);
+  options.structure.geometry = parse_geometry(args.geometry);
+  const bool hyperbolic = options.structure.geometry == Geometry::Hyperbolic;
   if (args.init == "fit") {
     options.structure.packing_init = PackingInit::Fit;
   } else if (args.init == "unit") {
@@ -159,10 +161,13 @@ int run_flow(const FlowArgs& args) {
   const Mesh& mesh = read.mesh;
 
   TargetSpec& spec = options.target;
-  spec.boundary = parse_boundary_mode(args.boundary);
+  spec.boundary = !args.boundary.empty() ? parse_boundary_mode(args.boundary)
+                  : hyperbolic           ? BoundaryMode::Geodesic
+                                         : BoundaryMode::Free;
   if (args.target == "flat") {
     spec.kind = TargetKind::Flat;
-  } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length") {
+  } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length" ||
+             args.target == "geodesic") {
     spec.kind = TargetKind::Flat;
     spec.boundary = parse_boundary_mode(args.target);
   } else if (args.target == "uniform") {
@@ -184,8 +189,8 @@ int run_flow(const FlowArgs& args) {
     }
   } else {
     throw InvalidInput("--target: '" + args.target +
-                       "' is neither flat, free, disk, disk-length, uniform nor a file of "
-                       "per-vertex curvatures");
+                       "' is neither flat, free, disk, disk-length, geodesic, uniform nor a file "
+                       "of per-vertex curvatures");
   }
   // Cone vertices are numbered as in the file (0-based).
   const std::vector<int> to_mesh = inverse_map(read.vertex_map);
@@ -198,7 +203,8 @@ int run_flow(const FlowArgs& args) {
     spec.cones.push_back(cone);
   }
   if (!spec.cones.empty() && spec.kind != TargetKind::Flat) {
-    throw InvalidInput("--cones needs a flat target (--target flat, free, disk or disk-length)");
+    throw InvalidInput(
+        "--cones needs a flat target (--target flat, free, disk, disk-length or geodesic)");
   }
 
   const ProgressStyle progress = choose_progress_style(args.progress, args.json);
@@ -228,7 +234,7 @@ int run_flow(const FlowArgs& args) {
     std::cout << args.mesh << ": " << (result.converged ? "converged" : "NOT converged")
               << ", max |K-bar - K| = " << std::scientific << std::setprecision(3)
               << result.max_error << std::defaultfloat << " ("
-              << scheme_name(options.structure.scheme) << ", "
+              << scheme_name(options.structure.scheme) << ", " << (hyperbolic ? "hyperbolic, " : "")
               << flow_solver_name(options.flow.solver) << ", " << result.target.description
               << ")\n";
     if (options.structure.scheme == Scheme::Thurston ||
@@ -237,8 +243,20 @@ int run_flow(const FlowArgs& args) {
                 << std::setprecision(3) << result.structure.fit_rms_relative_error << " (max "
                 << result.structure.fit_max_relative_error << ")" << std::defaultfloat << "\n";
     }
+    if (hyperbolic) {
+      std::cout << "  input lengths scaled by " << std::setprecision(6)
+                << result.structure.structure.length_scale << std::defaultfloat
+                << " and read as hyperbolic lengths\n";
+    }
     for (std::size_t c = 0; c < result.components.size(); ++c) {
       const ComponentFlow& comp = result.components[c];
+      if (hyperbolic) {
+        // Gauss-Bonnet in curvature -1: area = sum K - 2 pi chi.
+        std::cout << "  component " << c << ": hyperbolic area " << std::setprecision(12)
+                  << comp.flow.total_area << " = sum K - 2 pi chi up to " << std::setprecision(2)
+                  << comp.flow.gauss_bonnet_relative_error << " (relative)" << std::defaultfloat
+                  << "\n";
+      }
       std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
                 << comp.genus << ", " << comp.boundary_loops
                 << " boundary loops): " << comp.flow.iterations << " iterations, "

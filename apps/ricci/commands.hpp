@@ -31,9 +31,10 @@ struct FlowArgs {
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string scheme = "thurston";
+  std::string geometry = "euclidean";
   std::string init = "fit";
   std::string target = "flat";
-  std::string boundary = "free";
+  std::string boundary;  ///< empty: free (euclidean) or geodesic (hyperbolic)
   std::string cones;
   std::string solver = "newton";
   std::string flips = "auto";

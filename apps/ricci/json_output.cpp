@@ -93,6 +93,10 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
   j["max_error"] = result.max_error;
   j["tolerance"] = options.flow.tolerance;
   j["scheme"] = scheme_name(options.structure.scheme);
+  j["geometry"] = geometry_name(options.structure.geometry);
+  if (options.structure.geometry == Geometry::Hyperbolic) {
+    j["hyperbolic_length_scale"] = result.structure.structure.length_scale;
+  }
   j["solver"] = flow_solver_name(options.flow.solver);
   j["flips"] = edge_flips_name(options.flow.flips);
   j["flipped_edges"] = result.flips;
@@ -120,6 +124,7 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
                      {"flipped_edges", c.flow.flips},
                      {"max_error", c.flow.max_error},
                      {"gauss_bonnet_relative_error", c.flow.gauss_bonnet_relative_error},
+                     {"total_area", c.flow.total_area},
                      {"linear_solver", c.flow.linear_solver},
                      {"factorizations", c.flow.factorizations},
                      {"timings", to_json(c.flow.timings)},

@@ -71,6 +71,12 @@ int main(int argc, char** argv) {
                    "virtual-radius")
       ->capture_default_str();
   flow_cmd
+      ->add_option("--geometry", flow.geometry,
+                   "background geometry: euclidean (flat triangles) or hyperbolic (curvature -1; "
+                   "the flat target then gives the uniformization metric of a surface with "
+                   "chi < 0, with geodesic boundary)")
+      ->capture_default_str();
+  flow_cmd
       ->add_option("--init", flow.init,
                    "initial circle packing (thurston, tangential): fit (least squares, tutorial "
                    "eq. 1) or unit (radii 1, Phi 0)")
@@ -79,13 +85,12 @@ int main(int argc, char** argv) {
       ->add_option("--target", flow.target,
                    "target curvature: flat (zero but at --cones), free (flat, boundary radii "
                    "fixed), disk (boundary curvature 2 pi chi / m), disk-length (boundary "
-                   "curvature by length), uniform (2 pi chi / n), or a file with one value per "
-                   "vertex")
+                   "curvature by length), geodesic (boundary curvature 0), uniform (2 pi chi / "
+                   "n), or a file with one value per vertex")
       ->capture_default_str();
-  flow_cmd
-      ->add_option("--boundary", flow.boundary,
-                   "boundary of a flat target: free, disk or disk-length")
-      ->capture_default_str();
+  flow_cmd->add_option("--boundary", flow.boundary,
+                       "boundary of a flat target: free (the euclidean default), disk, disk-length "
+                       "or geodesic (the hyperbolic default)");
   flow_cmd->add_option("--cones", flow.cones,
                        "cone vertices (0-based, as in the file) and curvatures: a list such as "
                        "'12:pi/2,40:-pi' or a file of 'vertex curvature' lines");

@@ -1,0 +1,64 @@
+#pragma once
+/// \file
+/// The hyperbolic parameterization pipeline (THEORY.md section 9): the Ricci flow in the
+/// hyperbolic background to the uniformization metric (zero vertex curvature, geodesic boundary),
+/// the cut graph, the layout of the sliced mesh in the Poincare disk, the deck transformations
+/// of the cut segments and, on a closed surface, the canonical generators of its Fuchsian group.
+/// Mesh in, texture coordinates in the unit disk out.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/param/cut_graph.hpp"
+#include "ricci/param/distortion.hpp"
+#include "ricci/param/fuchsian.hpp"
+#include "ricci/param/hyperbolic_layout.hpp"
+
+namespace ricci {
+
+/// Options of parameterize_hyperbolic.
+struct HyperbolicParamOptions {
+  StructureOptions structure;  ///< scheme and initial packing (the geometry is set to hyperbolic)
+  /// Newton to 1e-12: the layout closes up around each vertex only as well as the metric has
+  /// zero curvature there.
+  FlowOptions flow = [] {
+    FlowOptions f;
+    f.tolerance = 1e-12;
+    return f;
+  }();
+  HyperbolicLayoutOptions layout;
+};
+
+/// What parameterize_hyperbolic returns.
+struct HyperbolicParamResult {
+  bool converged = false;  ///< the flow reached its tolerance
+  std::string message;     ///< why not, when it did not
+  MeshFlowResult flow;     ///< the flow to the hyperbolic metric
+  CutGraph cut;
+  CutMesh cut_mesh;
+  HyperbolicLayout layout;
+  /// Closed surfaces (genus >= 2): the canonical generators; has_group false otherwise (a
+  /// surface with boundary has a free Fuchsian group, whose generators are the segment maps).
+  bool has_group = false;
+  FuchsianGroup group;
+  /// The disk layout against the 3D mesh: the Poincare model is conformal, so the angle
+  /// distortion is that of the hyperbolic metric against the input (areas shrink towards the
+  /// rim: the area figures measure the model, not the metric).
+  Distortion distortion;
+  double seam_length = 0;  ///< 3D length of the cut edges
+  /// Texture coordinates: the disk positions of the cut-mesh vertices (|uv| < 1), indexed per
+  /// corner by cut_mesh.triangles.
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+  double seconds = 0;
+};
+
+/// Runs the pipeline on a single-component manifold mesh whose Euler characteristic is negative
+/// (genus >= 2 closed, or with enough boundary loops).
+/// \throw InvalidInput (several components, chi >= 0, scheme without a hyperbolic energy),
+///        TopologyError
+HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
+                                              const HyperbolicParamOptions& options = {});
+
+}  // namespace ricci
