@@ -5,7 +5,7 @@ import numbers
 
 from . import _arrays, _ricci
 
-_BOUNDARY_TARGETS = ("free", "disk", "disk-length")
+_BOUNDARY_TARGETS = ("free", "disk", "disk-length", "geodesic")
 
 
 def set_fields(obj, **fields):
@@ -40,7 +40,8 @@ def cone_list(cones):
     return out
 
 
-def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_init=None,
+def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, geometry=None,
+         packing_init=None,
          max_intersection_angle=None, fit_sweeps=None, fit_tolerance=None, solver=None,
          tolerance=None, max_iterations=None, gradient_step=None, armijo=None,
          max_backtracks=None, use_cholmod=None, reuse_factorization_cg_iterations=None,
@@ -55,9 +56,13 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
         vertex), or an (n,) array of per-vertex target curvatures.
       cones: flat target only: ``[(vertex, curvature), ...]``, ``{vertex: curvature}`` or
         ``"V:K,V:K"``; curvature in radians or text like ``"pi/2"``.
-      boundary: ``"free"`` (u fixed on the boundary, the default), ``"disk"``, ``"disk-length"``.
+      boundary: ``"free"`` (u fixed on the boundary, the Euclidean default), ``"disk"``,
+        ``"disk-length"``, ``"geodesic"`` (zero boundary curvature, the hyperbolic default).
     Metric (``StructureOptions``): scheme (``"thurston"``, the default, ``"tangential"``,
-      ``"inversive-distance"``, ``"vertex-scaling"``, ``"virtual-radius"``), packing_init
+      ``"inversive-distance"``, ``"vertex-scaling"``, ``"virtual-radius"``), geometry
+      (``"euclidean"``, the default, or ``"hyperbolic"``: curvature -1, where the flat target
+      gives the uniformization metric of a surface with chi < 0; the result's components then
+      report ``total_area``; virtual-radius has no hyperbolic energy), packing_init
       (``"fit"`` or ``"unit"``), max_intersection_angle (radians), fit_sweeps, fit_tolerance.
     Solver (``FlowOptions``): solver (``"newton"``, the default, or ``"gradient"``), tolerance
       (1e-10 radians), max_iterations (0: 200 Newton, 1e6 gradient), gradient_step, armijo,
@@ -102,6 +107,10 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, packing_i
     if spec.cones and spec.kind != _ricci.TargetKind.Flat:
         raise ValueError("cones need a flat target (target='flat', 'free', 'disk' or "
                          "'disk-length')")
+    if geometry is not None:
+        opts.structure.geometry = geometry
+    if boundary is None and opts.structure.geometry == _ricci.Geometry.Hyperbolic:
+        boundary = "geodesic"
     set_fields(spec, boundary=boundary)
     set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,
                              max_intersection_angle=max_intersection_angle,

@@ -68,6 +68,10 @@ void bind_flow(py::module_& m) {
   construct_from_name(scheme, &parse_scheme);
   m.def("scheme_name", &scheme_name, py::arg("scheme"));
 
+  py::enum_<Geometry> geometry(m, "Geometry", "The background geometry of a discrete metric.");
+  geometry.value("Euclidean", Geometry::Euclidean).value("Hyperbolic", Geometry::Hyperbolic);
+  construct_from_name(geometry, &parse_geometry);
+
   py::enum_<PackingInit> packing(m, "PackingInit", "How the initial circle packing is chosen.");
   packing.value("Fit", PackingInit::Fit).value("UnitRadii", PackingInit::UnitRadii);
   construct_from_name(packing, &parse_packing_init);
@@ -95,7 +99,8 @@ void bind_flow(py::module_& m) {
                                    "How boundary vertices are treated by the flat targets.");
   boundary.value("Free", BoundaryMode::Free)
       .value("DiskUniform", BoundaryMode::DiskUniform)
-      .value("DiskLength", BoundaryMode::DiskLength);
+      .value("DiskLength", BoundaryMode::DiskLength)
+      .value("Geodesic", BoundaryMode::Geodesic);
   construct_from_name(boundary, &parse_boundary_mode);
 
   py::enum_<TargetKind> kind(m, "TargetKind", "Kinds of target flow_mesh builds.");
@@ -108,6 +113,10 @@ void bind_flow(py::module_& m) {
       .enum_field("scheme", &StructureOptions::scheme, &parse_scheme,
                   "Scheme (or its name: 'thurston', 'tangential', 'inversive-distance', "
                   "'vertex-scaling', 'virtual-radius')")
+      .enum_field("geometry", &StructureOptions::geometry, &parse_geometry,
+                  "Geometry (or 'euclidean', 'hyperbolic')")
+      .field("hyperbolic_length_scale", &StructureOptions::hyperbolic_length_scale,
+             "hyperbolic: factor on the input lengths (0: the input gets area 2 pi |chi|)")
       .enum_field("packing_init", &StructureOptions::packing_init, &parse_packing_init,
                   "PackingInit (or 'fit', 'unit'); Thurston and tangential only")
       .field("max_intersection_angle", &StructureOptions::max_intersection_angle,
@@ -122,6 +131,9 @@ void bind_flow(py::module_& m) {
   StructBinding<ConformalStructure>(m, "ConformalStructure",
                                     "Constants of the unified form and the fitted log radii.")
       .readonly("scheme", &ConformalStructure::scheme, "")
+      .readonly("geometry", &ConformalStructure::geometry, "")
+      .readonly("length_scale", &ConformalStructure::length_scale,
+                "hyperbolic: factor applied to the input lengths")
       .readonly("epsilon", &ConformalStructure::epsilon, "#V scheme constants")
       .readonly("eta", &ConformalStructure::eta, "#E edge constants")
       .readonly("initial_u", &ConformalStructure::initial_u, "#V log radii of the initial metric")
@@ -158,7 +170,7 @@ void bind_flow(py::module_& m) {
                   "TargetKind (or 'flat', 'uniform', 'values')")
       .field("cones", &TargetSpec::cones, "Flat: list of Cone (assign a new list to change it)")
       .enum_field("boundary", &TargetSpec::boundary, &parse_boundary_mode,
-                  "BoundaryMode (or 'free', 'disk', 'disk-length')")
+                  "BoundaryMode (or 'free', 'disk', 'disk-length', 'geodesic')")
       .field("values", &TargetSpec::values, "Values: #V curvatures")
       .keyword_constructor()
       .repr();
@@ -236,6 +248,7 @@ void bind_flow(py::module_& m) {
       .readonly("cg_iterations", &FlowResult::cg_iterations, "")
       .readonly("linear_solver", &FlowResult::linear_solver, "Cholesky backend (Newton)")
       .readonly("gauss_bonnet_relative_error", &FlowResult::gauss_bonnet_relative_error, "")
+      .readonly("total_area", &FlowResult::total_area, "hyperbolic: area of the final metric")
       .repr();
 
   StructBinding<MeshFlowOptions>(m, "MeshFlowOptions", "Options of flow_mesh.")
