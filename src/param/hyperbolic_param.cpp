@@ -23,8 +23,8 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   if (comp.euler_characteristic >= 0) {
     throw InvalidInput(
         "parameterize_hyperbolic: a surface with chi = " +
-        std::to_string(comp.euler_characteristic) + " (genus " + std::to_string(comp.genus) +
-        ", " + std::to_string(comp.num_boundary_loops) +
+        std::to_string(comp.euler_characteristic) + " (genus " + std::to_string(comp.genus) + ", " +
+        std::to_string(comp.num_boundary_loops) +
         " boundary loops) has no hyperbolic metric; it needs chi < 0 (genus >= 2, or boundaries)");
   }
 
@@ -46,10 +46,13 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   // 2. Cut graph (no cones: 2 g loops, joined to the boundaries), slicing, disk layout.
   const Topology& topology = result.flow.topology;
   const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
-  result.cut = cut_graph(topology, lengths_3d);
+  // Shortest paths in the hyperbolic metric: the loops are then short hyperbolic curves, the
+  // fundamental domain compact, and the deck transformations short (a layout error grows like
+  // sinh of the distance from the root, and the group relation multiplies the maps).
+  result.cut = cut_graph(topology, result.flow.lengths);
   result.cut_mesh = slice(topology, result.cut);
-  result.layout = layout_hyperbolic(topology, result.flow.lengths, result.cut, result.cut_mesh,
-                                    options.layout);
+  result.layout =
+      layout_hyperbolic(topology, result.flow.lengths, result.cut, result.cut_mesh, options.layout);
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }

@@ -1,0 +1,107 @@
+// The hyperbolic parameterization: the uniformization metric laid out in the Poincare disk, the
+// deck transformations of the cut segments, and the Fuchsian group's canonical generators with
+// the surface-group relation a1 b1 a1^-1 b1^-1 ... ag bg ag^-1 bg^-1 = identity.
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "../support/shared_meshes.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/io.hpp"
+#include "ricci/param/hyperbolic_param.hpp"
+
+namespace ricci {
+namespace {
+
+void expect_hyperbolic_parameterization(const HyperbolicParamResult& r, int genus, bool closed) {
+  ASSERT_TRUE(r.converged) << r.message;
+  const HyperbolicLayout& l = r.layout;
+  EXPECT_LT(l.max_length_relative_error, 1e-9);
+  EXPECT_EQ(l.num_flipped_faces, 0);
+  EXPECT_LT(l.max_radius, 1.0);
+  EXPECT_EQ(r.distortion.flipped_faces, 0);
+  ASSERT_EQ(l.segment_maps.size(), r.cut.segments.size());
+  for (const SegmentIsometry& s : l.segment_maps) {
+    // Both sides of a segment are one geodesic path: the deck transformation matches them all.
+    EXPECT_LT(s.mismatch, 1e-8) << "segment " << s.segment;
+    // A deck transformation of a closed hyperbolic surface has no fixed point in the disk.
+    if (closed) {
+      EXPECT_GT(half_trace(s.map), 1.0 + 1e-6) << "segment " << s.segment;
+    }
+  }
+  EXPECT_EQ(r.has_group, closed);
+  if (!closed) return;
+  const FuchsianGroup& g = r.group;
+  EXPECT_EQ(g.genus, genus);
+  ASSERT_EQ(static_cast<int>(g.a.size()), genus);
+  ASSERT_EQ(static_cast<int>(g.b.size()), genus);
+  EXPECT_LT(g.node_residual, 1e-8);
+  EXPECT_LT(g.relation_residual, 1e-8);
+  for (int i = 0; i < genus; ++i) {
+    EXPECT_GT(half_trace(g.a[i]), 1.0 + 1e-6);
+    EXPECT_GT(half_trace(g.b[i]), 1.0 + 1e-6);
+  }
+}
+
+TEST(HyperbolicParam, GeneratedGenus2And3) {
+  for (int genus : {2, 3}) {
+    SCOPED_TRACE("genus " + std::to_string(genus));
+    const HyperbolicParamResult r = parameterize_hyperbolic(make_closed_surface(genus, 12));
+    expect_hyperbolic_parameterization(r, genus, true);
+    EXPECT_EQ(r.cut.num_generators, 2 * genus);
+  }
+}
+
+TEST(HyperbolicParam, EverySchemeGivesAGroup) {
+  const Mesh mesh = make_closed_surface(2, 10);
+  for (Scheme scheme : {Scheme::Tangential, Scheme::InversiveDistance, Scheme::VertexScaling}) {
+    SCOPED_TRACE(scheme_name(scheme));
+    HyperbolicParamOptions o;
+    o.structure.scheme = scheme;
+    expect_hyperbolic_parameterization(parameterize_hyperbolic(mesh, o), 2, true);
+  }
+}
+
+TEST(HyperbolicParam, SurfaceWithBoundaryHasGeodesicBoundaryAndNoCanonicalGroup) {
+  const HyperbolicParamResult r = parameterize_hyperbolic(make_surface_with_holes(1, 2, 12));
+  expect_hyperbolic_parameterization(r, 1, false);
+}
+
+TEST(HyperbolicParam, ThePerturbedRelationFails) {
+  // The relation check can fail: move one generator a little and the product is no identity.
+  HyperbolicParamResult r = parameterize_hyperbolic(make_closed_surface(2, 10));
+  ASSERT_TRUE(r.has_group);
+  FuchsianGroup& g = r.group;
+  g.a[0] = compose(g.a[0], rotation(1e-6));
+  Mobius product;
+  for (int i = 0; i < g.genus; ++i) {
+    product = compose(product,
+                      compose(compose(g.a[i], g.b[i]), compose(inverse(g.a[i]), inverse(g.b[i]))));
+  }
+  EXPECT_GT(distance_to_identity(product), 1e-7);
+}
+
+TEST(HyperbolicParam, RefusesSurfacesWithoutHyperbolicMetric) {
+  EXPECT_THROW(parameterize_hyperbolic(make_torus(16, 8)), InvalidInput);
+  EXPECT_THROW(parameterize_hyperbolic(make_icosphere(2)), InvalidInput);
+  EXPECT_THROW(parameterize_hyperbolic(make_disk(4)), InvalidInput);
+}
+
+TEST(HyperbolicParam, EveryClosedSharedMeshOfGenusAtLeastTwo) {
+  RICCI_REQUIRE_SHARED_MESHES();
+  int tested = 0;
+  for (const auto& m : testing::shared_meshes()) {
+    if (!m.manifold || m.genus < 2 || m.boundary_loops != 0) continue;
+    SCOPED_TRACE(m.file);
+    const HyperbolicParamResult r = parameterize_hyperbolic(read_mesh(m.path).mesh);
+    expect_hyperbolic_parameterization(r, m.genus, true);
+    ++tested;
+  }
+  EXPECT_GE(tested, 3);
+}
+
+}  // namespace
+}  // namespace ricci
