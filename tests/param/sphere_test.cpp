@@ -91,8 +91,8 @@ TEST(SphereMap, InscribedIcosphereIsARotationWithVertexScaling) {
 TEST(SphereMap, IcosphereWithThurstonIsCloseToARotation) {
   // Thurston's packing reproduces the icosphere's lengths exactly (the fit), but its conformal
   // class (fixed intersection angles) is not that of the stereographic projection, so the map is
-  // only close to a rotation: measured mean 1.021, max 1.88 (next to the pole, where the disk's
-  // boundary is pinned to a circle), mean corner-angle error 0.0104 rad.
+  // only close to a rotation: measured mean 1.021, max 1.88 (on the faces touching the pole's
+  // link, where the disk's boundary turning is pinned), mean corner-angle error 0.0104 rad.
   const Mesh sphere = make_icosphere(3);
   const SphereResult r = sphere_map(sphere);
   expect_sphere_invariants(sphere, r, "icosphere 3, Thurston");
