@@ -15,6 +15,7 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/sphere.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
 #endif
@@ -351,6 +352,68 @@ int run_param(const ParamArgs& args) {
                 << " edges flipped: the output's faces are the intrinsic Delaunay triangulation "
                    "of the input vertices\n";
     }
+    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+  }
+  return kOk;
+}
+
+int run_sphere(const SphereArgs& args) {
+  SphereOptions options;
+  options.structure.scheme = parse_scheme(args.scheme);
+  options.flow.tolerance = args.tolerance;
+  options.flow.flips = parse_edge_flips(args.flips);
+  check_output_is_not_input(args.output, {args.mesh});
+  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
+
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  print_warnings(read);
+  if (args.pole >= 0) {
+    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
+    if (args.pole >= static_cast<int>(to_mesh.size()) || to_mesh[args.pole] < 0) {
+      throw InvalidInput("--pole: vertex " + std::to_string(args.pole) + " is not a vertex of " +
+                         args.mesh + " used by any face");
+    }
+    options.pole = to_mesh[args.pole];
+  }
+  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
+  options.flow.progress = make_progress(progress, "sphere", options.flow.tolerance);
+  SphereResult result;
+  try {
+    result = sphere_map(read.mesh, options);
+  } catch (const InvalidInput& e) {
+    finish_progress(progress);
+    throw InvalidInput(args.mesh + ": " + e.what());
+  }
+  finish_progress(progress);
+  nlohmann::json report = sphere_report(result, options);
+  report["input"] = args.mesh;
+  report["output"] = args.output;
+  report["pole_file_index"] = read.vertex_map[result.pole];
+  if (read.repaired) report["repair"] = to_json(read.repair);
+  if (!args.report.empty()) {
+    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
+  }
+  if (!result.converged) {
+    std::cerr << "error: " << args.mesh << ": " << result.message << "\n";
+    return kNotConverged;
+  }
+  Mesh sphere;
+  sphere.positions = result.positions;
+  sphere.triangles = read.mesh.triangles;
+  write_obj(args.output, sphere);
+  if (args.json) {
+    std::cout << report.dump(2) << "\n";
+  } else {
+    std::cout << args.mesh << " -> " << args.output << "\n"
+              << "  pole " << read.vertex_map[result.pole] << ", flow "
+              << result.flow.components.front().flow.iterations << " iterations, centring "
+              << result.centre_iterations << " steps (|centre| " << result.centre_of_mass << ")\n"
+              << "  inverted faces " << result.inverted_faces << ", area - 4 pi "
+              << result.spherical_area - 4 * std::numbers::pi << ", angle distortion mean "
+              << result.angle_distortion_mean << " max " << result.angle_distortion_max
+              << ", log area [" << result.log_area_min << ", " << result.log_area_max << "], "
+              << result.seconds << " s\n";
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
   return kOk;

@@ -67,6 +67,21 @@ struct ParamArgs {
 };
 int run_param(const ParamArgs& args);
 
+struct SphereArgs {
+  std::string mesh;
+  bool repair = false;             ///< --repair (kRepairHelp)
+  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  std::string output;
+  std::string scheme = "thurston";
+  std::string flips = "auto";
+  int pole = -1;  ///< file vertex index; -1: automatic
+  double tolerance = 1e-12;
+  std::string report;
+  bool json = false;
+  bool progress = false;
+};
+int run_sphere(const SphereArgs& args);
+
 struct GenerateArgs {
   std::string kind;
   std::string output;

@@ -251,4 +251,44 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   return j;
 }
 
+nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options) {
+  nlohmann::json j;
+  j["converged"] = r.converged;
+  j["message"] = r.message;
+  j["seconds"] = r.seconds;
+  j["scheme"] = scheme_name(options.structure.scheme);
+  j["pole"] = r.pole;
+  MeshFlowOptions flow_options;
+  flow_options.structure = options.structure;
+  flow_options.flow = options.flow;
+  flow_options.target.boundary = BoundaryMode::DiskLength;
+  j["flow"] = flow_summary(r.flow, flow_options);
+  j["timings"] = {{"flow", r.flow_seconds},
+                  {"layout", r.layout_seconds},
+                  {"normalisation", r.normalisation_seconds},
+                  {"total", r.seconds}};
+  if (r.positions.rows() == 0) return j;
+  j["disk"] = {{"layout_length_error", r.layout_length_error},
+               {"boundary_circle_deviation", r.boundary_circle_deviation},
+               {"inverted_pole_faces", r.inverted_pole_faces}};
+  j["normalisation"] = {{"iterations", r.centre_iterations},
+                        {"initial_centre", r.initial_centre},
+                        {"centre_of_mass", r.centre_of_mass},
+                        {"max_boost_norm", r.max_boost_norm}};
+  j["invariants"] = {{"max_radius_deviation", r.max_radius_deviation},
+                     {"inverted_faces", r.inverted_faces},
+                     {"spherical_area", r.spherical_area},
+                     {"spherical_area_error", r.spherical_area - 4 * 3.14159265358979323846}};
+  j["distortion"] = {{"angle_distortion_mean", r.angle_distortion_mean},
+                     {"angle_distortion_p95", r.angle_distortion_p95},
+                     {"angle_distortion_max", r.angle_distortion_max},
+                     {"angle_error_mean", r.angle_error_mean},
+                     {"angle_error_max", r.angle_error_max},
+                     {"log_area_min", r.log_area_min},
+                     {"log_area_max", r.log_area_max},
+                     {"log_area_mean", r.log_area_mean},
+                     {"log_area_stddev", r.log_area_stddev}};
+  return j;
+}
+
 }  // namespace ricci::cli

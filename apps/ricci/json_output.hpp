@@ -8,6 +8,7 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/repair.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/sphere.hpp"
 
 namespace ricci::cli {
 
@@ -28,5 +29,9 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
 /// Report of a parameterization: cones, modifications, cut, layout, atlas, distortion and the
 /// flow summary.
 nlohmann::json param_report(const ParamResult& result, const ParamOptions& options);
+
+/// Report of a spherical conformal map: invariants, Moebius normalisation, distortion, timings
+/// and the disk's flow summary; pole in mesh indices (the caller adds file indices).
+nlohmann::json sphere_report(const SphereResult& result, const SphereOptions& options);
 
 }  // namespace ricci::cli

@@ -167,6 +167,34 @@ int main(int argc, char** argv) {
   CLI::App* render_cmd = add_render_subcommand(app, render);
 #endif
 
+  SphereArgs sphere;
+  CLI::App* sphere_cmd = app.add_subcommand(
+      "sphere",
+      "Spherical conformal map of a closed genus-0 mesh: every vertex on the unit sphere, no "
+      "inverted face, the centre of mass of the area at the origin; writes an OBJ with the "
+      "input's faces (docs/sphere.md).");
+  sphere_cmd->add_option("MESH", sphere.mesh, "mesh file (.obj .off .ply .stl)")->required();
+  sphere_cmd->add_option("-o,--output", sphere.output, "output .obj (vertices on the sphere)")
+      ->required();
+  sphere_cmd->add_option("--scheme", sphere.scheme, "discrete metric (see ricci flow --help)")
+      ->capture_default_str();
+  sphere_cmd->add_option("--flips", sphere.flips, "intrinsic Delaunay edge flips of the flow")
+      ->capture_default_str();
+  sphere_cmd
+      ->add_option("--pole", sphere.pole,
+                   "vertex (0-based file index) removed for the flow; -1: the flattest vertex of "
+                   "valence >= 5")
+      ->capture_default_str();
+  sphere_cmd->add_option("--tol", sphere.tolerance, "flow tolerance on max |K-bar - K|")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  sphere_cmd->add_option("--report", sphere.report,
+                         "write a JSON report: invariants, normalisation, distortion, flow");
+  sphere_cmd->add_flag("--json", sphere.json, "print the report as JSON");
+  sphere_cmd->add_flag("--progress", sphere.progress, "print flow iterations on stderr");
+  sphere_cmd->add_flag("--repair", sphere.repair, kRepairHelp);
+  sphere_cmd->add_flag("--largest-component", sphere.largest_component, kLargestComponentHelp);
+
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
       "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
@@ -192,6 +220,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return run_info(info);
     if (*flow_cmd) return run_flow(flow);
     if (*param_cmd) return run_param(param);
+    if (*sphere_cmd) return run_sphere(sphere);
     if (*generate_cmd) return run_generate(generate);
 #ifdef RICCI_HAVE_RENDER
     if (*render_cmd) return run_render(render);

@@ -7,6 +7,7 @@ classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
     V, F, info = ricci.read_mesh("bunny.obj")
     result = ricci.flow(V, F, target="flat", cones={0: "pi/2"})
     param = ricci.parameterize(V, F, cones="auto")
+    sphere = ricci.sphere(V, F)  # closed genus 0: positions on the unit sphere
 
 Errors: ``InvalidInput`` (a ValueError), ``TopologyError`` (an InvalidInput), ``IoError`` (an
 OSError), ``SolverError`` (a RuntimeError), all deriving from ``ricci.Error``.
@@ -57,6 +58,8 @@ from ._ricci import (
     Scheme,
     SeamTransition,
     SolverError,
+    SphereOptions,
+    SphereResult,
     StructureOptions,
     StructureResult,
     Target,
@@ -71,9 +74,11 @@ from ._ricci import (
 from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj
 from ._param import parameterize
+from ._sphere import sphere
 
 __all__ = [
     "flow", "info", "parameterize", "read_mesh", "repair", "validate", "write_obj", "generate",
+    "sphere", "SphereOptions", "SphereResult",
     "AffineAtlas", "BoundaryChart", "BoundaryMode", "Component", "ComponentFlow", "ComponentInfo",
     "Cone", "ConeMode", "ConeSelection", "ConeSelectionOptions", "ConformalStructure", "CutGraph",
     "CutMesh", "Defect", "DefectKind", "Distortion", "Error", "FlowOptions", "FlowResult",

@@ -26,6 +26,7 @@ namespace py = pybind11;
 void bind_mesh(py::module_& m);
 void bind_flow(py::module_& m);
 void bind_param(py::module_& m);
+void bind_sphere(py::module_& m);
 
 /// Short repr of a field value: arrays by shape, long lists by length.
 inline std::string field_repr(const py::handle& value) {

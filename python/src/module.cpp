@@ -78,4 +78,5 @@ PYBIND11_MODULE(_ricci, m) {
   bind_mesh(m);
   bind_flow(m);
   bind_param(m);
+  bind_sphere(m);
 }

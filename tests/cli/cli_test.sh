@@ -573,6 +573,54 @@ expect_rc "param -o equal to the input" 2
 expect_same "param -o equal to the input leaves it" param/own.obj "$own_sum"
 expect_no_temporaries "param leaves no temporaries" param
 
+# --- sphere --------------------------------------------------------------------------------------
+mkdir -p sphere
+ricci sphere --help
+expect_rc "sphere --help" 0
+expect_out "sphere --help" "--pole" "--scheme" "--report"
+ricci sphere meshes/icosphere.obj -o sphere/ico_sphere.obj --report sphere/ico.json
+expect_rc "sphere icosphere" 0
+expect_file "sphere icosphere writes the OBJ" sphere/ico_sphere.obj
+expect_json "sphere icosphere report" sphere/ico.json \
+  'd["converged"] and d["invariants"]["inverted_faces"] == 0 and d["invariants"]["max_radius_deviation"] <= 1e-12 and abs(d["invariants"]["spherical_area_error"]) <= 1e-8 and d["normalisation"]["centre_of_mass"] <= 1e-9'
+if "$PYTHON" - sphere/ico_sphere.obj meshes/icosphere.obj <<'EOF'
+import sys
+def read(path):
+    v, f = [], []
+    for line in open(path):
+        w = line.split()
+        if w and w[0] == "v": v.append([float(x) for x in w[1:4]])
+        elif w and w[0] == "f": f.append([c.split("/")[0] for c in w[1:4]])
+    return v, f
+v, f = read(sys.argv[1])
+v0, f0 = read(sys.argv[2])
+ok = len(v) == len(v0) and f == f0 and all(abs(sum(x * x for x in p) ** 0.5 - 1) < 1e-12 for p in v)
+sys.exit(0 if ok else 1)
+EOF
+then ok; else fail "sphere OBJ" "vertices not on the unit sphere or faces differ from the input's"; fi
+ricci sphere meshes/tetrahedron.obj -o sphere/tet_sphere.obj --pole 2 --scheme inversive-distance --json
+expect_rc "sphere tetrahedron --pole --scheme --json" 0
+expect_json "sphere tetrahedron --json" "$WORK/out.txt" \
+  'd["pole"] == 2 and d["pole_file_index"] == 2 and d["scheme"] == "inversive-distance" and d["invariants"]["inverted_faces"] == 0'
+ricci sphere meshes/small_torus.obj -o sphere/refused.obj
+expect_rc "sphere torus" 2
+expect_err "sphere torus" "genus 1"
+expect_no_file "sphere torus writes nothing" sphere/refused.obj
+ricci sphere meshes/small_disk.obj -o sphere/refused.obj
+expect_rc "sphere disk" 2
+expect_err "sphere disk" "boundary loop"
+expect_no_file "sphere disk writes nothing" sphere/refused.obj
+ricci sphere meshes/icosphere.obj -o sphere/refused.obj --pole 100000
+expect_rc "sphere bad --pole" 2
+expect_err "sphere bad --pole" "--pole: vertex 100000"
+expect_no_file "sphere bad --pole writes nothing" sphere/refused.obj
+cp meshes/small_icosphere.obj sphere/own.obj
+own_sum="$(checksum sphere/own.obj)"
+ricci sphere sphere/own.obj -o sphere/own.obj
+expect_rc "sphere -o equal to the input" 2
+expect_same "sphere -o equal to the input leaves it" sphere/own.obj "$own_sum"
+expect_no_temporaries "sphere leaves no temporaries" sphere
+
 # --- interrupts: SIGINT leaves neither output nor temporary files ------------------------------
 # The program runs under a wrapper that restores SIGINT's default action (a background job of a
 # non-interactive shell starts with SIGINT ignored, and ricci then keeps ignoring it); exec keeps

@@ -1,0 +1,128 @@
+#pragma once
+/// \file
+/// Spherical conformal map of a closed genus-0 mesh onto the unit sphere (issue 6, docs/sphere.md).
+///
+/// Method: one vertex, the pole, is removed with its star; the rest is a topological disk, which
+/// the Euclidean Ricci flow flattens (K-bar = 0 inside, the boundary turning by 2 pi in proportion
+/// to its input length: BoundaryMode::DiskLength) and layout_flat lays out in the plane. The
+/// layout is moved and scaled so that the least-squares circle through its boundary is the unit
+/// circle, then sent onto the sphere by inverse stereographic projection, the pole at the north
+/// pole (0, 0, 1). Finally a Moebius transformation of the sphere puts the centre of mass of the
+/// input surface's area, carried by the map, at the origin.
+///
+/// Centre of mass of the area: c = sum over faces f of w_f n_f, where w_f = A_f / sum A is the
+/// face's share of the input mesh's 3D area and n_f = (P_i + P_j + P_k) / |P_i + P_j + P_k| the
+/// normalised centroid of its image. (The images' own spherical areas would not do: for any
+/// embedding they tile the sphere, whose centre of mass is the origin whatever the map.) The
+/// Moebius maps that move it are the boosts
+///     phi_a(x) = (1 - |a|^2) (x - a) / |x - a|^2 - a,  |a| < 1,
+/// the restriction to the sphere of the hyperbolic isometry of the unit ball taking a to 0; they
+/// spread the sphere out around a / |a| and gather it towards -a / |a|. Near a = 0,
+/// phi_a(x) = x - 2 (I - x x^T) a + O(|a|^2), so c moves by about -2 M a with
+/// M = sum_f w_f (I - n_f n_f^T): a damped Newton iteration solves for a, applies phi_a to the
+/// positions and repeats until |c| <= SphereOptions::centre_tolerance. The result is unique up to
+/// a rotation (Douady and Earle 1986) whenever no vertex carries half the area.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/mesh.hpp"
+
+namespace ricci {
+
+/// Options of sphere_map.
+struct SphereOptions {
+  /// Vertex sent to the north pole before the Moebius normalisation; -1 picks one (see
+  /// choose_pole_vertex).
+  int pole = -1;
+  /// Discrete metric of the disk's flow; Thurston by default: its packings never break a triangle,
+  /// and with Phi in [0, pi/2] and a convex boundary the layout is an embedding.
+  StructureOptions structure;
+  /// Newton to 1e-12, as parameterize does: the layout closes around each interior vertex only as
+  /// well as the metric is flat there. Edge flips (vertex scaling) change the disk's triangulation
+  /// but the output keeps the input's faces, whose images are then checked like any other.
+  FlowOptions flow = [] {
+    FlowOptions f;
+    f.tolerance = 1e-12;
+    return f;
+  }();
+  /// Stop the Moebius normalisation when |centre of mass| is at most this.
+  double centre_tolerance = 1e-12;
+  int max_centre_iterations = 100;  ///< most Newton steps of the normalisation
+};
+
+/// What sphere_map returns. Per-face statistics are over the input's faces.
+struct SphereResult {
+  bool converged = false;  ///< the flow converged and the normalisation reached its tolerance
+  std::string message;     ///< why not, when not
+  /// #V by 3 positions on the unit sphere (rows of unreferenced vertices: 0), counter-clockwise
+  /// faces seen from outside where the map has no inverted face.
+  Positions positions;
+  int pole = -1;  ///< the vertex removed for the flow (at the north pole before normalisation)
+
+  // The flow on the disk (the mesh without the pole and its faces).
+  MeshFlowResult flow;             ///< in disk vertex indices
+  std::vector<int> disk_vertices;  ///< per disk vertex: its vertex in the mesh
+  /// Layout of the disk, in mesh vertex indices (#V by 2; the pole's row is NaN), after the
+  /// translation and scale that make the boundary's least-squares circle the unit circle.
+  Eigen::Matrix<double, Eigen::Dynamic, 2> plane;
+  double layout_length_error = 0;  ///< Layout::max_length_relative_error of the disk's layout
+  /// max over boundary vertices of | |p| - 1 | in the normalised plane: how far the disk's
+  /// boundary is from the circle the stereographic projection sends to the equator.
+  double boundary_circle_deviation = 0;
+  /// Boundary edges (i, j) of the disk (each the image of a face (i, j, pole)) with
+  /// det(p_i, p_j) <= 0: faces around the pole that the projection inverts. 0 expected.
+  int inverted_pole_faces = 0;
+
+  // The Moebius normalisation.
+  int centre_iterations = 0;  ///< Newton steps taken
+  double initial_centre = 0;  ///< |centre of mass| right after the projection
+  double centre_of_mass = 0;  ///< |centre of mass| at the end
+  double max_boost_norm = 0;  ///< largest |a| of a single step
+
+  // Invariants of the final map (faces as geodesic triangles between their images).
+  double max_radius_deviation = 0;  ///< max over vertices of | |P_i| - 1 |
+  int inverted_faces = 0;           ///< faces with det(P_i, P_j, P_k) <= 0
+  /// Sum of the signed spherical areas 2 atan2(det, 1 + P_i.P_j + P_j.P_k + P_k.P_i) of the faces:
+  /// 4 pi when the images cover the sphere once; with no inverted face, an embedding.
+  double spherical_area = 0;
+
+  // Distortion, against the input's 3D triangles.
+  /// sigma_max / sigma_min of the linear map from each 3D triangle to its chordal triangle
+  /// P_i P_j P_k (1: conformal): mean weighted by 3D area, max, and the 95th percentile over
+  /// faces (unweighted).
+  double angle_distortion_mean = 0, angle_distortion_max = 0, angle_distortion_p95 = 0;
+  /// |corner angle of the chordal triangle - corner angle in 3D| over all corners, radians:
+  /// unweighted mean and max.
+  double angle_error_mean = 0, angle_error_max = 0;
+  /// ln((spherical area / 4 pi) / (3D area / total 3D area)) per face with positive spherical
+  /// area: min, max, mean and standard deviation weighted by 3D area.
+  double log_area_min = 0, log_area_max = 0, log_area_mean = 0, log_area_stddev = 0;
+
+  // Timings, seconds.
+  double flow_seconds = 0, layout_seconds = 0, normalisation_seconds = 0, seconds = 0;
+};
+
+/// The default pole: among vertices of valence at least 5, the one whose angle defect
+/// 2 pi - (sum of its corner angles) is smallest in absolute value, ties to the lowest index;
+/// the lowest-index vertex of largest valence when none has valence 5. A flat, well-surrounded
+/// vertex makes the disk's boundary (the pole's link) a polygon with at least 5 sides whose
+/// vertices each keep faces inside the disk, and puts the puncture where the surface looks most
+/// like a plane.
+/// \pre the mesh is closed (every vertex of a face has a full fan)
+int choose_pole_vertex(const Mesh& mesh);
+
+/// Maps a closed genus-0 mesh conformally onto the unit sphere (see the file comment).
+/// Non-convergence of the flow or the normalisation is reported in the result, not thrown.
+/// \param mesh #V by 3 positions, #F by 3 counter-clockwise triangles; one closed genus-0
+///        component (unreferenced vertices allowed)
+/// \throw InvalidInput when the mesh has defects (validate_mesh), is not one connected component,
+///        has a boundary or has genus > 0, when options.pole is out of range or on no face, or
+///        when an option is out of range
+/// \throw TopologyError for non-manifold or inconsistently oriented meshes
+SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options = {});
+
+}  // namespace ricci
