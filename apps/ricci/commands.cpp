@@ -270,7 +270,81 @@ int run_flow(const FlowArgs& args) {
   return result.converged ? kOk : kNotConverged;
 }
 
+namespace {
+
+/// `param --geometry hyperbolic`: the uniformization metric laid out in the Poincare disk.
+int run_param_hyperbolic(const ParamArgs& args) {
+  HyperbolicParamOptions options;
+  options.structure.scheme = parse_scheme(args.scheme);
+  options.flow.tolerance = args.tolerance;
+  options.flow.flips = parse_edge_flips(args.flips);
+  if (args.cones != "auto" && args.cones != "none") {
+    throw InvalidInput(
+        "--cones: the hyperbolic parameterization has no cones (its metric has "
+        "zero curvature at every vertex); leave --cones out");
+  }
+  if (args.boundary != "free" && args.boundary != "geodesic") {
+    throw InvalidInput("--boundary " + args.boundary +
+                       ": the hyperbolic parameterization gives every boundary zero geodesic "
+                       "curvature; leave --boundary out");
+  }
+  check_output_is_not_input(args.output, {args.mesh});
+  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  print_warnings(read);
+  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
+  options.flow.progress = make_progress(progress, "param", options.flow.tolerance);
+  HyperbolicParamResult result;
+  try {
+    result = parameterize_hyperbolic(read.mesh, options);
+  } catch (const InvalidInput& e) {
+    finish_progress(progress);
+    throw InvalidInput(args.mesh + ": " + e.what());
+  }
+  finish_progress(progress);
+  nlohmann::json report = hyperbolic_param_report(result, options);
+  report["input"] = args.mesh;
+  report["output"] = args.output;
+  if (read.repaired) report["repair"] = to_json(read.repair);
+  if (!args.report.empty()) {
+    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
+  }
+  if (!result.converged) {
+    std::cerr << "error: " << args.mesh << ": the flow did not converge: " << result.message
+              << "\n";
+    return kNotConverged;
+  }
+  write_obj(args.output, read.mesh, result.cut_mesh.triangles, result.uv);
+#ifdef RICCI_HAVE_RENDER
+  write_hyperbolic_pictures(args.pictures, result);
+#endif
+  if (args.json) {
+    std::cout << report.dump(2) << "\n";
+    return kOk;
+  }
+  const HyperbolicLayout& l = result.layout;
+  std::cout << args.mesh << " -> " << args.output << " (texture coordinates in the Poincare disk)\n"
+            << "  hyperbolic area " << result.flow.components.front().flow.total_area
+            << ", cut: " << result.cut.num_generators << " generators, "
+            << result.cut.segments.size() << " segments, seam length " << result.seam_length
+            << "\n  layout: max radius " << l.max_radius << ", length error "
+            << l.max_length_relative_error << ", flipped " << l.num_flipped_faces
+            << ", angle distortion mean " << result.distortion.angle_distortion_mean << " max "
+            << result.distortion.angle_distortion_max << ", " << result.seconds << " s\n";
+  if (result.has_group) {
+    std::cout << "  Fuchsian group: " << 2 * result.group.genus
+              << " generators, |a1 b1 a1^-1 b1^-1 ... - I| = " << result.group.relation_residual
+              << " (around the nodes: " << result.group.node_residual << ")\n";
+  }
+  if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+  return kOk;
+}
+
+}  // namespace
+
 int run_param(const ParamArgs& args) {
+  if (parse_geometry(args.geometry) == Geometry::Hyperbolic) return run_param_hyperbolic(args);
   ParamOptions options;
   options.structure.scheme = parse_scheme(args.scheme);
   options.boundary = parse_boundary_mode(args.boundary);

@@ -64,6 +64,7 @@ struct ParamArgs {
   bool json = false;
   bool progress = false;
   std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
+  std::string geometry = "euclidean";
 };
 int run_param(const ParamArgs& args);
 

@@ -251,6 +251,86 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   return j;
 }
 
+namespace {
+
+nlohmann::json distortion_json(const Distortion& d) {
+  return {{"area_distortion_energy", d.area_distortion_energy},
+          {"log_area_min", d.log_area_min},
+          {"log_area_max", d.log_area_max},
+          {"log_area_mean", d.log_area_mean},
+          {"log_area_stddev", d.log_area_stddev},
+          {"angle_distortion_mean", d.angle_distortion_mean},
+          {"angle_distortion_max", d.angle_distortion_max},
+          {"flipped_faces", d.flipped_faces},
+          {"degenerate_faces", d.degenerate_faces}};
+}
+
+/// A Moebius map of the disk as its matrix entries a and b ([re, im] each).
+nlohmann::json to_json(const Mobius& m) {
+  return {{"a", {m.a.real(), m.a.imag()}}, {"b", {m.b.real(), m.b.imag()}}};
+}
+
+nlohmann::json words_json(const std::vector<SegmentWord>& words) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SegmentWord& w : words) {
+    nlohmann::json word = nlohmann::json::array();
+    for (const auto& [segment, sign] : w) word.push_back({segment, sign});
+    out.push_back(word);
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
+                                       const HyperbolicParamOptions& options) {
+  nlohmann::json j;
+  j["geometry"] = "hyperbolic";
+  j["converged"] = r.converged;
+  j["message"] = r.message;
+  j["seconds"] = r.seconds;
+  MeshFlowOptions flow_options;
+  flow_options.structure = options.structure;
+  flow_options.structure.geometry = Geometry::Hyperbolic;
+  flow_options.flow = options.flow;
+  j["flow"] = flow_summary(r.flow, flow_options);
+  if (!r.converged) return j;
+  nlohmann::json segments = nlohmann::json::array();
+  for (const SegmentIsometry& s : r.layout.segment_maps) {
+    segments.push_back({{"vertices", r.cut.segments[s.segment].size()},
+                        {"map", to_json(s.map)},
+                        {"translation_length", s.translation_length},
+                        {"mismatch", s.mismatch}});
+  }
+  j["cut"] = {{"generators", r.cut.num_generators},
+              {"nodes", r.cut.nodes},
+              {"cut_edges", std::count(r.cut.is_cut_edge.begin(), r.cut.is_cut_edge.end(), 1)},
+              {"seam_length", r.seam_length},
+              {"segments", segments},
+              {"node_words", words_json(r.layout.node_words)}};
+  j["layout"] = {{"root_face", r.layout.root_face},
+                 {"max_length_relative_error", r.layout.max_length_relative_error},
+                 {"flipped_faces", r.layout.num_flipped_faces},
+                 {"max_radius", r.layout.max_radius}};
+  if (r.has_group) {
+    const FuchsianGroup& g = r.group;
+    nlohmann::json a = nlohmann::json::array(), b = nlohmann::json::array();
+    for (int i = 0; i < g.genus; ++i) {
+      a.push_back({{"map", to_json(g.a[i])}, {"translation_length", translation_length(g.a[i])}});
+      b.push_back({{"map", to_json(g.b[i])}, {"translation_length", translation_length(g.b[i])}});
+    }
+    j["fuchsian_group"] = {{"genus", g.genus},
+                           {"a", a},
+                           {"b", b},
+                           {"a_words", words_json(g.a_words)},
+                           {"b_words", words_json(g.b_words)},
+                           {"relation_residual", g.relation_residual},
+                           {"node_residual", g.node_residual}};
+  }
+  j["distortion"] = distortion_json(r.distortion);
+  return j;
+}
+
 nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options) {
   nlohmann::json j;
   j["converged"] = r.converged;

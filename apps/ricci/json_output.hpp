@@ -7,6 +7,7 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/repair.hpp"
+#include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
 
@@ -29,6 +30,11 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
 /// Report of a parameterization: cones, modifications, cut, layout, atlas, distortion and the
 /// flow summary.
 nlohmann::json param_report(const ParamResult& result, const ParamOptions& options);
+
+/// The report of `param --geometry hyperbolic`: flow, cut, disk layout, the deck transformation
+/// of every segment, the words around the nodes, the Fuchsian group and the distortion.
+nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& result,
+                                       const HyperbolicParamOptions& options);
 
 /// Report of a spherical conformal map: invariants, Moebius normalisation, distortion, timings
 /// and the disk's flow summary; pole in mesh indices (the caller adds file indices).

@@ -142,6 +142,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
       ->capture_default_str();
+  param_cmd
+      ->add_option("--geometry", param.geometry,
+                   "euclidean (flat metric with cones; uv in the unit square) or hyperbolic "
+                   "(chi < 0: the uniformization metric, no cones, geodesic boundary; uv in the "
+                   "Poincare disk; deck transformations and Fuchsian generators in the report; "
+                   "--pictures draws the tiling of the disk)")
+      ->capture_default_str();
   param_cmd->add_flag("--quantize", param.quantize, "round cone curvatures to multiples of pi/2");
   param_cmd
       ->add_option("--max-log-scale", param.max_log_scale,

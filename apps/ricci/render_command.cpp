@@ -7,9 +7,11 @@
 #include "commands.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/repair.hpp"
+#include "ricci/render/image.hpp"
 #include "ricci/render/param_pictures.hpp"
 #include "ricci/render/render_mesh.hpp"
 #include "ricci/render/textured_obj.hpp"
+#include "ricci/render/tiling.hpp"
 #include "ricci/render/uv_plot.hpp"
 
 namespace ricci::cli {
@@ -176,6 +178,20 @@ int run_render(const RenderArgs& args) {
               << ", " << info.log_area_max << "], " << info.flipped_faces << " flipped faces\n";
   }
   return kOk;
+}
+
+void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamResult& result) {
+  if (folder.empty()) return;
+  std::filesystem::create_directories(folder);
+  std::vector<Mobius> generators;
+  for (const SegmentIsometry& s : result.layout.segment_maps) generators.push_back(s.map);
+  TilingInfo info;
+  const std::string svg = (std::filesystem::path(folder) / "tiling.svg").string();
+  const std::string png = (std::filesystem::path(folder) / "tiling.png").string();
+  write_svg(svg, draw_tiling_svg(result.uv, result.cut_mesh.triangles, generators, {}, &info));
+  write_png(png, draw_tiling(result.uv, result.cut_mesh.triangles, generators));
+  std::cerr << "pictures: " << svg << " " << png << " (fundamental domain and " << info.images_drawn
+            << " of its images)\n";
 }
 
 void write_param_pictures(const std::string& folder, const ParamResult& result) {

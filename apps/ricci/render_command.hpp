@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci::cli {
@@ -35,5 +36,9 @@ int run_render(const RenderArgs& args);
 /// `param --pictures DIR`: writes the pictures of a parameterization into DIR and says so on
 /// stderr. No-op when `folder` is empty.
 void write_param_pictures(const std::string& folder, const ParamResult& result);
+
+/// `param --geometry hyperbolic --pictures DIR`: tiling.svg and tiling.png, the fundamental
+/// domain in the Poincare disk and its images under the group the segment maps generate.
+void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamResult& result);
 
 }  // namespace ricci::cli
