@@ -7,6 +7,7 @@
 
 #include "layout_support.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/flow/hyperbolic_refinement.hpp"
 #include "ricci/metric/angles.hpp"
 
 namespace ricci {
@@ -77,6 +78,7 @@ SegmentIsometry fit_segment(const Topology& topology, const Topology& cut_topolo
     if (std::abs(to_frame(from[0], from[i])) > std::abs(to_frame(from[0], from[far]))) far = i;
   }
   const WideMobius map = wide_isometry(from[0], from[far], to[0], to[far]);
+  result.wide_map = {map.a, map.b};
   result.map = normalized(
       Mobius{Complex(static_cast<double>(map.a.real()), static_cast<double>(map.a.imag())),
              Complex(static_cast<double>(map.b.real()), static_cast<double>(map.b.imag()))});
@@ -94,18 +96,26 @@ SegmentIsometry fit_segment(const Topology& topology, const Topology& cut_topolo
 HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::VectorXd& lengths,
                                    const CutGraph& cut, const CutMesh& cut_mesh,
                                    const HyperbolicLayoutOptions& options) {
-  layout_support::check_inputs("layout_hyperbolic", topology, lengths, cut, cut_mesh,
+  return layout_hyperbolic(topology, WideVector(lengths.cast<long double>()), cut, cut_mesh,
+                           options);
+}
+
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& lengths,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options) {
+  const Eigen::VectorXd double_lengths = lengths.cast<double>();
+  layout_support::check_inputs("layout_hyperbolic", topology, double_lengths, cut, cut_mesh,
                                options.root_face);
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
-  CornerAngles angles;
-  const int bad = corner_angles(topology, lengths, angles, Geometry::Hyperbolic);
+  Eigen::Matrix<long double, Eigen::Dynamic, 3> angles;
+  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
   if (bad >= 0) {
     throw InvalidInput("layout_hyperbolic: face " + std::to_string(bad) + ": its lengths " +
-                       std::to_string(lengths[topology.face_edges(bad, 0)]) + ", " +
-                       std::to_string(lengths[topology.face_edges(bad, 1)]) + ", " +
-                       std::to_string(lengths[topology.face_edges(bad, 2)]) +
+                       std::to_string(double_lengths[topology.face_edges(bad, 0)]) + ", " +
+                       std::to_string(double_lengths[topology.face_edges(bad, 1)]) + ", " +
+                       std::to_string(double_lengths[topology.face_edges(bad, 2)]) +
                        " break a triangle inequality");
   }
 
@@ -114,21 +124,20 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::Vector
       layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
   std::vector<WideComplex> uv(ncv, WideComplex{0});
   // A point at hyperbolic distance l from the centre is at Euclidean radius tanh(l / 2).
-  auto radius = [&](int e) { return std::tanh(Wide{0.5} * Wide{lengths[e]}); };
+  auto radius = [&](int e) { return std::tanh(lengths[e] / 2); };
   for (int root : roots) {
     uv[cut_topology.triangles(root, 0)] = 0;
     uv[cut_topology.triangles(root, 1)] = radius(topology.face_edges(root, 2));
     uv[cut_topology.triangles(root, 2)] =
-        std::polar(radius(topology.face_edges(root, 1)), Wide{angles(root, 0)});
+        std::polar(radius(topology.face_edges(root, 1)), angles(root, 0));
   }
-  for (int t : layout_support::placement_order(topology, cut_topology, lengths, roots)) {
+  for (int t : layout_support::placement_order(topology, cut_topology, double_lengths, roots)) {
     const int g = t / 3, kg = t % 3, ki = (kg + 1) % 3;
     const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
     // In the frame where p_i is the centre, p_k is at tanh(l_ik / 2) in the direction of p_j
     // turned by theta_i counter-clockwise.
-    const WideComplex k_in_frame =
-        std::polar(radius(topology.face_edges(g, (kg + 2) % 3)),
-                   std::arg(to_frame(uv[vi], uv[vj])) + Wide{angles(g, ki)});
+    const WideComplex k_in_frame = std::polar(radius(topology.face_edges(g, (kg + 2) % 3)),
+                                              std::arg(to_frame(uv[vi], uv[vj])) + angles(g, ki));
     uv[cut_topology.triangles(g, kg)] = from_frame(uv[vi], k_in_frame);
   }
 
@@ -144,7 +153,7 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::Vector
     WideComplex p[3];
     for (int k = 0; k < 3; ++k) p[k] = uv[cut_topology.triangles(f, k)];
     for (int k = 0; k < 3; ++k) {
-      const double l = lengths[topology.face_edges(f, k)];
+      const double l = double_lengths[topology.face_edges(f, k)];
       const double d =
           static_cast<double>(2 * std::atanh(std::abs(to_frame(p[(k + 1) % 3], p[(k + 2) % 3]))));
       layout.max_length_relative_error =
@@ -160,7 +169,7 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::Vector
       layout_support::segment_edges("layout_hyperbolic", topology, cut);
   for (std::size_t s = 0; s < cut.segments.size(); ++s) {
     layout.segment_maps.push_back(
-        fit_segment(topology, cut_topology, lengths, uv, segments, static_cast<int>(s)));
+        fit_segment(topology, cut_topology, double_lengths, uv, segments, static_cast<int>(s)));
   }
 
   // Words around the nodes: rotate around the node through its faces (outgoing halfedge h of

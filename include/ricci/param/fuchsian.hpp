@@ -14,6 +14,8 @@
 /// z y z^-1 y^-1 E D C B with y = b C B and z = (D C B)^-1 a B, g times. Every new letter is kept
 /// both as a matrix (products of the current letters' matrices) and as a word in the segments.
 
+#include <array>
+#include <complex>
 #include <utility>
 #include <vector>
 
@@ -36,6 +38,11 @@ struct SegmentRelations {
   /// +-identity. Every segment occurs exactly twice over all words, with opposite signs (once
   /// at each end; a segment that is a loop occurs twice in its node's word).
   std::vector<SegmentWord> node_words;
+  /// Optional: the same maps as entries (a, b) in long double (one per segment, or none). The
+  /// residuals and the final generators are then evaluated from these: rounded to double, a map
+  /// of norm N loses about 1e-16 N of consistency (and its determinant 1e-16 N^2), which the
+  /// relation multiplies through its long words.
+  std::vector<std::array<std::complex<long double>, 2>> wide_segment_maps{};
 };
 
 /// Canonical generators of the Fuchsian group and how they were found.

@@ -7,11 +7,14 @@
 /// cut graph, the deck transformations of the segments crossed compose to the identity. These
 /// are the data of the surface's Fuchsian group (ricci/param/fuchsian.hpp).
 
+#include <array>
+#include <complex>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "ricci/flow/hyperbolic_refinement.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/mobius.hpp"
 
@@ -31,6 +34,9 @@ struct SegmentIsometry {
   /// Takes the positions of side B of the segment onto those of side A (the sides as in
   /// layout_support: the same side of the path along the whole segment).
   Mobius map;
+  /// The same map's entries (a, b) as computed, in long double (map is them rounded).
+  std::array<std::complex<long double>, 2> wide_map{std::complex<long double>{1.0L},
+                                                    std::complex<long double>{0.0L}};
   /// max over the ends of the segment's edges of the hyperbolic distance between the image of
   /// the side-B copy and the side-A copy, relative to the edge's length.
   double mismatch = 0;
@@ -46,7 +52,7 @@ struct HyperbolicLayout {
   double max_length_relative_error = 0;
   /// Faces whose three corners are not counter-clockwise in the disk: 0 expected.
   int num_flipped_faces = 0;
-  double max_radius = 0;  ///< largest |z| of a vertex
+  double max_radius = 0;                      ///< largest |z| of a vertex
   std::vector<SegmentIsometry> segment_maps;  ///< one per cut segment
   /// Per node of the cut graph (CutGraph::nodes, same order) on a closed component: the cut
   /// segments crossed going once around the node, as (segment, +1) when the crossing goes from
@@ -64,6 +70,13 @@ struct HyperbolicLayout {
 /// \throw InvalidInput as layout_flat (naming layout_hyperbolic), and when the lengths break a
 ///        triangle inequality
 HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::VectorXd& lengths,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options = {});
+
+/// The same from long double lengths (refine_hyperbolic_metric): the positions are computed in
+/// long double in either case; from double lengths the metric's own rounding (curvature about
+/// 1e-15 per vertex) limits how well the sides of the cut match.
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& lengths,
                                    const CutGraph& cut, const CutMesh& cut_mesh,
                                    const HyperbolicLayoutOptions& options = {});
 

@@ -29,6 +29,11 @@ struct HyperbolicParamOptions {
     return f;
   }();
   HyperbolicLayoutOptions layout;
+  /// Closed surfaces: how many cuts (tree-cotree from different root vertices) to try at most;
+  /// the one whose canonical generators satisfy the relation best is kept.
+  int cut_candidates = 8;
+  /// Stop trying further cuts once the relation residual is this small.
+  double good_relation_residual = 1e-11;
 };
 
 /// What parameterize_hyperbolic returns.
@@ -36,9 +41,14 @@ struct HyperbolicParamResult {
   bool converged = false;  ///< the flow reached its tolerance
   std::string message;     ///< why not, when it did not
   MeshFlowResult flow;     ///< the flow to the hyperbolic metric
+  /// The converged metric refined in long double (residual curvature about 1e-18), which the
+  /// layout uses.
+  HyperbolicRefinement refinement;
   CutGraph cut;
   CutMesh cut_mesh;
   HyperbolicLayout layout;
+  int cut_candidates_tried = 0;  ///< cuts laid out (HyperbolicParamOptions::cut_candidates)
+  int cut_root = -1;             ///< root vertex of the kept cut (-1: cut_graph's default)
   /// Closed surfaces (genus >= 2): the canonical generators; has_group false otherwise (a
   /// surface with boundary has a free Fuchsian group, whose generators are the segment maps).
   bool has_group = false;

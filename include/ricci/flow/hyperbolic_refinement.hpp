@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// Iterative refinement of a hyperbolic metric in extended precision. A double-precision Newton
+/// flow stops where the rounding of the curvature (about 1e-15 per vertex) dominates; laid out in
+/// the Poincare disk, that residual curvature turns into misclosures that grow like sinh of the
+/// distance from the root, and the Fuchsian relation multiplies them by the squared norms of its
+/// long words. Evaluating K in long double and correcting u with the double Hessian (whose
+/// factorisation a Newton step needs anyway) brings the residual down to about 1e-18.
+
+#include <Eigen/Core>
+
+#include "ricci/flow/target.hpp"
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+
+/// Vectors in long double (x87 extended precision on x86-64; plain double elsewhere).
+using WideVector = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+
+/// What refine_hyperbolic_metric returns.
+struct HyperbolicRefinement {
+  WideVector u;                 ///< #V refined log radii
+  WideVector lengths;           ///< #E hyperbolic edge lengths at u, in long double
+  double max_error_before = 0;  ///< max |K-bar - K| at the input u, evaluated in long double
+  double max_error_after = 0;   ///< the same at the refined u
+  int iterations = 0;           ///< corrections applied
+};
+
+/// Hyperbolic edge lengths in long double (the formula of hyperbolic_edge_lengths).
+/// \return the number of edges without a valid length (NaN there)
+int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
+                                 const WideVector& u, WideVector& lengths);
+
+/// Corner angles (#F by 3, row-major as CornerAngles) of hyperbolic triangles in long double.
+/// \return the first face that breaks a triangle inequality, or -1
+int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
+                                  Eigen::Matrix<long double, Eigen::Dynamic, 3>& angles);
+
+/// Refines a converged hyperbolic flow: u += H^-1 (K-bar - K(u)) with K in long double and H the
+/// double Hessian, until the error stops shrinking (at most max_iterations). Fixed vertices keep
+/// their u.
+/// \pre structure.geometry is hyperbolic and u is close to the solution (a converged flow)
+/// \throw InvalidInput when the structure is not hyperbolic or the metric is not valid at u;
+///        SolverError when the Hessian cannot be factorised
+HyperbolicRefinement refine_hyperbolic_metric(const Topology& topology,
+                                              const ConformalStructure& structure,
+                                              const Target& target, const Eigen::VectorXd& u,
+                                              int max_iterations = 4);
+
+}  // namespace ricci
