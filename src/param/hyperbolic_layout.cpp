@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <string>
 
 #include "layout_support.hpp"
@@ -139,6 +140,30 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
     const WideComplex k_in_frame = std::polar(radius(topology.face_edges(g, (kg + 2) % 3)),
                                               std::arg(to_frame(uv[vi], uv[vj])) + angles(g, ki));
     uv[cut_topology.triangles(g, kg)] = from_frame(uv[vi], k_in_frame);
+  }
+  if (options.recentre) {
+    // Hyperbolic area (pi - angle sum) of every face: its weight in the centre.
+    std::vector<Wide> area(nf);
+    for (int f = 0; f < nf; ++f) {
+      area[f] = std::numbers::pi_v<Wide> - (angles(f, 0) + angles(f, 1) + angles(f, 2));
+    }
+    for (int step = 0; step < 8; ++step) {
+      WideComplex centre{0};
+      Wide total = 0;
+      for (int f = 0; f < nf; ++f) {
+        const WideComplex c = (uv[cut_topology.triangles(f, 0)] + uv[cut_topology.triangles(f, 1)] +
+                               uv[cut_topology.triangles(f, 2)]) /
+                              Wide{3};
+        centre += area[f] * c;
+        total += area[f];
+      }
+      if (!(total > 0)) break;
+      centre /= total;
+      if (std::abs(centre) < Wide{1e-12}) break;
+      for (int v = 0; v < ncv; ++v) {
+        if (cut_topology.vertex_component[v] >= 0) uv[v] = to_frame(centre, uv[v]);
+      }
+    }
   }
 
   layout.uv.resize(ncv, 2);

@@ -108,7 +108,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   // closed surface, the Fuchsian group. Shortest paths follow the hyperbolic metric, so that
   // the loops are short hyperbolic curves. How well conditioned the canonical generators come
   // out depends on where the tree-cotree grows from (on a generated genus-4 surface the relation
-  // residual ranged from 1e-11 to 6e-6 over root vertices), so a few roots spread over the
+  // residual ranged from 1e-11 to 6e-6 over root vertices), so roots spread over the
   // surface are tried and the best-conditioned group is kept.
   const bool closed = comp.num_boundary_loops == 0;
   const std::vector<int> roots =

@@ -25,6 +25,11 @@ struct HyperbolicLayoutOptions {
   /// Face placed first, its first corner at the centre of the disk; -1 picks, per component of
   /// the cut mesh, the face farthest from the cut in steps across edges (as layout_flat does).
   int root_face = -1;
+  /// Move the fundamental domain's centre to the centre of the disk afterwards (an isometry:
+  /// the layout's shape and accuracy do not change, the picture and the maps' matrices become
+  /// balanced). The centre: the area-weighted mean of the face centroids, made the origin by a
+  /// few fixed-point steps of z -> (z - c) / (1 - conj(c) z).
+  bool recentre = true;
 };
 
 /// The deck transformation of one cut segment.

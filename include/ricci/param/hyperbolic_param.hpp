@@ -31,7 +31,7 @@ struct HyperbolicParamOptions {
   HyperbolicLayoutOptions layout;
   /// Closed surfaces: how many cuts (tree-cotree from different root vertices) to try at most;
   /// the one whose canonical generators satisfy the relation best is kept.
-  int cut_candidates = 8;
+  int cut_candidates = 32;
   /// Stop trying further cuts once the relation residual is this small.
   double good_relation_residual = 1e-11;
 };
