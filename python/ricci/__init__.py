@@ -7,6 +7,7 @@ classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
     V, F, info = ricci.read_mesh("bunny.obj")
     result = ricci.flow(V, F, target="flat", cones={0: "pi/2"})
     param = ricci.parameterize(V, F, cones="auto")
+    disk = ricci.parameterize(V, F, geometry="hyperbolic")  # chi < 0: uv in the Poincare disk
     sphere = ricci.sphere(V, F)  # closed genus 0: positions on the unit sphere
 
 Errors: ``InvalidInput`` (a ValueError), ``TopologyError`` (an InvalidInput), ``IoError`` (an
@@ -38,7 +39,12 @@ from ._ricci import (
     FlowSolver,
     FlowStatus,
     FlowTimings,
+    FuchsianGroup,
     Geometry,
+    HyperbolicLayout,
+    HyperbolicLayoutOptions,
+    HyperbolicParamOptions,
+    HyperbolicParamResult,
     InvalidInput,
     IoError,
     IterationRecord,
@@ -57,6 +63,7 @@ from ._ricci import (
     RepairResult,
     Scheme,
     SeamTransition,
+    SegmentIsometry,
     SolverError,
     SphereOptions,
     SphereResult,
@@ -79,6 +86,8 @@ from ._sphere import sphere
 __all__ = [
     "flow", "info", "parameterize", "read_mesh", "repair", "validate", "write_obj", "generate",
     "sphere", "SphereOptions", "SphereResult",
+    "FuchsianGroup", "HyperbolicLayout", "HyperbolicLayoutOptions", "HyperbolicParamOptions",
+    "HyperbolicParamResult", "SegmentIsometry",
     "AffineAtlas", "BoundaryChart", "BoundaryMode", "Component", "ComponentFlow", "ComponentInfo",
     "Cone", "ConeMode", "ConeSelection", "ConeSelectionOptions", "ConformalStructure", "CutGraph",
     "CutMesh", "Defect", "DefectKind", "Distortion", "Error", "FlowOptions", "FlowResult",

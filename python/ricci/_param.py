@@ -16,7 +16,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  scheme=None, packing_init=None, max_intersection_angle=None, fit_sweeps=None,
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
-                 reuse_factorization_cg_iterations=None, progress=None, flips=None, options=None):
+                 reuse_factorization_cg_iterations=None, progress=None, flips=None,
+                 geometry=None, root_face=None, options=None):
     """Global conformal parameterization of a single-component manifold mesh: cones, valence
     raising, Ricci flow to a flat metric, cut graph, layout, atlas, distortion, uv in the unit
     square.
@@ -35,8 +36,11 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     Metric and solver: as ``ricci.flow`` (tolerance defaults to 1e-12 here), flips included:
       after Delaunay flips the triangles returned are the intrinsic Delaunay triangulation of
       the input vertices.
-    options: a ``ParamOptions`` to start from (copied); other arguments, when not None,
-      override its fields.
+    geometry: ``"euclidean"`` (the default: a flat metric with cones, uv in the unit square)
+      or ``"hyperbolic"`` (a surface with chi < 0: the uniformization metric laid out in the
+      Poincare disk, see below).
+    options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
+      (copied); other arguments, when not None, override its fields.
 
     Returns a ``ParamResult``: converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
     indices into uv per corner, vertices (n', 3) and triangles (m', 3) of the mesh parameterized
@@ -45,10 +49,48 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     the stages: flow, cut, cut_mesh, layout, atlas, cone_selection. When the flow does not
     converge, converged is False and message says why (nothing is raised).
 
+    geometry="hyperbolic" (``parameterize_hyperbolic``): Ricci flow in the hyperbolic background
+    to zero curvature at every vertex and geodesic boundary, cut graph, layout in the Poincare
+    disk. It has no cones and no boundary choice: cones, boundary, quantize, the automatic-cone
+    settings and modify_connectivity must be left out (``cones="none"`` and
+    ``boundary="geodesic"`` are accepted), else InvalidInput. The metric and solver arguments
+    apply as above; root_face picks the face laid out first (-1: the default). Returns a
+    ``HyperbolicParamResult``: converged, message, uv (k, 2) with every |uv| < 1, uv_triangles
+    (m, 3), segment_maps, node_words, has_group, group, distortion, seam_length, and the stages
+    flow, cut, cut_mesh, layout (``HyperbolicLayout``: max_radius, max_length_relative_error,
+    num_flipped_faces, segment_maps as ``SegmentIsometry``). Every Moebius map of the disk is a
+    (2, 2) complex numpy matrix [[a, b], [conj b, conj a]] of determinant 1, acting by
+    z -> (a z + b) / (conj(b) z + conj(a)); composing maps is the matrix product (M and -M are
+    the same map). segment_maps[s] takes side B of cut segment s onto side A; node_words lists
+    per cut-graph node the (segment, +1 or -1) crossed going around it, whose maps multiply to
+    +-identity. On a closed surface (genus >= 2) group is a ``FuchsianGroup``: genus, a and b
+    (lists of g matrices) with a1 b1 a1^-1 b1^-1 ... ag bg ag^-1 bg^-1 = +-identity, a_words and
+    b_words (the generators as words in the segment maps), relation_residual, node_residual;
+    with boundary group is None (has_group False).
+
     Raises ValueError for arrays of the wrong shape or dtype, TopologyError for non-manifold
-    meshes, InvalidInput for bad cones or a mesh of several components.
+    meshes, InvalidInput for bad cones or a mesh of several components, and (hyperbolic) for
+    a surface with chi >= 0 or a scheme without a hyperbolic energy (virtual-radius).
     """
     mesh = _arrays.mesh(V, F)
+    if _is_hyperbolic(geometry):
+        return _parameterize_hyperbolic(
+            mesh, cones=cones, boundary=boundary, quantize=quantize,
+            max_log_scale=max_log_scale, max_cones=max_cones,
+            try_first_cone_candidates=try_first_cone_candidates,
+            modify_connectivity=modify_connectivity, scheme=scheme, packing_init=packing_init,
+            max_intersection_angle=max_intersection_angle, fit_sweeps=fit_sweeps,
+            fit_tolerance=fit_tolerance, solver=solver, tolerance=tolerance,
+            max_iterations=max_iterations, gradient_step=gradient_step, armijo=armijo,
+            max_backtracks=max_backtracks, use_cholmod=use_cholmod,
+            reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
+            progress=progress, flips=flips, root_face=root_face, options=options)
+    if root_face is not None:
+        raise _ricci.InvalidInput("parameterize: root_face is an option of "
+                                  "geometry='hyperbolic' only")
+    if options is not None and not isinstance(options, _ricci.ParamOptions):
+        raise _ricci.InvalidInput(f"parameterize: options must be a ParamOptions for the "
+                                  f"Euclidean parameterization, got {type(options).__name__}")
     opts = _ricci.ParamOptions() if options is None else copy.copy(options)
     if isinstance(cones, str) and cones in _CONE_MODES:
         opts.cone_mode = cones
@@ -75,3 +117,50 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                              reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
                              progress=progress, flips=flips)
     return _ricci.parameterize(mesh, opts)
+
+
+def _is_hyperbolic(geometry):
+    """Whether ``geometry`` (None, a name or a ``Geometry``) asks for the hyperbolic pipeline."""
+    if geometry is None:
+        return False
+    if isinstance(geometry, str):
+        geometry = _ricci.Geometry(geometry)  # unknown names raise InvalidInput
+    if not isinstance(geometry, _ricci.Geometry):
+        raise ValueError(f"geometry must be 'euclidean', 'hyperbolic' or a Geometry, "
+                         f"got {geometry!r}")
+    return geometry == _ricci.Geometry.Hyperbolic
+
+
+def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, max_cones,
+                             try_first_cone_candidates, modify_connectivity, root_face, options,
+                             **structure_and_solver):
+    """parameterize(geometry='hyperbolic'): refuses the Euclidean-only arguments, then calls
+    ``parameterize_hyperbolic``."""
+    if cones is not None and not (isinstance(cones, str) and cones == "none"):
+        raise _ricci.InvalidInput(
+            f"parameterize: cones={cones!r}: the hyperbolic parameterization has no cones (its "
+            "metric has zero curvature at every vertex); leave cones out")
+    if boundary is not None and boundary != "geodesic" and \
+            boundary != _ricci.BoundaryMode.Geodesic:
+        raise _ricci.InvalidInput(
+            f"parameterize: boundary={boundary!r}: the hyperbolic parameterization gives every "
+            "boundary zero geodesic curvature; leave boundary out")
+    euclidean_only = {"quantize": quantize, "max_log_scale": max_log_scale,
+                      "max_cones": max_cones,
+                      "try_first_cone_candidates": try_first_cone_candidates,
+                      "modify_connectivity": modify_connectivity}
+    given = [name for name, value in euclidean_only.items() if value is not None]
+    if given:
+        raise _ricci.InvalidInput(
+            f"parameterize: {', '.join(given)}: options of the Euclidean parameterization "
+            "(cones and their placement), not of geometry='hyperbolic'")
+    if options is None:
+        opts = _ricci.HyperbolicParamOptions()
+    elif isinstance(options, _ricci.HyperbolicParamOptions):
+        opts = copy.copy(options)
+    else:
+        raise _ricci.InvalidInput(f"parameterize: options must be a HyperbolicParamOptions for "
+                                  f"geometry='hyperbolic', got {type(options).__name__}")
+    set_fields(opts.layout, root_face=root_face)
+    set_structure_and_solver(opts, **structure_and_solver)
+    return _ricci.parameterize_hyperbolic(mesh, opts)

@@ -26,14 +26,19 @@ namespace py = pybind11;
 void bind_mesh(py::module_& m);
 void bind_flow(py::module_& m);
 void bind_param(py::module_& m);
+void bind_hyperbolic_param(py::module_& m);
 void bind_sphere(py::module_& m);
 
-/// Short repr of a field value: arrays by shape, long lists by length.
+/// Short repr of a field value: arrays by shape, lists of arrays and long lists by length.
 inline std::string field_repr(const py::handle& value) {
   if (py::isinstance<py::array>(value)) {
     const auto shape = py::str(value.attr("shape"));
     return "array(shape=" + std::string(shape) +
            ", dtype=" + std::string(py::str(value.attr("dtype"))) + ")";
+  }
+  if (py::isinstance<py::list>(value) && py::len(value) > 0 &&
+      py::isinstance<py::array>(value[py::int_(0)])) {
+    return "[" + std::to_string(py::len(value)) + " arrays]";
   }
   if (py::isinstance<py::list>(value) && py::len(value) > 8) {
     return "[... " + std::to_string(py::len(value)) + " items]";

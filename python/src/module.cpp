@@ -78,5 +78,6 @@ PYBIND11_MODULE(_ricci, m) {
   bind_mesh(m);
   bind_flow(m);
   bind_param(m);
+  bind_hyperbolic_param(m);
   bind_sphere(m);
 }

@@ -37,3 +37,104 @@ def test_torus_and_virtual_radius_are_refused(torus):
         ricci.flow(V, F, geometry="hyperbolic", scheme="virtual-radius")
     with pytest.raises(ricci.InvalidInput, match="geometry"):
         ricci.flow(V, F, geometry="spherical")
+
+
+# ricci.parameterize(geometry='hyperbolic'): the uniformization metric in the Poincare disk.
+
+@pytest.fixture(scope="module")
+def genus_two_param():
+    V, F = ricci.generate.closed_surface(2, 10)
+    return V, F, ricci.parameterize(V, F, geometry="hyperbolic")
+
+
+def test_genus_two_lies_in_the_disk(genus_two_param):
+    V, F, result = genus_two_param
+    assert isinstance(result, ricci.HyperbolicParamResult)
+    assert result.converged, result.message
+    assert result.uv.shape[1] == 2 and result.uv.shape[0] >= len(V)
+    assert np.all(np.hypot(result.uv[:, 0], result.uv[:, 1]) < 1)
+    assert result.uv_triangles.shape == (len(F), 3)
+    assert result.uv_triangles.min() >= 0 and result.uv_triangles.max() < len(result.uv)
+    layout = result.layout
+    assert layout.max_radius < 1 and layout.num_flipped_faces == 0
+    assert layout.max_length_relative_error < 1e-8
+    assert result.distortion.flipped_faces == 0
+    assert result.flow.components[0].flow.total_area == pytest.approx(4 * math.pi, abs=1e-8)
+    # One map and two crossings (once per end) per cut segment.
+    assert len(result.segment_maps) == len(result.cut.segments) == len(layout.segment_maps)
+    crossings = [s for word in result.node_words for s, sign in word]
+    assert sorted(crossings) == sorted(2 * list(range(len(result.segment_maps))))
+
+
+def _det(M):
+    return M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+
+
+def _distance_to_identity(M):
+    I = np.eye(2)
+    return min(np.abs(M - I).max(), np.abs(M + I).max())
+
+
+def test_genus_two_fuchsian_group(genus_two_param):
+    _, _, result = genus_two_param
+    assert result.has_group
+    group = result.group
+    assert group.genus == 2 and len(group.a) == 2 and len(group.b) == 2
+    assert len(group.a_words) == 2 and len(group.b_words) == 2
+    assert group.relation_residual < 1e-8 and group.node_residual < 1e-8
+    for M in group.a + group.b:
+        assert M.shape == (2, 2) and M.dtype == np.complex128
+        assert abs(_det(M) - 1) < 1e-12
+        # SU(1,1) shape: [[a, b], [conj b, conj a]].
+        assert M[1, 0] == np.conj(M[0, 1]) and M[1, 1] == np.conj(M[0, 0])
+    # The relation recomputed here: a1 b1 a1^-1 b1^-1 a2 b2 a2^-1 b2^-1 = +-I.
+    product = np.eye(2, dtype=complex)
+    for a, b in zip(group.a, group.b):
+        product = product @ a @ b @ np.linalg.inv(a) @ np.linalg.inv(b)
+    assert _distance_to_identity(product) < 1e-8
+    # Each generator is its word in the segment maps.
+    maps = result.segment_maps
+    for word, M in zip(group.a_words + group.b_words, group.a + group.b):
+        W = np.eye(2, dtype=complex)
+        for segment, sign in word:
+            W = W @ (maps[segment] if sign > 0 else np.linalg.inv(maps[segment]))
+        assert _distance_to_identity(W @ np.linalg.inv(M)) < 1e-8
+
+
+def test_pair_of_pants_has_no_group():
+    V, F = ricci.generate.surface_with_holes(0, 3, 10)
+    result = ricci.parameterize(V, F, geometry=ricci.Geometry.Hyperbolic,
+                                scheme="vertex-scaling")
+    assert result.converged, result.message
+    assert not result.has_group and result.group is None
+    assert np.all(np.hypot(result.uv[:, 0], result.uv[:, 1]) < 1)
+    assert result.flow.components[0].flow.total_area == pytest.approx(2 * math.pi, abs=1e-8)
+
+
+def test_hyperbolic_parameterize_refuses(torus):
+    V, F = torus
+    with pytest.raises(ricci.InvalidInput, match="chi"):
+        ricci.parameterize(V, F, geometry="hyperbolic")
+    V, F = ricci.generate.closed_surface(2, 6)
+    with pytest.raises(ricci.InvalidInput, match="cones"):
+        ricci.parameterize(V, F, geometry="hyperbolic", cones=3)
+    with pytest.raises(ricci.InvalidInput, match="boundary"):
+        ricci.parameterize(V, F, geometry="hyperbolic", boundary="disk")
+    with pytest.raises(ricci.InvalidInput, match="quantize"):
+        ricci.parameterize(V, F, geometry="hyperbolic", quantize=True)
+    with pytest.raises(ricci.InvalidInput, match="virtual-radius"):
+        ricci.parameterize(V, F, geometry="hyperbolic", scheme="virtual-radius")
+    with pytest.raises(ricci.InvalidInput, match="HyperbolicParamOptions"):
+        ricci.parameterize(V, F, geometry="hyperbolic", options=ricci.ParamOptions())
+    with pytest.raises(ricci.InvalidInput):
+        ricci.parameterize(V, F, geometry="spherical")
+
+
+def test_hyperbolic_options_are_passed_on():
+    V, F = ricci.generate.closed_surface(2, 6)
+    opts = ricci.HyperbolicParamOptions()
+    opts.flow.tolerance = 1e-11
+    result = ricci.parameterize(V, F, geometry="hyperbolic", options=opts, root_face=0)
+    assert result.converged and result.flow.max_error <= 1e-11
+    assert result.layout.root_face == 0
+    assert opts.layout.root_face == -1  # the options given were copied

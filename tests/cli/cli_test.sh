@@ -90,7 +90,8 @@ ricci flow --help
 expect_rc "flow --help" 0
 expect_out "flow --help" "--scheme" "=thurston" "tangential" "inversive-distance" "vertex-scaling" \
   "virtual-radius" "--init" "=fit" "--target" "=flat" "disk-length" "uniform" "--boundary" \
-  "=free" "--cones" "--solver" "=newton" "--tol" "1e-10" "--max-iterations" "--step" \
+  "free (the euclidean default)" "geodesic (the hyperbolic default)" "--geometry" "=euclidean" \
+  "hyperbolic" "--cones" "--solver" "=newton" "--tol" "1e-10" "--max-iterations" "--step" \
   "-o,--output" "--json" "--progress"
 
 ricci generate --help
@@ -620,6 +621,64 @@ ricci sphere sphere/own.obj -o sphere/own.obj
 expect_rc "sphere -o equal to the input" 2
 expect_same "sphere -o equal to the input leaves it" sphere/own.obj "$own_sum"
 expect_no_temporaries "sphere leaves no temporaries" sphere
+
+# --- hyperbolic: flow and param with --geometry hyperbolic (chi < 0) ----------------------------
+mkdir -p hyperbolic
+ricci generate surface --genus 2 -o hyperbolic/g2.obj
+expect_rc "generate genus 2 for hyperbolic" 0
+ricci generate surface --genus 0 --holes 3 -o hyperbolic/pants.obj
+expect_rc "generate pair of pants" 0
+flow_ok "genus 2 hyperbolic" hyperbolic/g2.obj --geometry hyperbolic
+# Gauss-Bonnet in curvature -1 with K = 0: area = -2 pi chi = 4 pi.
+expect_json "flow genus 2 hyperbolic area" flow.json \
+  'd["geometry"] == "hyperbolic" and abs(d["components"][0]["total_area"] - 4 * math.pi) <= 1e-6'
+ricci flow hyperbolic/g2.obj --geometry hyperbolic --scheme virtual-radius
+expect_rc "flow hyperbolic virtual-radius" 2
+expect_err "flow hyperbolic virtual-radius" "virtual-radius"
+ricci flow meshes/small_torus.obj --geometry hyperbolic
+expect_rc "flow hyperbolic torus" 2
+expect_err "flow hyperbolic torus" "chi"
+ricci flow hyperbolic/g2.obj --geometry spherical
+expect_rc "flow --geometry spherical" 2
+# A pair of pants: the default hyperbolic boundary is geodesic (zero curvature on it too).
+flow_ok "pants hyperbolic" hyperbolic/pants.obj --geometry hyperbolic -o hyperbolic/pants.json
+expect_json "flow pants hyperbolic: K = 0 at every vertex, boundary included" hyperbolic/pants.json \
+  'len(d["vertex_data"]["curvature"]) > 0 and max(abs(k) for k in d["vertex_data"]["curvature"]) <= 1e-10 and abs(d["components"][0]["total_area"] - 2 * math.pi) <= 1e-6'
+pictures=()
+ricci render --help
+[[ "$rc" == 0 ]] && pictures=(--pictures hyperbolic/pics)
+ricci param hyperbolic/g2.obj --geometry hyperbolic -o hyperbolic/out.obj \
+  --report hyperbolic/r.json "${pictures[@]}"
+expect_rc "param genus 2 hyperbolic" 0
+expect_file "param genus 2 hyperbolic writes the OBJ" hyperbolic/out.obj
+expect_json "param genus 2 hyperbolic report" hyperbolic/r.json \
+  'd["converged"] and d["fuchsian_group"]["genus"] == 2 and d["fuchsian_group"]["relation_residual"] < 1e-8 and len(d["fuchsian_group"]["a"]) == 2 and d["layout"]["max_radius"] < 1'
+if "$PYTHON" - hyperbolic/out.obj <<'EOF'
+import sys
+vt = [[float(x) for x in line.split()[1:3]] for line in open(sys.argv[1]) if line.startswith("vt ")]
+sys.exit(0 if vt and all(u * u + v * v < 1 for u, v in vt) else 1)
+EOF
+then ok; else fail "param hyperbolic OBJ" "no vt lines, or one outside the unit disk"; fi
+if (( ${#pictures[@]} )); then
+  for picture in tiling.svg tiling.png; do
+    if [[ -s "hyperbolic/pics/$picture" ]]; then ok; else
+      fail "param hyperbolic --pictures" "hyperbolic/pics/$picture missing or empty"
+    fi
+  done
+fi
+ricci param meshes/small_torus.obj --geometry hyperbolic -o hyperbolic/x.obj
+expect_rc "param hyperbolic torus" 2
+expect_err "param hyperbolic torus" "chi"
+expect_no_file "param hyperbolic torus writes nothing" hyperbolic/x.obj
+ricci param hyperbolic/g2.obj --geometry hyperbolic --cones 3 -o hyperbolic/y.obj
+expect_rc "param hyperbolic --cones" 2
+expect_err "param hyperbolic --cones" "no cones"
+expect_no_file "param hyperbolic --cones writes nothing" hyperbolic/y.obj
+ricci param hyperbolic/pants.obj --geometry hyperbolic --scheme vertex-scaling -o hyperbolic/pants_uv.obj --json
+expect_rc "param pants hyperbolic" 0
+expect_json "param pants hyperbolic: no group" "$WORK/out.txt" \
+  'd["converged"] and "fuchsian_group" not in d and d["layout"]["max_radius"] < 1'
+expect_no_temporaries "hyperbolic leaves no temporaries" hyperbolic
 
 # --- interrupts: SIGINT leaves neither output nor temporary files ------------------------------
 # The program runs under a wrapper that restores SIGINT's default action (a background job of a
