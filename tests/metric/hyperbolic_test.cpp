@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "ricci/mesh/generate.hpp"
+#include "ricci/metric/lengths.hpp"
+
 namespace ricci {
 namespace {
 
@@ -55,6 +58,45 @@ TEST(HyperbolicUnifiedForm, TangentCirclesAddTheirRadiiAndLogRadiiRoundTrip) {
   }
   EXPECT_TRUE(std::isnan(hyperbolic_radius(0.0)));
   EXPECT_TRUE(std::isnan(hyperbolic_edge_length(1.0, 1.0, -2.0)));
+}
+
+TEST(HyperbolicUnifiedForm, MeshLengthsAgreeWithTheCoshFormForCirclePackings) {
+  // The mesh-wide lengths (2 asinh sqrt(q) form) against cosh l = cosh r_i cosh r_j +
+  // eta sinh r_i sinh r_j, and the mesh-wide angles against the per-triangle law of cosines.
+  const Mesh mesh = make_closed_surface(2, 6);
+  const Topology t = build_topology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> radius(0.05, 1.5), eta(0.0, 1.0);
+  ConformalStructure s;
+  s.scheme = Scheme::Thurston;
+  s.geometry = Geometry::Hyperbolic;
+  s.epsilon = Eigen::VectorXd::Ones(t.num_vertices);
+  s.eta.resize(t.num_edges);
+  Eigen::VectorXd r(t.num_vertices), u(t.num_vertices);
+  for (int e = 0; e < t.num_edges; ++e) s.eta[e] = eta(random);
+  for (int v = 0; v < t.num_vertices; ++v) {
+    r[v] = radius(random);
+    u[v] = hyperbolic_log_radius(r[v]);
+  }
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    const double expected =
+        hyperbolic_edge_length(r[t.edge_vertices(e, 0)], r[t.edge_vertices(e, 1)], s.eta[e]);
+    EXPECT_NEAR(l[e], expected, 1e-12 * expected) << "edge " << e;
+  }
+  CornerAngles angles;
+  // Circles meeting at angles up to pi/2 always make triangles (Thurston).
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const double expected = hyperbolic_angle_from_lengths(
+          l[t.face_edges(f, k)], l[t.face_edges(f, (k + 1) % 3)], l[t.face_edges(f, (k + 2) % 3)]);
+      EXPECT_NEAR(angles(f, k), expected, 1e-13) << "face " << f;
+    }
+  }
+  // Hyperbolic triangles have angle sums below pi.
+  EXPECT_GT(hyperbolic_total_area(angles), 0);
 }
 
 }  // namespace
