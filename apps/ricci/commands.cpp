@@ -79,6 +79,38 @@ std::vector<Cone> read_cones(const std::string& spec) {
   return parse_cone_list(spec);
 }
 
+/// Runs a pipeline with the progress display the flags ask for (into `flow.progress`); an
+/// InvalidInput gets the mesh's name in front.
+template <class Run>
+auto run_with_progress(const std::string& mesh, bool progress_flag, bool json, const char* what,
+                       FlowOptions& flow, Run run) {
+  const ProgressStyle progress = choose_progress_style(progress_flag, json);
+  flow.progress = make_progress(progress, what, flow.tolerance);
+  try {
+    auto result = run();
+    finish_progress(progress);
+    return result;
+  } catch (const InvalidInput& e) {
+    finish_progress(progress);
+    throw InvalidInput(mesh + ": " + e.what());
+  }
+}
+
+/// Adds input, output and repair to a report and writes it where --report asks; when the flow
+/// did not converge says why on stderr. Returns whether it converged.
+bool finish_report(const std::string& mesh, const std::string& output,
+                   const std::string& report_path, const ReadResult& read, nlohmann::json& report,
+                   bool converged, const std::string& why) {
+  report["input"] = mesh;
+  report["output"] = output;
+  if (read.repaired) report["repair"] = to_json(read.repair);
+  if (!report_path.empty()) {
+    write_file_atomically(report_path, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
+  }
+  if (!converged) std::cerr << "error: " << mesh << ": " << why << "\n";
+  return converged;
+}
+
 }  // namespace
 
 void print_repair(const std::string& path, const RepairReport& report) {
@@ -208,17 +240,10 @@ int run_flow(const FlowArgs& args) {
         "--cones needs a flat target (--target flat, free, disk, disk-length or geodesic)");
   }
 
-  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
-  options.flow.progress = make_progress(progress, "flow", options.flow.tolerance);
   options.vertex_labels = read.vertex_map;  // messages number vertices as the file does
-  MeshFlowResult result;
-  try {
-    result = flow_mesh(mesh, options);
-  } catch (const InvalidInput& e) {
-    finish_progress(progress);
-    throw InvalidInput(args.mesh + ": " + e.what());
-  }
-  finish_progress(progress);
+  const MeshFlowResult result =
+      run_with_progress(args.mesh, args.progress, args.json, "flow", options.flow,
+                        [&] { return flow_mesh(mesh, options); });
 
   nlohmann::json summary = flow_summary(result, options);
   summary["input"] = args.mesh;
@@ -293,26 +318,12 @@ int run_param_hyperbolic(const ParamArgs& args) {
   const ReadResult read =
       read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
-  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
-  options.flow.progress = make_progress(progress, "param", options.flow.tolerance);
-  HyperbolicParamResult result;
-  try {
-    result = parameterize_hyperbolic(read.mesh, options);
-  } catch (const InvalidInput& e) {
-    finish_progress(progress);
-    throw InvalidInput(args.mesh + ": " + e.what());
-  }
-  finish_progress(progress);
+  const HyperbolicParamResult result =
+      run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
+                        [&] { return parameterize_hyperbolic(read.mesh, options); });
   nlohmann::json report = hyperbolic_param_report(result, options);
-  report["input"] = args.mesh;
-  report["output"] = args.output;
-  if (read.repaired) report["repair"] = to_json(read.repair);
-  if (!args.report.empty()) {
-    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
-  }
-  if (!result.converged) {
-    std::cerr << "error: " << args.mesh << ": the flow did not converge: " << result.message
-              << "\n";
+  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
+                     "the flow did not converge: " + result.message)) {
     return kNotConverged;
   }
   write_obj(args.output, read.mesh, result.cut_mesh.triangles, result.uv);
@@ -382,26 +393,12 @@ int run_param(const ParamArgs& args) {
       options.cones.push_back(cone);
     }
   }
-  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
-  options.flow.progress = make_progress(progress, "param", options.flow.tolerance);
-  ParamResult result;
-  try {
-    result = parameterize(read.mesh, options);
-  } catch (const InvalidInput& e) {
-    finish_progress(progress);
-    throw InvalidInput(args.mesh + ": " + e.what());
-  }
-  finish_progress(progress);
+  const ParamResult result =
+      run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
+                        [&] { return parameterize(read.mesh, options); });
   nlohmann::json report = param_report(result, options);
-  report["input"] = args.mesh;
-  report["output"] = args.output;
-  if (read.repaired) report["repair"] = to_json(read.repair);
-  if (!args.report.empty()) {
-    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
-  }
-  if (!result.converged) {
-    std::cerr << "error: " << args.mesh << ": the flow did not converge: " << result.message
-              << "\n";
+  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
+                     "the flow did not converge: " + result.message)) {
     return kNotConverged;
   }
   write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
@@ -450,26 +447,13 @@ int run_sphere(const SphereArgs& args) {
     }
     options.pole = to_mesh[args.pole];
   }
-  const ProgressStyle progress = choose_progress_style(args.progress, args.json);
-  options.flow.progress = make_progress(progress, "sphere", options.flow.tolerance);
-  SphereResult result;
-  try {
-    result = sphere_map(read.mesh, options);
-  } catch (const InvalidInput& e) {
-    finish_progress(progress);
-    throw InvalidInput(args.mesh + ": " + e.what());
-  }
-  finish_progress(progress);
+  const SphereResult result =
+      run_with_progress(args.mesh, args.progress, args.json, "sphere", options.flow,
+                        [&] { return sphere_map(read.mesh, options); });
   nlohmann::json report = sphere_report(result, options);
-  report["input"] = args.mesh;
-  report["output"] = args.output;
   report["pole_file_index"] = read.vertex_map[result.pole];
-  if (read.repaired) report["repair"] = to_json(read.repair);
-  if (!args.report.empty()) {
-    write_file_atomically(args.report, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
-  }
-  if (!result.converged) {
-    std::cerr << "error: " << args.mesh << ": " << result.message << "\n";
+  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
+                     result.message)) {
     return kNotConverged;
   }
   Mesh sphere;

@@ -173,6 +173,18 @@ nlohmann::json to_json(const SeamTransition& t) {
           {"mismatch", t.mismatch}};
 }
 
+nlohmann::json distortion_json(const Distortion& d) {
+  return {{"area_distortion_energy", d.area_distortion_energy},
+          {"log_area_min", d.log_area_min},
+          {"log_area_max", d.log_area_max},
+          {"log_area_mean", d.log_area_mean},
+          {"log_area_stddev", d.log_area_stddev},
+          {"angle_distortion_mean", d.angle_distortion_mean},
+          {"angle_distortion_max", d.angle_distortion_max},
+          {"flipped_faces", d.flipped_faces},
+          {"degenerate_faces", d.degenerate_faces}};
+}
+
 }  // namespace
 
 nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
@@ -236,34 +248,13 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   j["atlas"] = {{"central_chart_faces", r.mesh.num_faces()},
                 {"boundary_charts", charts},
                 {"max_transition_error", r.atlas.max_transition_error}};
-  const Distortion& d = r.distortion;
-  j["distortion"] = {{"area_distortion_energy", d.area_distortion_energy},
-                     {"log_area_min", d.log_area_min},
-                     {"log_area_max", d.log_area_max},
-                     {"log_area_mean", d.log_area_mean},
-                     {"log_area_stddev", d.log_area_stddev},
-                     {"angle_distortion_mean", d.angle_distortion_mean},
-                     {"angle_distortion_max", d.angle_distortion_max},
-                     {"flipped_faces", d.flipped_faces},
-                     {"degenerate_faces", d.degenerate_faces},
-                     {"cones", r.cones.size()},
-                     {"seam_length", r.seam_length}};
+  j["distortion"] = distortion_json(r.distortion);
+  j["distortion"]["cones"] = r.cones.size();
+  j["distortion"]["seam_length"] = r.seam_length;
   return j;
 }
 
 namespace {
-
-nlohmann::json distortion_json(const Distortion& d) {
-  return {{"area_distortion_energy", d.area_distortion_energy},
-          {"log_area_min", d.log_area_min},
-          {"log_area_max", d.log_area_max},
-          {"log_area_mean", d.log_area_mean},
-          {"log_area_stddev", d.log_area_stddev},
-          {"angle_distortion_mean", d.angle_distortion_mean},
-          {"angle_distortion_max", d.angle_distortion_max},
-          {"flipped_faces", d.flipped_faces},
-          {"degenerate_faces", d.degenerate_faces}};
-}
 
 /// A Moebius map of the disk as its matrix entries a and b ([re, im] each).
 nlohmann::json to_json(const Mobius& m) {

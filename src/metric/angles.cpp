@@ -35,13 +35,19 @@ double angle_from_lengths(double a, double b, double c) {
   return 2.0 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
 }
 
-int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles,
-                  Geometry geometry) {
-  if (geometry == Geometry::Euclidean) return corner_angles(topology, lengths, angles);
+namespace {
+
+/// Every face's angles from its half-perimeter terms: `half_angles(two_s, d, theta)` fills the
+/// three angles from 2 s and 2 (s - l_k), which half_perimeter_terms computed without
+/// cancellation. Faces that break a triangle inequality get NaN.
+template <class HalfAngles>
+int corner_angles_with(const Topology& topology, const Eigen::VectorXd& lengths,
+                       CornerAngles& angles, HalfAngles half_angles) {
   const int nf = topology.num_faces;
   angles.resize(nf, 3);
   int first_bad = -1;
   for (int f = 0; f < nf; ++f) {
+    // Edge opposite corner k has index face_edges(f, k).
     const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
                          lengths[topology.face_edges(f, 2)]};
     double two_s, d[3];
@@ -50,39 +56,42 @@ int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, Corn
       if (first_bad < 0) first_bad = f;
       continue;
     }
-    // sinh of the half-perimeter terms, each computed from a difference that did not cancel.
-    const double sinh_s = std::sinh(0.5 * two_s);
-    const double sinh_d[3] = {std::sinh(0.5 * d[0]), std::sinh(0.5 * d[1]), std::sinh(0.5 * d[2])};
-    for (int k = 0; k < 3; ++k) {
-      angles(f, k) = 2.0 * std::atan2(std::sqrt(sinh_d[(k + 1) % 3] * sinh_d[(k + 2) % 3]),
-                                      std::sqrt(sinh_s * sinh_d[k]));
-    }
+    double theta[3];
+    half_angles(two_s, d, theta);
+    for (int k = 0; k < 3; ++k) angles(f, k) = theta[k];
   }
   return first_bad;
 }
 
+}  // namespace
+
+int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles,
+                  Geometry geometry) {
+  if (geometry == Geometry::Euclidean) return corner_angles(topology, lengths, angles);
+  return corner_angles_with(
+      topology, lengths, angles, [](double two_s, const double d[3], double theta[3]) {
+        // tan(theta_k / 2) = sqrt(sinh(s - l_{k+1}) sinh(s - l_{k+2}) /
+        // (sinh s sinh(s - l_k))), every sinh of a difference that did not
+        // cancel.
+        const double sinh_s = std::sinh(0.5 * two_s);
+        const double sh[3] = {std::sinh(0.5 * d[0]), std::sinh(0.5 * d[1]), std::sinh(0.5 * d[2])};
+        for (int k = 0; k < 3; ++k) {
+          theta[k] = 2.0 * std::atan2(std::sqrt(sh[(k + 1) % 3] * sh[(k + 2) % 3]),
+                                      std::sqrt(sinh_s * sh[k]));
+        }
+      });
+}
+
 int corner_angles(const Topology& topology, const Eigen::VectorXd& lengths, CornerAngles& angles) {
-  const int nf = topology.num_faces;
-  angles.resize(nf, 3);
-  int first_bad = -1;
-  for (int f = 0; f < nf; ++f) {
-    // Edge opposite corner k has index face_edges(f, k); the half-angle formula
-    // tan(theta_k / 2) = sqrt((s - l_{k+1})(s - l_{k+2}) / (s (s - l_k))) keeps full relative
-    // accuracy for tiny and for near-pi angles.
-    const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
-                         lengths[topology.face_edges(f, 2)]};
-    double two_s, d[3];
-    if (!half_perimeter_terms(l, two_s, d)) {
-      angles.row(f).setConstant(std::numeric_limits<double>::quiet_NaN());
-      if (first_bad < 0) first_bad = f;
-      continue;
-    }
-    for (int k = 0; k < 3; ++k) {
-      angles(f, k) =
-          2.0 * std::atan2(std::sqrt(d[(k + 1) % 3] * d[(k + 2) % 3]), std::sqrt(two_s * d[k]));
-    }
-  }
-  return first_bad;
+  // tan(theta_k / 2) = sqrt((s - l_{k+1})(s - l_{k+2}) / (s (s - l_k))) keeps full relative
+  // accuracy for tiny and for near-pi angles.
+  return corner_angles_with(
+      topology, lengths, angles, [](double two_s, const double d[3], double theta[3]) {
+        for (int k = 0; k < 3; ++k) {
+          theta[k] =
+              2.0 * std::atan2(std::sqrt(d[(k + 1) % 3] * d[(k + 2) % 3]), std::sqrt(two_s * d[k]));
+        }
+      });
 }
 
 }  // namespace ricci
