@@ -36,6 +36,8 @@ void bind_hyperbolic_param(py::module_& m) {
       .field("root_face", &HyperbolicLayoutOptions::root_face,
              "face placed first, its first corner at the centre; -1: the face farthest from the "
              "cut")
+      .field("recentre", &HyperbolicLayoutOptions::recentre,
+             "move the domain's area-weighted centre to the centre of the disk afterwards")
       .keyword_constructor()
       .repr();
 
@@ -97,6 +99,10 @@ void bind_hyperbolic_param(py::module_& m) {
              "StructureOptions (the geometry is set to hyperbolic)")
       .field("flow", &HyperbolicParamOptions::flow, "FlowOptions (tolerance 1e-12 by default)")
       .field("layout", &HyperbolicParamOptions::layout, "HyperbolicLayoutOptions")
+      .field("cut_candidates", &HyperbolicParamOptions::cut_candidates,
+             "closed surfaces: most cuts (tree-cotree roots) tried for the best-conditioned group")
+      .field("good_relation_residual", &HyperbolicParamOptions::good_relation_residual,
+             "stop trying cuts once the relation residual is this small")
       .keyword_constructor()
       .repr();
 
@@ -138,6 +144,14 @@ void bind_hyperbolic_param(py::module_& m) {
       .readonly("cut_mesh", &HyperbolicParamResult::cut_mesh, "CutMesh")
       .readonly("layout", &HyperbolicParamResult::layout, "HyperbolicLayout")
       .readonly("seconds", &HyperbolicParamResult::seconds, "")
+      .readonly("cut_candidates_tried", &HyperbolicParamResult::cut_candidates_tried,
+                "cuts laid out before the kept one was chosen")
+      .readonly("cut_root", &HyperbolicParamResult::cut_root,
+                "root vertex of the kept cut (-1: cut_graph's default)")
+      .computed(
+          "refined_error",
+          [](const HyperbolicParamResult& r) { return r.refinement.max_error_after; },
+          "max |K-bar - K| of the metric refined in long double (the layout's metric)")
       .repr();
 
   m.def(

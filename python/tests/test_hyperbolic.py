@@ -138,3 +138,16 @@ def test_hyperbolic_options_are_passed_on():
     assert result.converged and result.flow.max_error <= 1e-11
     assert result.layout.root_face == 0
     assert opts.layout.root_face == -1  # the options given were copied
+
+
+def test_parameterize_reports_the_refinement_and_the_cut_search():
+    V, F = ricci.generate.closed_surface(4, 8)
+    result = ricci.parameterize(V, F, geometry="hyperbolic")
+    assert result.converged
+    assert result.refined_error < 1e-16  # the long double refinement of the metric
+    assert 1 <= result.cut_candidates_tried <= 32
+    assert result.group.genus == 4 and result.group.relation_residual < 1e-8
+    # One cut only: the first candidate, the default root.
+    one = ricci.parameterize(V, F, geometry="hyperbolic",
+                             options=ricci.HyperbolicParamOptions(cut_candidates=1))
+    assert one.cut_candidates_tried == 1 and one.cut_root == -1
