@@ -5,7 +5,9 @@
 #include <numbers>
 
 #include <gtest/gtest.h>
+
 #include <Eigen/Geometry>
+#include "ricci/metric/spherical.hpp"
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
@@ -31,7 +33,7 @@ void expect_sphere_invariants(const Mesh& mesh, const SphereResult& r, const std
   EXPECT_NEAR(r.max_radius_deviation, radius_deviation, 1e-16) << what;
 
   int inverted = 0;
-  double area = 0, total_3d = 0;
+  double area = 0, area_by_cosine_law = 0, total_3d = 0;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const Eigen::Vector3d a = r.positions.row(mesh.triangles(f, 0));
@@ -46,6 +48,14 @@ void expect_sphere_invariants(const Mesh& mesh, const SphereResult& r, const std
       return std::atan2(tq.cross(ts).norm(), tq.dot(ts));
     };
     area += corner(a, b, c) + corner(b, c, a) + corner(c, a, b) - kPi;
+    // And a third: the angles from the arc lengths by the spherical law of cosines.
+    auto arc = [](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+      return 2 * std::asin(std::min(1.0, 0.5 * (p - q).norm()));
+    };
+    const double la = arc(b, c), lb = arc(c, a), lc = arc(a, b);
+    area_by_cosine_law += spherical_angle_from_lengths(la, lb, lc) +
+                          spherical_angle_from_lengths(lb, lc, la) +
+                          spherical_angle_from_lengths(lc, la, lb) - kPi;
     const Eigen::Vector3d pa = mesh.positions.row(mesh.triangles(f, 0));
     const double w = (Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 1))) - pa)
                          .cross(Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 2))) - pa)
@@ -57,6 +67,7 @@ void expect_sphere_invariants(const Mesh& mesh, const SphereResult& r, const std
   EXPECT_EQ(r.inverted_faces, inverted) << what;
   EXPECT_EQ(r.inverted_pole_faces, 0) << what;
   EXPECT_NEAR(area, 4 * kPi, 1e-8) << what;
+  EXPECT_NEAR(area_by_cosine_law, 4 * kPi, 1e-8) << what;
   EXPECT_NEAR(r.spherical_area, 4 * kPi, 1e-8) << what;
   EXPECT_LT((centre / total_3d).norm(), 1e-9) << what;
   EXPECT_LT(r.centre_of_mass, 1e-9) << what;
