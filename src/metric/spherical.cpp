@@ -13,8 +13,8 @@ double spherical_angle_from_lengths(double a, double b, double c) {
   const double s = 0.5 * (a + b + c);
   const double sa = 0.5 * (b + c - a), sb = 0.5 * (a + c - b), sc = 0.5 * (a + b - c);
   if (!(sa >= 0 && sb >= 0 && sc >= 0) || !(s < std::numbers::pi)) return nan;
-  return 2.0 * std::atan2(std::sqrt(std::sin(sb) * std::sin(sc)),
-                          std::sqrt(std::sin(s) * std::sin(sa)));
+  return 2.0 *
+         std::atan2(std::sqrt(std::sin(sb) * std::sin(sc)), std::sqrt(std::sin(s) * std::sin(sa)));
 }
 
 }  // namespace ricci
