@@ -16,6 +16,7 @@
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
+#include "ricci/spline/manifold_spline.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
 #endif
@@ -109,6 +110,33 @@ bool finish_report(const std::string& mesh, const std::string& output,
   }
   if (!converged) std::cerr << "error: " << mesh << ": " << why << "\n";
   return converged;
+}
+
+/// --cones of param and spline: auto, N, none, one, or 'V:K,...' / a file (file vertex indices).
+void apply_cones_option(const std::string& c, const std::string& mesh, const ReadResult& read,
+                        ParamOptions& options) {
+  if (c == "auto") {
+    options.cone_mode = ConeMode::Auto;
+  } else if (c == "none") {
+    options.cone_mode = ConeMode::None;
+  } else if (c == "one") {
+    options.cone_mode = ConeMode::OneCone;
+  } else if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos) {
+    options.cone_mode = ConeMode::Auto;
+    options.auto_cones.count = std::stoi(c);
+    if (options.auto_cones.count < 1) throw InvalidInput("--cones: a cone count must be >= 1");
+  } else {
+    options.cone_mode = ConeMode::User;
+    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
+    for (Cone cone : read_cones(c)) {
+      if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
+        throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) +
+                           " is not a vertex of " + mesh + " used by any face");
+      }
+      cone.vertex = to_mesh[cone.vertex];
+      options.cones.push_back(cone);
+    }
+  }
 }
 
 }  // namespace
@@ -370,29 +398,7 @@ int run_param(const ParamArgs& args) {
   const ReadResult read =
       read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
-  const std::string& c = args.cones;
-  if (c == "auto") {
-    options.cone_mode = ConeMode::Auto;
-  } else if (c == "none") {
-    options.cone_mode = ConeMode::None;
-  } else if (c == "one") {
-    options.cone_mode = ConeMode::OneCone;
-  } else if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos) {
-    options.cone_mode = ConeMode::Auto;
-    options.auto_cones.count = std::stoi(c);
-    if (options.auto_cones.count < 1) throw InvalidInput("--cones: a cone count must be >= 1");
-  } else {
-    options.cone_mode = ConeMode::User;
-    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
-    for (Cone cone : read_cones(c)) {
-      if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
-        throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) +
-                           " is not a vertex of " + args.mesh + " used by any face");
-      }
-      cone.vertex = to_mesh[cone.vertex];
-      options.cones.push_back(cone);
-    }
-  }
+  apply_cones_option(args.cones, args.mesh, read, options);
   const ParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize(read.mesh, options); });
@@ -423,6 +429,54 @@ int run_param(const ParamArgs& args) {
                 << " edges flipped: the output's faces are the intrinsic Delaunay triangulation "
                    "of the input vertices\n";
     }
+    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+  }
+  return kOk;
+}
+
+int run_spline(const SplineArgs& args) {
+  SplineOptions options;
+  options.refine = args.refine;
+  options.smoothness = args.smoothness;
+  options.param.flow.tolerance = args.tolerance;
+  check_output_is_not_input(args.output, {args.mesh, args.cones});
+  if (!args.control_net.empty()) {
+    check_output_is_not_input(args.control_net, {args.mesh, args.cones, args.output});
+  }
+  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
+  const ReadResult read =
+      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  print_warnings(read);
+  if (!args.cones.empty()) {
+    options.choose_cone_mode = false;
+    apply_cones_option(args.cones, args.mesh, read, options.param);
+  }
+  const SplineResult result =
+      run_with_progress(args.mesh, args.progress, args.json, "spline", options.param.flow,
+                        [&] { return fit_manifold_spline(read.mesh, options); });
+  nlohmann::json report = spline_report(result, options);
+  if (!args.control_net.empty()) report["control_net_file"] = args.control_net;
+  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
+                     result.message)) {
+    return kNotConverged;
+  }
+  write_obj(args.output, result.surface);
+  if (!args.control_net.empty()) write_obj(args.control_net, result.control_net);
+  if (args.json) {
+    std::cout << report.dump(2) << "\n";
+  } else {
+    const SplineError& e = result.error;
+    std::cout << args.mesh << " -> " << args.output << "\n"
+              << "  cones " << result.param.cones.size() << ", surface "
+              << result.surface.num_faces() << " faces (refine " << options.refine
+              << "), control net " << result.control_net.num_vertices() << " points\n"
+              << "  error / bbox diagonal: distance max " << e.max_distance << " rms "
+              << e.rms_distance << ", parametric max " << e.max_parametric << " rms "
+              << e.rms_parametric << "\n"
+              << "  C1 jumps (relative): value " << result.continuity.relative_value_jump
+              << ", gradient " << result.continuity.relative_gradient_jump << ", " << result.seconds
+              << " s\n";
+    if (!args.control_net.empty()) std::cout << "  wrote " << args.control_net << "\n";
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
   return kOk;

@@ -83,6 +83,23 @@ struct SphereArgs {
 };
 int run_sphere(const SphereArgs& args);
 
+struct SplineArgs {
+  std::string mesh;
+  bool repair = false;             ///< --repair (kRepairHelp)
+  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  std::string output;              ///< the spline surface (.obj)
+  std::string control_net;         ///< --control-net: the control net (.obj), optional
+  int refine = 2;                  ///< SplineOptions::refine
+  double smoothness = 1e-4;        ///< SplineOptions::smoothness
+  /// --cones as for param; empty: by topology (none with boundary or genus 1, auto otherwise)
+  std::string cones;
+  double tolerance = 1e-12;
+  std::string report;
+  bool json = false;
+  bool progress = false;
+};
+int run_spline(const SplineArgs& args);
+
 struct GenerateArgs {
   std::string kind;
   std::string output;

@@ -362,4 +362,42 @@ nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options
   return j;
 }
 
+nlohmann::json spline_report(const SplineResult& r, const SplineOptions& options) {
+  nlohmann::json j;
+  j["converged"] = r.converged;
+  if (!r.converged) j["message"] = r.message;
+  j["smoothness"] = options.smoothness;
+  j["refine"] = options.refine;
+  if (!r.converged) return j;
+  j["param"] = param_report(r.param, options.param);
+  j["error"] = {
+      {"bbox_diagonal", r.error.bbox_diagonal},   {"max_parametric", r.error.max_parametric},
+      {"rms_parametric", r.error.rms_parametric}, {"max_distance", r.error.max_distance},
+      {"rms_distance", r.error.rms_distance},     {"samples", r.error.samples}};
+  const ContinuityReport& c = r.continuity;
+  j["continuity"] = {{"edges_checked", c.edges_checked},
+                     {"samples", c.samples},
+                     {"max_value_jump", c.max_value_jump},
+                     {"max_gradient_jump", c.max_gradient_jump},
+                     {"relative_value_jump", c.relative_value_jump},
+                     {"relative_gradient_jump", c.relative_gradient_jump},
+                     {"frame_closure_error", r.domain.frame_closure_error}};
+  j["fit"] = {{"weight", r.fit.weight},
+              {"data_energy", r.fit.data_energy},
+              {"smoothness_energy", r.fit.smoothness_energy},
+              {"solve_residual", r.fit.solve_residual},
+              {"unknowns", r.fit.num_unknowns},
+              {"regularized", r.fit.regularized},
+              {"solver", r.fit.solver}};
+  j["surface"] = {{"vertices", r.surface.num_vertices()}, {"faces", r.surface.num_faces()}};
+  j["control_net"] = {{"vertices", r.control_net.num_vertices()},
+                      {"faces", r.control_net.num_faces()}};
+  j["seconds"] = {{"param", r.seconds_param},
+                  {"fit", r.seconds_fit},
+                  {"evaluate", r.seconds_evaluate},
+                  {"error", r.seconds_error},
+                  {"total", r.seconds}};
+  return j;
+}
+
 }  // namespace ricci::cli

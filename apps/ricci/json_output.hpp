@@ -10,6 +10,7 @@
 #include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
+#include "ricci/spline/manifold_spline.hpp"
 
 namespace ricci::cli {
 
@@ -38,6 +39,9 @@ nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& result,
 
 /// Report of a spherical conformal map: invariants, Moebius normalisation, distortion, timings
 /// and the disk's flow summary; pole in mesh indices (the caller adds file indices).
+/// The diagnostics of fit_manifold_spline: errors, C1 jumps, fit, timings, the parameterization.
+nlohmann::json spline_report(const SplineResult& result, const SplineOptions& options);
+
 nlohmann::json sphere_report(const SphereResult& result, const SphereOptions& options);
 
 }  // namespace ricci::cli

@@ -202,6 +202,37 @@ int main(int argc, char** argv) {
   sphere_cmd->add_flag("--repair", sphere.repair, kRepairHelp);
   sphere_cmd->add_flag("--largest-component", sphere.largest_component, kLargestComponentHelp);
 
+  SplineArgs spline;
+  CLI::App* spline_cmd = app.add_subcommand(
+      "spline",
+      "Manifold spline: a C1 quadratic Powell-Sabin spline over the flat metric with cones, "
+      "fitted to the mesh's positions; writes the spline surface as a triangle mesh "
+      "(docs/splines.md).");
+  spline_cmd->add_option("MESH", spline.mesh, "mesh file (.obj .off .ply .stl)")->required();
+  spline_cmd->add_option("-o,--output", spline.output, "output .obj: the spline surface")
+      ->required();
+  spline_cmd->add_option("--control-net", spline.control_net,
+                         "also write the control net (Bezier ordinates) as an .obj");
+  spline_cmd->add_option("--refine", spline.refine, "each quadratic piece split K x K")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  spline_cmd
+      ->add_option("--smooth", spline.smoothness,
+                   "dimensionless weight of the smoothness term (Hessian jumps)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  spline_cmd->add_option("--cones", spline.cones,
+                         "as for param; default: none with boundary or genus 1, auto otherwise");
+  spline_cmd->add_option("--tol", spline.tolerance, "flow tolerance on max |K-bar - K|")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  spline_cmd->add_option("--report", spline.report,
+                         "write a JSON report: errors, C1 jumps, fit, timings, parameterization");
+  spline_cmd->add_flag("--json", spline.json, "print the report as JSON");
+  spline_cmd->add_flag("--progress", spline.progress, "print flow iterations on stderr");
+  spline_cmd->add_flag("--repair", spline.repair, kRepairHelp);
+  spline_cmd->add_flag("--largest-component", spline.largest_component, kLargestComponentHelp);
+
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
       "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
@@ -228,6 +259,7 @@ int main(int argc, char** argv) {
     if (*flow_cmd) return run_flow(flow);
     if (*param_cmd) return run_param(param);
     if (*sphere_cmd) return run_sphere(sphere);
+    if (*spline_cmd) return run_spline(spline);
     if (*generate_cmd) return run_generate(generate);
 #ifdef RICCI_HAVE_RENDER
     if (*render_cmd) return run_render(render);

@@ -747,5 +747,20 @@ else
   expect_no_temporaries "SIGINT while writing leaves no temporaries" interrupt
 fi
 
+# --- spline --------------------------------------------------------------------------------------
+mkdir -p spline
+ricci spline meshes/torus.obj -o spline/torus.obj --control-net spline/net.obj --report spline/report.json
+expect_rc "spline torus" 0
+expect_file "spline surface" spline/torus.obj
+expect_file "spline control net" spline/net.obj
+expect_out "spline torus" "C1 jumps" "error / bbox diagonal"
+expect_json "spline report" spline/report.json \
+  'd["converged"] and d["continuity"]["relative_gradient_jump"] < 1e-9 and 0 < d["error"]["max_distance"] < 0.05 and d["surface"]["faces"] == 24 * 4096'
+ricci spline meshes/torus.obj -o spline/x.obj --refine 0
+expect_rc "spline --refine 0" 2
+expect_no_file "spline --refine 0 writes nothing" spline/x.obj
+ricci spline meshes/torus.obj -o meshes/torus.obj
+expect_rc "spline -o naming the input" 2
+
 # --- summary -----------------------------------------------------------------------------------
 finish
