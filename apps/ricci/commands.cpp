@@ -462,6 +462,9 @@ int run_spline(const SplineArgs& args) {
   }
   write_obj(args.output, result.surface);
   if (!args.control_net.empty()) write_obj(args.control_net, result.control_net);
+#ifdef RICCI_HAVE_RENDER
+  write_manifold_spline_pictures(args.pictures, result);
+#endif
   if (args.json) {
     std::cout << report.dump(2) << "\n";
   } else {

@@ -97,6 +97,7 @@ struct SplineArgs {
   std::string report;
   bool json = false;
   bool progress = false;
+  std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
 };
 int run_spline(const SplineArgs& args);
 

@@ -232,6 +232,12 @@ int main(int argc, char** argv) {
   spline_cmd->add_flag("--progress", spline.progress, "print flow iterations on stderr");
   spline_cmd->add_flag("--repair", spline.repair, kRepairHelp);
   spline_cmd->add_flag("--largest-component", spline.largest_component, kLargestComponentHelp);
+#ifdef RICCI_HAVE_RENDER
+  spline_cmd->add_option("--pictures", spline.pictures,
+                         "write domain.png, control_net.png and surface.png (the three stages "
+                         "from one camera) and layout.png (the flat layout with its cones) into "
+                         "this folder (created when missing)");
+#endif
 
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(

@@ -10,6 +10,7 @@
 #include "ricci/render/image.hpp"
 #include "ricci/render/param_pictures.hpp"
 #include "ricci/render/render_mesh.hpp"
+#include "ricci/render/spline_pictures.hpp"
 #include "ricci/render/textured_obj.hpp"
 #include "ricci/render/tiling.hpp"
 #include "ricci/render/uv_plot.hpp"
@@ -205,6 +206,14 @@ void write_param_pictures(const std::string& folder, const ParamResult& result) 
               << " iterations (" << written.gradient_status << "), max |K-bar - K| "
               << written.gradient_max_error << "\n";
   }
+}
+
+void write_manifold_spline_pictures(const std::string& folder, const SplineResult& result) {
+  if (folder.empty()) return;
+  const SplinePicturesResult written = ricci::write_spline_pictures(folder, result);
+  std::cerr << "pictures:";
+  for (const std::string& file : written.files) std::cerr << " " << file;
+  std::cerr << "\n";
 }
 
 }  // namespace ricci::cli

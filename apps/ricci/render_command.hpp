@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The `render` subcommand (a textured OBJ to a PNG picture) and the pictures of
-/// `param --pictures DIR`.
+/// `param --pictures DIR` and `spline --pictures DIR`.
 
 #include <string>
 #include <vector>
@@ -10,6 +10,7 @@
 
 #include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/spline/manifold_spline.hpp"
 
 namespace ricci::cli {
 
@@ -40,5 +41,9 @@ void write_param_pictures(const std::string& folder, const ParamResult& result);
 /// `param --geometry hyperbolic --pictures DIR`: tiling.svg and tiling.png, the fundamental
 /// domain in the Poincare disk and its images under the group the segment maps generate.
 void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamResult& result);
+
+/// `spline --pictures DIR`: domain.png, control_net.png, surface.png (one camera) and
+/// layout.png, said on stderr. No-op when `folder` is empty.
+void write_manifold_spline_pictures(const std::string& folder, const SplineResult& result);
 
 }  // namespace ricci::cli

@@ -9,6 +9,7 @@ classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
     param = ricci.parameterize(V, F, cones="auto")
     disk = ricci.parameterize(V, F, geometry="hyperbolic")  # chi < 0: uv in the Poincare disk
     sphere = ricci.sphere(V, F)  # closed genus 0: positions on the unit sphere
+    s = ricci.spline(V, F)  # manifold spline: s.surface, s.control_net, s.error, s.continuity
 
 Errors: ``InvalidInput`` (a ValueError), ``TopologyError`` (an InvalidInput), ``IoError`` (an
 OSError), ``SolverError`` (a RuntimeError), all deriving from ``ricci.Error``.
@@ -27,6 +28,7 @@ from ._ricci import (
     ConeSelection,
     ConeSelectionOptions,
     ConformalStructure,
+    ContinuityReport,
     CutGraph,
     CutMesh,
     Defect,
@@ -65,6 +67,10 @@ from ._ricci import (
     SeamTransition,
     SegmentIsometry,
     SolverError,
+    SplineError,
+    SplineFit,
+    SplineOptions,
+    SplineResult,
     SphereOptions,
     SphereResult,
     StructureOptions,
@@ -82,10 +88,12 @@ from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj
 from ._param import parameterize
 from ._sphere import sphere
+from ._spline import spline
 
 __all__ = [
     "flow", "info", "parameterize", "read_mesh", "repair", "validate", "write_obj", "generate",
     "sphere", "SphereOptions", "SphereResult",
+    "spline", "SplineOptions", "SplineResult", "SplineError", "SplineFit", "ContinuityReport",
     "FuchsianGroup", "HyperbolicLayout", "HyperbolicLayoutOptions", "HyperbolicParamOptions",
     "HyperbolicParamResult", "SegmentIsometry",
     "AffineAtlas", "BoundaryChart", "BoundaryMode", "Component", "ComponentFlow", "ComponentInfo",

@@ -92,18 +92,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
         raise _ricci.InvalidInput(f"parameterize: options must be a ParamOptions for the "
                                   f"Euclidean parameterization, got {type(options).__name__}")
     opts = _ricci.ParamOptions() if options is None else copy.copy(options)
-    if isinstance(cones, str) and cones in _CONE_MODES:
-        opts.cone_mode = cones
-    elif isinstance(cones, _ricci.ConeMode):
-        opts.cone_mode = cones
-    elif isinstance(cones, (numbers.Integral, np.integer)) and not isinstance(cones, bool):
-        if cones < 1:
-            raise ValueError(f"cones: a cone count must be >= 1, got {cones}")
-        opts.cone_mode = _ricci.ConeMode.Auto
-        opts.auto_cones.count = int(cones)
-    elif cones is not None:
-        opts.cone_mode = _ricci.ConeMode.User
-        opts.cones = cone_list(cones)
+    set_cones(opts, cones)
     set_fields(opts, boundary=boundary, quantize=quantize,
                modify_connectivity=modify_connectivity)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
@@ -117,6 +106,23 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                              reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
                              progress=progress, flips=flips)
     return _ricci.parameterize(mesh, opts)
+
+
+def set_cones(opts, cones):
+    """Sets cone_mode (and cones or auto_cones.count) of a ParamOptions from the ``cones``
+    argument of ``parameterize``; None keeps the options' own."""
+    if isinstance(cones, str) and cones in _CONE_MODES:
+        opts.cone_mode = cones
+    elif isinstance(cones, _ricci.ConeMode):
+        opts.cone_mode = cones
+    elif isinstance(cones, (numbers.Integral, np.integer)) and not isinstance(cones, bool):
+        if cones < 1:
+            raise ValueError(f"cones: a cone count must be >= 1, got {cones}")
+        opts.cone_mode = _ricci.ConeMode.Auto
+        opts.auto_cones.count = int(cones)
+    elif cones is not None:
+        opts.cone_mode = _ricci.ConeMode.User
+        opts.cones = cone_list(cones)
 
 
 def _is_hyperbolic(geometry):

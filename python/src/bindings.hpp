@@ -28,9 +28,18 @@ void bind_flow(py::module_& m);
 void bind_param(py::module_& m);
 void bind_hyperbolic_param(py::module_& m);
 void bind_sphere(py::module_& m);
+void bind_spline(py::module_& m);
 
-/// Short repr of a field value: arrays by shape, lists of arrays and long lists by length.
+/// Short repr of a field value: arrays by shape, lists of arrays and long lists by length, tuples
+/// item by item.
 inline std::string field_repr(const py::handle& value) {
+  if (py::isinstance<py::tuple>(value)) {
+    std::string out = "(";
+    for (std::size_t i = 0; i < py::len(value); ++i) {
+      out += (i ? ", " : "") + field_repr(value[py::int_(i)]);
+    }
+    return out + (py::len(value) == 1 ? ",)" : ")");
+  }
   if (py::isinstance<py::array>(value)) {
     const auto shape = py::str(value.attr("shape"));
     return "array(shape=" + std::string(shape) +

@@ -80,4 +80,5 @@ PYBIND11_MODULE(_ricci, m) {
   bind_param(m);
   bind_hyperbolic_param(m);
   bind_sphere(m);
+  bind_spline(m);
 }

@@ -112,25 +112,16 @@ Eigen::Vector3d automatic_view(const Mesh& mesh, Eigen::Vector3d* up) {
   return view.normalized();
 }
 
-RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv,
-                                  const RenderOptions& options) {
-  const char* fn = "render_textured_mesh";
-  check_uv_layout(fn, mesh, uv_triangles, uv);
+Camera fit_camera(const Mesh& mesh, const RenderOptions& options, const Positions& also_frame) {
+  const char* fn = "fit_camera";
   check_positions(fn, mesh);
   render_detail::check_picture_size(fn, options.width, options.height);
-  if (options.checker < 1) {
-    throw InvalidInput(std::string(fn) + ": checker must be >= 1, not " +
-                       std::to_string(options.checker));
-  }
-  if (options.supersampling < 1 || options.supersampling > 8) {
-    throw InvalidInput(std::string(fn) + ": supersampling must be in [1, 8], not " +
-                       std::to_string(options.supersampling));
-  }
   if (!std::isfinite(options.margin) || options.margin < 0 || options.margin >= 0.5) {
     throw InvalidInput(std::string(fn) + ": margin must be in [0, 0.5)");
   }
-
-  // Camera.
+  if (!also_frame.allFinite()) {
+    throw InvalidInput(std::string(fn) + ": a point to frame has a coordinate that is not finite");
+  }
   Camera camera;
   camera.width = options.width;
   camera.height = options.height;
@@ -156,13 +147,15 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
   const std::vector<char> used = used_vertices(mesh);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (!used[v]) continue;
-    const Eigen::Vector3d p = mesh.positions.row(v);
+  auto include = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector3d q(p.dot(camera.right), p.dot(camera.up), p.dot(camera.view));
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
+  };
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (used[v]) include(mesh.positions.row(v).transpose());
   }
+  for (Eigen::Index i = 0; i < also_frame.rows(); ++i) include(also_frame.row(i).transpose());
   const Eigen::Vector3d mid = 0.5 * (lo + hi);
   camera.centre = mid.x() * camera.right + mid.y() * camera.up + mid.z() * camera.view;
   const double border = options.margin * std::min(options.width, options.height);
@@ -170,6 +163,52 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
   const double fit_y = (options.height - 2 * border) / std::max(hi.y() - lo.y(), 1e-300);
   camera.scale = std::min(fit_x, fit_y);
   if (!std::isfinite(camera.scale) || camera.scale <= 0) camera.scale = 1;
+  return camera;
+}
+
+RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv,
+                                  const RenderOptions& options) {
+  const char* fn = "render_textured_mesh";
+  check_uv_layout(fn, mesh, uv_triangles, uv);
+  check_positions(fn, mesh);
+  render_detail::check_picture_size(fn, options.width, options.height);
+  if (options.checker < 1) {
+    throw InvalidInput(std::string(fn) + ": checker must be >= 1, not " +
+                       std::to_string(options.checker));
+  }
+  if (options.supersampling < 1 || options.supersampling > 8) {
+    throw InvalidInput(std::string(fn) + ": supersampling must be in [1, 8], not " +
+                       std::to_string(options.supersampling));
+  }
+  if (!std::isfinite(options.margin) || options.margin < 0 || options.margin >= 0.5) {
+    throw InvalidInput(std::string(fn) + ": margin must be in [0, 0.5)");
+  }
+
+  // Camera: the given one, or one fitted to the mesh.
+  Camera camera;
+  if (options.camera) {
+    camera = *options.camera;
+    camera.width = options.width;
+    camera.height = options.height;
+    if (!camera.view.allFinite() || !camera.up.allFinite() || !camera.right.allFinite() ||
+        !camera.centre.allFinite() || !std::isfinite(camera.scale) || !(camera.scale > 0)) {
+      throw InvalidInput(std::string(fn) +
+                         ": the given camera needs finite axes and centre and a positive scale");
+    }
+  } else {
+    camera = fit_camera(mesh, options);
+  }
+  // The mesh's extent along the camera's axes: the depth tolerance of the overlays.
+  const std::vector<char> used = used_vertices(mesh);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!used[v]) continue;
+    const Eigen::Vector3d p = mesh.positions.row(v);
+    const Eigen::Vector3d q(p.dot(camera.right), p.dot(camera.up), p.dot(camera.view));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
   const double diagonal = (hi - lo).norm();
 
   // Per face: corners in sample coordinates, depths, and the shading factor.
@@ -318,40 +357,59 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
     }
     return false;
   };
-  const bool any_overlay = (options.draw_seams && !chart.seam_halfedges.empty()) ||
+  const bool any_overlay = options.draw_edges ||
+                           (options.draw_seams && !chart.seam_halfedges.empty()) ||
                            (options.mark_cones && !chart.cones.empty());
   if (!any_overlay) return result;
+  const std::int64_t nv = mesh.num_vertices();
+  // Adds the visible stretches of edge (a, b) to the current path.
+  auto add_edge = [&](cairo_t* cr, int a, int b) {
+    const Eigen::Vector3d pa = mesh.positions.row(a), pb = mesh.positions.row(b);
+    const Eigen::Vector2d qa = camera.project(pa), qb = camera.project(pb);
+    const double za = camera.depth(pa), zb = camera.depth(pb);
+    const int steps = std::max(1, static_cast<int>(std::ceil((qb - qa).norm() / 0.5)));
+    bool open = false;
+    for (int s = 0; s <= steps; ++s) {
+      const double t = static_cast<double>(s) / steps;
+      const Eigen::Vector2d q = (1 - t) * qa + t * qb;
+      if (visible(q, (1 - t) * za + t * zb)) {
+        if (open) {
+          cairo_line_to(cr, q.x(), q.y());
+        } else {
+          cairo_move_to(cr, q.x(), q.y());
+          open = true;
+        }
+      } else {
+        open = false;
+      }
+    }
+  };
   render_detail::draw_on_image(result.image, [&](cairo_t* cr) {
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (options.draw_edges) {
+      render_detail::set_colour(cr, options.edge_colour);
+      cairo_set_line_width(cr, options.edge_width);
+      std::unordered_set<std::int64_t> drawn;
+      for (int f = 0; f < nf; ++f) {
+        for (int k = 0; k < 3; ++k) {
+          const int a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
+          if (!drawn.insert(std::min(a, b) * nv + std::max(a, b)).second) continue;
+          add_edge(cr, a, b);
+        }
+      }
+      result.edges = static_cast<int>(drawn.size());
+      cairo_stroke(cr);
+    }
     if (options.draw_seams) {
       render_detail::set_colour(cr, options.seam_colour);
       cairo_set_line_width(cr, options.seam_width);
-      cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-      cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
       std::unordered_set<std::int64_t> drawn;
-      const std::int64_t nv = mesh.num_vertices();
       for (int h : chart.seam_halfedges) {
         const int a = mesh.triangles(h / 3, (h % 3 + 1) % 3);
         const int b = mesh.triangles(h / 3, (h % 3 + 2) % 3);
         if (!drawn.insert(std::min(a, b) * nv + std::max(a, b)).second) continue;
-        const Eigen::Vector3d pa = mesh.positions.row(a), pb = mesh.positions.row(b);
-        const Eigen::Vector2d qa = camera.project(pa), qb = camera.project(pb);
-        const double za = camera.depth(pa), zb = camera.depth(pb);
-        const int steps = std::max(1, static_cast<int>(std::ceil((qb - qa).norm() / 0.5)));
-        bool open = false;
-        for (int s = 0; s <= steps; ++s) {
-          const double t = static_cast<double>(s) / steps;
-          const Eigen::Vector2d q = (1 - t) * qa + t * qb;
-          if (visible(q, (1 - t) * za + t * zb)) {
-            if (open) {
-              cairo_line_to(cr, q.x(), q.y());
-            } else {
-              cairo_move_to(cr, q.x(), q.y());
-              open = true;
-            }
-          } else {
-            open = false;
-          }
-        }
+        add_edge(cr, a, b);
       }
       cairo_stroke(cr);
     }

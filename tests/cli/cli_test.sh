@@ -749,8 +749,21 @@ fi
 
 # --- spline --------------------------------------------------------------------------------------
 mkdir -p spline
-ricci spline meshes/torus.obj -o spline/torus.obj --control-net spline/net.obj --report spline/report.json
+spline_pictures=()
+ricci render --help
+[[ "$rc" == 0 ]] && spline_pictures=(--pictures spline/pics)
+ricci spline meshes/torus.obj -o spline/torus.obj --control-net spline/net.obj --report spline/report.json \
+  "${spline_pictures[@]}"
 expect_rc "spline torus" 0
+if (( ${#spline_pictures[@]} )); then
+  expect_err "spline --pictures" "pictures:" "spline/pics/control_net.png"
+  for picture in domain.png control_net.png surface.png layout.png; do
+    if [[ "$(head -c 8 "spline/pics/$picture" 2>/dev/null | od -An -tx1 | tr -d ' \n')" == \
+          89504e470d0a1a0a ]]; then ok; else
+      fail "spline --pictures" "spline/pics/$picture missing or not a PNG"
+    fi
+  done
+fi
 expect_file "spline surface" spline/torus.obj
 expect_file "spline control net" spline/net.obj
 expect_out "spline torus" "C1 jumps" "error / bbox diagonal"

@@ -5,6 +5,8 @@
 /// Lambert shading into an ARGB32 image; Cairo then draws the seams and the cones on top. The
 /// checker squares stay square on the surface exactly where the parameterization is conformal.
 
+#include <optional>
+
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
@@ -65,7 +67,24 @@ struct RenderOptions {
   Rgb cone_colour{0.90, 0.05, 0.05};
   double seam_width = 1.6;  ///< pixels
   double cone_radius = 0;   ///< pixels; 0: max(3, picture's smaller side / 140)
+  /// Every mesh edge as a line where visible (a wireframe over the faces), under the seams.
+  bool draw_edges = false;
+  Rgb edge_colour{0.15, 0.15, 0.15};
+  double edge_width = 0.8;  ///< pixels
+  /// Use this camera as it is (view, up, right, centre, scale; its width and height are replaced
+  /// by the picture's) instead of fitting one to the mesh: several pictures from one viewpoint
+  /// (fit_camera frames several meshes at once). view, up and margin are then ignored.
+  std::optional<Camera> camera;
 };
+
+/// The camera render_textured_mesh fits to a mesh (options.camera ignored): view and up as the
+/// options say (automatic_view of `mesh` by default), centre and scale such that the used
+/// vertices of `mesh` and every row of `also_frame` fill the picture but for options.margin.
+/// \param also_frame #P by 3 further world points to keep in the picture (e.g. other meshes)
+/// 	hrow InvalidInput on a mesh without faces, non-finite coordinates, a picture size outside
+///        [1, 16384], a margin outside [0, 0.5), or a bad view or up direction
+Camera fit_camera(const Mesh& mesh, const RenderOptions& options,
+                  const Positions& also_frame = Positions());
 
 /// What render_textured_mesh returns.
 struct RenderResult {
@@ -73,6 +92,7 @@ struct RenderResult {
   Camera camera;          ///< where every world point landed
   int visible_faces = 0;  ///< faces that won at least one z-buffer sample
   int seam_edges = 0;     ///< mesh edges on seams (drawn where visible)
+  int edges = 0;          ///< with draw_edges: mesh edges (drawn where visible)
   int cones = 0;          ///< cone vertices (marked where visible)
   int visible_cones = 0;  ///< cones drawn
 };
@@ -85,7 +105,8 @@ struct RenderResult {
 /// into uv (per-corner texture coordinates) \param uv #UV by 2 texture coordinates \throw
 /// InvalidInput on a mismatch of the arrays (see check_uv_layout), a mesh without faces,
 ///        non-finite coordinates, a picture size outside [1, 16384], checker < 1, supersampling
-///        outside [1, 8], or a view direction that is zero after normalisation or parallel to up
+///        outside [1, 8], a view direction that is zero after normalisation or parallel to up,
+///        or a given camera whose axes or scale are not finite or whose scale is not positive
 RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangles,
                                   const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv,
                                   const RenderOptions& options = {});
