@@ -19,7 +19,6 @@ namespace ricci {
 namespace {
 
 using Wide = long double;
-using WideAngles = Eigen::Matrix<long double, Eigen::Dynamic, 3>;
 
 /// max |K-bar - K| over the vertices with a target, K from wide angles; r receives K-bar - K.
 double curvature_error(const Topology& t, const Target& target, const WideAngles& angles,
@@ -44,58 +43,6 @@ double curvature_error(const Topology& t, const Target& target, const WideAngles
 }
 
 }  // namespace
-
-int hyperbolic_edge_lengths_wide(const Topology& t, const ConformalStructure& s,
-                                 const WideVector& u, WideVector& lengths) {
-  lengths.resize(t.num_edges);
-  int invalid = 0;
-  for (int e = 0; e < t.num_edges; ++e) {
-    const int i = t.edge_vertices(e, 0), j = t.edge_vertices(e, 1);
-    const Wide ti = std::exp(u[i]), tj = std::exp(u[j]);
-    const Wide ai = s.epsilon[i] * ti * ti, aj = s.epsilon[j] * tj * tj;
-    const Wide fi = 1 - ai, fj = 1 - aj;
-    const Wide q = (ai + aj + 2 * static_cast<Wide>(s.eta[e]) * ti * tj) / (fi * fj);
-    if (fi > 0 && fj > 0 && q > 0 && std::isfinite(q)) {
-      lengths[e] = 2 * std::asinh(std::sqrt(q));
-    } else {
-      lengths[e] = std::numeric_limits<Wide>::quiet_NaN();
-      ++invalid;
-    }
-  }
-  return invalid;
-}
-
-int hyperbolic_corner_angles_wide(const Topology& t, const WideVector& lengths,
-                                  WideAngles& angles) {
-  angles.resize(t.num_faces, 3);
-  int first_bad = -1;
-  for (int f = 0; f < t.num_faces; ++f) {
-    Wide l[3];
-    for (int k = 0; k < 3; ++k) l[k] = lengths[t.face_edges(f, k)];
-    // Kahan's grouping: sort, then form 2(s - l_k) without cancellation.
-    int o[3] = {0, 1, 2};
-    if (l[o[0]] < l[o[1]]) std::swap(o[0], o[1]);
-    if (l[o[1]] < l[o[2]]) std::swap(o[1], o[2]);
-    if (l[o[0]] < l[o[1]]) std::swap(o[0], o[1]);
-    const Wide a = l[o[0]], b = l[o[1]], c = l[o[2]];
-    Wide d[3];
-    d[o[0]] = c - (a - b);
-    d[o[1]] = c + (a - b);
-    d[o[2]] = a + (b - c);
-    if (!(c > 0) || !(d[o[0]] > 0)) {
-      angles.row(f).setConstant(std::numeric_limits<Wide>::quiet_NaN());
-      if (first_bad < 0) first_bad = f;
-      continue;
-    }
-    const Wide sinh_s = std::sinh((a + (b + c)) / 2);
-    const Wide sh[3] = {std::sinh(d[0] / 2), std::sinh(d[1] / 2), std::sinh(d[2] / 2)};
-    for (int k = 0; k < 3; ++k) {
-      angles(f, k) =
-          2 * std::atan2(std::sqrt(sh[(k + 1) % 3] * sh[(k + 2) % 3]), std::sqrt(sinh_s * sh[k]));
-    }
-  }
-  return first_bad;
-}
 
 HyperbolicRefinement refine_hyperbolic_metric(const Topology& t, const ConformalStructure& s,
                                               const Target& target, const Eigen::VectorXd& u,

@@ -7,6 +7,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/curvature.hpp"
+#include "triangle_terms.hpp"
 
 namespace ricci {
 
@@ -26,32 +27,37 @@ double hyperbolic_edge_length(double r_i, double r_j, double eta) {
 }
 
 double hyperbolic_angle_from_lengths(double a, double b, double c) {
-  if (!(a > 0 && b > 0 && c > 0)) return std::numeric_limits<double>::quiet_NaN();
-  // The differences s - a etc. as (b + c - a) / 2: no cancellation against s itself.
-  const double s = 0.5 * (a + b + c);
-  const double sa = 0.5 * (b + c - a), sb = 0.5 * (a + c - b), sc = 0.5 * (a + b - c);
-  if (!(sa >= 0 && sb >= 0 && sc >= 0)) return std::numeric_limits<double>::quiet_NaN();
-  return 2.0 * std::atan2(std::sqrt(std::sinh(sb) * std::sinh(sc)),
-                          std::sqrt(std::sinh(s) * std::sinh(sa)));
+  const double l[3] = {a, b, c};
+  double two_s, d[3], theta[3];
+  if (!triangle_terms::half_perimeter_terms(l, two_s, d)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  triangle_terms::hyperbolic_angles(two_s, d, theta);
+  return theta[0];
 }
 
 namespace {
 
-/// q = sinh^2(l / 2) of the hyperbolic form and its two denominators' factors 1 - eps t^2.
-struct EdgeTerms {
-  double q, ti, tj, fi, fj;
-};
+using triangle_terms::hyperbolic_edge;
 
-EdgeTerms edge_terms(double u_i, double u_j, double epsilon_i, double epsilon_j, double eta) {
-  EdgeTerms e;
-  e.ti = std::exp(u_i);
-  e.tj = std::exp(u_j);
-  const double ai = epsilon_i * e.ti * e.ti, aj = epsilon_j * e.tj * e.tj;
-  e.fi = 1.0 - ai;
-  e.fj = 1.0 - aj;
-  // The numerator is the Euclidean unified form's l^2 at radii t.
-  e.q = (ai + aj + 2.0 * eta * e.ti * e.tj) / (e.fi * e.fj);
-  return e;
+/// Lengths 2 asinh(sqrt(q)) in any precision (NaN where no length exists).
+template <class T, class Vector>
+int lengths_in(const Topology& topology, const ConformalStructure& structure, const Vector& u,
+               Vector& lengths) {
+  lengths.resize(topology.num_edges);
+  int invalid = 0;
+  for (int e = 0; e < topology.num_edges; ++e) {
+    const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+    const auto t = hyperbolic_edge<T>(u[i], u[j], structure.epsilon[i], structure.epsilon[j],
+                                      structure.eta[e]);
+    if (t.valid()) {
+      lengths[e] = 2 * std::asinh(std::sqrt(t.q));
+    } else {
+      lengths[e] = std::numeric_limits<T>::quiet_NaN();
+      ++invalid;
+    }
+  }
+  return invalid;
 }
 
 /// cosh(x) - 1 without cancellation.
@@ -64,26 +70,23 @@ double cosh_minus_one(double x) {
 
 int hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
                             const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
-  const int ne = topology.num_edges;
-  lengths.resize(ne);
-  int invalid = 0;
-  for (int e = 0; e < ne; ++e) {
-    const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
-    const EdgeTerms t =
-        edge_terms(u[i], u[j], structure.epsilon[i], structure.epsilon[j], structure.eta[e]);
-    if (t.fi > 0 && t.fj > 0 && t.q > 0 && std::isfinite(t.q)) {
-      lengths[e] = 2.0 * std::asinh(std::sqrt(t.q));
-    } else {
-      lengths[e] = std::numeric_limits<double>::quiet_NaN();
-      ++invalid;
-    }
-  }
-  return invalid;
+  return lengths_in<double>(topology, structure, u, lengths);
+}
+
+int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
+                                 const WideVector& u, WideVector& lengths) {
+  return lengths_in<long double>(topology, structure, u, lengths);
+}
+
+int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
+                                  WideAngles& angles) {
+  return triangle_terms::corner_angles_with<long double>(
+      topology, lengths, angles, triangle_terms::hyperbolic_angles<long double>);
 }
 
 Eigen::Vector2d hyperbolic_length_derivatives(double u_i, double u_j, double epsilon_i,
                                               double epsilon_j, double eta, double length) {
-  const EdgeTerms t = edge_terms(u_i, u_j, epsilon_i, epsilon_j, eta);
+  const auto t = hyperbolic_edge<double>(u_i, u_j, epsilon_i, epsilon_j, eta);
   const double d = t.fi * t.fj;
   // dq/du_i = (d numerator / du_i) / D - q (dD/du_i) / D, with dD/du_i / D = -2 eps_i t_i^2 / f_i;
   // dq/dl = sinh(l) / 2.

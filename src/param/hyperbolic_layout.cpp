@@ -110,7 +110,7 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
-  Eigen::Matrix<long double, Eigen::Dynamic, 3> angles;
+  WideAngles angles;
   const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
   if (bad >= 0) {
     throw InvalidInput("layout_hyperbolic: face " + std::to_string(bad) + ": its lengths " +

@@ -10,12 +10,10 @@
 #include <Eigen/Core>
 
 #include "ricci/flow/target.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
-
-/// Vectors in long double (x87 extended precision on x86-64; plain double elsewhere).
-using WideVector = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
 
 /// What refine_hyperbolic_metric returns.
 struct HyperbolicRefinement {
@@ -25,16 +23,6 @@ struct HyperbolicRefinement {
   double max_error_after = 0;   ///< the same at the refined u
   int iterations = 0;           ///< corrections applied
 };
-
-/// Hyperbolic edge lengths in long double (the formula of hyperbolic_edge_lengths).
-/// \return the number of edges without a valid length (NaN there)
-int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
-                                 const WideVector& u, WideVector& lengths);
-
-/// Corner angles (#F by 3, row-major as CornerAngles) of hyperbolic triangles in long double.
-/// \return the first face that breaks a triangle inequality, or -1
-int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
-                                  Eigen::Matrix<long double, Eigen::Dynamic, 3>& angles);
 
 /// Refines a converged hyperbolic flow: u += H^-1 (K-bar - K(u)) with K in long double and H the
 /// double Hessian, until the error stops shrinking (at most max_iterations). Fixed vertices keep

@@ -39,6 +39,20 @@ double hyperbolic_angle_from_lengths(double a, double b, double c);
 int hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
                             const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
 
+/// Vectors and corner angles in long double (x87 extended precision on x86-64; plain double
+/// elsewhere), for the extended-precision refinement and layout of a hyperbolic metric.
+using WideVector = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+using WideAngles = Eigen::Matrix<long double, Eigen::Dynamic, 3>;
+
+/// hyperbolic_edge_lengths in long double (the same formula, evaluated with more bits).
+int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
+                                 const WideVector& u, WideVector& lengths);
+
+/// Corner angles of hyperbolic triangles in long double (as corner_angles with
+/// Geometry::Hyperbolic). \return the first face that breaks a triangle inequality, or -1
+int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
+                                  WideAngles& angles);
+
 /// d l_ij / d u_i and d l_ij / d u_j of one edge of the hyperbolic form.
 Eigen::Vector2d hyperbolic_length_derivatives(double u_i, double u_j, double epsilon_i,
                                               double epsilon_j, double eta, double length);
