@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <utility>
 
 #include "ricci/errors.hpp"
 
@@ -35,9 +36,16 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
   // Faces keep their corner order, so halfedge 3 f + k of the component is halfedge
   // 3 faces[f] + k of the whole mesh.
   view.edge_map.resize(view.topology.num_edges);
+  auto whole_halfedge = [&](int h) { return 3 * comp.faces[h / 3] + h % 3; };
   for (int e = 0; e < view.topology.num_edges; ++e) {
     const int h = view.topology.edge_halfedges(e, 0);
-    view.edge_map[e] = whole.halfedge_edge[3 * comp.faces[h / 3] + h % 3];
+    const int ew = whole.halfedge_edge[whole_halfedge(h)];
+    view.edge_map[e] = ew;
+    // The same first halfedge as the whole mesh's edge: flip_edge orients its new faces by it,
+    // so flips replayed on the whole mesh (MeshFlowResult::flipped_edges) give the same faces.
+    if (whole.edge_halfedges(ew, 0) != whole_halfedge(h)) {
+      std::swap(view.topology.edge_halfedges(e, 0), view.topology.edge_halfedges(e, 1));
+    }
   }
   return view;
 }
@@ -152,10 +160,18 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
       if (out.flow.flips > 0) {
         if (!flipped) flipped = whole;
         transplant(*out.flow.intrinsic_topology, comp, view, *flipped);
+        for (int e : out.flow.flipped_edges) result.flipped_edges.push_back(view.edge_map[e]);
+        result.flip_is_isometric.insert(result.flip_is_isometric.end(),
+                                        out.flow.flipped_edges.size(), 0);
+        std::fill_n(result.flip_is_isometric.end() - out.flow.flipped_edges.size(),
+                    out.flow.isometric_flips, 1);
       }
     }
     if (whole.components.size() == 1 && out.flow.flips > 0) {
       flipped = *out.flow.intrinsic_topology;
+      result.flipped_edges = out.flow.flipped_edges;
+      result.flip_is_isometric.assign(out.flow.flipped_edges.size(), 0);
+      std::fill_n(result.flip_is_isometric.begin(), out.flow.isometric_flips, 1);
     }
     result.flips += out.flow.flips;
     result.blocked_flips += out.flow.blocked_flips;

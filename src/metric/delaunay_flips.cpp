@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <utility>
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/metric/angles.hpp"
 
 namespace ricci {
 namespace {
@@ -63,6 +65,14 @@ bool joined(const Topology& t, int start, int d) {
 }
 
 }  // namespace
+
+double euclidean_diagonal(double ab, double ca, double cb, double da, double db) {
+  // The quad unfolded into the plane: a at 0, b on the positive real axis, c above, d below.
+  const double angle_c = angle_from_lengths(cb, ca, ab);  // at a in (c, a, b)
+  const double angle_d = angle_from_lengths(db, da, ab);  // at a in (d, b, a)
+  const std::complex<double> c = std::polar(ca, angle_c), d = std::polar(da, -angle_d);
+  return std::abs(c - d);
+}
 
 double delaunay_margin(double ab, double ca, double cb, double da, double db) {
   return cosine_term(ab, ca, cb) + cosine_term(ab, da, db);
@@ -194,8 +204,16 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
       result.complete = false;
       break;
     }
-    ptolemy_flip(t, structure, u, l, e);
+    if (options.isometric) {
+      const double cd = euclidean_diagonal(ab, ca, cb, da, db);
+      flip_edge(t, e);
+      l[e] = cd;
+      structure.eta[e] = 0.5 * std::exp(2.0 * std::log(cd) - u[q.c] - u[q.d]);
+    } else {
+      ptolemy_flip(t, structure, u, l, e);
+    }
     ++result.flips;
+    result.flipped_edges.push_back(e);
     for (int side : {q.ca, q.cb, q.da, q.db}) {
       if (!queued[side] && t.edge_halfedges(side, 1) >= 0) {
         stack.push_back(side);

@@ -36,7 +36,9 @@ Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Mesh& mesh, const
   vertex_scaling.scheme = Scheme::VertexScaling;
   Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
   ConformalStructure s = make_conformal_structure(t, lengths, vertex_scaling).structure;
-  flip_to_delaunay(flipped, s, s.initial_u, lengths);
+  DelaunayFlipOptions isometric;
+  isometric.isometric = true;
+  flip_to_delaunay(flipped, s, s.initial_u, lengths, isometric);
   CornerAngles angles;
   corner_angles(flipped, lengths, angles);
   Eigen::VectorXd hw, ew;

@@ -221,26 +221,15 @@ void refine_least_squares(const Topology& topology, const Topology& cut_topology
   }
 }
 
-}  // namespace
-
-Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
-                   const CutMesh& cut_mesh, const LayoutOptions& options) {
-  layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
+/// The layout proper, from each edge's length and each corner's signed angle (angle(f, k) turns
+/// the direction from corner k to corner k + 1 into the direction to corner k + 2; negative on a
+/// face whose shape is reversed).
+Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengths,
+                          const CornerAngles& angles, const CutGraph& cut, const CutMesh& cut_mesh,
+                          const LayoutOptions& options) {
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
-
-  // Corner angles of the original faces are those of the cut mesh's: same faces, same corners.
-  CornerAngles angles;
-  const int bad = corner_angles(topology, lengths, angles);
-  if (bad >= 0) {
-    throw InvalidInput(face_message(
-        "its lengths " + std::to_string(lengths[topology.face_edges(bad, 0)]) + ", " +
-            std::to_string(lengths[topology.face_edges(bad, 1)]) + ", " +
-            std::to_string(lengths[topology.face_edges(bad, 2)]) + " break a triangle inequality",
-        bad));
-  }
-
   Layout layout;
   const std::vector<int> roots =
       layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
@@ -366,6 +355,48 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
     if (translations_only) layout.lattice = reduced_lattice(translations);
   }
   return layout;
+}
+
+}  // namespace
+
+Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+  layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
+  // Corner angles of the original faces are those of the cut mesh's: same faces, same corners.
+  CornerAngles angles;
+  const int bad = corner_angles(topology, lengths, angles);
+  if (bad >= 0) {
+    throw InvalidInput(face_message(
+        "its lengths " + std::to_string(lengths[topology.face_edges(bad, 0)]) + ", " +
+            std::to_string(lengths[topology.face_edges(bad, 1)]) + ", " +
+            std::to_string(lengths[topology.face_edges(bad, 2)]) + " break a triangle inequality",
+        bad));
+  }
+  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
+}
+
+Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+  if (shapes.size() != static_cast<std::size_t>(topology.num_faces)) {
+    throw InvalidInput("layout_flat: " + std::to_string(shapes.size()) + " face shapes for " +
+                       std::to_string(topology.num_faces) + " faces");
+  }
+  // Each edge's length as its first face sees it (its other face agrees up to rounding).
+  Eigen::VectorXd lengths(topology.num_edges);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    const int h = topology.edge_halfedges(e, 0);
+    const auto& p = shapes[h / 3];
+    lengths[e] = std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+  }
+  layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
+  CornerAngles angles(topology.num_faces, 3);
+  for (int f = 0; f < topology.num_faces; ++f) {
+    const auto& p = shapes[f];
+    for (int k = 0; k < 3; ++k) {
+      angles(f, k) = std::arg((p[(k + 2) % 3] - p[k]) / (p[(k + 1) % 3] - p[k]));
+    }
+  }
+  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
 }
 
 }  // namespace ricci

@@ -1,6 +1,6 @@
 #include "ricci/param/parameterize.hpp"
 
-#include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -193,44 +193,25 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     return result;
   }
 
-  // 4. Cut graph through the cones, slicing, layout, atlas, distortion. After Delaunay flips
-  // the flat metric lives on the intrinsic triangulation: the same vertices and positions, some
-  // edges replaced, and that triangulation is what gets cut, laid out and written.
-  const Topology& topology = result.flow.topology;
-  if (result.flow.flips > 0 && !is_simplicial(result.flow.topology)) {
-    // The intrinsic Delaunay triangulation is a Delta-complex; flip again, keeping a simplicial
-    // complex (a few edges may stay non-Delaunay, which the flow usually survives).
-    flow_options.flow.simplicial_flips = true;
-    result.flow = flow_mesh(result.mesh, flow_options);
-    result.converged = result.flow.converged;
-    if (!result.converged) {
-      result.message = "with flips restricted to a simplicial complex: " +
-                       result.flow.components.front().flow.message;
-      result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      return result;
-    }
-  }
-  if (result.flow.flips > 0) {
-    if (!is_simplicial(topology)) {
-      // A face using a vertex twice or two edges between the same vertices cannot be written as
-      // an ordinary mesh on the input's vertices (nor cut by the tree-cotree code, which pairs
-      // edges by their ends).
-      result.converged = false;
-      result.message =
-          "the flow converged on an intrinsic Delaunay triangulation that is not a simplicial "
-          "complex (it has a loop or a double edge), which cannot be laid out on the input's "
-          "vertices; use --flips off or the thurston scheme";
-      result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      return result;
-    }
-    result.mesh.triangles = topology.triangles;
-  }
+  // 4. Cut graph through the cones, slicing, layout, atlas, distortion, all on the mesh's own
+  // faces. After Delaunay flips the flat metric lives on the intrinsic triangulation; each input
+  // face is developed in it (its corners at their exact images), so the cut runs along input
+  // edges and the layout, the seams and the written faces are the user's.
+  const Topology input_topology = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+  const Topology& topology = input_topology;
   const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
-  result.layout = layout_flat(topology, result.flow.lengths, result.cut, result.cut_mesh);
+  if (result.flow.flips > 0) {
+    Development development =
+        develop_input_faces(topology, result.flow.flipped_edges, result.flow.lengths);
+    result.development_length_mismatch = development.max_length_mismatch;
+    result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
+  } else {
+    result.layout = layout_flat(topology, result.flow.lengths, result.cut, result.cut_mesh);
+  }
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
   for (int e = 0; e < topology.num_edges; ++e) {

@@ -13,6 +13,7 @@
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "support/random_targets.hpp"
@@ -134,7 +135,7 @@ TEST(EdgeFlips, EveryComponentOfAMeshFlipsIntoTheWholeMeshTriangulation) {
   expect_metric_consistent(r);
 }
 
-TEST(EdgeFlips, ParameterizationLaysOutTheIntrinsicTriangulation) {
+TEST(EdgeFlips, ParameterizationLaysOutTheInputFacesInTheIntrinsicMetric) {
   const Mesh sphere = make_icosphere(3);
   ParamOptions options;
   options.structure.scheme = Scheme::VertexScaling;
@@ -144,12 +145,55 @@ TEST(EdgeFlips, ParameterizationLaysOutTheIntrinsicTriangulation) {
   const ParamResult r = parameterize(sphere, options);
   ASSERT_TRUE(r.converged) << r.message;
   ASSERT_GT(r.flow.flips, 0);
-  // Same vertices and positions, the flipped faces.
+  // The flat metric lives on the intrinsic triangulation; the output is the input's own faces.
+  EXPECT_NE(r.flow.topology.triangles, sphere.triangles);
   EXPECT_EQ(r.mesh.positions, sphere.positions);
-  EXPECT_EQ(r.mesh.triangles, r.flow.topology.triangles);
-  EXPECT_NE(r.mesh.triangles, sphere.triangles);
+  EXPECT_EQ(r.mesh.triangles, sphere.triangles);
+  EXPECT_LT(r.development_length_mismatch, 1e-12);
   EXPECT_LT(r.layout.max_length_relative_error, 1e-8);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
+  // The uv angles around each vertex add up to its cone angle 2 pi - K (seams cut through the
+  // cones, so sum over the corners of each vertex, whichever copy they use).
+  Eigen::VectorXd angle_sum = Eigen::VectorXd::Zero(sphere.num_vertices());
+  for (int f = 0; f < sphere.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::RowVector2d p = r.layout.uv.row(r.cut_mesh.triangles(f, k));
+      const Eigen::RowVector2d a = r.layout.uv.row(r.cut_mesh.triangles(f, (k + 1) % 3)) - p;
+      const Eigen::RowVector2d b = r.layout.uv.row(r.cut_mesh.triangles(f, (k + 2) % 3)) - p;
+      angle_sum[sphere.triangles(f, k)] +=
+          std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y());
+    }
+  }
+  Eigen::VectorXd expected = Eigen::VectorXd::Constant(sphere.num_vertices(), 2 * kPi);
+  for (const Cone& c : options.cones) expected[c.vertex] -= c.curvature;
+  EXPECT_LT((angle_sum - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(EdgeFlips, ReplayingTheFlipsReproducesTheTriangulationOfEveryComponent) {
+  // Two spheres with the strong cones each: the whole mesh's flip list, replayed on the input,
+  // gives the flow's final triangulation array for array.
+  const Mesh one = make_icosphere(3);
+  Mesh two;
+  two.positions.resize(2 * one.num_vertices(), 3);
+  two.positions << one.positions, one.positions.array() + 3.0;
+  two.triangles.resize(2 * one.num_faces(), 3);
+  two.triangles << one.triangles, one.triangles.array() + one.num_vertices();
+  MeshFlowOptions options = strong_cones(EdgeFlips::Auto);
+  for (const Cone c : std::vector<Cone>(options.target.cones)) {
+    options.target.cones.push_back({c.vertex + one.num_vertices(), c.curvature});
+  }
+  const MeshFlowResult r = flow_mesh(two, options);
+  ASSERT_TRUE(r.converged);
+  ASSERT_EQ(r.components.size(), 2u);
+  ASSERT_GT(r.components[1].flow.flips, 0);
+  ASSERT_EQ(r.flipped_edges.size(), static_cast<std::size_t>(r.flips));
+  const Topology replayed =
+      replay_flips(build_topology(two.triangles, two.num_vertices()), r.flipped_edges);
+  EXPECT_EQ(replayed.triangles, r.topology.triangles);
+  EXPECT_EQ(replayed.face_edges, r.topology.face_edges);
+  EXPECT_EQ(replayed.halfedge_twin, r.topology.halfedge_twin);
+  EXPECT_EQ(replayed.edge_vertices, r.topology.edge_vertices);
+  EXPECT_EQ(replayed.edge_halfedges, r.topology.edge_halfedges);
 }
 
 TEST(EdgeFlips, RandomConeSetsOnASphereConverge) {

@@ -56,7 +56,13 @@ struct MeshFlowResult {
   /// Whole-mesh connectivity after the flow (edges for `lengths`): the input's, or its intrinsic
   /// Delaunay triangulation when edges were flipped (same vertices and face count).
   Topology topology;
-  int flips = 0;                     ///< edges flipped, all components together
+  int flips = 0;  ///< edges flipped, all components together
+  /// The flips in whole-mesh edge indices, component after component: flip_edge applied to them
+  /// in order on build_topology(mesh) reproduces `topology` exactly.
+  std::vector<int> flipped_edges;
+  /// Per entry of flipped_edges: 1 for an isometric flip (a component's initial retriangulation
+  /// of the input metric), 0 for a Ptolemy flip (FlowResult::isometric_flips).
+  std::vector<char> flip_is_isometric;
   int blocked_flips = 0;             ///< non-Delaunay edges left (see FlowResult::blocked_flips)
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature

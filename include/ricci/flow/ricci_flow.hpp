@@ -124,7 +124,15 @@ struct FlowResult {
   Triangles triangles;
   /// After flips: the whole final connectivity (edges for `lengths`); null without flips.
   std::shared_ptr<const Topology> intrinsic_topology;
-  int flips = 0;          ///< edges flipped over the whole flow (initial Delaunay flips included)
+  int flips = 0;  ///< edges flipped over the whole flow (initial Delaunay flips included)
+  /// Every accepted flip in order (edge indices of the topology the flow was given): flip_edge
+  /// applied to them one after the other on that topology reproduces intrinsic_topology exactly
+  /// (replay_flips in ricci/metric/intrinsic_triangulation.hpp).
+  std::vector<int> flipped_edges;
+  /// The first isometric_flips of flipped_edges retriangulate the input metric isometrically
+  /// into its intrinsic Delaunay triangulation (the new edge is the Euclidean diagonal); the
+  /// others are Ptolemy flips of the flow (the same discrete conformal class).
+  int isometric_flips = 0;
   int blocked_flips = 0;  ///< non-Delaunay edges left unflipped at the end (see
                           ///< DelaunayFlipResult::blocked)
   int iterations = 0;

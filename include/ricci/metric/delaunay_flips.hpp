@@ -22,6 +22,8 @@
 /// which pairs halfedges by their end vertices, cannot rebuild one. keep_simplicial restricts
 /// the flips to those that leave a simplicial complex (counting the others as blocked).
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "ricci/metric/scheme.hpp"
@@ -33,6 +35,10 @@ namespace ricci {
 /// triangle inequality (their "angle" then has a cosine below -1).
 /// \param ab the edge; ca, cb the other sides of the triangle with c; da, db those with d
 double delaunay_margin(double ab, double ca, double cb, double da, double db);
+
+/// The other diagonal cd of the quad of edge ab unfolded into the plane (c and d on either side
+/// of ab), with the sides named as for delaunay_margin. \pre both triangles are valid
+double euclidean_diagonal(double ab, double ca, double cb, double da, double db);
 
 /// Whether interior edge e can be flipped: its two faces differ and, with keep_simplicial, the
 /// opposite vertices c, d are distinct and not yet joined by an edge.
@@ -64,11 +70,18 @@ struct DelaunayFlipOptions {
   int max_flips = 0;  ///< safety stop; 0: 50 #E
   /// Skip flips that would leave a simplicial complex (see the file comment).
   bool keep_simplicial = false;
+  /// Flip isometrically (the new edge is the Euclidean diagonal of the unfolded quad: the same
+  /// flat surface, retriangulated) instead of by Ptolemy's relation (the same conformal class).
+  bool isometric = false;
 };
 
 /// What flip_to_delaunay did.
 struct DelaunayFlipResult {
-  int flips = 0;         ///< edges flipped
+  int flips = 0;  ///< edges flipped
+  /// The edges flipped, in order: flip_edge applied to them one after the other on the input
+  /// triangulation reproduces the output (how the intrinsic triangulation corresponds to the
+  /// input one: ricci/metric/intrinsic_triangulation.hpp).
+  std::vector<int> flipped_edges;
   int blocked = 0;       ///< non-Delaunay edges left unflipped (keep_simplicial, or an edge
                          ///< inside a single self-glued face)
   bool complete = true;  ///< false when max_flips stopped the algorithm

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/param/cut_graph.hpp"
 
 namespace ricci {
@@ -85,6 +86,16 @@ struct Layout {
 ///        the cut mesh's corners do not copy the mesh's, when a segment steps across no cut edge,
 ///        or when root_face is out of range
 Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options = {});
+
+/// The same from the shapes of the faces instead of edge lengths: each face's corners as the
+/// metric develops them (develop_input_faces: the input's faces in the flat metric of the
+/// intrinsic triangulation a flow with flips ends on). A face whose shape is reversed is laid out
+/// reversed (and counted in num_flipped_faces) instead of mirrored by a triangle-inequality
+/// reading of its lengths. Edge lengths are read from each edge's first face.
+/// 	hrow InvalidInput as above (but for the triangle inequality), or when there is not one
+///        shape per face
+Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
                    const CutMesh& cut_mesh, const LayoutOptions& options = {});
 
 }  // namespace ricci

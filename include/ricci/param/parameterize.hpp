@@ -52,12 +52,13 @@ struct ParamOptions {
 
 /// What parameterize returns.
 struct ParamResult {
-  bool converged = false;          ///< the flow reached its tolerance
-  std::string message;             ///< why not, when it did not
-  Mesh mesh;                       ///< the mesh parameterized: input vertices first, then
-                                   ///< vertices added by edge splits; its triangles are the
-                                   ///< flow's intrinsic Delaunay triangulation when the flow
-                                   ///< flipped edges (flow.flips > 0)
+  bool converged = false;  ///< the flow reached its tolerance
+  std::string message;     ///< why not, when it did not
+  /// The mesh parameterized: the input itself (same vertices, faces and order), except that the
+  /// Thurston scheme's valence raising (modify_connectivity) appends the vertices its edge splits
+  /// add. With edge flips the flat metric lives on the flow's intrinsic triangulation
+  /// (flow.topology, flow.flipped_edges), and the layout places the input's own faces in it.
+  Mesh mesh;
   std::vector<int> vertex_origin;  ///< per output vertex: input vertex, or -1 when added
   std::vector<std::array<int, 2>> added_vertex_parents;  ///< per added vertex: the edge it splits
   int edge_splits = 0;  ///< connectivity modifications made (edges split)
@@ -67,6 +68,9 @@ struct ParamResult {
   std::vector<Cone> cones;       ///< final cones (output vertex indices) and curvatures
   ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history
   MeshFlowResult flow;           ///< the Ricci flow to the flat metric
+  /// With flips: how well the development of the input faces in the intrinsic metric closes up
+  /// (largest relative difference of an input edge's length seen from its two faces).
+  double development_length_mismatch = 0;
   CutGraph cut;
   CutMesh cut_mesh;
   Layout layout;  ///< raw layout (metric units)

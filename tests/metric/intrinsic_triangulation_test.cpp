@@ -1,0 +1,151 @@
+// The correspondence between the input triangulation and the flipped one
+// (ricci/metric/intrinsic_triangulation.hpp): replaying the flips reproduces the triangulation,
+// and undoing isometric flips gives back every input face with its own edge lengths, on ordinary
+// meshes and on needle fans whose intrinsic Delaunay triangulation is a Delta-complex.
+#include <cmath>
+#include <complex>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+namespace {
+
+/// The input metric flipped isometrically to its intrinsic Delaunay triangulation.
+struct Flipped {
+  Topology input, flipped;
+  Eigen::VectorXd input_lengths, lengths;
+  DelaunayFlipResult flips;
+};
+
+Flipped flip_isometrically(const Mesh& mesh) {
+  Flipped f;
+  f.input = build_topology(mesh.triangles, mesh.num_vertices());
+  f.flipped = f.input;
+  f.input_lengths = input_edge_lengths(mesh, f.input);
+  f.lengths = f.input_lengths;
+  StructureOptions vertex_scaling;
+  vertex_scaling.scheme = Scheme::VertexScaling;
+  ConformalStructure s = make_conformal_structure(f.input, f.lengths, vertex_scaling).structure;
+  DelaunayFlipOptions options;
+  options.isometric = true;
+  f.flips = flip_to_delaunay(f.flipped, s, s.initial_u, f.lengths, options);
+  return f;
+}
+
+/// A CAD-style strip: `n` segments along each long side of a 1 by `width` rectangle (slightly
+/// bent), triangulated as two fans from opposite corners, as CAD tessellators do. Its triangles
+/// have angles down to about width / n radians at the fan centres and are far from Delaunay.
+Mesh cad_strip(int n, double width) {
+  Mesh mesh;
+  mesh.positions.resize(2 * (n + 1), 3);
+  mesh.triangles.resize(2 * n, 3);
+  for (int i = 0; i <= n; ++i) {
+    const double x = static_cast<double>(i) / n, z = 0.02 * std::sin(3.0 * x);
+    mesh.positions.row(i) << x, 0, z;              // bottom B_i
+    mesh.positions.row(n + 1 + i) << x, width, z;  // top T_i
+  }
+  const int t0 = n + 1, bn = n;
+  for (int i = 0; i < n; ++i) {
+    mesh.triangles.row(i) << t0, i, i + 1;                  // fan from T_0 over the bottom
+    mesh.triangles.row(n + i) << bn, n + 2 + i, n + 1 + i;  // fan from B_n over the top
+  }
+  return mesh;
+}
+
+/// A closed mesh with valence-3 vertices and needles: an icosphere whose faces are split 1-to-3
+/// at points near one of their corners.
+Mesh split_near_corners(int subdivisions, double weight) {
+  const Mesh sphere = make_icosphere(subdivisions);
+  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
+  Mesh mesh;
+  mesh.positions.resize(nv + nf, 3);
+  mesh.positions.topRows(nv) = sphere.positions;
+  mesh.triangles.resize(3 * nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    const int a = sphere.triangles(f, 0), b = sphere.triangles(f, 1), c = sphere.triangles(f, 2);
+    const Eigen::RowVector3d p = (1 - 2 * weight) * sphere.positions.row(a) +
+                                 weight * (sphere.positions.row(b) + sphere.positions.row(c));
+    mesh.positions.row(nv + f) = p * 1.01;  // a little outside: a valence-3 bump
+    mesh.triangles.row(3 * f) << a, b, nv + f;
+    mesh.triangles.row(3 * f + 1) << b, c, nv + f;
+    mesh.triangles.row(3 * f + 2) << c, a, nv + f;
+  }
+  return mesh;
+}
+
+void expect_input_faces_recovered(const Mesh& mesh) {
+  const Flipped f = flip_isometrically(mesh);
+  ASSERT_GT(f.flips.flips, 0);
+  EXPECT_EQ(count_non_delaunay_edges(f.flipped, f.lengths), 0);
+  // Replay reproduces the flipped triangulation array for array.
+  const Topology replayed = replay_flips(f.input, f.flips.flipped_edges);
+  EXPECT_EQ(replayed.triangles, f.flipped.triangles);
+  EXPECT_EQ(replayed.face_edges, f.flipped.face_edges);
+  EXPECT_EQ(replayed.halfedge_twin, f.flipped.halfedge_twin);
+  EXPECT_EQ(replayed.edge_vertices, f.flipped.edge_vertices);
+  EXPECT_EQ(replayed.edge_halfedges, f.flipped.edge_halfedges);
+
+  // Undoing isometric flips gives every input face back with its own lengths and orientation.
+  const Development d = develop_input_faces(f.input, f.flips.flipped_edges, f.lengths);
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_LT(d.max_length_mismatch, 1e-12);
+  double worst = 0;
+  for (int e = 0; e < f.input.num_edges; ++e) {
+    worst = std::max(worst, std::abs(d.lengths[e] - f.input_lengths[e]) / f.input_lengths[e]);
+  }
+  EXPECT_LT(worst, 1e-11);
+}
+
+TEST(IntrinsicTriangulation, UndoingIsometricFlipsRecoversTheInputFacesOfAValence3Sphere) {
+  expect_input_faces_recovered(split_near_corners(2, 0.05));
+}
+
+TEST(IntrinsicTriangulation, UndoingIsometricFlipsRecoversACadFan) {
+  // Angles down to 0.006 degrees: the intrinsic Delaunay triangulation is the strip's zig-zag,
+  // many flips away from the fans.
+  const Mesh strip = cad_strip(100, 0.01);
+  expect_input_faces_recovered(strip);
+  EXPECT_GT(flip_isometrically(strip).flips.flips, 100);
+}
+
+TEST(IntrinsicTriangulation, WithoutFlipsTheDevelopmentIsTheFacesThemselves) {
+  const Mesh torus = make_torus(12, 6);
+  const Topology t = build_topology(torus.triangles, torus.num_vertices());
+  const Eigen::VectorXd l = input_edge_lengths(torus, t);
+  const Development d = develop_input_faces(t, {}, l);
+  const FaceShapes shapes = face_shapes_from_lengths(t, l);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(d.shapes[f][k], shapes[f][k]);
+  }
+  EXPECT_LT(d.max_length_mismatch, 1e-15);
+}
+
+TEST(IntrinsicTriangulation, ReplayRefusesAFlipItCannotMake) {
+  const Mesh disk = make_disk(3);
+  const Topology t = build_topology(disk.triangles, disk.num_vertices());
+  int boundary_edge = -1;
+  for (int e = 0; e < t.num_edges && boundary_edge < 0; ++e) {
+    if (t.is_boundary_edge[e]) boundary_edge = e;
+  }
+  EXPECT_THROW(replay_flips(t, {boundary_edge}), InvalidInput);
+  EXPECT_THROW(replay_flips(t, {t.num_edges}), InvalidInput);
+}
+
+TEST(IntrinsicTriangulation, EuclideanDiagonalOfASquareAndOfAKite) {
+  // Unit square a(0,0) b(1,1) diagonal, c above, d below: the other diagonal has length sqrt 2.
+  EXPECT_NEAR(euclidean_diagonal(std::sqrt(2.0), 1, 1, 1, 1), std::sqrt(2.0), 1e-15);
+  // Kite a(0,0), b(2,0), c(1,3), d(1,-1): cd = 4.
+  EXPECT_NEAR(
+      euclidean_diagonal(2, std::sqrt(10.0), std::sqrt(10.0), std::sqrt(2.0), std::sqrt(2.0)), 4.0,
+      1e-14);
+}
+
+}  // namespace
+}  // namespace ricci
