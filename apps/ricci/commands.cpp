@@ -115,7 +115,9 @@ bool finish_report(const std::string& mesh, const std::string& output,
 /// --cones of param and spline: auto, N, none, one, or 'V:K,...' / a file (file vertex indices).
 void apply_cones_option(const std::string& c, const std::string& mesh, const ReadResult& read,
                         ParamOptions& options) {
-  if (c == "auto") {
+  if (c == "needed") {
+    options.cone_mode = ConeMode::Needed;
+  } else if (c == "auto") {
     options.cone_mode = ConeMode::Auto;
   } else if (c == "none") {
     options.cone_mode = ConeMode::None;
@@ -331,7 +333,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
   options.structure.scheme = parse_scheme(args.scheme);
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
-  if (args.cones != "auto" && args.cones != "none") {
+  if (args.cones != "needed" && args.cones != "auto" && args.cones != "none") {
     throw InvalidInput(
         "--cones: the hyperbolic parameterization has no cones (its metric has "
         "zero curvature at every vertex); leave --cones out");
@@ -426,8 +428,14 @@ int run_param(const ParamArgs& args) {
               << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
     if (result.flow.flips > 0) {
       std::cout << "  " << result.flow.flips
-                << " edges flipped: the output's faces are the intrinsic Delaunay triangulation "
-                   "of the input vertices\n";
+                << " intrinsic edge flips; the output keeps the input's faces (development "
+                   "mismatch "
+                << result.development_length_mismatch << ")\n";
+    }
+    if (d.flipped_faces > 0) {
+      std::cout << "  warning: " << d.flipped_faces
+                << " uv triangles are flipped: cones too strong for the valence of their "
+                   "vertices (try more cones, or --scheme thurston, which raises the valence)\n";
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }

@@ -30,7 +30,7 @@ struct FlowArgs {
   std::string mesh;
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string geometry = "euclidean";
   std::string init = "fit";
   std::string target = "flat";
@@ -52,14 +52,14 @@ struct ParamArgs {
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string output;
-  std::string cones = "auto";
+  std::string cones = "needed";
   std::string boundary = "free";
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string flips = "auto";
   std::string report;
   bool quantize = false;
   double max_log_scale = 1.0;
-  int max_cones = 64;
+  int max_cones = 0;
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;
@@ -73,7 +73,7 @@ struct SphereArgs {
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string output;
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string flips = "auto";
   int pole = -1;  ///< file vertex index; -1: automatic
   double tolerance = 1e-12;

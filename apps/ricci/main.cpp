@@ -67,8 +67,9 @@ int main(int argc, char** argv) {
   flow_cmd->add_option("MESH", flow.mesh, "mesh file (.obj .off .ply .stl)")->required();
   flow_cmd
       ->add_option("--scheme", flow.scheme,
-                   "discrete metric: thurston, tangential, inversive-distance, vertex-scaling, "
-                   "virtual-radius")
+                   "discrete metric: vertex-scaling (discrete conformal equivalence with "
+                   "intrinsic Delaunay flips: reaches every admissible target), thurston (the "
+                   "tutorial's circle packing), tangential, inversive-distance, virtual-radius")
       ->capture_default_str();
   flow_cmd
       ->add_option("--geometry", flow.geometry,
@@ -130,15 +131,17 @@ int main(int argc, char** argv) {
   param_cmd->add_option("-o,--output", param.output, "output .obj with vt coordinates")->required();
   param_cmd
       ->add_option("--cones", param.cones,
-                   "auto (until --max-log-scale holds), N (that many automatic cones), none, one "
-                   "(all curvature at one cone, genus >= 2), or cones as 'V:K,...' or a file")
+                   "needed (none where the topology allows: surfaces with boundary and tori; "
+                   "automatic otherwise), auto (automatic until --max-log-scale holds), N (that "
+                   "many automatic cones), none, one (all curvature at one cone, genus >= 2), or "
+                   "cones as 'V:K,...' or a file")
       ->capture_default_str();
   param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
       ->capture_default_str();
   param_cmd
       ->add_option("--flips", param.flips,
-                   "intrinsic Delaunay edge flips (see ricci flow --help); after flips the output "
-                   "faces are the intrinsic Delaunay triangulation of the input vertices")
+                   "intrinsic Delaunay edge flips (see ricci flow --help); the output keeps the "
+                   "input's own faces, each vertex at its image in the flat metric")
       ->capture_default_str();
   param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
       ->capture_default_str();
@@ -155,7 +158,10 @@ int main(int argc, char** argv) {
                    "automatic cones: add cones until max |log area scale| is below this")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  param_cmd->add_option("--max-cones", param.max_cones, "automatic cones: at most this many")
+  param_cmd
+      ->add_option("--max-cones", param.max_cones,
+                   "automatic cones: at most this many (0: 64, or 6 |chi| on surfaces of high "
+                   "genus)")
       ->capture_default_str();
   param_cmd->add_option("--tol", param.tolerance, "flow tolerance on max |K-bar - K|")
       ->capture_default_str()

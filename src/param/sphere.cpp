@@ -252,7 +252,9 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
 
   // 3. Layout, normalised so that the boundary's least-squares circle is the unit circle.
   const auto layout_start = Clock::now();
-  const Topology& disk_topology = result.flow.topology;
+  // The disk's own faces, developed in the flat metric when the flow flipped edges (the same
+  // vertex positions as a layout of the intrinsic triangulation, which may be a Delta-complex).
+  const Topology disk_topology = build_topology(disk.triangles, disk.num_vertices());
   if (disk_topology.components.size() != 1 || disk_topology.boundary_loops.size() != 1) {
     throw Error("sphere_map: removing the pole's star did not leave a disk (internal error)");
   }
@@ -261,7 +263,14 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   uncut.topology = disk_topology;
   uncut.to_original.resize(disk_topology.num_vertices);
   for (int v = 0; v < disk_topology.num_vertices; ++v) uncut.to_original[v] = v;
-  const Layout layout = layout_flat(disk_topology, result.flow.lengths, CutGraph{}, uncut);
+  const Layout layout =
+      result.flow.flips > 0
+          ? layout_flat(
+                disk_topology,
+                develop_input_faces(disk_topology, result.flow.flipped_edges, result.flow.lengths)
+                    .shapes,
+                CutGraph{}, uncut)
+          : layout_flat(disk_topology, result.flow.lengths, CutGraph{}, uncut);
   result.layout_length_error = layout.max_length_relative_error;
   const std::vector<int>& loop = disk_topology.boundary_loops[0];
   std::vector<Eigen::Vector2d> boundary;

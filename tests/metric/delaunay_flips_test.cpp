@@ -235,6 +235,7 @@ TEST(FlipToDelaunay, RejectsSchemesWithoutPtolemy) {
   const Mesh mesh = make_icosphere(1);
   Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   StructureOptions thurston;
+  thurston.scheme = Scheme::Thurston;
   ConformalStructure s =
       make_conformal_structure(t, input_edge_lengths(mesh, t), thurston).structure;
   Eigen::VectorXd u = s.initial_u, l;
