@@ -12,6 +12,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
@@ -556,10 +557,17 @@ int run_generate(const GenerateArgs& args) {
   } else if (args.kind == "surface") {
     mesh = args.holes > 0 ? make_surface_with_holes(args.genus, args.holes, r > 0 ? r : 24)
                           : make_closed_surface(args.genus, r > 0 ? r : 24);
+  } else if (args.kind == "cad-cylinder") {
+    mesh = make_cad_cylinder(r > 0 ? r : 360);
+  } else if (args.kind == "cad-ring") {
+    mesh = make_cad_ring(r > 0 ? r : 360);
   } else {
     throw InvalidInput("generate: unknown kind '" + args.kind +
-                       "'; expected tetrahedron, icosphere, disk, torus or surface");
+                       "'; expected tetrahedron, icosphere, disk, torus, surface, cad-cylinder "
+                       "or cad-ring");
   }
+  if (args.valence3) mesh = split_faces_near_corner(mesh, 0.05, 0.05, 3);
+  if (args.needles > 0) mesh = pull_vertices_to_neighbours(mesh, args.needles, 1, 2);
   write_obj(args.output, mesh);
   std::cout << "wrote " << args.output << ": " << mesh.num_vertices() << " vertices, "
             << mesh.num_faces() << " faces\n";

@@ -104,6 +104,8 @@ int run_spline(const SplineArgs& args);
 struct GenerateArgs {
   std::string kind;
   std::string output;
+  double needles = 0;     ///< --needles: pull_vertices_to_neighbours amount (0: none)
+  bool valence3 = false;  ///< --valence3: split_faces_near_corner
   int resolution = 0;  ///< 0: the kind's default
   int genus = 2;
   int holes = 0;

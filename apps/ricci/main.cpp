@@ -247,8 +247,13 @@ int main(int argc, char** argv) {
 
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
-      "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
-  generate_cmd->add_option("KIND", generate.kind, "tetrahedron, icosphere, disk, torus, surface")
+      "generate",
+      "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface, or a hard "
+      "case (cad-cylinder, cad-ring: CAD strips and fans), optionally made harder still "
+      "(--needles, --valence3).");
+  generate_cmd
+      ->add_option("KIND", generate.kind,
+                   "tetrahedron, icosphere, disk, torus, surface, cad-cylinder, cad-ring")
       ->required();
   generate_cmd->add_option("-o,--output", generate.output, "output .obj file")->required();
   generate_cmd
@@ -259,6 +264,15 @@ int main(int argc, char** argv) {
   generate_cmd->add_option("--genus", generate.genus, "genus of `surface`")->capture_default_str();
   generate_cmd->add_option("--holes", generate.holes, "boundary loops cut into `surface`")
       ->capture_default_str();
+  generate_cmd
+      ->add_option("--needles", generate.needles,
+                   "pull every other interior vertex this fraction (0..1) of the way to a "
+                   "neighbour: scan-like needles (0.998: angles of about 0.1 degree)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.9999));
+  generate_cmd->add_flag("--valence3", generate.valence3,
+                         "split every third face 1-to-3 near a corner, the new vertex lifted off "
+                         "the surface: valence-3 vertices and needles");
 
   try {
     app.parse(argc, argv);
