@@ -565,11 +565,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   check_admissible(topology, structure, target, admissibility);
   if (s.flips) {
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
-    // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete conformal class
-    // is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex scaling on Delaunay
-    // triangulations, flips between them). Ptolemy flips there would change the metric where
-    // the input is not Delaunay: on face.obj (13k such edges) the map's mean angle distortion
-    // on the input faces went from 1.029 to 1.068.
+    // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
+    // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
+    // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
+    // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
+    // distortion on the input faces went from 1.029 to 1.068.
     if (edge_lengths(s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;

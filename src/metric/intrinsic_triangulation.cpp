@@ -212,8 +212,8 @@ HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
     d.lengths[e] = la;
     if (input.edge_halfedges(e, 1) >= 0) {
       const Wide lb = side(input.edge_halfedges(e, 1));
-      d.max_length_mismatch = std::max(
-          d.max_length_mismatch, static_cast<double>(std::abs(la - lb) / std::max(la, lb)));
+      d.max_length_mismatch = std::max(d.max_length_mismatch,
+                                       static_cast<double>(std::abs(la - lb) / std::max(la, lb)));
     }
   }
   for (int f = 0; f < input.num_faces; ++f) {

@@ -240,8 +240,8 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideFaceShape
                                    const CutGraph& cut, const CutMesh& cut_mesh,
                                    const HyperbolicLayoutOptions& options) {
   if (shapes.size() != static_cast<std::size_t>(topology.num_faces)) {
-    throw InvalidInput("layout_hyperbolic: " + std::to_string(shapes.size()) +
-                       " face shapes for " + std::to_string(topology.num_faces) + " faces");
+    throw InvalidInput("layout_hyperbolic: " + std::to_string(shapes.size()) + " face shapes for " +
+                       std::to_string(topology.num_faces) + " faces");
   }
   // Each edge's length as its first face sees it (its other face agrees up to rounding), and
   // each corner's signed angle: in the frame that moves the corner to the centre, geodesics
@@ -252,14 +252,13 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideFaceShape
     const auto& p = shapes[h / 3];
     lengths[e] = 2 * std::atanh(std::abs(to_frame(p[(h % 3 + 1) % 3], p[(h % 3 + 2) % 3])));
   }
-  layout_support::check_inputs("layout_hyperbolic", topology, lengths.cast<double>(), cut,
-                               cut_mesh, options.root_face);
+  layout_support::check_inputs("layout_hyperbolic", topology, lengths.cast<double>(), cut, cut_mesh,
+                               options.root_face);
   WideAngles angles(topology.num_faces, 3);
   for (int f = 0; f < topology.num_faces; ++f) {
     const auto& p = shapes[f];
     for (int k = 0; k < 3; ++k) {
-      angles(f, k) =
-          std::arg(to_frame(p[k], p[(k + 2) % 3]) / to_frame(p[k], p[(k + 1) % 3]));
+      angles(f, k) = std::arg(to_frame(p[k], p[(k + 2) % 3]) / to_frame(p[k], p[(k + 1) % 3]));
     }
   }
   return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);

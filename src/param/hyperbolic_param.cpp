@@ -136,10 +136,10 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     cut_options.root_vertex = root;
     a.cut = cut_graph(topology, path_lengths, cut_options);
     a.cut_mesh = slice(topology, a.cut);
-    a.layout = flipped ? layout_hyperbolic(topology, development.shapes, a.cut, a.cut_mesh,
-                                           options.layout)
-                       : layout_hyperbolic(topology, result.refinement.lengths, a.cut,
-                                           a.cut_mesh, options.layout);
+    a.layout =
+        flipped ? layout_hyperbolic(topology, development.shapes, a.cut, a.cut_mesh, options.layout)
+                : layout_hyperbolic(topology, result.refinement.lengths, a.cut, a.cut_mesh,
+                                    options.layout);
     if (closed) {
       SegmentRelations relations;
       for (const SegmentIsometry& s : a.layout.segment_maps) {

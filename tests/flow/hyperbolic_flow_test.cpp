@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
-#include "../support/shared_meshes.hpp"
 #include "../support/hard_meshes.hpp"
+#include "../support/shared_meshes.hpp"
 #include "flow_test_util.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/hyperbolic_refinement.hpp"
@@ -225,8 +225,8 @@ TEST(HyperbolicFlips, AreOnForVertexScalingAndRefusedForCirclePackings) {
   const Topology t = build_topology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
   FlowOptions automatic, delaunay;
   delaunay.flips = EdgeFlips::Delaunay;
-  EXPECT_TRUE(uses_edge_flips(hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure,
-                              automatic));
+  EXPECT_TRUE(
+      uses_edge_flips(hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure, automatic));
   const ConformalStructure thurston = hyperbolic_structure(t, mesh, Scheme::Thurston).structure;
   EXPECT_FALSE(uses_edge_flips(thurston, automatic));
   EXPECT_THROW(uses_edge_flips(thurston, delaunay), InvalidInput);

@@ -5,8 +5,8 @@
 #include <numbers>
 #include <random>
 
-#include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
@@ -292,7 +292,9 @@ TEST(HyperbolicDelaunayMargin, AgreesWithTheEmptyCircleAndTheAngleConditionOnRan
     const HyperbolicQuad q{z[0], z[1], z[2], z[3]};
     // c left of the geodesic from a to b, d right of it: in the frame that moves a to the centre
     // the geodesic is straight.
-    const auto frame = [&](std::complex<double> w) { return (w - q.a) / (1.0 - std::conj(q.a) * w); };
+    const auto frame = [&](std::complex<double> w) {
+      return (w - q.a) / (1.0 - std::conj(q.a) * w);
+    };
     if (!(cross(frame(q.b), frame(q.c)) > 0 && cross(frame(q.b), frame(q.d)) < 0)) continue;
     const double margin = q.margin();
     if (std::abs(margin) < 1e-8) continue;  // too close to cocircular for the references
@@ -350,15 +352,15 @@ TEST(HyperbolicPtolemy, GivesTheTrueDiagonalOfAConcyclicQuad) {
     const HyperbolicQuad q{z[0], z[2], z[3], z[1]};
     const auto s = [](double l) { return std::sinh(l / 2); };
     const double cd = disk_distance(q.c, q.d);
-    const double ptolemy = 2 * std::asinh((s(q.ca()) * s(q.db()) + s(q.da()) * s(q.cb())) / s(q.ab()));
+    const double ptolemy =
+        2 * std::asinh((s(q.ca()) * s(q.db()) + s(q.da()) * s(q.cb())) / s(q.ab()));
     EXPECT_NEAR(ptolemy / cd, 1.0, 1e-12) << "trial " << trial;
     EXPECT_NEAR(q.margin(), 0.0, 1e-11) << "trial " << trial;
     EXPECT_NEAR(hyperbolic_diagonal(q.ab(), q.ca(), q.cb(), q.da(), q.db()) / cd, 1.0, 1e-12);
   }
   // And a quad that is not concyclic: the developed diagonal, not Ptolemy's.
   const HyperbolicQuad q{{-0.3, 0.05}, {0.4, -0.1}, {0.1, 0.5}, {0.0, -0.2}};
-  EXPECT_NEAR(hyperbolic_diagonal(q.ab(), q.ca(), q.cb(), q.da(), q.db()) /
-                  disk_distance(q.c, q.d),
+  EXPECT_NEAR(hyperbolic_diagonal(q.ab(), q.ca(), q.cb(), q.da(), q.db()) / disk_distance(q.c, q.d),
               1.0, 1e-13);
 }
 

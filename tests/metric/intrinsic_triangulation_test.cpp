@@ -193,8 +193,8 @@ void expect_hyperbolic_input_faces_recovered(const Mesh& mesh, int min_flips) {
   EXPECT_LT(d.max_length_mismatch, 1e-12);
   double worst = 0;
   for (int e = 0; e < input.num_edges; ++e) {
-    worst = std::max(worst, static_cast<double>(std::abs(d.lengths[e] - input_lengths[e]) /
-                                                input_lengths[e]));
+    worst = std::max(
+        worst, static_cast<double>(std::abs(d.lengths[e] - input_lengths[e]) / input_lengths[e]));
   }
   // The flipped lengths carry the rounding of double: relative 1e-15 per flip near the face.
   EXPECT_LT(worst, 1e-11);

@@ -114,7 +114,8 @@ inline Mesh with_needles(const Mesh& mesh, int stride, double t) {
 /// triangulation becomes far from Delaunay.
 inline Mesh jitter_tangentially(const Mesh& mesh, double amount, unsigned seed) {
   const int nv = mesh.num_vertices();
-  Eigen::Matrix<double, Eigen::Dynamic, 3> normal = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nv, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> normal =
+      Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(nv, 3);
   Eigen::VectorXd shortest = Eigen::VectorXd::Constant(nv, std::numeric_limits<double>::infinity());
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const Eigen::RowVector3d a = mesh.positions.row(mesh.triangles(f, 0));
@@ -124,9 +125,8 @@ inline Mesh jitter_tangentially(const Mesh& mesh, double amount, unsigned seed) 
     for (int k = 0; k < 3; ++k) {
       const int v = mesh.triangles(f, k);
       normal.row(v) += n;
-      const double edge = (mesh.positions.row(mesh.triangles(f, (k + 1) % 3)) -
-                           mesh.positions.row(v))
-                              .norm();
+      const double edge =
+          (mesh.positions.row(mesh.triangles(f, (k + 1) % 3)) - mesh.positions.row(v)).norm();
       shortest[v] = std::min(shortest[v], edge);
       shortest[mesh.triangles(f, (k + 1) % 3)] =
           std::min(shortest[mesh.triangles(f, (k + 1) % 3)], edge);
@@ -138,8 +138,8 @@ inline Mesh jitter_tangentially(const Mesh& mesh, double amount, unsigned seed) 
   for (int v = 0; v < nv; ++v) {
     const Eigen::Vector3d n = normal.row(v).normalized();
     // Two unit vectors spanning the tangent plane.
-    const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX()
-                                                         : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d helper =
+        std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
     const Eigen::Vector3d t1 = n.cross(helper).normalized(), t2 = n.cross(t1);
     const double phi = angle(random), r = amount * shortest[v] * std::sqrt(radius(random));
     out.positions.row(v) += (r * (std::cos(phi) * t1 + std::sin(phi) * t2)).transpose();
