@@ -381,6 +381,28 @@ TEST(HyperbolicFlips, FlowAndRefinementWorkOnADeltaComplex) {
   EXPECT_LE(refined.max_error_after, refined.max_error_before);
 }
 
+TEST(HyperbolicFlips, EachComponentOfAMeshFlowsInTheHyperbolicBackground) {
+  // Two disjoint surfaces (genus 2 with spikes, genus 3): each component's flow runs on its own
+  // copy of the structure, which must keep the hyperbolic geometry (area 2 pi |chi| each).
+  const Mesh a = testing::with_valence3_spikes(make_closed_surface(2, 8), 5, 1.0);
+  const Mesh b = make_closed_surface(3, 8);
+  Mesh both;
+  both.positions.resize(a.num_vertices() + b.num_vertices(), 3);
+  both.positions << a.positions, b.positions.rowwise() + Eigen::RowVector3d(20, 0, 0);
+  both.triangles.resize(a.num_faces() + b.num_faces(), 3);
+  both.triangles << a.triangles, b.triangles.array() + a.num_vertices();
+  const MeshFlowResult r = uniformize_vertex_scaling(both, EdgeFlips::Auto);
+  ASSERT_TRUE(r.converged);
+  ASSERT_EQ(r.components.size(), 2u);
+  EXPECT_NEAR(r.components[0].flow.total_area, 4 * kPi, 1e-8);
+  EXPECT_NEAR(r.components[1].flow.total_area, 8 * kPi, 1e-8);
+  EXPECT_GT(r.components[0].flow.flips, 0);
+  // The whole mesh's final triangulation and constants reproduce the gathered lengths.
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(r.topology, final_structure(r), r.u, l), 0);
+  EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
+}
+
 TEST(HyperbolicFlow, UniformizesEveryClosedSharedMeshOfGenusAtLeastTwo) {
   RICCI_REQUIRE_SHARED_MESHES();
   int tested = 0;
