@@ -31,8 +31,9 @@ inline Eigen::RowVector3d face_normal(const Mesh& mesh, int f) {
 
 /// Splits every `stride`-th face 1-to-3 at a point near its first corner (barycentric weights
 /// 0.8, 0.1, 0.1) and pushes the new vertex out along the face normal by `push` times the face's
-/// longest edge: a valence-3 vertex whose three faces are long slivers meeting at a spike, the
-/// shape a badly decimated or a hand-edited mesh has.
+/// longest edge: a valence-3 vertex whose three tall faces meet at a spike (an angle sum far
+/// below 2 pi that vertex scaling cannot open without breaking a triangle), the shape a badly
+/// decimated or a hand-edited mesh has.
 inline Mesh with_valence3_spikes(const Mesh& mesh, int stride, double push) {
   Mesh out = mesh;
   std::vector<Eigen::RowVector3d> added;
