@@ -374,6 +374,12 @@ int run_param_hyperbolic(const ParamArgs& args) {
             << l.max_length_relative_error << ", flipped " << l.num_flipped_faces
             << ", angle distortion mean " << result.distortion.angle_distortion_mean << " max "
             << result.distortion.angle_distortion_max << ", " << result.seconds << " s\n";
+  if (result.flow.flips > 0) {
+    std::cout << "  " << result.flow.flips
+              << " edges flipped (intrinsic Delaunay); the input's faces developed in the final "
+                 "metric agree on their edges to "
+              << result.development_length_mismatch << " (relative)\n";
+  }
   if (result.has_group) {
     std::cout << "  Fuchsian group: " << 2 * result.group.genus
               << " generators, |a1 b1 a1^-1 b1^-1 ... - I| = " << result.group.relation_residual

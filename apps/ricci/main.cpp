@@ -98,8 +98,9 @@ int main(int argc, char** argv) {
   flow_cmd->add_option("--solver", flow.solver, "newton or gradient")->capture_default_str();
   flow_cmd
       ->add_option("--flips", flow.flips,
-                   "intrinsic Delaunay edge flips: auto (on for vertex-scaling, which then "
-                   "reaches every target that satisfies Gauss-Bonnet), off, or delaunay")
+                   "intrinsic Delaunay edge flips: auto (on for vertex-scaling, in either "
+                   "geometry, which then reaches every target that satisfies Gauss-Bonnet), "
+                   "off, or delaunay")
       ->capture_default_str();
   flow_cmd->add_option("--tol", flow.tolerance, "stop at max |K-bar - K| <= tol (radians)")
       ->capture_default_str()
@@ -141,7 +142,8 @@ int main(int argc, char** argv) {
   param_cmd
       ->add_option("--flips", param.flips,
                    "intrinsic Delaunay edge flips (see ricci flow --help); the output keeps the "
-                   "input's own faces, each vertex at its image in the flat metric")
+                   "input's own faces, each vertex at its image in the final (flat or "
+                   "hyperbolic) metric")
       ->capture_default_str();
   param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
       ->capture_default_str();

@@ -69,9 +69,9 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, geometry=
       max_backtracks, use_cholmod, reuse_factorization_cg_iterations, and progress: a callable
       taking an ``IterationRecord`` after every iteration; returning False stops the flow
       (status ``FlowStatus.Cancelled``). flips: ``"auto"`` (the default: intrinsic Delaunay edge
-      flips for vertex scaling, which then reaches every target that satisfies Gauss-Bonnet),
-      ``"off"`` or ``"delaunay"``; after flips ``triangles`` and ``edges`` describe the intrinsic
-      triangulation of the same vertices.
+      flips for vertex scaling, in either geometry, which then reaches every target that
+      satisfies Gauss-Bonnet), ``"off"`` or ``"delaunay"``; after flips ``triangles``, ``edges``
+      and ``eta`` describe the intrinsic triangulation of the same vertices.
     vertex_labels: numbers error messages show for vertices.
     options: a ``MeshFlowOptions`` to start from (copied); the other arguments, when not None,
       override its fields. None everywhere means the C++ default.

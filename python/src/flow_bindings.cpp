@@ -238,6 +238,9 @@ void bind_flow(py::module_& m) {
       .readonly("triangles", &FlowResult::triangles,
                 "#F by 3 final triangulation (the intrinsic Delaunay one after flips)")
       .readonly("flips", &FlowResult::flips, "edges flipped over the whole flow")
+      .readonly("isometric_flips", &FlowResult::isometric_flips,
+                "the first flips: the input metric retriangulated isometrically")
+      .readonly("eta", &FlowResult::eta, "#E eta on the final triangulation (set by the flips)")
       .readonly("blocked_flips", &FlowResult::blocked_flips, "non-Delaunay edges left")
       .readonly("iterations", &FlowResult::iterations, "")
       .readonly("max_error", &FlowResult::max_error, "final max |K-bar - K|")
@@ -287,6 +290,8 @@ void bind_flow(py::module_& m) {
           "#F by 3 final triangulation: the input's, or its intrinsic Delaunay triangulation "
           "after flips (same vertices)")
       .readonly("flips", &MeshFlowResult::flips, "edges flipped, all components")
+      .readonly("eta", &MeshFlowResult::eta,
+                "#E eta of the structure on the final triangulation (set by the flips)")
       .readonly("blocked_flips", &MeshFlowResult::blocked_flips, "non-Delaunay edges left")
       .computed(
           "history",

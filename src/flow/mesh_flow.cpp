@@ -113,6 +113,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
   result.target_curvature = result.target.curvature;
   result.lengths = lbar;
+  result.eta = structure.eta;
   result.converged = true;
 
   // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
@@ -129,11 +130,14 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
       result.curvature = out.flow.curvature;
       result.target_curvature = out.flow.target_curvature;
       result.lengths = out.flow.lengths;
+      result.eta = out.flow.eta;
     } else {
       const ComponentView view = restrict_to(whole, comp);
       const int nv = view.topology.num_vertices, ne = view.topology.num_edges;
       ConformalStructure local;
       local.scheme = structure.scheme;
+      local.geometry = structure.geometry;
+      local.length_scale = structure.length_scale;
       local.epsilon.resize(nv);
       local.initial_u.resize(nv);
       local.eta.resize(ne);
@@ -156,7 +160,10 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
         result.curvature[v] = out.flow.curvature[i];
         result.target_curvature[v] = out.flow.target_curvature[i];
       }
-      for (int e = 0; e < ne; ++e) result.lengths[view.edge_map[e]] = out.flow.lengths[e];
+      for (int e = 0; e < ne; ++e) {
+        result.lengths[view.edge_map[e]] = out.flow.lengths[e];
+        result.eta[view.edge_map[e]] = out.flow.eta[e];
+      }
       if (out.flow.flips > 0) {
         if (!flipped) flipped = whole;
         transplant(*out.flow.intrinsic_topology, comp, view, *flipped);

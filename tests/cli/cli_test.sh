@@ -680,6 +680,26 @@ ricci param hyperbolic/pants.obj --geometry hyperbolic --scheme vertex-scaling -
 expect_rc "param pants hyperbolic" 0
 expect_json "param pants hyperbolic: no group" "$WORK/out.txt" \
   'd["converged"] and "fuchsian_group" not in d and d["layout"]["max_radius"] < 1'
+# Hyperbolic intrinsic Delaunay flips (vertex scaling, the default --flips auto): the flow flips,
+# and param writes the input's own faces (one per input face, all vt in the disk) with the group.
+flow_ok "genus 2 hyperbolic vertex scaling flips" hyperbolic/g2.obj --geometry hyperbolic \
+  --scheme vertex-scaling
+expect_json "flow hyperbolic flips" flow.json \
+  'd["flips"] == "auto" and d["flipped_edges"] > 0 and abs(d["components"][0]["total_area"] - 4 * math.pi) <= 1e-6'
+ricci param hyperbolic/g2.obj --geometry hyperbolic --scheme vertex-scaling \
+  -o hyperbolic/flipped.obj --report hyperbolic/flipped.json
+expect_rc "param hyperbolic with flips" 0
+expect_out "param hyperbolic with flips" "edges flipped"
+expect_json "param hyperbolic with flips report" hyperbolic/flipped.json \
+  'd["flow"]["flipped_edges"] > 0 and d["fuchsian_group"]["relation_residual"] < 1e-10 and d["layout"]["development_length_mismatch"] < 1e-14'
+if "$PYTHON" - hyperbolic/g2.obj hyperbolic/flipped.obj <<'EOF'
+import sys
+def faces(path):
+    return [[int(c.split("/")[0]) for c in line.split()[1:]] for line in open(path) if line.startswith("f ")]
+vt = [[float(x) for x in line.split()[1:3]] for line in open(sys.argv[2]) if line.startswith("vt ")]
+sys.exit(0 if faces(sys.argv[1]) == faces(sys.argv[2]) and vt and all(u * u + v * v < 1 for u, v in vt) else 1)
+EOF
+then ok; else fail "param hyperbolic with flips OBJ" "faces differ from the input's, or a vt outside the disk"; fi
 expect_no_temporaries "hyperbolic leaves no temporaries" hyperbolic
 
 # --- interrupts: SIGINT leaves neither output nor temporary files ------------------------------

@@ -68,6 +68,9 @@ struct MeshFlowResult {
   Eigen::VectorXd curvature;         ///< #V final curvature
   Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)
   Eigen::VectorXd lengths;           ///< #E final lengths, edges as topology.edge_vertices
+  /// #E eta of the structure on `topology`: structure.structure.eta but on flipped edges
+  /// (FlowResult::eta); with it the structure gives `lengths` at `u` on `topology`.
+  Eigen::VectorXd eta;
   std::vector<ComponentFlow> components;
   double setup_seconds = 0;  ///< topology, structure, target, checks
   double total_seconds = 0;
