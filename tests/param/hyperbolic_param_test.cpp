@@ -129,8 +129,11 @@ TEST(HyperbolicParam, VertexScalingWithFlipsOnBadlyShapedMeshes) {
 }
 
 TEST(HyperbolicLayout, FromFaceShapesIsTheLayoutFromLengths) {
-  // Without flips the faces' shapes are those of their lengths: the two layouts agree.
-  const HyperbolicParamResult r = parameterize_hyperbolic(make_closed_surface(3, 10));
+  // Without flips (Thurston's packing) the faces' shapes are those of their lengths: the two
+  // layouts agree.
+  HyperbolicParamOptions thurston;
+  thurston.structure.scheme = Scheme::Thurston;
+  const HyperbolicParamResult r = parameterize_hyperbolic(make_closed_surface(3, 10), thurston);
   ASSERT_TRUE(r.converged);
   const Topology& t = r.flow.topology;
   const HyperbolicLayout from_lengths =
