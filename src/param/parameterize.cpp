@@ -190,14 +190,9 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
-  if (result.flow.flips > 0) {
-    Development development =
-        develop_input_faces(topology, result.flow.flipped_edges, result.flow.lengths);
-    result.development_length_mismatch = development.max_length_mismatch;
-    result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
-  } else {
-    result.layout = layout_flat(topology, result.flow.lengths, result.cut, result.cut_mesh);
-  }
+  const Development development = develop_input_faces(result.mesh, result.flow);
+  result.development_length_mismatch = development.max_length_mismatch;
+  result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
   for (int e = 0; e < topology.num_edges; ++e) {

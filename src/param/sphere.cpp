@@ -125,20 +125,6 @@ void fit_circle(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d& cen
 }
 
 /// Corner angles of the mesh in R^3, summed per vertex.
-Eigen::VectorXd angle_sums(const Mesh& mesh) {
-  Eigen::VectorXd sums = Eigen::VectorXd::Zero(mesh.num_vertices());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int i = mesh.triangles(f, k), j = mesh.triangles(f, (k + 1) % 3),
-                l = mesh.triangles(f, (k + 2) % 3);
-      const Eigen::Vector3d pi = mesh.positions.row(i);
-      sums[i] += angle_between(mesh.positions.row(j).transpose() - pi,
-                               mesh.positions.row(l).transpose() - pi);
-    }
-  }
-  return sums;
-}
-
 /// Weighted (by w, summing to 1) mean and population standard deviation.
 void weighted_stats(const std::vector<double>& values, const std::vector<double>& w, double& mean,
                     double& stddev) {
@@ -311,13 +297,7 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   uncut.to_original.resize(disk_topology.num_vertices);
   for (int v = 0; v < disk_topology.num_vertices; ++v) uncut.to_original[v] = v;
   const Layout layout =
-      result.flow.flips > 0
-          ? layout_flat(
-                disk_topology,
-                develop_input_faces(disk_topology, result.flow.flipped_edges, result.flow.lengths)
-                    .shapes,
-                CutGraph{}, uncut)
-          : layout_flat(disk_topology, result.flow.lengths, CutGraph{}, uncut);
+      layout_flat(disk_topology, develop_input_faces(disk, result.flow).shapes, CutGraph{}, uncut);
   result.layout_length_error = layout.max_length_relative_error;
   const std::vector<int>& loop = disk_topology.boundary_loops[0];
   std::vector<Eigen::Vector2d> boundary;
