@@ -228,7 +228,9 @@ int run_flow(const FlowArgs& args) {
   spec.boundary = !args.boundary.empty() ? parse_boundary_mode(args.boundary)
                   : hyperbolic           ? BoundaryMode::Geodesic
                                          : BoundaryMode::Free;
-  if (args.target == "flat") {
+  if (args.target == "natural") {
+    spec.kind = TargetKind::Natural;
+  } else if (args.target == "flat") {
     spec.kind = TargetKind::Flat;
   } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length" ||
              args.target == "geodesic") {
@@ -253,8 +255,8 @@ int run_flow(const FlowArgs& args) {
     }
   } else {
     throw InvalidInput("--target: '" + args.target +
-                       "' is neither flat, free, disk, disk-length, geodesic, uniform nor a file "
-                       "of per-vertex curvatures");
+                       "' is neither natural, flat, free, disk, disk-length, geodesic, uniform "
+                       "nor a file of per-vertex curvatures");
   }
   // Cone vertices are numbered as in the file (0-based).
   const std::vector<int> to_mesh = inverse_map(read.vertex_map);
@@ -266,7 +268,7 @@ int run_flow(const FlowArgs& args) {
     cone.vertex = to_mesh[cone.vertex];
     spec.cones.push_back(cone);
   }
-  if (!spec.cones.empty() && spec.kind != TargetKind::Flat) {
+  if (!spec.cones.empty() && spec.kind != TargetKind::Flat && spec.kind != TargetKind::Natural) {
     throw InvalidInput(
         "--cones needs a flat target (--target flat, free, disk, disk-length or geodesic)");
   }

@@ -33,7 +33,7 @@ struct FlowArgs {
   std::string scheme = "vertex-scaling";
   std::string geometry = "euclidean";
   std::string init = "fit";
-  std::string target = "flat";
+  std::string target = "natural";
   std::string boundary;  ///< empty: free (euclidean) or geodesic (hyperbolic)
   std::string cones;
   std::string solver = "newton";
@@ -106,7 +106,7 @@ struct GenerateArgs {
   std::string output;
   double needles = 0;     ///< --needles: pull_vertices_to_neighbours amount (0: none)
   bool valence3 = false;  ///< --valence3: split_faces_near_corner
-  int resolution = 0;  ///< 0: the kind's default
+  int resolution = 0;     ///< 0: the kind's default
   int genus = 2;
   int holes = 0;
 };

@@ -84,10 +84,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   flow_cmd
       ->add_option("--target", flow.target,
-                   "target curvature: flat (zero but at --cones), free (flat, boundary radii "
-                   "fixed), disk (boundary curvature 2 pi chi / m), disk-length (boundary "
-                   "curvature by length), geodesic (boundary curvature 0), uniform (2 pi chi / "
-                   "n), or a file with one value per vertex")
+                   "target curvature: natural (flat where the topology allows one: with "
+                   "boundary, or a torus; uniform on other closed components; flat with "
+                   "--cones), flat (zero but at --cones), free (flat, boundary radii fixed), "
+                   "disk (boundary curvature 2 pi chi / m), disk-length (boundary curvature by "
+                   "length), geodesic (boundary curvature 0), uniform (2 pi chi / n), or a file "
+                   "with one value per vertex")
       ->capture_default_str();
   flow_cmd->add_option("--boundary", flow.boundary,
                        "boundary of a flat target: free (the euclidean default), disk, disk-length "

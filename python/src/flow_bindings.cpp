@@ -22,12 +22,14 @@ PackingInit parse_packing_init(const std::string& name) {
   throw InvalidInput("packing_init: unknown value '" + name + "'; expected fit or unit");
 }
 
-/// "flat", "uniform" or "values".
+/// "natural", "flat", "uniform" or "values".
 TargetKind parse_target_kind(const std::string& name) {
+  if (name == "natural") return TargetKind::Natural;
   if (name == "flat") return TargetKind::Flat;
   if (name == "uniform") return TargetKind::Uniform;
   if (name == "values") return TargetKind::Values;
-  throw InvalidInput("target kind: unknown value '" + name + "'; expected flat, uniform or values");
+  throw InvalidInput("target kind: unknown value '" + name +
+                     "'; expected natural, flat, uniform or values");
 }
 
 /// Lets an enum be built from its ricci name: `Scheme("thurston")`.
@@ -104,7 +106,8 @@ void bind_flow(py::module_& m) {
   construct_from_name(boundary, &parse_boundary_mode);
 
   py::enum_<TargetKind> kind(m, "TargetKind", "Kinds of target flow_mesh builds.");
-  kind.value("Flat", TargetKind::Flat)
+  kind.value("Natural", TargetKind::Natural)
+      .value("Flat", TargetKind::Flat)
       .value("Uniform", TargetKind::Uniform)
       .value("Values", TargetKind::Values);
   construct_from_name(kind, &parse_target_kind);

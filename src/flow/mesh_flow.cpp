@@ -85,6 +85,34 @@ void transplant(const Topology& local, const Component& comp, const ComponentVie
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
                     const TargetSpec& spec, const std::vector<int>& vertex_labels) {
   switch (spec.kind) {
+    case TargetKind::Natural: {
+      if (!spec.cones.empty()) {
+        return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
+      }
+      Target target = flat_target(topology, {}, spec.boundary, input_lengths, vertex_labels);
+      const Target uniform = uniform_target(topology);
+      bool any_flat = false, any_uniform = false;
+      for (const Component& comp : topology.components) {
+        if (comp.num_boundary_loops > 0 || comp.euler_characteristic == 0) {
+          any_flat = true;
+          continue;
+        }
+        any_uniform = true;
+        for (int v : comp.vertices) {
+          target.curvature[v] = uniform.curvature[v];
+          target.fixed[v] = 0;
+        }
+      }
+      if (any_uniform) {
+        target.description =
+            any_flat ? target.description +
+                           "; uniform curvature 2 pi chi / n on closed components "
+                           "of genus other than 1"
+                     : uniform.description +
+                           " (closed, genus other than 1: no flat metric without cones)";
+      }
+      return target;
+    }
     case TargetKind::Flat:
       return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
     case TargetKind::Uniform:
@@ -266,7 +294,12 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);
   const ConformalStructure& structure = result.structure.structure;
-  result.target = build_target(whole, lbar, options.target, options.vertex_labels);
+  TargetSpec spec = options.target;
+  // Zero curvature is the hyperbolic background's natural target (the uniformization metric).
+  if (spec.kind == TargetKind::Natural && structure.geometry == Geometry::Hyperbolic) {
+    spec.kind = TargetKind::Flat;
+  }
+  result.target = build_target(whole, lbar, spec, options.vertex_labels);
   // Checked on the whole mesh so that messages name whole-mesh vertices.
   AdmissibilityOptions admissibility;
   admissibility.vertex_labels = options.vertex_labels;

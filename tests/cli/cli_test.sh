@@ -89,7 +89,7 @@ expect_out "info --help" "MESH" "--json"
 ricci flow --help
 expect_rc "flow --help" 0
 expect_out "flow --help" "--scheme" "=vertex-scaling" "thurston" "tangential" "inversive-distance" "vertex-scaling" \
-  "virtual-radius" "--init" "=fit" "--target" "=flat" "disk-length" "uniform" "--boundary" \
+  "virtual-radius" "--init" "=fit" "--target" "=natural" "disk-length" "uniform" "--boundary" \
   "free (the euclidean default)" "geodesic (the hyperbolic default)" "--geometry" "=euclidean" \
   "hyperbolic" "--cones" "--solver" "=newton" "--tol" "1e-10" "--max-iterations" "--step" \
   "-o,--output" "--json" "--progress"
@@ -478,7 +478,13 @@ bad_flow() {
   expect_no_file "$name writes no output" bad_out.json
 }
 ico=meshes/icosphere.obj
-bad_flow "no cones on a sphere" "Gauss-Bonnet" -- "$ico"
+# The natural default target exists on every topology: uniform on a closed sphere.
+ricci flow "$ico" --json
+expect_rc "flow sphere with the natural target" 0
+cp "$WORK/out.txt" natural.json
+expect_json "natural target on a sphere is uniform" natural.json \
+  'd["converged"] is True and "uniform" in d["target"]'
+bad_flow "flat sphere without cones" "Gauss-Bonnet" "natural" -- "$ico" --target flat
 bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" -- "$ico" --cones '0:pi'
 # -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, Thurston's
 # single-vertex bound fails (vertex scaling with flips, the default, has no such bound).

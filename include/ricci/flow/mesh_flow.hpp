@@ -19,6 +19,11 @@ namespace ricci {
 
 /// Kinds of target the mesh-level driver builds.
 enum class TargetKind {
+  /// Per component, the flat target where its topology admits one (any surface with boundary,
+  /// boundary as TargetSpec::boundary says; a closed torus), else uniform curvature (closed
+  /// genus 0 or >= 2, which need cones to be flat: ricci/param/parameterize.hpp chooses them).
+  /// With cones: Flat. In the hyperbolic background: Flat.
+  Natural,
   Flat,     ///< zero curvature but at cones; boundary as TargetSpec::boundary says
   Uniform,  ///< 2 pi chi / n on every vertex of each component
   Values,   ///< one value per vertex, given
@@ -26,7 +31,7 @@ enum class TargetKind {
 
 /// The target, in whole-mesh vertex indices.
 struct TargetSpec {
-  TargetKind kind = TargetKind::Flat;
+  TargetKind kind = TargetKind::Natural;
   std::vector<Cone> cones;                     ///< Flat: cone vertices and curvatures
   BoundaryMode boundary = BoundaryMode::Free;  ///< Flat on meshes with boundary
   Eigen::VectorXd values;                      ///< Values: #V curvatures
