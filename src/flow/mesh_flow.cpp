@@ -247,7 +247,10 @@ void gather_doubled(const ComponentFlow& out, const Topology& t, const std::vect
 }  // namespace
 
 Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow) {
-  const Topology input = build_topology(mesh.triangles, mesh.num_vertices());
+  return develop_input_faces(build_topology(mesh.triangles, mesh.num_vertices()), flow);
+}
+
+Development develop_input_faces(const Topology& input, const MeshFlowResult& flow) {
   Development d = develop_input_faces(input, flow.flipped_edges, flow.lengths);
   bool any_doubled = false;
   for (std::size_t c = 0; c < flow.components.size(); ++c) {
@@ -287,9 +290,14 @@ Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow) {
 }
 
 MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
+  return flow_mesh(mesh, build_topology(mesh.triangles, mesh.num_vertices()), options);
+}
+
+MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
+                         const MeshFlowOptions& options) {
   const auto start = Clock::now();
   MeshFlowResult result;
-  result.topology = build_topology(mesh.triangles, mesh.num_vertices());
+  result.topology = topology;
   const Topology& whole = result.topology;
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);

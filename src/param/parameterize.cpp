@@ -62,14 +62,15 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     phase += std::chrono::duration<double>(now - last).count();
     last = now;
   };
-  const Topology t0 = build_topology(input.triangles, input.num_vertices());
+  Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
                        " connected components; parameterize them one by one");
   }
-  const Component& comp = t0.components[0];
-  const bool closed = comp.num_boundary_loops == 0;
-  const int chi = comp.euler_characteristic;
+  // (Copied: t0 is rebuilt below when the Thurston scheme splits edges.)
+  const int genus = t0.components[0].genus, boundary_loops = t0.components[0].num_boundary_loops;
+  const bool closed = boundary_loops == 0;
+  const int chi = t0.components[0].euler_characteristic;
 
   // 1. Singularities, in input vertex indices.
   std::vector<Cone> cones;
@@ -80,7 +81,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
       break;
     case ConeMode::None:
       if (closed && chi != 0) {
-        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(comp.genus) +
+        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
                            " has no flat metric without cones (chi = " + std::to_string(chi) +
                            "); use automatic cones or one cone");
       }
@@ -89,12 +90,11 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
       cones = options.cones;
       break;
     case ConeMode::OneCone: {
-      if (!closed || comp.genus < 2) {
+      if (!closed || genus < 2) {
         throw InvalidInput(
             "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
             "2; this one has genus " +
-            std::to_string(comp.genus) + " and " + std::to_string(comp.num_boundary_loops) +
-            " boundary loops");
+            std::to_string(genus) + " and " + std::to_string(boundary_loops) + " boundary loops");
       }
       ConeSelectionOptions one = options.auto_cones;
       one.count = 1;
@@ -152,6 +152,9 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     }
   }
   result.cones = cones;
+  // The connectivity every later stage reads, built once (again only if edges were split).
+  if (result.edge_splits > 0)
+    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
 
   // 3. Ricci flow to the flat metric with these cones.
   MeshFlowOptions flow_options;
@@ -160,7 +163,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  result.flow = flow_mesh(result.mesh, flow_options);
+  result.flow = flow_mesh(result.mesh, t0, flow_options);
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
   if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
@@ -169,16 +172,16 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
     // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
     // an edge midpoint).
-    const Topology t = build_topology(result.mesh.triangles, result.mesh.num_vertices());
     const int before = result.mesh.num_vertices();
     result.mesh = subdivide_midpoint(result.mesh);
-    for (int e = 0; e < t.num_edges; ++e) {
-      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
+    for (int e = 0; e < t0.num_edges; ++e) {
+      result.added_vertex_parents.push_back({t0.edge_vertices(e, 0), t0.edge_vertices(e, 1)});
       result.vertex_origin.push_back(-1);
     }
     result.edge_splits += result.mesh.num_vertices() - before;
     result.subdivided = true;
-    result.flow = flow_mesh(result.mesh, flow_options);
+    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+    result.flow = flow_mesh(result.mesh, t0, flow_options);
     result.converged = result.flow.converged;
   }
   lap(result.timings.flow);
@@ -192,15 +195,14 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   // faces. After Delaunay flips the flat metric lives on the intrinsic triangulation; each input
   // face is developed in it (its corners at their exact images), so the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
-  const Topology input_topology = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-  const Topology& topology = input_topology;
+  const Topology& topology = t0;
   const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
   lap(result.timings.cut);
-  const Development development = develop_input_faces(result.mesh, result.flow);
+  const Development development = develop_input_faces(topology, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
   lap(result.timings.development);
   result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);

@@ -104,6 +104,8 @@ Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengt
 /// doubled components included: what the layouts of the input's own faces start from.
 /// \pre flow = flow_mesh(mesh, ...) in the Euclidean background
 Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow);
+/// The same with the input's connectivity at hand (build_topology(mesh)).
+Development develop_input_faces(const Topology& input, const MeshFlowResult& flow);
 
 /// Runs the flow on every component of a mesh. A component with boundary whose flow fails
 /// (vertex scaling with flips, Euclidean background) is flowed again on its double
@@ -111,5 +113,8 @@ Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow);
 /// \pre the mesh passed validate_mesh
 /// \throw TopologyError, InvalidInput (inadmissible target, naming the vertex), SolverError
 MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options = {});
+/// The same with the mesh's connectivity at hand. \pre topology = build_topology(mesh)
+MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
+                         const MeshFlowOptions& options = {});
 
 }  // namespace ricci
