@@ -444,9 +444,13 @@ int run_param(const ParamArgs& args) {
                 << result.development_length_mismatch << ")\n";
     }
     if (d.flipped_faces > 0) {
+      // Each vertex sits at its exact image; a face drawn straight between them folds where the
+      // map bends it strongly: needles, or faces next to a strong cone.
       std::cout << "  warning: " << d.flipped_faces
-                << " uv triangles are flipped: cones too strong for the valence of their "
-                   "vertices (try more cones, or --scheme thurston, which raises the valence)\n";
+                << " uv triangles are flipped (needle faces, or faces around a cone too strong "
+                   "for its valence, drawn straight between their vertices' exact images); "
+                   "--faces refinement gives the exact map without folds"
+                << (result.cones.empty() ? "" : ", more cones spread the curvature") << "\n";
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
