@@ -1,0 +1,1300 @@
+#include "ricci/param/common_refinement.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/metric/edge_overlay.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/metric/scheme.hpp"
+
+namespace ricci {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Complex = std::complex<double>;
+using Vec3 = Eigen::Vector3d;
+
+[[noreturn]] void internal_error(const std::string& what) {
+  throw SolverError("common_refinement: " + what);
+}
+
+double log_sum_exp(double a, double b) {
+  const double m = std::max(a, b);
+  return m + std::log(std::exp(a - m) + std::exp(b - m));
+}
+
+/// Sparse row of weights over input vertices.
+using Row = std::vector<std::pair<int, double>>;
+
+Row lerp_rows(const Row& a, const Row& b, double t) {
+  Row r;
+  for (const auto& [v, w] : a) r.push_back({v, (1 - t) * w});
+  for (const auto& [v, w] : b) {
+    auto it = std::find_if(r.begin(), r.end(), [v = v](const auto& p) { return p.first == v; });
+    if (it == r.end()) {
+      r.push_back({v, t * w});
+    } else {
+      it->second += t * w;
+    }
+  }
+  return r;
+}
+
+/// Lengths around interior edge e as in delaunay_flips: faces (c, a, b) and (d, b, a).
+struct QuadLengths {
+  double ab, ca, cb, da, db;
+};
+
+QuadLengths quad_lengths(const Topology& t, const Eigen::VectorXd& l, int e) {
+  const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+  const int f0 = h0 / 3, k0 = h0 % 3, f1 = h1 / 3, k1 = h1 % 3;
+  return {l[e], l[t.face_edges(f0, (k0 + 2) % 3)], l[t.face_edges(f0, (k0 + 1) % 3)],
+          l[t.face_edges(f1, (k1 + 1) % 3)], l[t.face_edges(f1, (k1 + 2) % 3)]};
+}
+
+/// A point that lies on a final edge: its parameter from the tail of the edge's halfedge 0 in
+/// the final metric, and log w (the factor from the Delaunay triangle's normalisation of its
+/// homogeneous coordinates to the final triangle's).
+struct FinalEdgePoint {
+  int edge = -1;
+  double s = 0;
+  double log_w = 0;
+};
+
+/// Homogeneous barycentric coordinates in a final face, stored as a direction and log w.
+struct FinalFacePoint {
+  int face = -1;
+  Vec3 bary = Vec3::Zero();  ///< sums to 1
+  double log_w = 0;
+};
+
+/// The point of a final edge at parameter s (from the tail of halfedge 0) in the final face of
+/// halfedge h, as barycentric coordinates there.
+Vec3 bary_on_halfedge(const Topology& tp, int h, double s) {
+  const int e = tp.halfedge_edge[h];
+  const double sigma = h == tp.edge_halfedges(e, 0) ? s : 1 - s;
+  Vec3 b = Vec3::Zero();
+  b[(h % 3 + 1) % 3] += 1 - sigma;
+  b[(h % 3 + 2) % 3] += sigma;
+  return b;
+}
+
+/// (w b) of two points combined linearly: weights (1 - t) and t on the homogeneous coordinates.
+FinalFacePoint homogeneous_lerp(const Vec3& b0, double lw0, const Vec3& b1, double lw1, double t) {
+  const double m = std::max(lw0, lw1);
+  const double w0 = (1 - t) * std::exp(lw0 - m), w1 = t * std::exp(lw1 - m);
+  FinalFacePoint p;
+  p.bary = (w0 * b0 + w1 * b1) / (w0 + w1);
+  p.log_w = m + std::log(w0 + w1);
+  return p;
+}
+
+/// A rigid motion z -> a z + b of the plane.
+struct Rigid {
+  Complex a{1}, b{0};
+  Complex operator()(Complex z) const { return a * z + b; }
+};
+
+Rigid compose(const Rigid& outer, const Rigid& inner) {
+  return {outer.a * inner.a, outer.a * inner.b + outer.b};
+}
+
+/// The rigid motion taking segment (p0, p1) onto (q0, q1) (rotation from the directions,
+/// midpoints matched).
+Rigid segment_motion(Complex p0, Complex p1, Complex q0, Complex q1) {
+  Complex a = (q1 - q0) / (p1 - p0);
+  a /= std::abs(a);
+  return {a, 0.5 * (q0 + q1) - a * 0.5 * (p0 + p1)};
+}
+
+double cross(Complex a, Complex b) {
+  return a.real() * b.imag() - a.imag() * b.real();
+}
+
+/// Everything the slicing of the Delaunay triangles reads.
+struct Context {
+  const Mesh& mesh;
+  const ParamResult& param;
+  Topology t0, t1, tp;
+  Eigen::VectorXd l0, l1;
+  EdgeOverlay o01;  ///< input edges over T1
+  EdgeOverlay oT;   ///< final edges over T1
+  FaceShapes final_shapes;
+  const Eigen::VectorXd& u;
+  // Per T1 edge, per entry of o01 / oT: parameter along halfedge 0 and the refinement vertex.
+  std::vector<std::vector<double>> a_s, a_tau, b_s;
+  std::vector<std::vector<FinalEdgePoint>> b_final;
+  std::vector<std::vector<int>> a_vertex, b_vertex;
+  /// Per T1 edge, its points in order along halfedge 0: (is a final-edge crossing, entry).
+  std::vector<std::vector<std::pair<bool, int>>> ports;
+  std::vector<int> segment_offset;  ///< per T1 edge: id of its first segment
+  /// Per T1 face, the final edges' arcs in it (face_arcs of oT).
+  std::vector<std::vector<FaceArc>> b_arcs;
+  /// Per T1 corner 3 t + k: the final corners just counter-clockwise of each final edge leaving
+  /// the corner's vertex into t, in counter-clockwise order.
+  std::vector<std::vector<std::pair<int, int>>> departures;
+  std::vector<std::pair<int, int>> start_wedge_cache;
+
+  // Refinement vertices beyond the input's.
+  std::vector<Row> rows;
+  std::vector<int> on_input_edge;  ///< input edge the vertex lies on, or -1
+  std::vector<FinalEdgePoint> on_final_edge;
+  std::vector<FinalFacePoint> in_final_face;  ///< A-points inside a final face
+  int num_edge_ids = 0;
+
+  Context(const Mesh& m, const ParamResult& p) : mesh(m), param(p), u(p.flow.u) {}
+
+  /// Appends a refinement vertex; returns its index (after the input's vertices).
+  int add_vertex(Row row, int input_edge) {
+    rows.push_back(std::move(row));
+    on_input_edge.push_back(input_edge);
+    on_final_edge.push_back({});
+    in_final_face.push_back({});
+    return mesh.num_vertices() + static_cast<int>(rows.size()) - 1;
+  }
+
+  /// The final corner (face, corner) covering the directions just counter-clockwise of the side
+  /// from corner k toward corner k + 1 of T1 face t: the wedge of the last final edge met turning
+  /// clockwise around the vertex from there.
+  std::pair<int, int> start_wedge(int t, int k) {
+    auto& cached = start_wedge_cache[3 * t + k];
+    if (cached.first >= 0) return cached;
+    int face = t, corner = k;
+    for (int steps = 0; steps <= 3 * t1.num_faces; ++steps) {
+      const int hs = 3 * face + (corner + 2) % 3;
+      const int e1 = t1.halfedge_edge[hs];
+      if (oT.coincident[e1] != 0) {
+        const int ep = std::abs(oT.coincident[e1]) - 1;
+        const bool same = (hs == t1.edge_halfedges(e1, 0)) == (oT.coincident[e1] > 0);
+        const int hp = same ? tp.edge_halfedges(ep, 0) : tp.edge_halfedges(ep, 1);
+        return cached = {hp / 3, (hp % 3 + 1) % 3};
+      }
+      const int hn = t1.halfedge_twin[hs];
+      if (hn < 0) internal_error("a boundary edge of the Delaunay triangulation is no final edge");
+      face = hn / 3;
+      corner = (hn % 3 + 2) % 3;
+      const auto& d = departures[3 * face + corner];
+      if (!d.empty()) return cached = d.back();
+    }
+    internal_error("no final edge leaves vertex " + std::to_string(t1.triangles(t, k)));
+  }
+
+  /// The final corner holding the start of T1 halfedge h (not a final edge).
+  std::pair<int, int> wedge_of_halfedge(int h) { return start_wedge(h / 3, (h % 3 + 1) % 3); }
+
+  double u_of_final_corner(int g, int k) const { return u[tp.triangles(g, k)]; }
+};
+
+/// Develops each input edge over the Delaunay triangles it crosses (the flat metric): where it
+/// crosses each Delaunay edge, along both.
+void place_input_crossings(Context& c, const std::vector<CurvePath>& paths,
+                           CommonRefinement& result) {
+  const FaceShapes shapes = face_shapes_from_lengths(c.t1, c.l1);
+  for (int curve = 0; curve < c.t0.num_edges; ++curve) {
+    const CurvePath& p = paths[curve];
+    if (p.coincident_halfedge >= 0) continue;
+    std::array<Complex, 3> face = shapes[p.start_face];
+    const Complex start = face[p.start_corner];
+    std::vector<std::pair<Complex, Complex>> sides;
+    sides.reserve(p.crossings.size());
+    for (const CurveCrossing& x : p.crossings) {
+      const int k = x.halfedge % 3;
+      const Complex a = face[(k + 1) % 3], b = face[(k + 2) % 3];
+      sides.push_back({a, b});
+      const int twin = c.t1.halfedge_twin[x.halfedge], k2 = twin % 3;
+      const auto& next = shapes[twin / 3];
+      const Rigid m = segment_motion(next[(k2 + 2) % 3], next[(k2 + 1) % 3], a, b);
+      for (int j = 0; j < 3; ++j) face[j] = m(next[j]);
+    }
+    const Complex end = face[p.end_corner];
+    result.max_development_error =
+        std::max(result.max_development_error,
+                 std::abs(std::abs(end - start) - c.l0[curve]) / c.l0[curve]);
+    for (std::size_t i = 0; i < sides.size(); ++i) {
+      const auto [a, b] = sides[i];
+      const double denominator = cross(b - a, end - start);
+      double s = denominator != 0 ? cross(start - a, end - start) / denominator : 0.5;
+      double tau = denominator != 0 ? cross(start - a, b - a) / denominator : 0.5;
+      s = std::clamp(s, 0.0, 1.0);
+      tau = std::clamp(tau, 0.0, 1.0);
+      const CurveCrossing& x = p.crossings[i];
+      const bool forward = x.halfedge == c.t1.edge_halfedges(x.edge, 0);
+      c.a_s[x.edge][x.index] = forward ? s : 1 - s;
+      c.a_tau[x.edge][x.index] = tau;
+    }
+  }
+}
+
+/// Develops each final edge over the Delaunay triangles it crosses in the light cone: lifts of
+/// the corners carried from triangle to triangle by v_d = alpha v_a + beta v_b + gamma v_c, the
+/// edge the plane of its two ends' lifts.
+void place_final_crossings(Context& c, const std::vector<CurvePath>& paths) {
+  const Topology& t1 = c.t1;
+  // Coordinates are kept as a direction (largest entry 1) and a log scale.
+  struct Lift {
+    Vec3 x;
+    double log_scale = 0;
+    void normalize() {
+      const double m = x.cwiseAbs().maxCoeff();
+      if (m > 0) {
+        x /= m;
+        log_scale += std::log(m);
+      }
+    }
+  };
+  // Crossing of halfedge g (in face F, apex c at corner k, a -> b) into its twin's face (apex d
+  // at corner k2): the coefficients of v_d over v_a, v_b, v_c and of v_c over v_a, v_b, v_d.
+  struct Transition {
+    int k, k2;
+    double alpha, beta, gamma;        // v_d = alpha v_a + beta v_b + gamma v_c
+    double alpha2, beta2, gamma2;     // v_c = alpha2 v_a + beta2 v_b + gamma2 v_d
+  };
+  auto transition = [&](int g) {
+    const int f = g / 3, k = g % 3, twin = t1.halfedge_twin[g], f2 = twin / 3, k2 = twin % 3;
+    const double ab = c.l1[t1.halfedge_edge[g]];
+    const double ac = c.l1[t1.face_edges(f, (k + 2) % 3)], bc = c.l1[t1.face_edges(f, (k + 1) % 3)];
+    const double ad = c.l1[t1.face_edges(f2, (k2 + 1) % 3)],
+                 bd = c.l1[t1.face_edges(f2, (k2 + 2) % 3)];
+    const double cd = (ac * bd + ad * bc) / ab;
+    return Transition{k,
+                      k2,
+                      bd * cd / (ac * ab),
+                      ad * cd / (bc * ab),
+                      -ad * bd / (ac * bc),
+                      bc * cd / (ad * ab),
+                      ac * cd / (bd * ab),
+                      -ac * bc / (ad * bd)};
+  };
+  for (int e = 0; e < c.tp.num_edges; ++e) {
+    const CurvePath& p = paths[e];
+    if (p.coincident_halfedge >= 0) continue;
+    const int m = static_cast<int>(p.crossings.size());
+    std::vector<Transition> steps;
+    steps.reserve(m);
+    for (const CurveCrossing& x : p.crossings) steps.push_back(transition(x.halfedge));
+    // Forward: the start's lift in each face's basis (face i is before crossing i).
+    std::vector<Lift> start(static_cast<std::size_t>(m + 1)), end(static_cast<std::size_t>(m + 1));
+    start[0].x = Vec3::Unit(p.start_corner);
+    for (int i = 0; i < m; ++i) {
+      const Transition& s = steps[i];
+      const Vec3& x = start[i].x;
+      Vec3 y;
+      y[(s.k2 + 2) % 3] = x[(s.k + 1) % 3] + s.alpha2 * x[s.k];
+      y[(s.k2 + 1) % 3] = x[(s.k + 2) % 3] + s.beta2 * x[s.k];
+      y[s.k2] = s.gamma2 * x[s.k];
+      start[i + 1] = {y, start[i].log_scale};
+      start[i + 1].normalize();
+    }
+    end[m].x = Vec3::Unit(p.end_corner);
+    for (int i = m - 1; i >= 0; --i) {
+      const Transition& s = steps[i];
+      const Vec3& y = end[i + 1].x;
+      Vec3 x;
+      x[(s.k + 1) % 3] = y[(s.k2 + 2) % 3] + s.alpha * y[s.k2];
+      x[(s.k + 2) % 3] = y[(s.k2 + 1) % 3] + s.beta * y[s.k2];
+      x[s.k] = s.gamma * y[s.k2];
+      end[i] = {x, end[i + 1].log_scale};
+      end[i].normalize();
+    }
+    const int v_start = c.tp.tail(c.tp.edge_halfedges(e, 0));
+    const int v_end = c.tp.head(c.tp.edge_halfedges(e, 0));
+    for (int i = 0; i < m; ++i) {
+      const int k = steps[i].k;
+      const Lift& P = start[i];
+      const Lift& Q = end[i];
+      // The crossing X = lambda P + mu Q has no c coordinate; P is on c's side, Q across.
+      const double lambda = std::max(-Q.x[k], 1e-300), mu = std::max(P.x[k], 1e-300);
+      const Vec3 X = lambda * P.x + mu * Q.x;
+      const double xa = std::max(X[(k + 1) % 3], 0.0), xb = std::max(X[(k + 2) % 3], 0.0);
+      const double along = xa + xb > 0 ? xb / (xa + xb) : 0.5;
+      // In the final metric the ends' lifts are e^{u} times these.
+      const double lp = std::log(lambda) - P.log_scale - c.u[v_start];
+      const double lq = std::log(mu) - Q.log_scale - c.u[v_end];
+      const CurveCrossing& x = p.crossings[i];
+      const bool forward = x.halfedge == t1.edge_halfedges(x.edge, 0);
+      c.b_s[x.edge][x.index] = forward ? along : 1 - along;
+      c.b_final[x.edge][x.index] = {e, 1 / (1 + std::exp(lp - lq)),
+                                    log_sum_exp(lp, lq) - std::log(std::max(xa + xb, 1e-300))};
+    }
+  }
+}
+
+/// Makes values along a list non-decreasing (and in [0, 1]); returns how many moved.
+int repair_order(std::vector<double*>& values) {
+  int moved = 0;
+  double previous = 0;
+  for (double* v : values) {
+    const double fixed = std::clamp(*v, previous, 1.0);
+    if (fixed != *v) {
+      *v = fixed;
+      ++moved;
+    }
+    previous = fixed;
+  }
+  return moved;
+}
+
+}  // namespace
+namespace {
+
+/// One triangle of the refinement, as the slicing makes it.
+struct Piece {
+  std::array<int, 3> vertex{};
+  int input_face = -1, delaunay_face = -1, final_face = -1;
+  std::array<Vec3, 3> delaunay_bary, final_bary;
+  std::array<double, 3> log_w{};
+  std::array<int, 3> edge_id{};  ///< edge k joins corners k + 1 and k + 2
+  std::array<int, 3> input_edge{-1, -1, -1};
+  std::array<int, 3> final_halfedge{-1, -1, -1};  ///< final halfedge (of final_face) under edge k
+};
+
+/// Cuts Delaunay face t along the input edges and final edges crossing it (straight chords, see
+/// the file comment of common_refinement.hpp) and appends the cells, fanned into triangles.
+void slice_delaunay_face(Context& c, int t, std::vector<Piece>& out, CommonRefinement& result) {
+  const Topology& t1 = c.t1;
+  const int nv = c.mesh.num_vertices();
+  struct Port {
+    int vertex = -1;
+    int corner = -1;  // 0..2 for a corner
+    int side = -1, pos = -1;
+    bool is_b = false;
+    int e1 = -1, entry = -1;  // T1 edge and index in its A or B list
+    Vec3 bary = Vec3::Zero();
+  };
+  std::vector<Port> ports;
+  std::array<std::vector<int>, 3> a_port, b_port;
+  std::array<int, 3> corner_port{};
+  std::array<bool, 3> side_forward{};
+  std::array<int, 3> side_edge{};
+  for (int j = 0; j < 3; ++j) {
+    corner_port[j] = static_cast<int>(ports.size());
+    Port pc;
+    pc.vertex = t1.triangles(t, j);
+    pc.corner = j;
+    pc.bary = Vec3::Unit(j);
+    ports.push_back(pc);
+    const int s = (j + 2) % 3, h = 3 * t + s, e1 = t1.halfedge_edge[h];
+    const bool forward = h == t1.edge_halfedges(e1, 0);
+    side_forward[s] = forward;
+    side_edge[s] = e1;
+    const auto& list = c.ports[e1];
+    const int n = static_cast<int>(list.size());
+    const int na = static_cast<int>(c.o01.crossings[e1].size());
+    const int nb = static_cast<int>(c.oT.crossings[e1].size());
+    a_port[s].assign(static_cast<std::size_t>(na), -1);
+    b_port[s].assign(static_cast<std::size_t>(nb), -1);
+    for (int i = 0; i < n; ++i) {
+      const auto [is_b, entry] = list[forward ? i : n - 1 - i];
+      Port p;
+      p.side = s;
+      p.pos = i;
+      p.is_b = is_b;
+      p.e1 = e1;
+      p.entry = entry;
+      const double stored = is_b ? c.b_s[e1][entry] : c.a_s[e1][entry];
+      const double sigma = forward ? stored : 1 - stored;
+      p.bary[(s + 1) % 3] = 1 - sigma;
+      p.bary[(s + 2) % 3] = sigma;
+      p.vertex = is_b ? c.b_vertex[e1][entry] : c.a_vertex[e1][entry];
+      const int along = forward ? entry : (is_b ? nb : na) - 1 - entry;
+      (is_b ? b_port : a_port)[s][along] = static_cast<int>(ports.size());
+      ports.push_back(p);
+    }
+  }
+  const int np = static_cast<int>(ports.size());
+
+  // Chords, oriented as their curves run.
+  struct Chord {
+    bool is_b;
+    int curve, p, q;
+    std::vector<int> points;  // interior points from p to q
+  };
+  std::vector<Chord> chords;
+  auto port_of = [&](const ArcEnd& x, bool is_b) {
+    return x.is_corner() ? corner_port[x.corner] : (is_b ? b_port : a_port)[x.side][x.index];
+  };
+  for (const FaceArc& arc : face_arcs(t1, c.o01, t)) {
+    chords.push_back({false, arc.curve, port_of(arc.from, false), port_of(arc.to, false), {}});
+  }
+  const int num_a = static_cast<int>(chords.size());
+  for (const FaceArc& arc : c.b_arcs[t]) {
+    chords.push_back({true, arc.curve, port_of(arc.from, true), port_of(arc.to, true), {}});
+  }
+  const int num_chords = static_cast<int>(chords.size());
+
+  // Crossings of input chords with final chords, from the order of their ends around the face.
+  auto dist = [np](int a, int b) { return ((b - a) % np + np) % np; };
+  auto inside = [&](int x, int p, int q) {
+    const int d = dist(p, x);
+    return d > 0 && d < dist(p, q);
+  };
+  struct Interior {
+    int alpha, beta;
+    double lambda_a = 0, lambda_b = 0;
+    int vertex = -1;
+    Vec3 bary = Vec3::Zero();
+  };
+  std::vector<Interior> interior;
+  std::vector<std::vector<std::tuple<int, int, int>>> order(static_cast<std::size_t>(num_chords));
+  for (int i = 0; i < num_a; ++i) {
+    for (int j = num_a; j < num_chords; ++j) {
+      const Chord &a = chords[i], &b = chords[j];
+      if (b.p == a.p || b.p == a.q || b.q == a.p || b.q == a.q) continue;
+      const bool in_p = inside(b.p, a.p, a.q);
+      if (in_p == inside(b.q, a.p, a.q)) continue;
+      const int index = static_cast<int>(interior.size());
+      interior.push_back({i, j});
+      // Along a chord, crossing chords that are disjoint come in the order of their ends on
+      // the arc from its start (nearest first), ties at a corner by their other ends.
+      const int xa = in_p ? b.p : b.q, ya = in_p ? b.q : b.p;
+      order[i].push_back({dist(a.p, xa), dist(ya, a.p), index});
+      const bool a_in = inside(a.p, b.p, b.q);
+      const int xb = a_in ? a.p : a.q, yb = a_in ? a.q : a.p;
+      order[j].push_back({dist(b.p, xb), dist(yb, b.p), index});
+    }
+  }
+  for (int i = 0; i < num_chords; ++i) {
+    std::sort(order[i].begin(), order[i].end());
+    for (const auto& o : order[i]) chords[i].points.push_back(std::get<2>(o));
+  }
+  // Where the chords meet: lines through barycentric points, by cross products.
+  for (Interior& x : interior) {
+    const Chord &a = chords[x.alpha], &b = chords[x.beta];
+    const Vec3 &pa = ports[a.p].bary, &qa = ports[a.q].bary, &pb = ports[b.p].bary,
+               &qb = ports[b.q].bary;
+    Vec3 point = pa.cross(qa).cross(pb.cross(qb));
+    if (std::abs(point.sum()) > 1e-300) point /= point.sum();
+    auto fraction = [&](const Vec3& p, const Vec3& q) {
+      const Vec3 d = q - p;
+      const double dd = d.squaredNorm();
+      return dd > 0 && point.allFinite() ? std::clamp((point - p).dot(d) / dd, 0.0, 1.0) : 0.5;
+    };
+    x.lambda_a = fraction(pa, qa);
+    x.lambda_b = fraction(pb, qb);
+  }
+  for (int i = 0; i < num_chords; ++i) {
+    std::vector<double*> lambdas;
+    for (int k : chords[i].points) {
+      lambdas.push_back(i < num_a ? &interior[k].lambda_a : &interior[k].lambda_b);
+    }
+    result.order_repairs += repair_order(lambdas);
+  }
+  auto port_tau = [&](int port, bool start) {
+    const Port& p = ports[port];
+    return p.corner >= 0 ? (start ? 0.0 : 1.0) : c.a_tau[p.e1][p.entry];
+  };
+  auto port_final = [&](int port, int edge, bool start) {
+    const Port& p = ports[port];
+    if (p.corner >= 0) return FinalEdgePoint{edge, start ? 0.0 : 1.0, -c.u[p.vertex]};
+    return c.b_final[p.e1][p.entry];
+  };
+  for (Interior& x : interior) {
+    const Chord &a = chords[x.alpha], &b = chords[x.beta];
+    const double tau = (1 - x.lambda_a) * port_tau(a.p, true) + x.lambda_a * port_tau(a.q, false);
+    const int h = c.t0.edge_halfedges(a.curve, 0);
+    x.vertex = c.add_vertex({{c.t0.tail(h), 1 - tau}, {c.t0.head(h), tau}}, a.curve);
+    x.bary = (1 - x.lambda_a) * ports[a.p].bary + x.lambda_a * ports[a.q].bary;
+    const FinalEdgePoint f0 = port_final(b.p, b.curve, true), f1 = port_final(b.q, b.curve, false);
+    const FinalFacePoint mixed =
+        homogeneous_lerp(Vec3(1 - f0.s, f0.s, 0), f0.log_w, Vec3(1 - f1.s, f1.s, 0), f1.log_w,
+                         x.lambda_b);
+    c.on_final_edge[x.vertex - nv] = {b.curve, mixed.bary[1], mixed.log_w};
+    ++result.interior_points;
+  }
+
+  // The planar graph: ports, then interior points; half-edges with their rotation (counter-
+  // clockwise order of the half-edges leaving each vertex).
+  const int nloc = np + static_cast<int>(interior.size());
+  enum Kind { Boundary, InputChord, FinalChord };
+  struct HalfEdge {
+    int from, to, twin = -1;
+    Kind kind;
+    int index;     // side (Boundary) or chord
+    bool forward;  // Boundary: counter-clockwise; chords: as the curve runs
+    int edge_id;
+  };
+  std::vector<HalfEdge> he;
+  std::vector<std::vector<int>> rotation(static_cast<std::size_t>(nloc));
+  auto add_pair = [&](int a, int b, Kind kind, int index, int edge_id) {
+    const int h = static_cast<int>(he.size());
+    he.push_back({a, b, h + 1, kind, index, true, edge_id});
+    he.push_back({b, a, h, kind, index, false, edge_id});
+    return h;
+  };
+  std::vector<int> boundary_out(static_cast<std::size_t>(np)), boundary_back(static_cast<std::size_t>(np));
+  for (int i = 0; i < np; ++i) {
+    const Port& p = ports[i];
+    const int s = p.corner >= 0 ? (p.corner + 2) % 3 : p.side;
+    const int index = p.corner >= 0 ? 0 : p.pos + 1;
+    const int e1 = side_edge[s];
+    const int m = static_cast<int>(c.ports[e1].size());
+    const int id = c.segment_offset[e1] + (side_forward[s] ? index : m - index);
+    const int h = add_pair(i, (i + 1) % np, Boundary, s, id);
+    boundary_out[i] = h;
+    boundary_back[(i + 1) % np] = h + 1;
+  }
+  std::vector<std::vector<int>> chord_fwd(static_cast<std::size_t>(num_chords)),
+      chord_rev(static_cast<std::size_t>(num_chords));
+  for (int i = 0; i < num_chords; ++i) {
+    std::vector<int> seq{chords[i].p};
+    for (int k : chords[i].points) seq.push_back(np + k);
+    seq.push_back(chords[i].q);
+    for (std::size_t k = 0; k + 1 < seq.size(); ++k) {
+      const int h = add_pair(seq[k], seq[k + 1], i < num_a ? InputChord : FinalChord, i,
+                             c.num_edge_ids++);
+      chord_fwd[i].push_back(h);
+      chord_rev[i].push_back(h + 1);
+    }
+  }
+  // Rotations at the ports: forward along the boundary, the chords (at a corner in the order of
+  // their far ends along the opposite side), back along the boundary.
+  std::vector<std::vector<std::pair<int, int>>> at_port(static_cast<std::size_t>(np));
+  for (int i = 0; i < num_chords; ++i) {
+    at_port[chords[i].p].push_back({dist(chords[i].p, chords[i].q), chord_fwd[i].front()});
+    at_port[chords[i].q].push_back({dist(chords[i].q, chords[i].p), chord_rev[i].back()});
+  }
+  for (int i = 0; i < np; ++i) {
+    if (ports[i].corner < 0 && at_port[i].size() != 1) {
+      internal_error("a crossing on a side of Delaunay face " + std::to_string(t) + " ends " +
+                     std::to_string(at_port[i].size()) + " arcs");
+    }
+    std::sort(at_port[i].begin(), at_port[i].end());
+    rotation[i].push_back(boundary_out[i]);
+    for (const auto& [d, h] : at_port[i]) rotation[i].push_back(h);
+    rotation[i].push_back(boundary_back[i]);
+  }
+  // At an interior point the input chord (start to end) has the arc of the boundary from its
+  // start to its end on its right: forward, towards the final chord's end on the left, back,
+  // towards the end on the right.
+  for (int k = 0; k < static_cast<int>(interior.size()); ++k) {
+    const Interior& x = interior[k];
+    const Chord &a = chords[x.alpha], &b = chords[x.beta];
+    const int ra = static_cast<int>(std::find(a.points.begin(), a.points.end(), k) - a.points.begin());
+    const int rb = static_cast<int>(std::find(b.points.begin(), b.points.end(), k) - b.points.begin());
+    const bool b_start_right = inside(b.p, a.p, a.q);
+    const int b_towards_end = chord_fwd[x.beta][rb + 1], b_towards_start = chord_rev[x.beta][rb];
+    rotation[np + k] = {chord_fwd[x.alpha][ra + 1], b_start_right ? b_towards_end : b_towards_start,
+                        chord_rev[x.alpha][ra], b_start_right ? b_towards_start : b_towards_end};
+  }
+  std::vector<int> rot_index(he.size(), -1);
+  for (int v = 0; v < nloc; ++v) {
+    for (int r = 0; r < static_cast<int>(rotation[v].size()); ++r) rot_index[rotation[v][r]] = r;
+  }
+  auto next = [&](int h) {
+    const auto& rot = rotation[he[h].to];
+    const int r = rot_index[he[h].twin];
+    return rot[(r + static_cast<int>(rot.size()) - 1) % rot.size()];
+  };
+
+  // The final corner of the sector just counter-clockwise of rotation entry r at corner port pc.
+  auto wedge_after = [&](int pc, int r) {
+    const int j = ports[pc].corner;
+    std::pair<int, int> w = c.start_wedge(t, j);
+    for (int k = 1; k <= r && k + 1 < static_cast<int>(rotation[pc].size()); ++k) {
+      const HalfEdge& h = he[rotation[pc][k]];
+      if (h.kind != FinalChord) continue;
+      const int ep = chords[h.index].curve;
+      const int hp = h.forward ? c.tp.edge_halfedges(ep, 0) : c.tp.edge_halfedges(ep, 1);
+      w = {hp / 3, (hp % 3 + 1) % 3};
+    }
+    return w;
+  };
+
+  // Cells: faces of the planar graph left of the half-edges, the outside excluded.
+  std::vector<char> visited(he.size(), 0);
+  struct Cell {
+    std::vector<int> half_edges;
+    int input_face = -1, final_face = -1;
+  };
+  std::vector<Cell> cells;
+  std::vector<int> cell_of(he.size(), -1);
+  for (int h0 = 0; h0 < static_cast<int>(he.size()); ++h0) {
+    if (visited[h0] || (he[h0].kind == Boundary && !he[h0].forward)) continue;
+    Cell cell;
+    int h = h0;
+    do {
+      if (visited[h] || (he[h].kind == Boundary && !he[h].forward) ||
+          cell.half_edges.size() > he.size()) {
+        internal_error("the cells of Delaunay face " + std::to_string(t) + " do not close");
+      }
+      visited[h] = 1;
+      cell_of[h] = static_cast<int>(cells.size());
+      cell.half_edges.push_back(h);
+      h = next(h);
+    } while (h != h0);
+    cells.push_back(std::move(cell));
+  }
+
+  // The input and final faces of each cell, from its sides, corners and points.
+  auto input_face_of = [&](int h) {
+    const HalfEdge& x = he[h];
+    int curve = -1;
+    bool same = x.forward;
+    if (x.kind == InputChord) {
+      curve = chords[x.index].curve;
+    } else if (x.kind == Boundary) {
+      const int e1 = side_edge[x.index], co = c.o01.coincident[e1];
+      if (co == 0) return -1;
+      curve = std::abs(co) - 1;
+      same = side_forward[x.index] == (co > 0);
+    } else {
+      return -1;
+    }
+    const int h0 = c.t0.edge_halfedges(curve, same ? 0 : 1);
+    return h0 < 0 ? -1 : h0 / 3;
+  };
+  auto final_halfedge_of = [&](int h) {
+    const HalfEdge& x = he[h];
+    if (x.kind == FinalChord) {
+      const int ep = chords[x.index].curve;
+      return c.tp.edge_halfedges(ep, x.forward ? 0 : 1);
+    }
+    if (x.kind == Boundary) {
+      const int e1 = side_edge[x.index], co = c.oT.coincident[e1];
+      if (co == 0) return -1;
+      const bool same = side_forward[x.index] == (co > 0);
+      return c.tp.edge_halfedges(std::abs(co) - 1, same ? 0 : 1);
+    }
+    return -1;
+  };
+  auto agree = [&](int& slot, int value, const char* what) {
+    if (value < 0) return;
+    if (slot >= 0 && slot != value) {
+      internal_error(std::string("a cell of Delaunay face ") + std::to_string(t) + " lies in two " +
+                     what + " faces");
+    }
+    slot = value;
+  };
+  for (Cell& cell : cells) {
+    for (int h : cell.half_edges) {
+      agree(cell.input_face, input_face_of(h), "input");
+      const int hp = final_halfedge_of(h);
+      if (hp >= 0) agree(cell.final_face, hp / 3, "final");
+      const HalfEdge& x = he[h];
+      if (x.from < np && ports[x.from].corner >= 0) {
+        agree(cell.final_face, wedge_after(x.from, rot_index[h]).first, "final");
+      } else if (x.from < np) {
+        const FinalFacePoint& in = c.in_final_face[ports[x.from].vertex - nv];
+        if (in.face >= 0) agree(cell.final_face, in.face, "final");
+      }
+    }
+  }
+  // Cells that touch neither an input edge nor a final edge take their neighbours' faces.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (Cell& cell : cells) {
+      if (cell.input_face >= 0 && cell.final_face >= 0) continue;
+      for (int h : cell.half_edges) {
+        const int other = cell_of[he[h].twin];
+        if (other < 0) continue;
+        if (cell.input_face < 0 && he[h].kind != InputChord && cells[other].input_face >= 0) {
+          cell.input_face = cells[other].input_face;
+          changed = true;
+        }
+        if (cell.final_face < 0 && he[h].kind != FinalChord && cells[other].final_face >= 0) {
+          cell.final_face = cells[other].final_face;
+          changed = true;
+        }
+      }
+    }
+  }
+
+  for (const Cell& cell : cells) {
+    if (cell.input_face < 0 || cell.final_face < 0) {
+      internal_error("a cell of Delaunay face " + std::to_string(t) + " has no input or final face");
+    }
+    const int g = cell.final_face;
+    const int n = static_cast<int>(cell.half_edges.size());
+    // Per corner of the cell: Delaunay barycentric coordinates, final ones and log w.
+    std::vector<Vec3> dbary(static_cast<std::size_t>(n)), fbary(static_cast<std::size_t>(n));
+    std::vector<double> log_w(static_cast<std::size_t>(n));
+    std::vector<int> vertex(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const int h = cell.half_edges[i], prev = cell.half_edges[(i + n - 1) % n];
+      const int lv = he[h].from;
+      if (lv < np) {
+        dbary[i] = ports[lv].bary;
+        vertex[i] = ports[lv].vertex;
+      } else {
+        dbary[i] = interior[lv - np].bary;
+        vertex[i] = interior[lv - np].vertex;
+      }
+      if (lv < np && ports[lv].corner >= 0) {
+        const auto [wf, wk] = wedge_after(lv, rot_index[h]);
+        if (wf != g) internal_error("corner wedge and cell disagree");
+        fbary[i] = Vec3::Unit(wk);
+        log_w[i] = -c.u[vertex[i]];
+        continue;
+      }
+      const int gv = vertex[i] - nv;
+      if (c.in_final_face[gv].face >= 0) {
+        if (c.in_final_face[gv].face != g) internal_error("a point and its cell disagree");
+        fbary[i] = c.in_final_face[gv].bary;
+        log_w[i] = c.in_final_face[gv].log_w;
+        continue;
+      }
+      const FinalEdgePoint& fe = c.on_final_edge[gv];
+      int hp = final_halfedge_of(h);
+      if (hp < 0 || c.tp.halfedge_edge[hp] != fe.edge) hp = final_halfedge_of(prev);
+      if (hp < 0 || c.tp.halfedge_edge[hp] != fe.edge || hp / 3 != g) {
+        internal_error("a point on final edge " + std::to_string(fe.edge) +
+                       " has no side in its cell of Delaunay face " + std::to_string(t));
+      }
+      fbary[i] = bary_on_halfedge(c.tp, hp, fe.s);
+      log_w[i] = fe.log_w;
+    }
+    // Fan from the first corner; the cell is convex.
+    auto edge_info = [&](Piece& piece, int k, int h) {
+      piece.edge_id[k] = he[h].edge_id;
+      const HalfEdge& x = he[h];
+      if (x.kind == InputChord) {
+        piece.input_edge[k] = chords[x.index].curve;
+      } else if (x.kind == Boundary && c.o01.coincident[side_edge[x.index]] != 0) {
+        piece.input_edge[k] = std::abs(c.o01.coincident[side_edge[x.index]]) - 1;
+      }
+      piece.final_halfedge[k] = final_halfedge_of(h);
+    };
+    int diagonal = -1;
+    for (int i = 1; i + 1 < n; ++i) {
+      Piece piece;
+      const int corners[3] = {0, i, i + 1};
+      for (int k = 0; k < 3; ++k) {
+        piece.vertex[k] = vertex[corners[k]];
+        piece.delaunay_bary[k] = dbary[corners[k]];
+        piece.final_bary[k] = fbary[corners[k]];
+        piece.log_w[k] = log_w[corners[k]];
+      }
+      piece.input_face = cell.input_face;
+      piece.delaunay_face = t;
+      piece.final_face = g;
+      edge_info(piece, 0, cell.half_edges[i]);
+      if (i + 2 == n) {
+        edge_info(piece, 1, cell.half_edges[n - 1]);
+      } else {
+        piece.edge_id[1] = c.num_edge_ids;
+      }
+      if (i == 1) {
+        edge_info(piece, 2, cell.half_edges[0]);
+      } else {
+        piece.edge_id[2] = diagonal;
+      }
+      if (i + 2 != n) diagonal = c.num_edge_ids++;
+      out.push_back(piece);
+    }
+  }
+}
+
+}  // namespace
+
+CommonRefinement common_refinement(const ParamResult& param,
+                                   const CommonRefinementOptions& options) {
+  const auto started = Clock::now();
+  if (!param.converged) {
+    throw InvalidInput("common_refinement: the parameterization did not converge" +
+                       (param.message.empty() ? std::string() : ": " + param.message));
+  }
+  const MeshFlowResult& flow = param.flow;
+  const ConformalStructure& structure = flow.structure.structure;
+  if (structure.scheme != Scheme::VertexScaling || (structure.epsilon.array() != 0.0).any()) {
+    throw InvalidInput(
+        "common_refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
+        "conformal class); this parameterization used " +
+        std::string(scheme_name(structure.scheme)));
+  }
+  const Mesh& mesh = param.mesh;
+  const int nv = mesh.num_vertices();
+  Context c(mesh, param);
+  c.t0 = build_topology(mesh.triangles, nv);
+  c.l0 = input_edge_lengths(mesh, c.t0);
+  if (flow.u.size() != nv || flow.lengths.size() != c.t0.num_edges ||
+      flow.flip_is_isometric.size() != flow.flipped_edges.size() ||
+      param.cut_mesh.triangles.rows() != c.t0.num_faces ||
+      param.uv.rows() != param.layout.uv.rows()) {
+    throw InvalidInput("common_refinement: the parameterization's arrays do not fit its mesh");
+  }
+  CommonRefinement result;
+
+  // 1. The flip log split: isometric flips (T0 -> T1) come first in each component.
+  std::vector<int> isometric, ptolemy;
+  std::vector<char> had_ptolemy(c.t0.components.size(), 0);
+  for (std::size_t i = 0; i < flow.flipped_edges.size(); ++i) {
+    const int e = flow.flipped_edges[i];
+    if (e < 0 || e >= c.t0.num_edges || c.t0.edge_halfedges(e, 0) < 0) {
+      throw InvalidInput("common_refinement: flip " + std::to_string(i) + " names edge " +
+                         std::to_string(e) + ", which does not exist");
+    }
+    const int component = c.t0.face_component[c.t0.edge_halfedges(e, 0) / 3];
+    if (flow.flip_is_isometric[i]) {
+      if (had_ptolemy[component]) {
+        throw InvalidInput("common_refinement: isometric flip " + std::to_string(i) +
+                           " comes after a Ptolemy flip of its component");
+      }
+      isometric.push_back(e);
+    } else {
+      had_ptolemy[component] = 1;
+      ptolemy.push_back(e);
+    }
+  }
+  result.isometric_flips = static_cast<int>(isometric.size());
+  result.ptolemy_flips = static_cast<int>(ptolemy.size());
+
+  // 2. Replay with labelled normal coordinates: T0 over T1, then T1 over T'.
+  c.t1 = c.t0;
+  c.o01 = identity_overlay(c.t1);
+  c.l1 = c.l0;
+  for (int e : isometric) {
+    if (!can_flip_edge(c.t1, e)) {
+      throw InvalidInput("common_refinement: the flip log flips edge " + std::to_string(e) +
+                         ", which cannot be flipped there");
+    }
+    const QuadLengths q = quad_lengths(c.t1, c.l1, e);
+    const double diagonal = euclidean_diagonal(q.ab, q.ca, q.cb, q.da, q.db);
+    flip_edge_with_overlay(c.t1, c.o01, e);
+    c.l1[e] = diagonal;
+  }
+  c.tp = c.t1;
+  EdgeOverlay o1p = identity_overlay(c.tp);
+  Eigen::VectorXd ptolemy_lengths = c.l1;
+  for (int e : ptolemy) {
+    if (!can_flip_edge(c.tp, e)) {
+      throw InvalidInput("common_refinement: the flip log flips edge " + std::to_string(e) +
+                         ", which cannot be flipped there");
+    }
+    const QuadLengths q = quad_lengths(c.tp, ptolemy_lengths, e);
+    flip_edge_with_overlay(c.tp, o1p, e);
+    ptolemy_lengths[e] = (q.ca * q.db + q.da * q.cb) / q.ab;
+  }
+  if (c.tp.triangles != flow.topology.triangles || c.tp.face_edges != flow.topology.face_edges) {
+    throw InvalidInput(
+        "common_refinement: the flip log does not reproduce the flow's final triangulation");
+  }
+  const Eigen::VectorXd& final_lengths = flow.lengths;
+  for (int e = 0; e < c.tp.num_edges; ++e) {
+    const double expected = ptolemy_lengths[e] * std::exp(0.5 * (c.u[c.tp.edge_vertices(e, 0)] +
+                                                                 c.u[c.tp.edge_vertices(e, 1)]));
+    result.max_metric_mismatch = std::max(
+        result.max_metric_mismatch, std::abs(expected - final_lengths[e]) / final_lengths[e]);
+  }
+  c.final_shapes = face_shapes_from_lengths(c.tp, final_lengths);
+
+  const std::vector<CurvePath> paths01 = trace_curves(c.t1, c.o01);
+  const std::vector<CurvePath> paths1p = trace_curves(c.tp, o1p);
+  c.oT = transpose_overlay(c.tp, o1p, paths1p, c.t1);
+  const std::vector<CurvePath> pathsT = trace_curves(c.t1, c.oT);
+  for (int e = 0; e < c.tp.num_edges; ++e) {
+    for (int i = 0; i < static_cast<int>(pathsT[e].crossings.size()); ++i) {
+      const CurveCrossing& x = pathsT[e].crossings[i];
+      const CurveCrossing& y = paths1p[x.edge].crossings[x.index];
+      if (y.edge != e || y.index != i) internal_error("the two overlays disagree");
+    }
+  }
+
+  // 3. Geometry of the crossings on the Delaunay edges.
+  const int ne1 = c.t1.num_edges;
+  c.a_s.resize(ne1);
+  c.a_tau.resize(ne1);
+  c.b_s.resize(ne1);
+  c.b_final.resize(ne1);
+  c.a_vertex.resize(ne1);
+  c.b_vertex.resize(ne1);
+  for (int e = 0; e < ne1; ++e) {
+    const std::size_t na = c.o01.crossings[e].size(), nb = c.oT.crossings[e].size();
+    c.a_s[e].assign(na, 0);
+    c.a_tau[e].assign(na, 0);
+    c.a_vertex[e].assign(na, -1);
+    c.b_s[e].assign(nb, 0);
+    c.b_final[e].assign(nb, {});
+    c.b_vertex[e].assign(nb, -1);
+    result.input_delaunay_points += static_cast<int>(na);
+    result.delaunay_intrinsic_points += static_cast<int>(nb);
+  }
+  place_input_crossings(c, paths01, result);
+  place_final_crossings(c, pathsT);
+  for (int e = 0; e < ne1; ++e) {
+    std::vector<double*> a, b;
+    for (double& s : c.a_s[e]) a.push_back(&s);
+    for (double& s : c.b_s[e]) b.push_back(&s);
+    result.order_repairs += repair_order(a) + repair_order(b);
+  }
+  for (const CurvePath& p : paths01) {
+    std::vector<double*> taus;
+    for (const CurveCrossing& x : p.crossings) taus.push_back(&c.a_tau[x.edge][x.index]);
+    result.order_repairs += repair_order(taus);
+  }
+  for (const CurvePath& p : pathsT) {
+    std::vector<double*> s;
+    for (const CurveCrossing& x : p.crossings) s.push_back(&c.b_final[x.edge][x.index].s);
+    result.order_repairs += repair_order(s);
+  }
+
+  // 4. Where the final edges leave each vertex, per Delaunay corner.
+  const int nf1 = c.t1.num_faces;
+  c.b_arcs.resize(nf1);
+  c.departures.assign(3 * static_cast<std::size_t>(nf1), {});
+  c.start_wedge_cache.assign(3 * static_cast<std::size_t>(nf1), {-1, -1});
+  for (int t = 0; t < nf1; ++t) {
+    c.b_arcs[t] = face_arcs(c.t1, c.oT, t);
+    std::vector<std::vector<std::pair<int, std::pair<int, int>>>> keyed(3);
+    for (const FaceArc& arc : c.b_arcs[t]) {
+      if (!arc.from.is_corner() && !arc.to.is_corner()) continue;
+      const bool leaves = arc.from.is_corner();
+      const int corner = leaves ? arc.from.corner : arc.to.corner;
+      const int hp = c.tp.edge_halfedges(arc.curve, leaves ? 0 : 1);
+      keyed[corner].push_back(
+          {leaves ? arc.to.index : arc.from.index, {hp / 3, (hp % 3 + 1) % 3}});
+    }
+    for (int k = 0; k < 3; ++k) {
+      std::sort(keyed[k].begin(), keyed[k].end());
+      for (const auto& entry : keyed[k]) c.departures[3 * t + k].push_back(entry.second);
+    }
+  }
+
+  // 5. The points on the Delaunay edges, in order along each: vertices, their rows over the
+  // input, where they sit in the final triangulation.
+  c.ports.resize(ne1);
+  c.segment_offset.resize(ne1);
+  int segments = 0;
+  for (int e = 0; e < ne1; ++e) {
+    const int na = static_cast<int>(c.a_s[e].size()), nb = static_cast<int>(c.b_s[e].size());
+    auto& list = c.ports[e];
+    for (int ia = 0, ib = 0; ia < na || ib < nb;) {
+      if (ia < na && (ib >= nb || c.a_s[e][ia] <= c.b_s[e][ib])) {
+        list.push_back({false, ia++});
+      } else {
+        list.push_back({true, ib++});
+      }
+    }
+    c.segment_offset[e] = segments;
+    segments += static_cast<int>(list.size()) + 1;
+  }
+  c.num_edge_ids = segments;
+  for (int e = 0; e < ne1; ++e) {
+    const auto& list = c.ports[e];
+    if (list.empty()) continue;
+    const int h0 = c.t1.edge_halfedges(e, 0), h1 = c.t1.edge_halfedges(e, 1);
+    const int tail = c.t1.tail(h0), head = c.t1.head(h0);
+    const int input_edge = c.o01.coincident[e] != 0 ? std::abs(c.o01.coincident[e]) - 1 : -1;
+    // Rows: input-edge crossings directly; final-edge crossings between their neighbours among
+    // the corners and input-edge crossings (one input face holds the stretch between those).
+    std::vector<Row> rows(list.size());
+    std::vector<double> s(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const auto [is_b, j] = list[i];
+      s[i] = is_b ? c.b_s[e][j] : c.a_s[e][j];
+      if (!is_b) {
+        const int curve = std::abs(c.o01.crossings[e][j]) - 1;
+        const int hc = c.t0.edge_halfedges(curve, 0);
+        const double tau = c.a_tau[e][j];
+        rows[i] = {{c.t0.tail(hc), 1 - tau}, {c.t0.head(hc), tau}};
+      }
+    }
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].first) continue;
+      double s0 = 0, s1 = 1;
+      Row r0{{tail, 1.0}}, r1{{head, 1.0}};
+      for (std::size_t k = i; k-- > 0;) {
+        if (!list[k].first) {
+          s0 = s[k];
+          r0 = rows[k];
+          break;
+        }
+      }
+      for (std::size_t k = i + 1; k < list.size(); ++k) {
+        if (!list[k].first) {
+          s1 = s[k];
+          r1 = rows[k];
+          break;
+        }
+      }
+      rows[i] = lerp_rows(r0, r1, s1 > s0 ? (s[i] - s0) / (s1 - s0) : 0.0);
+    }
+    // Homogeneous final coordinates of the input-edge crossings: on the final edge this Delaunay
+    // edge is, or between the neighbouring corners and final-edge crossings.
+    struct Known {
+      double s;
+      FinalFacePoint ahead, behind;
+    };
+    std::vector<Known> known;
+    const int coincident_final = c.oT.coincident[e];
+    if (coincident_final == 0) {
+      auto corner_point = [&](std::pair<int, int> w, int v) {
+        return FinalFacePoint{w.first, Vec3::Unit(w.second), -c.u[v]};
+      };
+      known.push_back({0, corner_point(c.wedge_of_halfedge(h0), tail), {}});
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        if (!list[i].first) continue;
+        const int j = list[i].second;
+        const int entry = c.oT.crossings[e][j], ep = std::abs(entry) - 1;
+        const FinalEdgePoint& fe = c.b_final[e][j];
+        // A final edge crossing from the right of this edge to its left has the stretch ahead
+        // on its right (the face of its halfedge 1).
+        const int ahead = c.tp.edge_halfedges(ep, entry > 0 ? 1 : 0);
+        const int behind = c.tp.edge_halfedges(ep, entry > 0 ? 0 : 1);
+        known.push_back({s[i],
+                         {ahead / 3, bary_on_halfedge(c.tp, ahead, fe.s), fe.log_w},
+                         {behind / 3, bary_on_halfedge(c.tp, behind, fe.s), fe.log_w}});
+      }
+      if (h1 < 0) internal_error("a boundary Delaunay edge that is no final edge");
+      known.push_back({1, {}, corner_point(c.wedge_of_halfedge(h1), head)});
+    }
+    std::size_t next_known = 1;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const auto [is_b, j] = list[i];
+      const int vertex = c.add_vertex(rows[i], is_b ? input_edge : std::abs(c.o01.crossings[e][j]) - 1);
+      const int gv = vertex - nv;
+      if (is_b) {
+        c.b_vertex[e][j] = vertex;
+        c.on_final_edge[gv] = c.b_final[e][j];
+        ++next_known;
+        continue;
+      }
+      c.a_vertex[e][j] = vertex;
+      if (coincident_final != 0) {
+        // This Delaunay edge is a final edge: the projective map along it has weights e^{-u}.
+        const int ep = std::abs(coincident_final) - 1;
+        const double sigma = coincident_final > 0 ? s[i] : 1 - s[i];
+        const int hp = c.tp.edge_halfedges(ep, 0);
+        const double lt = -c.u[c.tp.tail(hp)], lh = -c.u[c.tp.head(hp)];
+        const FinalFacePoint m = homogeneous_lerp(Vec3(1, 0, 0), lt, Vec3(0, 1, 0), lh, sigma);
+        c.on_final_edge[gv] = {ep, m.bary[1], m.log_w};
+        continue;
+      }
+      const Known &k0 = known[next_known - 1], &k1 = known[next_known];
+      if (k0.ahead.face != k1.behind.face) {
+        internal_error("Delaunay edge " + std::to_string(e) + " leaves a final face unannounced");
+      }
+      const double fraction = k1.s > k0.s ? (s[i] - k0.s) / (k1.s - k0.s) : 0.0;
+      c.in_final_face[gv] = homogeneous_lerp(k0.ahead.bary, k0.ahead.log_w, k1.behind.bary,
+                                             k1.behind.log_w, fraction);
+      c.in_final_face[gv].face = k0.ahead.face;
+    }
+  }
+
+  // 6. Slice every Delaunay face.
+  std::vector<Piece> pieces;
+  for (int t = 0; t < nf1; ++t) slice_delaunay_face(c, t, pieces, result);
+  const int nt = static_cast<int>(pieces.size());
+  const int nr = nv + static_cast<int>(c.rows.size());
+
+  // 7. Positions and the interpolation matrix.
+  result.positions.resize(nr, 3);
+  result.positions.topRows(nv) = mesh.positions;
+  for (int r = nv; r < nr; ++r) {
+    Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
+    for (const auto& [v, w] : c.rows[r - nv]) p += w * mesh.positions.row(v);
+    result.positions.row(r) = p;
+  }
+  if (options.interpolation_matrix) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int v = 0; v < nv; ++v) triplets.emplace_back(v, v, 1.0);
+    for (int r = nv; r < nr; ++r) {
+      for (const auto& [v, w] : c.rows[r - nv]) {
+        if (w != 0) triplets.emplace_back(r, v, w);
+      }
+    }
+    result.interpolation.resize(nr, nv);
+    result.interpolation.setFromTriplets(triplets.begin(), triplets.end());
+  }
+  result.input_vertex.resize(nv);
+  for (int v = 0; v < nv; ++v) result.input_vertex[v] = v;
+  result.triangles.resize(nt, 3);
+  result.input_face.resize(nt);
+  result.delaunay_face.resize(nt);
+  result.intrinsic_face.resize(nt);
+  result.delaunay_barycentric.resize(3 * nt, 3);
+  result.intrinsic_barycentric.resize(3 * nt, 3);
+  for (int p = 0; p < nt; ++p) {
+    const Piece& piece = pieces[p];
+    for (int k = 0; k < 3; ++k) {
+      result.triangles(p, k) = piece.vertex[k];
+      result.delaunay_barycentric.row(3 * p + k) = piece.delaunay_bary[k].transpose();
+      result.intrinsic_barycentric.row(3 * p + k) = piece.final_bary[k].transpose();
+    }
+    result.input_face[p] = piece.input_face;
+    result.delaunay_face[p] = piece.delaunay_face;
+    result.intrinsic_face[p] = piece.final_face;
+  }
+
+  // 8. Texture coordinates, input face by input face: its pieces laid out in the final metric
+  // (rigid motions across the final edges inside it), fitted onto its corners in the layout.
+  std::vector<std::array<int, 2>> edge_pieces(static_cast<std::size_t>(c.num_edge_ids), {-1, -1});
+  for (int p = 0; p < nt; ++p) {
+    for (int k = 0; k < 3; ++k) {
+      auto& slot = edge_pieces[pieces[p].edge_id[k]];
+      (slot[0] < 0 ? slot[0] : slot[1]) = 3 * p + k;
+    }
+  }
+  std::vector<std::vector<int>> by_face(static_cast<std::size_t>(c.t0.num_faces));
+  for (int p = 0; p < nt; ++p) by_face[pieces[p].input_face].push_back(p);
+  auto final_position = [&](const Piece& piece, int k) {
+    const auto& shape = c.final_shapes[piece.final_face];
+    const Vec3& b = piece.final_bary[k];
+    return b[0] * shape[0] + b[1] * shape[1] + b[2] * shape[2];
+  };
+  auto halfedge_ends = [&](int g, int h) {
+    const auto& shape = c.final_shapes[g];
+    return std::pair<Complex, Complex>{shape[(h % 3 + 1) % 3], shape[(h % 3 + 2) % 3]};
+  };
+  std::vector<Rigid> motion(static_cast<std::size_t>(nt));
+  std::vector<char> placed(static_cast<std::size_t>(nt), 0);
+  std::vector<std::array<Complex, 3>> corner_uv(static_cast<std::size_t>(nt));
+  for (int f = 0; f < c.t0.num_faces; ++f) {
+    const auto& list = by_face[f];
+    if (list.empty()) internal_error("input face " + std::to_string(f) + " has no pieces");
+    std::vector<int> queue{list.front()};
+    placed[list.front()] = 1;
+    motion[list.front()] = {};
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int p = queue[head];
+      for (int k = 0; k < 3; ++k) {
+        if (pieces[p].input_edge[k] >= 0) continue;
+        const auto& slot = edge_pieces[pieces[p].edge_id[k]];
+        const int other = slot[0] == 3 * p + k ? slot[1] : slot[0];
+        if (other < 0 || placed[other / 3]) continue;
+        const int q = other / 3, kq = other % 3;
+        const int hp = pieces[p].final_halfedge[k], hq = pieces[q].final_halfedge[kq];
+        if (hp >= 0) {
+          if (hq < 0 || c.tp.halfedge_twin[hp] != hq) internal_error("final edge sides disagree");
+          const auto [p_tail, p_head] = halfedge_ends(pieces[p].final_face, hp);
+          const auto [q_tail, q_head] = halfedge_ends(pieces[q].final_face, hq);
+          motion[q] = compose(motion[p], segment_motion(q_tail, q_head, p_head, p_tail));
+        } else {
+          if (pieces[q].final_face != pieces[p].final_face) {
+            internal_error("pieces of two final faces meet off a final edge");
+          }
+          motion[q] = motion[p];
+        }
+        placed[q] = 1;
+        queue.push_back(q);
+      }
+    }
+    if (queue.size() != list.size()) {
+      internal_error("the pieces of input face " + std::to_string(f) + " are not connected");
+    }
+    // Fit: the developed corners onto the layout's.
+    std::array<Complex, 3> developed{}, target{};
+    std::array<int, 3> found{0, 0, 0};
+    for (int p : list) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = pieces[p].vertex[k];
+        for (int j = 0; j < 3; ++j) {
+          if (v == c.t0.triangles(f, j) && !found[j]) {
+            developed[j] = motion[p](final_position(pieces[p], k));
+            found[j] = 1;
+          }
+        }
+      }
+    }
+    double longest = 0;
+    for (int j = 0; j < 3; ++j) {
+      if (!found[j]) internal_error("input face " + std::to_string(f) + " misses a corner");
+      const int cv = param.cut_mesh.triangles(f, j);
+      target[j] = {param.layout.uv(cv, 0), param.layout.uv(cv, 1)};
+    }
+    for (int j = 0; j < 3; ++j) longest = std::max(longest, std::abs(target[(j + 1) % 3] - target[j]));
+    const Complex cd = (developed[0] + developed[1] + developed[2]) / 3.0;
+    const Complex ct = (target[0] + target[1] + target[2]) / 3.0;
+    Complex rot = 0;
+    for (int j = 0; j < 3; ++j) rot += std::conj(developed[j] - cd) * (target[j] - ct);
+    rot = std::abs(rot) > 0 ? rot / std::abs(rot) : Complex(1);
+    const Rigid fit{rot, ct - rot * cd};
+    for (int j = 0; j < 3; ++j) {
+      result.max_corner_mismatch = std::max(result.max_corner_mismatch,
+                                            std::abs(fit(developed[j]) - target[j]) / longest);
+    }
+    for (int p : list) {
+      for (int k = 0; k < 3; ++k) corner_uv[p][k] = fit(motion[p](final_position(pieces[p], k)));
+    }
+  }
+  // Indices: the input vertices' copies are the layout's; points on a cut input edge get one
+  // copy per side; others one.
+  const int base = static_cast<int>(param.uv.rows());
+  std::vector<Eigen::Vector2d> extra;
+  std::unordered_map<long long, int> key_index;
+  result.uv_triangles.resize(nt, 3);
+  for (int f = 0; f < c.t0.num_faces; ++f) {
+    for (int p : by_face[f]) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = pieces[p].vertex[k];
+        if (v < nv) {
+          int j = 0;
+          while (j < 3 && c.t0.triangles(f, j) != v) ++j;
+          result.uv_triangles(p, k) = param.cut_mesh.triangles(f, j);
+          continue;
+        }
+        const int ie = c.on_input_edge[v - nv];
+        const bool seam = ie >= 0 && !param.cut.is_cut_edge.empty() && param.cut.is_cut_edge[ie];
+        const long long key = static_cast<long long>(v) * (c.t0.num_faces + 1) + (seam ? f + 1 : 0);
+        auto [it, inserted] = key_index.emplace(key, base + static_cast<int>(extra.size()));
+        if (inserted) {
+          const Complex z = corner_uv[p][k];
+          extra.emplace_back((Eigen::Vector2d(z.real(), z.imag()) - param.uv_offset) * param.uv_scale);
+        }
+        result.uv_triangles(p, k) = it->second;
+      }
+    }
+  }
+  result.uv.resize(base + static_cast<int>(extra.size()), 2);
+  result.uv.topRows(base) = param.uv;
+  for (std::size_t i = 0; i < extra.size(); ++i) result.uv.row(base + static_cast<int>(i)) = extra[i].transpose();
+  result.projective_uv.resize(3 * nt, 3);
+  for (int p = 0; p < nt; ++p) {
+    const auto& lw = pieces[p].log_w;
+    const double top = std::max({lw[0], lw[1], lw[2]});
+    for (int k = 0; k < 3; ++k) {
+      const double w = std::exp(lw[k] - top);
+      const auto uv = result.uv.row(result.uv_triangles(p, k));
+      result.projective_uv.row(3 * p + k) << w * uv[0], w * uv[1], w;
+    }
+  }
+
+  // 9. Figures.
+  std::vector<double> along(static_cast<std::size_t>(c.tp.num_edges), 0.0);
+  for (int p = 0; p < nt; ++p) {
+    const Eigen::RowVector3d a = result.positions.row(result.triangles(p, 0));
+    const Eigen::RowVector3d b = result.positions.row(result.triangles(p, 1));
+    const Eigen::RowVector3d d = result.positions.row(result.triangles(p, 2));
+    const double longest = std::max({(b - a).squaredNorm(), (d - b).squaredNorm(), (a - d).squaredNorm()});
+    const double area = (b - a).cross(d - a).norm();
+    const auto u0 = result.uv.row(result.uv_triangles(p, 0));
+    const auto u1 = result.uv.row(result.uv_triangles(p, 1));
+    const auto u2 = result.uv.row(result.uv_triangles(p, 2));
+    const double uv_area = (u1[0] - u0[0]) * (u2[1] - u0[1]) - (u2[0] - u0[0]) * (u1[1] - u0[1]);
+    if (area <= 1e-14 * longest) {
+      ++result.degenerate_triangles;
+    } else if (uv_area <= 0) {
+      ++result.inverted_triangles;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int hp = pieces[p].final_halfedge[k];
+      if (hp < 0) continue;
+      const int ep = c.tp.halfedge_edge[hp];
+      if (hp != c.tp.edge_halfedges(ep, 0)) continue;
+      along[ep] += (result.uv.row(result.uv_triangles(p, (k + 1) % 3)) -
+                    result.uv.row(result.uv_triangles(p, (k + 2) % 3)))
+                       .norm() /
+                   param.uv_scale;
+    }
+  }
+  for (int e = 0; e < c.tp.num_edges; ++e) {
+    result.max_intrinsic_length_error = std::max(
+        result.max_intrinsic_length_error, std::abs(along[e] - final_lengths[e]) / final_lengths[e]);
+  }
+  result.delaunay_topology = std::move(c.t1);
+  result.delaunay_lengths = std::move(c.l1);
+  result.seconds = std::chrono::duration<double>(Clock::now() - started).count();
+  return result;
+}
+
+}  // namespace ricci
