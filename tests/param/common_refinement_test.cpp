@@ -10,13 +10,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <complex>
+#include <map>
 #include <numbers>
 
+#include <gtest/gtest.h>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
-#include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
@@ -99,12 +99,13 @@ Eigen::Vector3d barycentric(const std::array<Complex, 3>& s, Complex z) {
 }
 
 struct Figures {
-  int circle_checks = 0;           // pieces whose projective map was checked on circles
-  double circle_error = 0;         // largest relative distance of an image from the circle
-  double isometry_error = 0;       // 3D edge vs Delaunay-shape edge, relative to the mean edge
-  double rigidity_error = 0;       // uv edge / uv_scale vs final-shape edge, same scale
-  double area_error = 0;           // per input face, relative
-  double containment = 0;          // most negative barycentric coordinate met
+  int circle_checks = 0;        // pieces whose projective map was checked on circles
+  double circle_error = 0;      // largest relative distance of an image from the circle
+  double isometry_error = 0;    // 3D edge vs Delaunay-shape edge, relative to the mean edge
+  double rigidity_error = 0;    // uv edge / uv_scale vs final-shape edge, same scale
+  double area_error = 0;        // per input face, relative
+  double containment = 0;       // most negative barycentric coordinate met
+  double continuity_error = 0;  // log weight ratios of an edge seen from its two triangles
 };
 
 /// Every check of the file comment; returns the figures for tests to bound.
@@ -128,9 +129,31 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
   EXPECT_EQ(r.interpolation.cols(), nv);
   if (r.interpolation.rows() != r.positions.rows() || r.interpolation.cols() != nv) return fig;
   const Eigen::MatrixX3d reproduced = r.interpolation * mesh.positions;
-  EXPECT_LT((reproduced - r.positions).cwiseAbs().maxCoeff(), 1e-12 * mesh.positions.cwiseAbs().maxCoeff() + 1e-15);
+  EXPECT_LT((reproduced - r.positions).cwiseAbs().maxCoeff(),
+            1e-12 * mesh.positions.cwiseAbs().maxCoeff() + 1e-15);
   const Eigen::VectorXd sums = r.interpolation * Eigen::VectorXd::Ones(nv);
   EXPECT_LT((sums.array() - 1).abs().maxCoeff(), 1e-14);
+
+  // The map is continuous: along a refinement edge it is the 1-D projective map fixed by the
+  // ratio of its ends' weights, which both triangles on the edge must share.
+  std::map<std::pair<int, int>, std::vector<double>> edge_ratio;
+  for (int t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      const int a = r.triangles(t, i), b = r.triangles(t, j);
+      const double ratio = std::log(r.projective_uv(3 * t + j, 2) / r.projective_uv(3 * t + i, 2));
+      if (a < b) {
+        edge_ratio[{a, b}].push_back(ratio);
+      } else {
+        edge_ratio[{b, a}].push_back(-ratio);
+      }
+    }
+  }
+  for (const auto& [edge, ratios] : edge_ratio) {
+    if (ratios.size() == 2) {
+      fig.continuity_error = std::max(fig.continuity_error, std::abs(ratios[0] - ratios[1]));
+    }
+  }
 
   std::vector<double> area(static_cast<std::size_t>(t0.num_faces), 0.0);
   for (int t = 0; t < nt; ++t) {
@@ -144,9 +167,8 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
         EXPECT_TRUE(corner) << "piece " << t << " leaves input face " << f;
         fig.containment = std::min(fig.containment, it.value());
       }
-      fig.containment = std::min(
-          {fig.containment, r.delaunay_barycentric.row(3 * t + k).minCoeff(),
-           r.intrinsic_barycentric.row(3 * t + k).minCoeff()});
+      fig.containment = std::min({fig.containment, r.delaunay_barycentric.row(3 * t + k).minCoeff(),
+                                  r.intrinsic_barycentric.row(3 * t + k).minCoeff()});
       EXPECT_NEAR(r.delaunay_barycentric.row(3 * t + k).sum(), 1, 1e-12);
       EXPECT_NEAR(r.intrinsic_barycentric.row(3 * t + k).sum(), 1, 1e-12);
       const double w = r.projective_uv(3 * t + k, 2);
@@ -173,12 +195,13 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
     const auto& fs = final_shapes[r.intrinsic_face[t]];
     for (int k = 0; k < 3; ++k) {
       const int i = (k + 1) % 3, j = (k + 2) % 3;
-      const double l3 = (r.positions.row(r.triangles(t, i)) - r.positions.row(r.triangles(t, j))).norm();
+      const double l3 =
+          (r.positions.row(r.triangles(t, i)) - r.positions.row(r.triangles(t, j))).norm();
       const double ld = std::abs(at(ds, r.delaunay_barycentric.row(3 * t + i).transpose()) -
                                  at(ds, r.delaunay_barycentric.row(3 * t + j).transpose()));
       fig.isometry_error = std::max(fig.isometry_error, std::abs(l3 - ld) / scale);
-      const double luv = (r.uv.row(r.uv_triangles(t, i)) - r.uv.row(r.uv_triangles(t, j))).norm() /
-                         p.uv_scale;
+      const double luv =
+          (r.uv.row(r.uv_triangles(t, i)) - r.uv.row(r.uv_triangles(t, j))).norm() / p.uv_scale;
       const double lf = std::abs(at(fs, r.intrinsic_barycentric.row(3 * t + i).transpose()) -
                                  at(fs, r.intrinsic_barycentric.row(3 * t + j).transpose()));
       fig.rigidity_error = std::max(fig.rigidity_error, std::abs(luv - lf) / scale);
@@ -210,11 +233,11 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
     const double face_area = 0.5 * (fb - fa).cross(fc - fa).norm();
     fig.area_error = std::max(fig.area_error, std::abs(area[f] - face_area) / face_area);
   }
-  std::printf("DEBUG V %d->%ld F %d->%ld flips %d+%d pts %d %d %d circle %d %.2e iso %.2e rigid %.2e area %.2e cont %.2e len %.2e corner %.2e degen %d inv %d rep %d\n", nv, (long)r.positions.rows(), t0.num_faces, (long)r.triangles.rows(), r.isometric_flips, r.ptolemy_flips, r.input_delaunay_points, r.delaunay_intrinsic_points, r.interior_points, fig.circle_checks, fig.circle_error, fig.isometry_error, fig.rigidity_error, fig.area_error, fig.containment, r.max_intrinsic_length_error, r.max_corner_mismatch, r.degenerate_triangles, r.inverted_triangles, r.order_repairs);
   EXPECT_LT(r.max_intrinsic_length_error, 1e-9);
   EXPECT_LT(fig.isometry_error, 1e-9);
   EXPECT_LT(fig.rigidity_error, 1e-9);
   EXPECT_LT(fig.area_error, 1e-12);
+  EXPECT_LT(fig.continuity_error, 1e-9);
   EXPECT_GT(fig.containment, -1e-9);
   EXPECT_EQ(r.inverted_triangles, 0);
   return fig;
@@ -278,6 +301,28 @@ TEST(CommonRefinement, CadFanWithFreeBoundaryIsCutAlongItsDelaunayTriangulation)
   EXPECT_GT(r.input_delaunay_points, 10 * strip.num_faces());
   const Figures fig = check_refinement(p, r);
   EXPECT_LT(fig.circle_error, 1e-9);
+}
+
+TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
+  RICCI_REQUIRE_SHARED_MESHES();
+  int tested = 0;
+  for (const testing::SharedMesh& m : testing::shared_meshes()) {
+    // Small meshes whose vertex-scaling flows flip both ways (about a second together).
+    if (m.file != "eight.off" && m.file != "spot.obj" && m.file != "bob_tri.obj") continue;
+    const ReadResult read = read_mesh(m.path);
+    ParamOptions options;
+    options.structure.scheme = Scheme::VertexScaling;
+    const ParamResult p = parameterize(read.mesh, options);
+    ASSERT_TRUE(p.converged) << m.file << ": " << p.message;
+    const CommonRefinement r = common_refinement(p);
+    EXPECT_GT(r.isometric_flips, 100) << m.file;
+    EXPECT_GT(r.ptolemy_flips, 10) << m.file;
+    const Figures fig = check_refinement(p, r);
+    EXPECT_LT(fig.circle_error, 1e-8) << m.file;
+    EXPECT_EQ(r.degenerate_triangles, 0) << m.file;
+    ++tested;
+  }
+  if (tested == 0) GTEST_SKIP() << "eight.off, spot.obj and bob_tri.obj not found";
 }
 
 TEST(CommonRefinement, RefusesOtherSchemes) {

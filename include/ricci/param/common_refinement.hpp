@@ -14,8 +14,8 @@
 /// plane. In homogeneous coordinates every step is linear: a triangle's corners lifted to the
 /// light cone by its decoration (Penner's lambda lengths, lambda = 2 log l) give homogeneous
 /// barycentric coordinates equal to the Euclidean ones; across an edge ab with apexes c and d,
-/// v_d = (l_bd l_cd / (l_ac l_ab)) v_a + (l_ad l_cd / (l_bc l_ab)) v_b - (l_ad l_bd / (l_ac l_bc)) v_c
-/// with l_cd Ptolemy's diagonal; and vertex scaling by u multiplies the lift of vertex i by
+/// v_d = (l_bd l_cd / (l_ac l_ab)) v_a + (l_ad l_cd / (l_bc l_ab)) v_b - (l_ad l_bd / (l_ac l_bc))
+/// v_c with l_cd Ptolemy's diagonal; and vertex scaling by u multiplies the lift of vertex i by
 /// e^{u_i}, so that within one triangle the map is diag(e^{-u_i}) in homogeneous barycentric
 /// coordinates (it takes the triangle's circumcircle to the scaled triangle's). The map is
 /// therefore projective on every piece where one T1 triangle and one T' triangle overlap, and the
@@ -62,7 +62,7 @@ struct CommonRefinement {
   /// crosses a Delaunay edge, where a Delaunay edge crosses a final edge, and where an input edge
   /// crosses a final edge inside a Delaunay triangle.
   Eigen::Matrix<double, Eigen::Dynamic, 3> positions;
-  Triangles triangles;  ///< #T by 3, counter-clockwise as the input faces
+  Triangles triangles;              ///< #T by 3, counter-clockwise as the input faces
   std::vector<int> input_face;      ///< #T: the input face (mesh.triangles row) holding it
   std::vector<int> delaunay_face;   ///< #T: the face of delaunay_topology holding it
   std::vector<int> intrinsic_face;  ///< #T: the face of ParamResult::flow.topology holding it
@@ -93,8 +93,8 @@ struct CommonRefinement {
   Eigen::VectorXd delaunay_lengths;
 
   // Figures.
-  int isometric_flips = 0;  ///< flips from T0 to T1
-  int ptolemy_flips = 0;    ///< flips from T1 to T'
+  int isometric_flips = 0;            ///< flips from T0 to T1
+  int ptolemy_flips = 0;              ///< flips from T1 to T'
   int input_delaunay_points = 0;      ///< input edge x Delaunay edge crossings
   int delaunay_intrinsic_points = 0;  ///< Delaunay edge x final edge crossings
   int interior_points = 0;            ///< input edge x final edge, inside Delaunay triangles
