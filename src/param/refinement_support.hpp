@@ -121,7 +121,8 @@ inline double cross(Complex a, Complex b) {
   return a.real() * b.imag() - a.imag() * b.real();
 }
 
-/// Everything the slicing of the Delaunay triangles reads.
+/// The state common_refinement builds step by step and the slicing of each Delaunay triangle
+/// reads: the three triangulations, the overlays, the points on the Delaunay edges.
 struct Context {
   const Mesh& mesh;
   const ParamResult& param;
@@ -218,6 +219,7 @@ struct Piece {
   std::array<int, 3> input_edge{-1, -1, -1};
   std::array<int, 3> final_halfedge{-1, -1, -1};  ///< final halfedge (of final_face) under edge k
 };
+
 /// Cuts Delaunay face t along the input edges and final edges crossing it and appends the
 /// cells, fanned into triangles (src/param/refinement_slicing.cpp).
 void slice_delaunay_face(Context& c, int t, std::vector<Piece>& out, CommonRefinement& result);
