@@ -81,7 +81,7 @@ def test_interpolation_matrix_reproduces_positions_and_fills_faces(exact):
 
 def test_other_schemes_are_refused(torus):
     V, F = torus
-    param = ricci.parameterize(V, F, cones="none")
+    param = ricci.parameterize(V, F, cones="none", scheme="thurston")
     assert param.converged
     with pytest.raises(ricci.InvalidInput):
         ricci.common_refinement(param)

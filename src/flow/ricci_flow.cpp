@@ -63,12 +63,8 @@ const char* edge_flips_name(EdgeFlips flips) {
 
 bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options) {
   if (options.flips == EdgeFlips::Off) return false;
-  if (structure.geometry == Geometry::Hyperbolic) {
-    if (options.flips == EdgeFlips::Auto) return false;
-    throw InvalidInput(
-        "RicciFlow: Delaunay edge flips are implemented for the Euclidean background only (the "
-        "hyperbolic Ptolemy relation is not); use --flips off (the default there)");
-  }
+  // Both backgrounds: Ptolemy's relation holds for l (Euclidean) and for sinh(l / 2)
+  // (hyperbolic), see ricci/metric/delaunay_flips.hpp.
   const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
   if (options.flips == EdgeFlips::Auto) return vertex_scaling;
   if (!vertex_scaling) {
@@ -180,7 +176,8 @@ struct RicciFlow::State {
       return Evaluation::BadLength;
     }
     const Topology* t = &topology;
-    if (count_non_delaunay_edges(topology, trial_lengths) > blocked_flips) {
+    if (count_non_delaunay_edges(topology, trial_lengths, flip_options().tolerance,
+                                 structure.geometry) > blocked_flips) {
       trial_topology = topology;
       trial_structure = structure;
       const DelaunayFlipResult r = flip_to_delaunay(*trial_topology, trial_structure, trial_u,
@@ -192,7 +189,9 @@ struct RicciFlow::State {
       trial_blocked = r.blocked;
       t = &*trial_topology;
     }
-    if (corner_angles(*t, trial_lengths, trial_angles) >= 0) return Evaluation::TriangleInequality;
+    if (corner_angles(*t, trial_lengths, trial_angles, structure.geometry) >= 0) {
+      return Evaluation::TriangleInequality;
+    }
     vertex_curvature(*t, trial_angles, trial_curvature);
     return Evaluation::Valid;
   }
@@ -566,11 +565,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   check_admissible(topology, structure, target, admissibility);
   if (s.flips) {
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
-    // intrinsic Delaunay triangulation: the same flat surface, so the discrete conformal class
-    // is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex scaling on Delaunay
-    // triangulations, flips between them). Ptolemy flips there would change the metric where
-    // the input is not Delaunay: on face.obj (13k such edges) the map's mean angle distortion
-    // on the input faces went from 1.029 to 1.068.
+    // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
+    // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
+    // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
+    // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
+    // distortion on the input faces went from 1.029 to 1.068.
     if (edge_lengths(s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
@@ -693,6 +692,7 @@ FlowResult RicciFlow::result() const {
   r.triangles = s.topology.triangles;
   r.flips = s.total_flips;
   r.flipped_edges = s.flipped_edges;
+  r.eta = s.structure.eta;
   r.isometric_flips = s.isometric_flips;
   r.blocked_flips = s.blocked_flips;
   if (s.total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(s.topology);

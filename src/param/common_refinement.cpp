@@ -159,6 +159,61 @@ void place_final_crossings(Context& c, const std::vector<CurvePath>& paths) {
     }
   }
 }
+/// The flow the refinement replays: the mesh parameterized with the whole-mesh flip log, or,
+/// when the flow ran on the mesh glued to its mirror image (ComponentFlow::doubled), that
+/// doubled surface with its own log; its first front_faces faces are the mesh's.
+struct FlowInput {
+  Mesh mesh;
+  std::vector<int> flipped_edges;
+  std::vector<char> flip_is_isometric;
+  Topology final_topology;
+  Eigen::VectorXd final_lengths, u;
+  int front_faces = 0;
+  bool doubled = false;
+};
+
+FlowInput flow_input(const ParamResult& param) {
+  const MeshFlowResult& flow = param.flow;
+  FlowInput in;
+  in.front_faces = param.mesh.num_faces();
+  const ComponentFlow* doubled = nullptr;
+  for (const ComponentFlow& component : flow.components) {
+    if (component.doubled) doubled = &component;
+  }
+  if (doubled == nullptr) {
+    in.mesh = param.mesh;
+    in.flipped_edges = flow.flipped_edges;
+    in.flip_is_isometric = flow.flip_is_isometric;
+    in.final_topology = flow.topology;
+    in.final_lengths = flow.lengths;
+    in.u = flow.u;
+    return in;
+  }
+  if (flow.components.size() != 1) {
+    throw InvalidInput(
+        "common_refinement: a component flowed on its double in a mesh of several components");
+  }
+  const FlowResult& f = doubled->flow;
+  const int n = static_cast<int>(doubled->doubled_vertex_original.size());
+  in.doubled = true;
+  in.mesh.positions.resize(n, 3);
+  for (int v = 0; v < n; ++v) {
+    const int local = doubled->doubled_vertex_original[v];
+    const int whole = doubled->vertices.empty() ? local : doubled->vertices[local];
+    in.mesh.positions.row(v) = param.mesh.positions.row(whole);
+  }
+  in.mesh.triangles = doubled->doubled_triangles;
+  in.flipped_edges = f.flipped_edges;
+  in.flip_is_isometric.assign(f.flipped_edges.size(), 0);
+  std::fill_n(in.flip_is_isometric.begin(),
+              std::min<std::size_t>(f.isometric_flips, f.flipped_edges.size()), 1);
+  in.final_topology =
+      f.intrinsic_topology ? *f.intrinsic_topology : build_topology(in.mesh.triangles, n);
+  in.final_lengths = f.lengths;
+  in.u = f.u;
+  return in;
+}
+
 }  // namespace
 
 CommonRefinement common_refinement(const ParamResult& param,
@@ -168,26 +223,29 @@ CommonRefinement common_refinement(const ParamResult& param,
     throw InvalidInput("common_refinement: the parameterization did not converge" +
                        (param.message.empty() ? std::string() : ": " + param.message));
   }
-  const MeshFlowResult& flow = param.flow;
-  const ConformalStructure& structure = flow.structure.structure;
-  if (structure.scheme != Scheme::VertexScaling || (structure.epsilon.array() != 0.0).any()) {
+  const ConformalStructure& structure = param.flow.structure.structure;
+  if (structure.scheme != Scheme::VertexScaling || (structure.epsilon.array() != 0.0).any() ||
+      structure.geometry != Geometry::Euclidean) {
     throw InvalidInput(
         "common_refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
         "conformal class); this parameterization used " +
         std::string(scheme_name(structure.scheme)));
   }
-  const Mesh& mesh = param.mesh;
-  const int nv = mesh.num_vertices();
-  Context c(mesh, param);
+  const FlowInput flow = flow_input(param);
+  const Mesh& mesh = flow.mesh;
+  const int nv = mesh.num_vertices();            // the surface flowed
+  const int nv_out = param.mesh.num_vertices();  // the mesh parameterized
+  const int front = flow.front_faces;
+  Context c(mesh, param, flow.u);
   c.t0 = build_topology(mesh.triangles, nv);
   c.l0 = input_edge_lengths(mesh, c.t0);
-  if (flow.u.size() != nv || flow.lengths.size() != c.t0.num_edges ||
+  if (flow.u.size() != nv || flow.final_lengths.size() != c.t0.num_edges ||
       flow.flip_is_isometric.size() != flow.flipped_edges.size() ||
-      param.cut_mesh.triangles.rows() != c.t0.num_faces ||
-      param.uv.rows() != param.layout.uv.rows()) {
+      param.cut_mesh.triangles.rows() != front || param.uv.rows() != param.layout.uv.rows()) {
     throw InvalidInput("common_refinement: the parameterization's arrays do not fit its mesh");
   }
   CommonRefinement result;
+  result.doubled = flow.doubled;
 
   // 1. The flip log split: isometric flips (T0 -> T1) come first in each component.
   std::vector<int> isometric, ptolemy;
@@ -239,11 +297,12 @@ CommonRefinement common_refinement(const ParamResult& param,
     flip_edge_with_overlay(c.tp, o1p, e);
     ptolemy_lengths[e] = (q.ca * q.db + q.da * q.cb) / q.ab;
   }
-  if (c.tp.triangles != flow.topology.triangles || c.tp.face_edges != flow.topology.face_edges) {
+  if (c.tp.triangles != flow.final_topology.triangles ||
+      c.tp.face_edges != flow.final_topology.face_edges) {
     throw InvalidInput(
         "common_refinement: the flip log does not reproduce the flow's final triangulation");
   }
-  const Eigen::VectorXd& final_lengths = flow.lengths;
+  const Eigen::VectorXd& final_lengths = flow.final_lengths;
   for (int e = 0; e < c.tp.num_edges; ++e) {
     const double expected =
         ptolemy_lengths[e] *
@@ -281,8 +340,6 @@ CommonRefinement common_refinement(const ParamResult& param,
     c.b_s[e].assign(nb, 0);
     c.b_final[e].assign(nb, {});
     c.b_vertex[e].assign(nb, -1);
-    result.input_delaunay_points += static_cast<int>(na);
-    result.delaunay_intrinsic_points += static_cast<int>(nb);
   }
   place_input_crossings(c, paths01, result);
   place_final_crossings(c, pathsT);
@@ -415,8 +472,8 @@ CommonRefinement common_refinement(const ParamResult& param,
     std::size_t next_known = 1;
     for (std::size_t i = 0; i < list.size(); ++i) {
       const auto [is_b, j] = list[i];
-      const int vertex =
-          c.add_vertex(rows[i], is_b ? input_edge : std::abs(c.o01.crossings[e][j]) - 1);
+      const int vertex = c.add_vertex(
+          rows[i], is_b ? input_edge : std::abs(c.o01.crossings[e][j]) - 1, is_b ? 1 : 0);
       const int gv = vertex - nv;
       if (is_b) {
         c.b_vertex[e][j] = vertex;
@@ -446,33 +503,75 @@ CommonRefinement common_refinement(const ParamResult& param,
     }
   }
 
-  // 6. Slice every Delaunay face.
+  // 6. Slice every Delaunay face; of a doubled surface keep the pieces of the front half.
   std::vector<Piece> pieces;
   for (int t = 0; t < nf1; ++t) slice_delaunay_face(c, t, pieces, result);
+  // Refinement edges along each final edge, all of them and those kept (figures, step 9).
+  std::vector<int> on_final_all(static_cast<std::size_t>(c.tp.num_edges), 0);
+  for (const Piece& piece : pieces) {
+    for (int hp : piece.final_halfedge) {
+      if (hp >= 0 && hp == c.tp.edge_halfedges(c.tp.halfedge_edge[hp], 0)) {
+        ++on_final_all[c.tp.halfedge_edge[hp]];
+      }
+    }
+  }
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(),
+                              [front](const Piece& p) { return p.input_face >= front; }),
+               pieces.end());
   const int nt = static_cast<int>(pieces.size());
-  const int nr = nv + static_cast<int>(c.rows.size());
 
-  // 7. Positions and the interpolation matrix.
+  // 7. Vertices (the mesh's, then the crossing points the pieces use, in the order they were
+  // made), positions and the interpolation matrix.
+  std::vector<int> out_index(static_cast<std::size_t>(nv) + c.rows.size(), -1);
+  for (int v = 0; v < nv_out; ++v) out_index[v] = v;
+  for (Piece& piece : pieces) {
+    for (int v : piece.vertex) {
+      if (v >= nv_out && v < nv) internal_error("a front piece uses a mirror vertex");
+      if (v >= nv) out_index[v] = 0;  // used; numbered below
+    }
+  }
+  std::vector<int> raw_of;  // output vertex -> raw index
+  for (int v = 0; v < nv_out; ++v) raw_of.push_back(v);
+  for (int r = nv; r < static_cast<int>(out_index.size()); ++r) {
+    if (out_index[r] < 0) continue;
+    out_index[r] = static_cast<int>(raw_of.size());
+    raw_of.push_back(r);
+    const char kind = c.kind[r - nv];
+    ++(kind == 0   ? result.input_delaunay_points
+       : kind == 1 ? result.delaunay_intrinsic_points
+                   : result.interior_points);
+  }
+  for (Piece& piece : pieces) {
+    for (int& v : piece.vertex) v = out_index[v];
+  }
+  const int nr = static_cast<int>(raw_of.size());
+  auto row_of = [&](int out) -> const Row& { return c.rows[raw_of[out] - nv]; };
   result.positions.resize(nr, 3);
-  result.positions.topRows(nv) = mesh.positions;
-  for (int r = nv; r < nr; ++r) {
+  result.positions.topRows(nv_out) = param.mesh.positions;
+  for (int r = nv_out; r < nr; ++r) {
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
-    for (const auto& [v, w] : c.rows[r - nv]) p += w * mesh.positions.row(v);
+    for (const auto& [v, w] : row_of(r)) p += w * mesh.positions.row(v);
     result.positions.row(r) = p;
   }
   if (options.interpolation_matrix) {
     std::vector<Eigen::Triplet<double>> triplets;
-    for (int v = 0; v < nv; ++v) triplets.emplace_back(v, v, 1.0);
-    for (int r = nv; r < nr; ++r) {
-      for (const auto& [v, w] : c.rows[r - nv]) {
+    for (int v = 0; v < nv_out; ++v) triplets.emplace_back(v, v, 1.0);
+    for (int r = nv_out; r < nr; ++r) {
+      for (const auto& [v, w] : row_of(r)) {
+        if (v >= nv_out) internal_error("a front point leans on a mirror vertex");
         if (w != 0) triplets.emplace_back(r, v, w);
       }
     }
-    result.interpolation.resize(nr, nv);
+    result.interpolation.resize(nr, nv_out);
     result.interpolation.setFromTriplets(triplets.begin(), triplets.end());
   }
-  result.input_vertex.resize(nv);
-  for (int v = 0; v < nv; ++v) result.input_vertex[v] = v;
+  result.input_vertex.resize(nv_out);
+  for (int v = 0; v < nv_out; ++v) result.input_vertex[v] = v;
+  // Input edges of the surface flowed -> the mesh's (the front faces' halfedges are the mesh's).
+  const Topology mesh_topology = build_topology(param.mesh.triangles, nv_out);
+  std::vector<int> mesh_edge(static_cast<std::size_t>(c.t0.num_edges), -1);
+  for (int h = 0; h < 3 * front; ++h)
+    mesh_edge[c.t0.halfedge_edge[h]] = mesh_topology.halfedge_edge[h];
   result.triangles.resize(nt, 3);
   result.input_face.resize(nt);
   result.delaunay_face.resize(nt);
@@ -500,7 +599,7 @@ CommonRefinement common_refinement(const ParamResult& param,
       (slot[0] < 0 ? slot[0] : slot[1]) = 3 * p + k;
     }
   }
-  std::vector<std::vector<int>> by_face(static_cast<std::size_t>(c.t0.num_faces));
+  std::vector<std::vector<int>> by_face(static_cast<std::size_t>(front));
   for (int p = 0; p < nt; ++p) by_face[pieces[p].input_face].push_back(p);
   auto final_position = [&](const Piece& piece, int k) {
     const auto& shape = c.final_shapes[piece.final_face];
@@ -514,7 +613,7 @@ CommonRefinement common_refinement(const ParamResult& param,
   std::vector<Rigid> motion(static_cast<std::size_t>(nt));
   std::vector<char> placed(static_cast<std::size_t>(nt), 0);
   std::vector<std::array<Complex, 3>> corner_uv(static_cast<std::size_t>(nt));
-  for (int f = 0; f < c.t0.num_faces; ++f) {
+  for (int f = 0; f < front; ++f) {
     const auto& list = by_face[f];
     if (list.empty()) internal_error("input face " + std::to_string(f) + " has no pieces");
     std::vector<int> queue{list.front()};
@@ -589,19 +688,20 @@ CommonRefinement common_refinement(const ParamResult& param,
   std::vector<Eigen::Vector2d> extra;
   std::unordered_map<long long, int> key_index;
   result.uv_triangles.resize(nt, 3);
-  for (int f = 0; f < c.t0.num_faces; ++f) {
+  for (int f = 0; f < front; ++f) {
     for (int p : by_face[f]) {
       for (int k = 0; k < 3; ++k) {
         const int v = pieces[p].vertex[k];
-        if (v < nv) {
+        if (v < nv_out) {
           int j = 0;
           while (j < 3 && c.t0.triangles(f, j) != v) ++j;
           result.uv_triangles(p, k) = param.cut_mesh.triangles(f, j);
           continue;
         }
-        const int ie = c.on_input_edge[v - nv];
+        const int ie =
+            c.on_input_edge[raw_of[v] - nv] < 0 ? -1 : mesh_edge[c.on_input_edge[raw_of[v] - nv]];
         const bool seam = ie >= 0 && !param.cut.is_cut_edge.empty() && param.cut.is_cut_edge[ie];
-        const long long key = static_cast<long long>(v) * (c.t0.num_faces + 1) + (seam ? f + 1 : 0);
+        const long long key = static_cast<long long>(v) * (front + 1) + (seam ? f + 1 : 0);
         auto [it, inserted] = key_index.emplace(key, base + static_cast<int>(extra.size()));
         if (inserted) {
           const Complex z = corner_uv[p][k];
@@ -629,6 +729,7 @@ CommonRefinement common_refinement(const ParamResult& param,
 
   // 9. Figures.
   std::vector<double> along(static_cast<std::size_t>(c.tp.num_edges), 0.0);
+  std::vector<int> on_final_kept(static_cast<std::size_t>(c.tp.num_edges), 0);
   for (int p = 0; p < nt; ++p) {
     const Eigen::RowVector3d a = result.positions.row(result.triangles(p, 0));
     const Eigen::RowVector3d b = result.positions.row(result.triangles(p, 1));
@@ -650,6 +751,7 @@ CommonRefinement common_refinement(const ParamResult& param,
       if (hp < 0) continue;
       const int ep = c.tp.halfedge_edge[hp];
       if (hp != c.tp.edge_halfedges(ep, 0)) continue;
+      ++on_final_kept[ep];
       along[ep] += (result.uv.row(result.uv_triangles(p, (k + 1) % 3)) -
                     result.uv.row(result.uv_triangles(p, (k + 2) % 3)))
                        .norm() /
@@ -657,6 +759,8 @@ CommonRefinement common_refinement(const ParamResult& param,
     }
   }
   for (int e = 0; e < c.tp.num_edges; ++e) {
+    // Final edges of a doubled surface that reach into the mirror half are not all laid out.
+    if (on_final_kept[e] != on_final_all[e]) continue;
     result.max_intrinsic_length_error =
         std::max(result.max_intrinsic_length_error,
                  std::abs(along[e] - final_lengths[e]) / final_lengths[e]);

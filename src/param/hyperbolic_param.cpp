@@ -98,11 +98,27 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   }
 
   // 2. The metric refined in long double: the group relation multiplies every misclosure of the
-  // layout by the squared norms of long words.
-  const Topology& topology = result.flow.topology;
-  const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
-  result.refinement = refine_hyperbolic_metric(topology, result.flow.structure.structure,
+  // layout by the squared norms of long words. With flips the metric lives on the intrinsic
+  // Delaunay triangulation (possibly a Delta-complex), with the constants its flips set.
+  ConformalStructure final_structure = result.flow.structure.structure;
+  final_structure.eta = result.flow.eta;
+  result.refinement = refine_hyperbolic_metric(result.flow.topology, final_structure,
                                                result.flow.target, result.flow.u);
+
+  // The input's own faces in that metric: without flips their lengths; with flips each face
+  // developed into the disk by undoing the flips (long double), so that the cut runs along input
+  // edges and the layout, the seams and the written faces are the user's.
+  const Topology& topology = t0;
+  const bool flipped = result.flow.flips > 0;
+  HyperbolicDevelopment development;
+  Eigen::VectorXd path_lengths = result.flow.lengths;  // hyperbolic lengths of the input edges
+  if (flipped) {
+    development = develop_input_faces_hyperbolic(topology, result.flow.flipped_edges,
+                                                 result.refinement.lengths);
+    result.development_length_mismatch = development.max_length_mismatch;
+    path_lengths = development.lengths.cast<double>();
+  }
+  const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
 
   // 3. Cut graph (no cones: 2 g loops, joined to the boundaries), slicing, disk layout and, on a
   // closed surface, the Fuchsian group. Shortest paths follow the hyperbolic metric, so that
@@ -118,10 +134,12 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     Attempt a;
     CutGraphOptions cut_options;
     cut_options.root_vertex = root;
-    a.cut = cut_graph(topology, result.flow.lengths, cut_options);
+    a.cut = cut_graph(topology, path_lengths, cut_options);
     a.cut_mesh = slice(topology, a.cut);
     a.layout =
-        layout_hyperbolic(topology, result.refinement.lengths, a.cut, a.cut_mesh, options.layout);
+        flipped ? layout_hyperbolic(topology, development.shapes, a.cut, a.cut_mesh, options.layout)
+                : layout_hyperbolic(topology, result.refinement.lengths, a.cut, a.cut_mesh,
+                                    options.layout);
     if (closed) {
       SegmentRelations relations;
       for (const SegmentIsometry& s : a.layout.segment_maps) {

@@ -15,54 +15,31 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 
-bool is_packing(Scheme s) {
-  return s == Scheme::Thurston || s == Scheme::Tangential;
-}
-
 /// Valence a cone of curvature k needs for the single-vertex bound with room to spare: packings
 /// with Phi up to pi/2 give each face at least pi/2, so valence > (2 pi - k) / (pi/2); the other
 /// schemes give each face up to pi, so valence > (2 pi - k) / pi.
 int required_valence(double k, Scheme scheme) {
-  const double per_face = is_packing(scheme) ? kPi / 2 : kPi;
+  const bool packing = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
+  const double per_face = packing ? kPi / 2 : kPi;
   return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
-}
-
-/// Cone curvatures the surface takes when u is held at the cone vertices (and on the boundary)
-/// and every other vertex is flattened.
-std::vector<Cone> settle_cones(const Mesh& mesh, const std::vector<int>& vertices,
-                               const ParamOptions& options, ParamResult& result) {
-  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const StructureResult s =
-      make_conformal_structure(t, input_edge_lengths(mesh, t), options.structure);
-  Target target;
-  target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
-  target.fixed.assign(t.num_vertices, 0);
-  for (int v = 0; v < t.num_vertices; ++v) target.fixed[v] = t.is_boundary_vertex[v];
-  for (int v : vertices) target.fixed[v] = 1;
-  target.description = "flat, u held at the chosen cones";
-  const FlowResult flow = ricci_flow(t, s.structure, target, options.flow);
-  if (!flow.converged) {
-    result.message = "settling the automatic cones: " + flow.message;
-    return {};
-  }
-  std::vector<Cone> cones;
-  for (int v : vertices) cones.push_back({v, flow.curvature[v]});
-  return cones;
 }
 
 }  // namespace
 
 ConeMode parse_cone_mode(const std::string& name) {
+  if (name == "needed") return ConeMode::Needed;
   if (name == "none") return ConeMode::None;
   if (name == "user") return ConeMode::User;
   if (name == "auto") return ConeMode::Auto;
   if (name == "one") return ConeMode::OneCone;
   throw InvalidInput("parse_cone_mode: unknown cone mode '" + name +
-                     "'; expected none, user, auto or one");
+                     "'; expected needed, none, user, auto or one");
 }
 
 const char* cone_mode_name(ConeMode mode) {
   switch (mode) {
+    case ConeMode::Needed:
+      return "needed";
     case ConeMode::None:
       return "none";
     case ConeMode::User:
@@ -89,7 +66,11 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
 
   // 1. Singularities, in input vertex indices.
   std::vector<Cone> cones;
-  switch (options.cone_mode) {
+  ConeMode mode = options.cone_mode;
+  if (mode == ConeMode::Needed) mode = closed && chi != 0 ? ConeMode::Auto : ConeMode::None;
+  switch (mode) {
+    case ConeMode::Needed:
+      break;
     case ConeMode::None:
       if (closed && chi != 0) {
         throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(comp.genus) +
@@ -112,6 +93,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
       one.count = 1;
       one.try_first_cone_candidates = 16;
       one.structure = options.structure;
+      one.max_cones = 1;
       result.cone_selection = select_cones(input, one);
       cones.push_back({result.cone_selection.vertices.front(), 2 * kPi * chi});
       break;
@@ -121,11 +103,9 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
       selection.structure = options.structure;
       selection.boundary = options.boundary;
       result.cone_selection = select_cones(input, selection);
-      cones = settle_cones(input, result.cone_selection.vertices, options, result);
-      if (!result.message.empty()) {
-        result.mesh = input;
-        result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        return result;
+      for (std::size_t i = 0; i < result.cone_selection.vertices.size(); ++i) {
+        cones.push_back(
+            {result.cone_selection.vertices[i], result.cone_selection.linear_curvature[i]});
       }
       break;
     }
@@ -142,7 +122,13 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   result.mesh = input;
   result.vertex_origin.resize(input.num_vertices());
   for (int v = 0; v < input.num_vertices(); ++v) result.vertex_origin[v] = v;
-  if (options.modify_connectivity) {
+  // With flips every admissible target is reachable on the input's own triangulation, which is
+  // kept. (A cone much stronger than its valence then shows as flipped uv triangles around it, as
+  // every map drawn linearly on the input's faces does; the common refinement is exact.)
+  const bool flips =
+      options.flow.flips == EdgeFlips::Delaunay ||
+      (options.flow.flips == EdgeFlips::Auto && options.structure.scheme == Scheme::VertexScaling);
+  if (options.modify_connectivity && !flips) {
     for (const Cone& cone : cones) {
       if (cone.vertex < 0 || cone.vertex >= result.mesh.num_vertices()) continue;  // flat_target
       const Topology t = build_topology(result.mesh.triangles, result.mesh.num_vertices());
@@ -169,7 +155,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   result.flow = flow_mesh(result.mesh, flow_options);
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
-  if (!result.converged && options.modify_connectivity && !cones.empty() &&
+  if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
       (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
     // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
     // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
@@ -204,14 +190,9 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
-  if (result.flow.flips > 0) {
-    Development development =
-        develop_input_faces(topology, result.flow.flipped_edges, result.flow.lengths);
-    result.development_length_mismatch = development.max_length_mismatch;
-    result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
-  } else {
-    result.layout = layout_flat(topology, result.flow.lengths, result.cut, result.cut_mesh);
-  }
+  const Development development = develop_input_faces(result.mesh, result.flow);
+  result.development_length_mismatch = development.max_length_mismatch;
+  result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
   for (int e = 0; e < topology.num_edges; ++e) {

@@ -155,13 +155,12 @@ void slice_delaunay_face(Context& c, int t, std::vector<Piece>& out, CommonRefin
     const Chord &a = chords[x.alpha], &b = chords[x.beta];
     const double tau = (1 - x.lambda_a) * port_tau(a.p, true) + x.lambda_a * port_tau(a.q, false);
     const int h = c.t0.edge_halfedges(a.curve, 0);
-    x.vertex = c.add_vertex({{c.t0.tail(h), 1 - tau}, {c.t0.head(h), tau}}, a.curve);
+    x.vertex = c.add_vertex({{c.t0.tail(h), 1 - tau}, {c.t0.head(h), tau}}, a.curve, 2);
     x.bary = (1 - x.lambda_a) * ports[a.p].bary + x.lambda_a * ports[a.q].bary;
     const FinalEdgePoint f0 = port_final(b.p, b.curve, true), f1 = port_final(b.q, b.curve, false);
     const FinalFacePoint mixed = homogeneous_lerp(Vec3(1 - f0.s, f0.s, 0), f0.log_w,
                                                   Vec3(1 - f1.s, f1.s, 0), f1.log_w, x.lambda_b);
     c.on_final_edge[x.vertex - nv] = {b.curve, mixed.bary[1], mixed.log_w};
-    ++result.interior_points;
   }
 
   // The planar graph: ports, then interior points; half-edges with their rotation (counter-

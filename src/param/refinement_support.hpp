@@ -124,7 +124,7 @@ inline double cross(Complex a, Complex b) {
 /// The state common_refinement builds step by step and the slicing of each Delaunay triangle
 /// reads: the three triangulations, the overlays, the points on the Delaunay edges.
 struct Context {
-  const Mesh& mesh;
+  const Mesh& mesh;  ///< the surface flowed: the mesh parameterized, or its double
   const ParamResult& param;
   Topology t0, t1, tp;
   Eigen::VectorXd l0, l1;
@@ -149,16 +149,22 @@ struct Context {
   // Refinement vertices beyond the input's.
   std::vector<Row> rows;
   std::vector<int> on_input_edge;  ///< input edge the vertex lies on, or -1
+  /// 0: an input edge crosses a Delaunay edge there; 1: a Delaunay edge a final edge; 2: an
+  /// input edge a final edge, inside a Delaunay triangle
+  std::vector<char> kind;
   std::vector<FinalEdgePoint> on_final_edge;
   std::vector<FinalFacePoint> in_final_face;  ///< A-points inside a final face
   int num_edge_ids = 0;
 
-  Context(const Mesh& m, const ParamResult& p) : mesh(m), param(p), u(p.flow.u) {}
+  Context(const Mesh& m, const ParamResult& p, const Eigen::VectorXd& final_u)
+      : mesh(m), param(p), u(final_u) {}
 
-  /// Appends a refinement vertex; returns its index (after the input's vertices).
-  int add_vertex(Row row, int input_edge) {
+  /// Appends a refinement vertex of the given kind; returns its index (after the mesh's
+  /// vertices).
+  int add_vertex(Row row, int input_edge, char point_kind) {
     rows.push_back(std::move(row));
     on_input_edge.push_back(input_edge);
+    kind.push_back(point_kind);
     on_final_edge.push_back({});
     in_final_face.push_back({});
     return mesh.num_vertices() + static_cast<int>(rows.size()) - 1;

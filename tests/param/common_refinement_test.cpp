@@ -20,6 +20,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 #include "support/shared_meshes.hpp"
@@ -117,7 +118,11 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
   const Eigen::VectorXd l0 = input_edge_lengths(mesh, t0);
   const double scale = l0.mean();
   const FaceShapes delaunay = face_shapes_from_lengths(r.delaunay_topology, r.delaunay_lengths);
-  const FaceShapes final_shapes = face_shapes_from_lengths(p.flow.topology, p.flow.lengths);
+  // The final triangulation: the flow's, or that of the doubled surface it ran on.
+  const FlowResult& component = p.flow.components.front().flow;
+  const FaceShapes final_shapes =
+      r.doubled ? face_shapes_from_lengths(*component.intrinsic_topology, component.lengths)
+                : face_shapes_from_lengths(p.flow.topology, p.flow.lengths);
 
   // The input vertices come first, unchanged, with the default output's texture coordinates.
   EXPECT_EQ(r.positions.topRows(nv), mesh.positions);
@@ -303,6 +308,41 @@ TEST(CommonRefinement, CadFanWithFreeBoundaryIsCutAlongItsDelaunayTriangulation)
   EXPECT_LT(fig.circle_error, 1e-9);
 }
 
+TEST(CommonRefinement, ADiskFlowedOnItsDoubleKeepsItsOwnHalf) {
+  // A CAD cylinder without one pole: fans of needles along the boundary, whose triangles break
+  // on the disk itself; the flow runs on the disk glued to its mirror image, and the refinement
+  // is that of the doubled surface cut back to the disk's faces.
+  const Mesh cylinder = make_cad_cylinder(120);
+  std::vector<int> to(static_cast<std::size_t>(cylinder.num_vertices()), -1);
+  int n = 0;
+  for (int v = 1; v < cylinder.num_vertices(); ++v) to[v] = n++;
+  std::vector<Eigen::RowVector3i> faces;
+  for (int f = 0; f < cylinder.num_faces(); ++f) {
+    const Eigen::RowVector3i c = cylinder.triangles.row(f);
+    if (c[0] != 0 && c[1] != 0 && c[2] != 0) faces.emplace_back(to[c[0]], to[c[1]], to[c[2]]);
+  }
+  Mesh disk;
+  disk.positions = cylinder.positions.bottomRows(n);
+  disk.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    disk.triangles.row(static_cast<Eigen::Index>(f)) = faces[f];
+  ParamOptions options;
+  options.structure.scheme = Scheme::VertexScaling;
+  options.cone_mode = ConeMode::None;
+  options.boundary = BoundaryMode::DiskLength;
+  const ParamResult p = parameterize(disk, options);
+  ASSERT_TRUE(p.converged) << p.message;
+  ASSERT_TRUE(p.flow.components.front().doubled);
+  const CommonRefinement r = common_refinement(p);
+  EXPECT_TRUE(r.doubled);
+  EXPECT_GT(r.isometric_flips + r.ptolemy_flips, 100);
+  EXPECT_GT(r.triangles.rows(), disk.num_faces());
+  for (int f : r.input_face) EXPECT_LT(f, disk.num_faces());
+  const Figures fig = check_refinement(p, r);
+  EXPECT_GT(fig.circle_checks, 100);
+  EXPECT_LT(fig.circle_error, 1e-8);
+}
+
 TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
   RICCI_REQUIRE_SHARED_MESHES();
   int tested = 0;
@@ -312,6 +352,7 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
     const ReadResult read = read_mesh(m.path);
     ParamOptions options;
     options.structure.scheme = Scheme::VertexScaling;
+    options.cone_mode = ConeMode::Auto;
     const ParamResult p = parameterize(read.mesh, options);
     ASSERT_TRUE(p.converged) << m.file << ": " << p.message;
     const CommonRefinement r = common_refinement(p);
@@ -328,6 +369,7 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
 TEST(CommonRefinement, RefusesOtherSchemes) {
   ParamOptions options;
   options.cone_mode = ConeMode::None;
+  options.structure.scheme = Scheme::Thurston;
   const ParamResult p = parameterize(make_torus(12, 6), options);
   ASSERT_TRUE(p.converged);
   EXPECT_THROW(common_refinement(p), InvalidInput);

@@ -62,10 +62,12 @@ struct CommonRefinement {
   /// crosses a Delaunay edge, where a Delaunay edge crosses a final edge, and where an input edge
   /// crosses a final edge inside a Delaunay triangle.
   Eigen::Matrix<double, Eigen::Dynamic, 3> positions;
-  Triangles triangles;              ///< #T by 3, counter-clockwise as the input faces
-  std::vector<int> input_face;      ///< #T: the input face (mesh.triangles row) holding it
-  std::vector<int> delaunay_face;   ///< #T: the face of delaunay_topology holding it
-  std::vector<int> intrinsic_face;  ///< #T: the face of ParamResult::flow.topology holding it
+  Triangles triangles;             ///< #T by 3, counter-clockwise as the input faces
+  std::vector<int> input_face;     ///< #T: the input face (mesh.triangles row) holding it
+  std::vector<int> delaunay_face;  ///< #T: the face of delaunay_topology holding it
+  /// #T: the face of the final triangulation holding it (ParamResult::flow.topology, or see
+  /// `doubled`)
+  std::vector<int> intrinsic_face;
   /// #V: the refinement vertex of each input vertex (the identity: they come first)
   std::vector<int> input_vertex;
   /// #R by #V: row r holds the barycentric (or edge) weights of vertex r in the input face (or
@@ -91,6 +93,11 @@ struct CommonRefinement {
   /// T1: the input after the isometric flips of the flip log, and its edge lengths.
   Topology delaunay_topology;
   Eigen::VectorXd delaunay_lengths;
+  /// The flow ran on the mesh glued to its mirror image along the boundary
+  /// (ComponentFlow::doubled): delaunay_topology, delaunay_face and intrinsic_face then refer to
+  /// that doubled surface (its final triangulation is the component's flow.intrinsic_topology),
+  /// whose first #F faces are the mesh's; the refinement is that of the mesh's half.
+  bool doubled = false;
 
   // Figures.
   int isometric_flips = 0;            ///< flips from T0 to T1
@@ -100,7 +107,7 @@ struct CommonRefinement {
   int interior_points = 0;            ///< input edge x final edge, inside Delaunay triangles
   /// Largest relative difference, over final edges, between the edge's final length and the sum
   /// of the uv distances (divided by ParamResult::uv_scale) between the refinement vertices along
-  /// it.
+  /// it (of a doubled surface, over the final edges that stay in the mesh's half).
   double max_intrinsic_length_error = 0;
   /// Largest distance, relative to the face's longest uv edge, between an input face's corners
   /// as its refinement pieces develop them and where the default layout puts them (before the
@@ -123,7 +130,8 @@ struct CommonRefinement {
 
 /// The common refinement of a vertex-scaling parameterization (see the file comment).
 /// \param param a converged result of parameterize with Scheme::VertexScaling (edge flips or
-///        not; without flips the refinement is the input, with projective weights e^{-u})
+///        not; without flips the refinement is the input, with projective weights e^{-u}; a flow
+///        run on the doubled surface is refined there and cut back to the mesh's half)
 /// \throw InvalidInput when the result did not converge, its scheme is not vertex scaling, or its
 ///        flip log does not reproduce its triangulation; SolverError on an internal
 ///        inconsistency (a bug)

@@ -40,11 +40,18 @@ struct HyperbolicParamOptions {
 struct HyperbolicParamResult {
   bool converged = false;  ///< the flow reached its tolerance
   std::string message;     ///< why not, when it did not
-  MeshFlowResult flow;     ///< the flow to the hyperbolic metric
+  /// The flow to the hyperbolic metric. With vertex scaling it flips edges (FlowOptions::flips
+  /// Auto): its topology is then the intrinsic Delaunay triangulation the metric lives on, and
+  /// the input's own faces are developed in it (develop_input_faces_hyperbolic) before the cut
+  /// and the layout, which work on the input's faces and edges.
+  MeshFlowResult flow;
   /// The converged metric refined in long double (residual curvature about 1e-18), which the
   /// layout uses.
   HyperbolicRefinement refinement;
-  CutGraph cut;
+  /// After flips: max relative difference between the hyperbolic lengths an input edge gets in
+  /// its two developed faces (HyperbolicDevelopment::max_length_mismatch); 0 without flips.
+  double development_length_mismatch = 0;
+  CutGraph cut;  ///< on the input mesh's edges
   CutMesh cut_mesh;
   HyperbolicLayout layout;
   int cut_candidates_tried = 0;  ///< cuts laid out (HyperbolicParamOptions::cut_candidates)
@@ -59,7 +66,7 @@ struct HyperbolicParamResult {
   Distortion distortion;
   double seam_length = 0;  ///< 3D length of the cut edges
   /// Texture coordinates: the disk positions of the cut-mesh vertices (|uv| < 1), indexed per
-  /// corner by cut_mesh.triangles.
+  /// corner by cut_mesh.triangles (whose faces are the input mesh's, flips or not).
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
   double seconds = 0;
 };

@@ -21,19 +21,23 @@ namespace ricci {
 
 /// Where the cones come from.
 enum class ConeMode {
+  /// Cones only where the topology needs them: none on a torus or a surface with boundary (its
+  /// flat metric exists without), automatic (Auto) on closed surfaces of genus 0 or >= 2.
+  Needed,
   None,     ///< no cones: genus 1 closed, or any surface with boundary (free or disk boundary)
   User,     ///< ParamOptions::cones as given
-  Auto,     ///< select_cones (a count, or until the log scale bound holds)
+  Auto,     ///< select_cones (a count, or until the log scale bound holds), also on surfaces
+            ///< that need none
   OneCone,  ///< all curvature 2 pi chi at one vertex (genus >= 2), chosen by select_cones
 };
 
-/// "none", "user", "auto", "one". \throw InvalidInput otherwise
+/// "needed", "none", "user", "auto", "one". \throw InvalidInput otherwise
 ConeMode parse_cone_mode(const std::string& name);
 const char* cone_mode_name(ConeMode mode);
 
 /// Options of parameterize.
 struct ParamOptions {
-  ConeMode cone_mode = ConeMode::Auto;
+  ConeMode cone_mode = ConeMode::Needed;
   std::vector<Cone> cones;          ///< ConeMode::User: vertices (input indices) and curvatures
   ConeSelectionOptions auto_cones;  ///< ConeMode::Auto: count or log-scale bound
   bool quantize = false;            ///< round cone curvatures to multiples of pi/2
@@ -46,7 +50,10 @@ struct ParamOptions {
     f.tolerance = 1e-12;
     return f;
   }();
-  /// Split edges around cones whose valence breaks the single-vertex bound (tutorial 5.3).
+  /// Without edge flips (the circle packings): split edges around cones whose valence breaks the
+  /// single-vertex bound (tutorial 5.3), and subdivide once when the flow still degenerates.
+  /// With flips (vertex scaling, the default) every admissible target is reached on the input's
+  /// own triangulation, which is never modified.
   bool modify_connectivity = true;
 };
 
