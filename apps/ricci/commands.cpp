@@ -482,6 +482,8 @@ int run_param_hyperbolic(const ParamArgs& args) {
     std::cout << "  Fuchsian group: " << 2 * result.group.genus
               << " generators, |a1 b1 a1^-1 b1^-1 ... - I| = " << result.group.relation_residual
               << " (around the nodes: " << result.group.node_residual << ")\n";
+  } else if (!result.group_failure.empty()) {
+    std::cout << "  Fuchsian group not computed: " << result.group_failure << "\n";
   }
   if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   return kOk;

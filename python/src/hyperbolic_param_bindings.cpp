@@ -129,6 +129,8 @@ void bind_hyperbolic_param(py::module_& m) {
           "layout.node_words")
       .readonly("has_group", &HyperbolicParamResult::has_group,
                 "closed surface: the Fuchsian group was computed")
+      .readonly("group_failure", &HyperbolicParamResult::group_failure,
+                "closed surface whose group could not be computed: why (else empty)")
       .computed(
           "group",
           [](const HyperbolicParamResult& r) -> py::object {

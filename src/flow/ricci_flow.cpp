@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
@@ -249,14 +251,58 @@ struct RicciFlow::State {
     } else if (max_error <= options.tolerance) {
       finish(FlowStatus::Converged,
              "reached max |K-bar - K| = " + format(max_error) + " <= " + format(options.tolerance));
+    } else if (history.size() >= 2 && max_error > 0.5 * history[history.size() - 2].max_error &&
+               finish_at_floor(max_error)) {
+      // stagnating within the floor: done
     } else if (iteration >= options.max_iterations) {
-      finish(FlowStatus::MaxIterations,
-             "stopped after " + std::to_string(iteration) +
-                 " iterations at max |K-bar - K| = " + format(max_error));
+      if (!finish_at_floor(max_error)) {
+        finish(FlowStatus::MaxIterations,
+               "stopped after " + std::to_string(iteration) +
+                   " iterations at max |K-bar - K| = " + format(max_error));
+      }
     }
     if (options.progress && !options.progress(r) && !finished) {
       finish(FlowStatus::Cancelled, "cancelled by the progress callback");
     }
+  }
+
+  /// The smallest max |K-bar - K| double arithmetic can resolve at the current metric, per
+  /// vertex: the rounding of its angle sum (about eps per angle, 2 pi in all, times its valence)
+  /// and of its angles' dependence on the log radii (eps (1 + |u|) each, times dK/du, the edge
+  /// weights: large next to needles), with a factor 4 of room. Well-shaped meshes sit near 1e-14;
+  /// 0.1-degree needles bring it to the 1e-12 a parameterization asks for.
+  double error_floor() const {
+    // The weights of the last assembly (or of the gradient flow's step size): one step stale
+    // at most, which an estimate with a factor of room tolerates.
+    if (edge_w.size() != topology.num_edges) return 0.0;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    std::vector<double> weight(topology.num_vertices, 0.0);
+    for (int e = 0; e < topology.num_edges; ++e) {
+      const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+      const double w = std::abs(edge_w[e]) * (1 + std::max(std::abs(u[i]), std::abs(u[j])));
+      weight[i] += w;
+      weight[j] += w;
+    }
+    double worst = 0;
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (target.fixed[v] || topology.vertex_component[v] < 0) continue;
+      const double floor =
+          4 * eps * (2 * std::numbers::pi * topology.vertex_degree[v] + 2 * weight[v]);
+      worst = std::max(worst, floor);
+    }
+    return worst;
+  }
+
+  /// A flow that cannot improve on an error within the floating-point floor has converged as
+  /// far as the arithmetic goes: finish it so, saying so. Returns whether it did.
+  bool finish_at_floor(double max_error) {
+    const double floor = error_floor();
+    if (!(max_error <= floor)) return false;
+    finish(FlowStatus::Converged, "reached max |K-bar - K| = " + format(max_error) +
+                                      ", the floating-point floor of this metric (about " +
+                                      format(floor) + "), above the tolerance " +
+                                      format(options.tolerance));
+    return true;
   }
 
   static std::string format(double x) {
@@ -514,7 +560,7 @@ struct RicciFlow::State {
           why << " (" << length_failures
               << " trial steps gave an edge a non-positive or overflowing length)";
         }
-        finish(FlowStatus::LineSearchFailed, why.str());
+        if (!finish_at_floor(max0)) finish(FlowStatus::LineSearchFailed, why.str());
         record(0.0, backtracks, triangle_failures + length_failures);
         return;
       }
@@ -694,6 +740,7 @@ FlowResult RicciFlow::result() const {
   r.flipped_edges = s.flipped_edges;
   r.eta = s.structure.eta;
   r.isometric_flips = s.isometric_flips;
+  r.error_floor = s.error_floor();
   r.blocked_flips = s.blocked_flips;
   if (s.total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(s.topology);
   r.iterations = s.iteration;

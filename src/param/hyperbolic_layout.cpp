@@ -80,15 +80,24 @@ SegmentIsometry fit_segment(const Topology& topology, const Topology& cut_topolo
   }
   const WideMobius map = wide_isometry(from[0], from[far], to[0], to[far]);
   result.wide_map = {map.a, map.b};
-  result.map = normalized(
-      Mobius{Complex(static_cast<double>(map.a.real()), static_cast<double>(map.a.imag())),
-             Complex(static_cast<double>(map.b.real()), static_cast<double>(map.b.imag()))});
+  // Normalised in long double before rounding to double: far out in the disk (high genus) |a|
+  // and |b| agree to more digits than double has, so the determinant of the rounded map is
+  // noise (0 or negative) and normalizing it there would fail.
+  const Wide p = std::abs(map.a), q = std::abs(map.b);
+  const Wide det = (p - q) * (p + q);
+  const Wide unit = det > 0 ? (map.a.real() < 0 ? Wide{-1} : Wide{1}) / std::sqrt(det) : Wide{1};
+  result.map = Mobius{
+      Complex(static_cast<double>(unit * map.a.real()), static_cast<double>(unit * map.a.imag())),
+      Complex(static_cast<double>(unit * map.b.real()), static_cast<double>(unit * map.b.imag()))};
   for (std::size_t i = 0; i < from.size(); ++i) {
     // Hyperbolic distance 2 atanh(|to_frame(a, b)|) of the image from its target.
     const Wide d = 2 * std::atanh(std::abs(to_frame(to[i], wide_apply(map, from[i]))));
     result.mismatch = std::max(result.mismatch, static_cast<double>(d) / scale[i]);
   }
-  result.translation_length = translation_length(result.map);
+  // From the long double map, for the reason above.
+  const Wide half_trace = std::abs(unit * map.a.real());
+  result.translation_length =
+      half_trace > 1 ? static_cast<double>(2 * std::acosh(half_trace)) : 0.0;
   return result;
 }
 
@@ -151,6 +160,17 @@ HyperbolicLayout layout_from_angles(const Topology& topology, const WideVector& 
     }
   }
 
+  for (int v = 0; v < ncv; ++v) {
+    if (cut_topology.vertex_component[v] >= 0 && !(std::abs(uv[v]) < 1)) {
+      // 1 - |z| of a point at hyperbolic distance d from the centre is about 2 e^-d: past
+      // d ~ 44 long double cannot tell the point from the circle (a generated genus-50 plate:
+      // its handles in a row put the far end hundreds of units away).
+      throw InvalidInput(
+          "layout_hyperbolic: the fundamental domain reaches too far from its centre for the "
+          "Poincare disk in long double (a point lands on or past the unit circle); the "
+          "hyperbolic metric itself is fine, only its disk layout cannot be represented");
+    }
+  }
   layout.uv.resize(ncv, 2);
   for (int v = 0; v < ncv; ++v) {
     layout.uv(v, 0) = static_cast<double>(uv[v].real());

@@ -55,6 +55,13 @@ const char* cone_mode_name(ConeMode mode) {
 ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   const auto start = Clock::now();
   ParamResult result;
+  // Wall time since the previous lap, added to a phase of result.timings.
+  auto last = start;
+  auto lap = [&last](double& phase) {
+    const auto now = Clock::now();
+    phase += std::chrono::duration<double>(now - last).count();
+    last = now;
+  };
   const Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
@@ -110,6 +117,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
       break;
     }
   }
+  lap(result.timings.cones);
   if (options.quantize && !cones.empty()) {
     double total = 0;
     for (const Cone& c : cones) total += c.curvature;
@@ -173,6 +181,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
     result.flow = flow_mesh(result.mesh, flow_options);
     result.converged = result.flow.converged;
   }
+  lap(result.timings.flow);
   if (!result.converged) {
     result.message = result.flow.components.front().flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -190,11 +199,16 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
+  lap(result.timings.cut);
   const Development development = develop_input_faces(result.mesh, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
+  lap(result.timings.development);
   result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
+  lap(result.timings.layout);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
+  lap(result.timings.atlas);
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  lap(result.timings.distortion);
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }

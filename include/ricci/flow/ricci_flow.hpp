@@ -141,7 +141,11 @@ struct FlowResult {
   int blocked_flips = 0;  ///< non-Delaunay edges left unflipped at the end (see
                           ///< DelaunayFlipResult::blocked)
   int iterations = 0;
-  double max_error = 0;                  ///< final max |K-bar - K| over vertices with a target
+  double max_error = 0;  ///< final max |K-bar - K| over vertices with a target
+  /// The smallest max error double arithmetic resolves at the final metric (rounding of the
+  /// angle sums and of the angles' dependence on u; large next to needles). A flow that cannot
+  /// improve on an error below it counts as converged, and its message says so.
+  double error_floor = 0;
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;

@@ -34,6 +34,9 @@ struct HyperbolicParamOptions {
   int cut_candidates = 32;
   /// Stop trying further cuts once the relation residual is this small.
   double good_relation_residual = 1e-11;
+  /// Above this relation residual the generators are reported as not computed
+  /// (HyperbolicParamResult::group_failure) rather than as a group.
+  double usable_relation_residual = 1e-6;
 };
 
 /// What parameterize_hyperbolic returns.
@@ -59,6 +62,11 @@ struct HyperbolicParamResult {
   /// Closed surfaces (genus >= 2): the canonical generators; has_group false otherwise (a
   /// surface with boundary has a free Fuchsian group, whose generators are the segment maps).
   bool has_group = false;
+  /// A closed surface whose canonical generators could not be computed for any cut tried: why
+  /// (at high genus the fundamental domain reaches so close to the circle that the segment maps'
+  /// entries exceed what double precision rounds faithfully). The layout and the segment maps are
+  /// still there.
+  std::string group_failure;
   FuchsianGroup group;
   /// The disk layout against the 3D mesh: the Poincare model is conformal, so the angle
   /// distortion is that of the hyperbolic metric against the input (areas shrink towards the

@@ -57,6 +57,17 @@ struct ParamOptions {
   bool modify_connectivity = true;
 };
 
+/// Wall time of each stage of parameterize, seconds.
+struct ParamTimings {
+  double cones = 0;        ///< topology checks and cone selection
+  double flow = 0;         ///< connectivity modification and the Ricci flow
+  double cut = 0;          ///< cut graph and slicing
+  double development = 0;  ///< the input's faces developed in the flow's metric
+  double layout = 0;       ///< planar layout (with its least-squares refinement)
+  double atlas = 0;        ///< affine atlas
+  double distortion = 0;   ///< distortion figures
+};
+
 /// What parameterize returns.
 struct ParamResult {
   bool converged = false;  ///< the flow reached its tolerance
@@ -90,6 +101,7 @@ struct ParamResult {
   double uv_scale = 1;  ///< uv = (layout - offset) * uv_scale
   Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
   double seconds = 0;
+  ParamTimings timings;
 };
 
 /// Runs the pipeline on a single-component manifold mesh.
