@@ -288,6 +288,7 @@ void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& 
   out.first_attempt_message = out.flow.message;
   out.flow = std::move(flow);
   out.doubled_triangles = std::move(d.triangles);
+  out.doubled_topology = std::make_shared<const Topology>(std::move(d.topology));
   out.doubled_vertex_original = std::move(d.original);
   out.doubled_shapes.assign(development.shapes.begin(), development.shapes.begin() + t.num_faces);
 }

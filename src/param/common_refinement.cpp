@@ -164,6 +164,7 @@ void place_final_crossings(Context& c, const std::vector<CurvePath>& paths) {
 /// doubled surface with its own log; its first front_faces faces are the mesh's.
 struct FlowInput {
   Mesh mesh;
+  Topology base_topology;  // the mesh's connectivity before any flip
   std::vector<int> flipped_edges;
   std::vector<char> flip_is_isometric;
   Topology final_topology;
@@ -182,6 +183,7 @@ FlowInput flow_input(const ParamResult& param) {
   }
   if (doubled == nullptr) {
     in.mesh = param.mesh;
+    in.base_topology = build_topology(in.mesh.triangles, in.mesh.num_vertices());
     in.flipped_edges = flow.flipped_edges;
     in.flip_is_isometric = flow.flip_is_isometric;
     in.final_topology = flow.topology;
@@ -203,12 +205,12 @@ FlowInput flow_input(const ParamResult& param) {
     in.mesh.positions.row(v) = param.mesh.positions.row(whole);
   }
   in.mesh.triangles = doubled->doubled_triangles;
+  in.base_topology = *doubled->doubled_topology;
   in.flipped_edges = f.flipped_edges;
   in.flip_is_isometric.assign(f.flipped_edges.size(), 0);
   std::fill_n(in.flip_is_isometric.begin(),
               std::min<std::size_t>(f.isometric_flips, f.flipped_edges.size()), 1);
-  in.final_topology =
-      f.intrinsic_topology ? *f.intrinsic_topology : build_topology(in.mesh.triangles, n);
+  in.final_topology = f.intrinsic_topology ? *f.intrinsic_topology : in.base_topology;
   in.final_lengths = f.lengths;
   in.u = f.u;
   return in;
@@ -237,7 +239,7 @@ CommonRefinement common_refinement(const ParamResult& param,
   const int nv_out = param.mesh.num_vertices();  // the mesh parameterized
   const int front = flow.front_faces;
   Context c(mesh, param, flow.u);
-  c.t0 = build_topology(mesh.triangles, nv);
+  c.t0 = flow.base_topology;
   c.l0 = input_edge_lengths(mesh, c.t0);
   if (flow.u.size() != nv || flow.final_lengths.size() != c.t0.num_edges ||
       flow.flip_is_isometric.size() != flow.flipped_edges.size() ||

@@ -3,6 +3,7 @@
 /// The whole job on a mesh: conformal structure, target, admissibility, and the Ricci flow on
 /// every connected component, one by one, with the results gathered on the whole mesh.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -58,8 +59,12 @@ struct ComponentFlow {
   /// whose interior flips reach every edge; `flow` is that run. Its vertices are the
   /// component's (local indices) followed by the mirror copies of the interior vertices.
   bool doubled = false;
-  std::string first_attempt_message;         ///< why the flow on the component itself failed
-  Triangles doubled_triangles;               ///< the doubled surface before flips
+  std::string first_attempt_message;  ///< why the flow on the component itself failed
+  Triangles doubled_triangles;        ///< the doubled surface before flips
+  /// Its connectivity (made directly: an interior edge between two boundary vertices and its
+  /// mirror image are a double edge, which build_topology cannot pair); the flip log replays on
+  /// it.
+  std::shared_ptr<const Topology> doubled_topology;
   std::vector<int> doubled_vertex_original;  ///< doubled vertex -> local vertex
   FaceShapes doubled_shapes;                 ///< the component's faces developed in the metric
 };
