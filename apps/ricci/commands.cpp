@@ -592,6 +592,8 @@ int run_spline(const SplineArgs& args) {
   options.refine = args.refine;
   options.smoothness = args.smoothness;
   options.param.flow.tolerance = args.tolerance;
+  options.param.structure.scheme = parse_scheme(args.scheme);
+  options.param.flow.flips = parse_edge_flips(args.flips);
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.control_net.empty()) {
     check_output_is_not_input(args.control_net, {args.mesh, args.cones, args.output});
@@ -622,6 +624,9 @@ int run_spline(const SplineArgs& args) {
     std::cout << report.dump(2) << "\n";
   } else {
     const SplineError& e = result.error;
+    if (!result.parameterization_note.empty()) {
+      std::cout << "  note: " << result.parameterization_note << "\n";
+    }
     std::cout << args.mesh << " -> " << args.output << "\n"
               << "  cones " << result.param.cones.size() << ", surface "
               << result.surface.num_faces() << " faces (refine " << options.refine

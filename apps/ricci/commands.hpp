@@ -96,6 +96,8 @@ struct SplineArgs {
   double smoothness = 1e-4;        ///< SplineOptions::smoothness
   /// --cones as for param; empty: by topology (none with boundary or genus 1, auto otherwise)
   std::string cones;
+  std::string scheme = "vertex-scaling";
+  std::string flips = "auto";
   double tolerance = 1e-12;
   std::string report;
   bool json = false;

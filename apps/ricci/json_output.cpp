@@ -394,6 +394,7 @@ nlohmann::json spline_report(const SplineResult& r, const SplineOptions& options
   j["refine"] = options.refine;
   if (!r.converged) return j;
   j["param"] = param_report(r.param, options.param);
+  if (!r.parameterization_note.empty()) j["parameterization_note"] = r.parameterization_note;
   j["error"] = {
       {"bbox_diagonal", r.error.bbox_diagonal},   {"max_parametric", r.error.max_parametric},
       {"rms_parametric", r.error.rms_parametric}, {"max_distance", r.error.max_distance},

@@ -243,6 +243,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   spline_cmd->add_option("--cones", spline.cones,
                          "as for param; default: none with boundary or genus 1, auto otherwise");
+  spline_cmd->add_option("--scheme", spline.scheme, "discrete metric (see ricci flow --help)")
+      ->capture_default_str();
+  spline_cmd->add_option("--flips", spline.flips, "intrinsic Delaunay edge flips of the flow")
+      ->capture_default_str();
   spline_cmd->add_option("--tol", spline.tolerance, "flow tolerance on max |K-bar - K|")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -159,6 +159,19 @@ SplineResult fit_manifold_spline(const Mesh& mesh, const SplineOptions& options)
   }
   auto t = Clock::now();
   result.param = parameterize(mesh, param_options);
+  if (result.param.converged && result.param.distortion.flipped_faces > 0 &&
+      param_options.structure.scheme != Scheme::Thurston) {
+    // Spline pieces need every chart face with positive area. Thurston's packing is not exact
+    // on needles, and so does not fold them (igea: 1 of 268,686 faces folded by vertex scaling,
+    // none by Thurston).
+    result.parameterization_note =
+        std::to_string(result.param.distortion.flipped_faces) + " faces of the " +
+        scheme_name(param_options.structure.scheme) +
+        " map are flipped, where no spline piece can live; the domain is Thurston's "
+        "circle-packing map";
+    param_options.structure.scheme = Scheme::Thurston;
+    result.param = parameterize(mesh, param_options);
+  }
   result.seconds_param = seconds_since(t);
   result.converged = result.param.converged;
   if (!result.converged) {
