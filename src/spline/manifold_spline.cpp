@@ -160,17 +160,28 @@ SplineResult fit_manifold_spline(const Mesh& mesh, const SplineOptions& options)
   auto t = Clock::now();
   result.param = parameterize(mesh, param_options);
   if (result.param.converged && result.param.distortion.flipped_faces > 0 &&
-      param_options.structure.scheme != Scheme::Thurston) {
-    // Spline pieces need every chart face with positive area. Thurston's packing is not exact
-    // on needles, and so does not fold them (igea: 1 of 268,686 faces folded by vertex scaling,
-    // none by Thurston).
-    result.parameterization_note =
-        std::to_string(result.param.distortion.flipped_faces) + " faces of the " +
-        scheme_name(param_options.structure.scheme) +
-        " map are flipped, where no spline piece can live; the domain is Thurston's "
-        "circle-packing map";
-    param_options.structure.scheme = Scheme::Thurston;
-    result.param = parameterize(mesh, param_options);
+      param_options.structure.scheme == Scheme::VertexScaling) {
+    // Spline pieces need every chart face with positive area. The circle packings are not
+    // exact on needles, and so do not fold them (igea: 1 of 268,686 faces folded by vertex
+    // scaling, none by Thurston); Thurston's single-vertex bound refuses valence-3 vertices that
+    // must flatten, which the tangential packing (Phi = 0) allows.
+    const std::string why = std::to_string(result.param.distortion.flipped_faces) +
+                            " faces of the vertex-scaling map are flipped, where no spline piece "
+                            "can live; the domain is ";
+    for (Scheme fallback : {Scheme::Thurston, Scheme::Tangential}) {
+      ParamOptions packing = param_options;
+      packing.structure.scheme = fallback;
+      ParamResult attempt;
+      try {
+        attempt = parameterize(mesh, packing);
+      } catch (const InvalidInput&) {
+        continue;  // inadmissible for this packing
+      }
+      if (!attempt.converged || attempt.distortion.flipped_faces > 0) continue;
+      result.param = std::move(attempt);
+      result.parameterization_note = why + "the " + scheme_name(fallback) + " circle packing's";
+      break;
+    }
   }
   result.seconds_param = seconds_since(t);
   result.converged = result.param.converged;
