@@ -65,6 +65,7 @@ struct ParamArgs {
   bool progress = false;
   std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
   std::string geometry = "euclidean";
+  double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
 };
 int run_param(const ParamArgs& args);
 

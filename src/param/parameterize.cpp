@@ -1,5 +1,6 @@
 #include "ricci/param/parameterize.hpp"
 
+#include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
@@ -75,13 +76,13 @@ const char* cone_mode_name(ConeMode mode) {
   return "unknown";
 }
 
-ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
   const auto start = Clock::now();
   ParamResult result;
   const Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
-                       " connected components; parameterize them one by one");
+                       " connected components");
   }
   const Component& comp = t0.components[0];
   const bool closed = comp.num_boundary_loops == 0;

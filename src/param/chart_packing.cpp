@@ -1,0 +1,556 @@
+#include "ricci/param/chart_packing.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+constexpr double kPi = std::numbers::pi;
+/// The gutter never goes below this: the placement's rounding (a few ulps of 1) stays inside it.
+constexpr double kMinGutter = 1e-9;
+
+/// a + b = x + y exactly (Knuth's two-sum; x the rounded sum, y its error).
+void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a;
+  const double av = x - bv;
+  y = (a - av) + (b - bv);
+}
+
+/// Adds b to a nonoverlapping expansion (components in increasing magnitude), exactly.
+void grow_expansion(std::vector<double>& h, double b) {
+  double q = b;
+  for (double& component : h) {
+    double sum, error;
+    two_sum(q, component, sum, error);
+    component = error;
+    q = sum;
+  }
+  h.push_back(q);
+}
+
+/// Sign of sum over terms of x_i y_i, exact unless a product underflows: each product is split
+/// into its rounded value and its error (fma), and the pieces summed as an expansion, whose sign
+/// is that of its largest nonzero component.
+int exact_sign_of_products(const std::array<std::array<double, 2>, 6>& products) {
+  std::vector<double> h;
+  h.reserve(12);
+  for (const auto& [x, y] : products) {
+    const double p = x * y;
+    grow_expansion(h, p);
+    grow_expansion(h, std::fma(x, y, -p));
+  }
+  for (auto it = h.rbegin(); it != h.rend(); ++it) {
+    if (*it > 0) return 1;
+    if (*it < 0) return -1;
+  }
+  return 0;
+}
+
+/// Whether an edge line of counter-clockwise triangle a has all of triangle b on its closed outer
+/// side. The interiors of two triangles are disjoint iff this holds one way or the other: the
+/// separating axes of two convex polygons are among their edge normals.
+bool separated_by_edges_of(const std::array<Eigen::Vector2d, 3>& a,
+                           const std::array<Eigen::Vector2d, 3>& b) {
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d& p = a[k];
+    const Eigen::Vector2d& q = a[(k + 1) % 3];
+    if (orientation_sign(p, q, b[0]) <= 0 && orientation_sign(p, q, b[1]) <= 0 &&
+        orientation_sign(p, q, b[2]) <= 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void check_input(const char* who, const Points& uv, const Triangles& triangles,
+                 const std::vector<int>& per_face, const char* per_face_name) {
+  for (Eigen::Index v = 0; v < uv.rows(); ++v) {
+    if (!std::isfinite(uv(v, 0)) || !std::isfinite(uv(v, 1))) {
+      throw InvalidInput(std::string(who) + ": position " + std::to_string(v) + " is not finite");
+    }
+  }
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (triangles(f, k) < 0 || triangles(f, k) >= uv.rows()) {
+        throw InvalidInput(std::string(who) + ": face " + std::to_string(f) + " uses position " +
+                           std::to_string(triangles(f, k)) + " of " + std::to_string(uv.rows()));
+      }
+    }
+  }
+  if (!per_face.empty() && static_cast<Eigen::Index>(per_face.size()) != triangles.rows()) {
+    throw InvalidInput(std::string(who) + ": " + per_face_name + " has " +
+                       std::to_string(per_face.size()) + " entries for " +
+                       std::to_string(triangles.rows()) + " faces");
+  }
+}
+
+Eigen::Vector2d point(const Points& uv, int v) {
+  return uv.row(v).transpose();
+}
+
+/// Twice the signed area of face f.
+double twice_area(const Points& uv, const Triangles& triangles, Eigen::Index f) {
+  const Eigen::Vector2d a = point(uv, triangles(f, 0));
+  const Eigen::Vector2d b = point(uv, triangles(f, 1)) - a;
+  const Eigen::Vector2d c = point(uv, triangles(f, 2)) - a;
+  return b.x() * c.y() - b.y() * c.x();
+}
+
+/// Charts as connected pieces of the triangles (faces sharing a vertex), numbered in order of
+/// their first face.
+std::vector<int> connected_pieces(const Triangles& triangles, Eigen::Index num_points) {
+  std::vector<int> parent(num_points);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(triangles(f, 0)), b = find(triangles(f, k));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::vector<int> root_chart(num_points, -1);
+  std::vector<int> face_chart(triangles.rows());
+  int charts = 0;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    int& c = root_chart[find(triangles(f, 0))];
+    if (c < 0) c = charts++;
+    face_chart[f] = c;
+  }
+  return face_chart;
+}
+
+/// Convex hull (counter-clockwise, no collinear points) of a set of points, by Andrew's monotone
+/// chain with exact orientation tests.
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<Eigen::Vector2d> hull(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && orientation_sign(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, lower = k + 1; i > 0; --i) {
+    while (k >= lower && orientation_sign(hull[k - 2], hull[k - 1], p[i - 1]) <= 0) --k;
+    hull[k++] = p[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+/// Rotation angle (in (-pi/4, pi/4]) that turns a hull's minimal-area bounding rectangle onto
+/// the axes: that rectangle has a side along some hull edge, so each edge direction is tried.
+double minimal_rectangle_rotation(const std::vector<Eigen::Vector2d>& hull) {
+  if (hull.size() < 3) return 0;
+  double best_area = std::numeric_limits<double>::infinity(), best_angle = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d d = hull[(i + 1) % hull.size()] - hull[i];
+    double angle = -std::atan2(d.y(), d.x());
+    // A quarter turn gives the same rectangle: keep the angle nearest to the chart as it is.
+    angle -= kPi / 2 * std::round(angle / (kPi / 2));
+    const double c = std::cos(angle), s = std::sin(angle);
+    double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+    for (const Eigen::Vector2d& q : hull) {
+      const double x = c * q.x() - s * q.y(), y = s * q.x() + c * q.y();
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+    const double area = (x1 - x0) * (y1 - y0);
+    // Ties (a rectangle's four edges) within rounding keep the smaller turn.
+    if (area < best_area * (1 - 1e-12) ||
+        (area <= best_area * (1 + 1e-12) && std::abs(angle) < std::abs(best_angle))) {
+      best_area = std::min(area, best_area);
+      best_angle = angle;
+    }
+  }
+  return best_angle;
+}
+
+/// An axis-aligned rectangle [x0, x1] x [y0, y1]. Coordinates are only ever copied from one
+/// rectangle to another or computed once as x0 + width, so rectangles that the packer keeps apart
+/// are apart in floating point too.
+struct Rect {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool overlaps(const Rect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+  bool contains(const Rect& o) const {
+    return x0 <= o.x0 && y0 <= o.y0 && o.x1 <= x1 && o.y1 <= y1;
+  }
+};
+
+/// MaxRects (maximal free rectangles, best short side fit) in the unit square. sizes are the
+/// padded widths and heights; items are placed in `order`. Returns false as soon as one item
+/// does not fit.
+bool pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, const std::vector<int>& order,
+                     bool allow_turn, std::vector<Rect>& placed, std::vector<char>& turned) {
+  std::vector<Rect> free{{0, 0, 1, 1}};
+  std::vector<Rect> split;
+  placed.assign(sizes.size(), Rect{});
+  turned.assign(sizes.size(), 0);
+  for (int item : order) {
+    double best_short = std::numeric_limits<double>::infinity(), best_long = best_short;
+    int best_free = -1;
+    bool best_turn = false;
+    for (std::size_t r = 0; r < free.size(); ++r) {
+      const Rect& f = free[r];
+      for (int turn = 0; turn < (allow_turn ? 2 : 1); ++turn) {
+        const double w = turn ? sizes[item].y() : sizes[item].x();
+        const double h = turn ? sizes[item].x() : sizes[item].y();
+        if (f.x0 + w > f.x1 || f.y0 + h > f.y1) continue;
+        const double dw = f.x1 - f.x0 - w, dh = f.y1 - f.y0 - h;
+        const double shorter = std::min(dw, dh), longer = std::max(dw, dh);
+        if (shorter < best_short || (shorter == best_short && longer < best_long)) {
+          best_short = shorter, best_long = longer, best_free = static_cast<int>(r);
+          best_turn = turn;
+        }
+      }
+    }
+    if (best_free < 0) return false;
+    const Rect& f = free[best_free];
+    const double w = best_turn ? sizes[item].y() : sizes[item].x();
+    const double h = best_turn ? sizes[item].x() : sizes[item].y();
+    const Rect p{f.x0, f.y0, f.x0 + w, f.y0 + h};
+    placed[item] = p;
+    turned[item] = best_turn;
+    // Split every free rectangle the new one overlaps into its (up to four) maximal remainders.
+    split.clear();
+    std::size_t kept = 0;
+    for (std::size_t r = 0; r < free.size(); ++r) {
+      const Rect g = free[r];
+      if (!g.overlaps(p)) {
+        free[kept++] = g;
+        continue;
+      }
+      if (p.x0 > g.x0) split.push_back({g.x0, g.y0, p.x0, g.y1});
+      if (p.x1 < g.x1) split.push_back({p.x1, g.y0, g.x1, g.y1});
+      if (p.y0 > g.y0) split.push_back({g.x0, g.y0, g.x1, p.y0});
+      if (p.y1 < g.y1) split.push_back({g.x0, p.y1, g.x1, g.y1});
+    }
+    free.resize(kept);
+    // Keep only maximal rectangles: a new piece inside another piece or an old rectangle goes;
+    // old rectangles cannot lie inside a new piece (the pieces lie inside rectangles that were
+    // split, and free rectangles were maximal).
+    for (std::size_t i = 0; i < split.size(); ++i) {
+      bool inside = false;
+      for (std::size_t j = 0; j < split.size() && !inside; ++j) {
+        if (j == i || !split[j].contains(split[i])) continue;
+        // Equal pieces: keep the first.
+        inside = !split[i].contains(split[j]) || j < i;
+      }
+      for (std::size_t j = 0; j < kept && !inside; ++j) inside = free[j].contains(split[i]);
+      if (!inside) free.push_back(split[i]);
+    }
+  }
+  return true;
+}
+
+/// One chart ready to pack: its rotation and its rotated bounding box in layout units.
+struct ChartShape {
+  double rotation = 0;
+  Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
+};
+
+/// Whether n gutter-sized cells fit in the square as a grid (what a zero scale needs; one row
+/// and column spare for the rounding of the cells' coordinates).
+bool cells_fit(std::size_t n, double gutter) {
+  const double per_side = std::floor(1 / gutter) - 1;
+  return per_side * per_side >= static_cast<double>(n);
+}
+
+}  // namespace
+
+int orientation_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const double left = (b.x() - a.x()) * (c.y() - a.y());
+  const double right = (b.y() - a.y()) * (c.x() - a.x());
+  const double det = left - right;
+  // Shewchuk's bound for this evaluation: (3 + 16 eps) eps (|left| + |right|), eps = 2^-53.
+  const double bound = 3.3306690738754716e-16 * (std::abs(left) + std::abs(right));
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  // det = bx cy - bx ay - ax cy - by cx + by ax + ay cx (the ax ay terms cancel).
+  return exact_sign_of_products({{{b.x(), c.y()},
+                                  {-b.x(), a.y()},
+                                  {-a.x(), c.y()},
+                                  {-b.y(), c.x()},
+                                  {b.y(), a.x()},
+                                  {a.y(), c.x()}}});
+}
+
+bool triangles_overlap(const std::array<Eigen::Vector2d, 3>& a,
+                       const std::array<Eigen::Vector2d, 3>& b) {
+  std::array<Eigen::Vector2d, 3> p = a, q = b;
+  for (auto* t : {&p, &q}) {
+    const int sign = orientation_sign((*t)[0], (*t)[1], (*t)[2]);
+    if (sign == 0) return false;
+    if (sign < 0) std::swap((*t)[1], (*t)[2]);
+  }
+  return !separated_by_edges_of(p, q) && !separated_by_edges_of(q, p);
+}
+
+UvOverlaps find_uv_overlaps(const Points& uv, const Triangles& triangles,
+                            const std::vector<int>& face_group, int max_pairs) {
+  check_input("find_uv_overlaps", uv, triangles, face_group, "face_group");
+  UvOverlaps out;
+  const Eigen::Index nf = triangles.rows();
+  // Each face with an interior, counter-clockwise, with its box.
+  struct Face {
+    std::array<Eigen::Vector2d, 3> p;
+    Eigen::Vector2d lo, hi;
+  };
+  std::vector<Face> faces(nf);
+  std::vector<char> solid(nf, 0);
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  double extent_sum = 0;
+  int num_solid = 0;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    Face& face = faces[f];
+    for (int k = 0; k < 3; ++k) face.p[k] = point(uv, triangles(f, k));
+    const int sign = orientation_sign(face.p[0], face.p[1], face.p[2]);
+    if (sign == 0) continue;
+    if (sign < 0) std::swap(face.p[1], face.p[2]);
+    solid[f] = 1;
+    ++num_solid;
+    face.lo = face.p[0].cwiseMin(face.p[1]).cwiseMin(face.p[2]);
+    face.hi = face.p[0].cwiseMax(face.p[1]).cwiseMax(face.p[2]);
+    lo = lo.cwiseMin(face.lo), hi = hi.cwiseMax(face.hi);
+    extent_sum += (face.hi - face.lo).maxCoeff();
+  }
+  if (num_solid < 2) return out;
+  // Grid cells about twice the mean face extent: a face touches a few cells, a cell holds a few
+  // faces.
+  const double cell = std::max(2 * extent_sum / num_solid, 1e-300);
+  const Eigen::Vector2d span = (hi - lo) / cell;
+  const long long max_cells = 4LL * num_solid + 16;
+  const double shrink = std::max(1.0, std::sqrt((span.x() + 1) * (span.y() + 1) / max_cells));
+  const double size = cell * shrink;
+  const int nx = static_cast<int>(std::min(span.x() / shrink, 1e9)) + 1;
+  const int ny = static_cast<int>(std::min(span.y() / shrink, 1e9)) + 1;
+  auto cell_of = [&](double x, double origin, int n) {
+    return std::clamp(static_cast<int>((x - origin) / size), 0, n - 1);
+  };
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(nx) * ny);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    if (!solid[f]) continue;
+    const Face& face = faces[f];
+    for (int i = cell_of(face.lo.x(), lo.x(), nx); i <= cell_of(face.hi.x(), lo.x(), nx); ++i) {
+      for (int j = cell_of(face.lo.y(), lo.y(), ny); j <= cell_of(face.hi.y(), lo.y(), ny); ++j) {
+        grid[static_cast<std::size_t>(j) * nx + i].push_back(static_cast<int>(f));
+      }
+    }
+  }
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const std::vector<int>& here = grid[static_cast<std::size_t>(j) * nx + i];
+      for (std::size_t s = 0; s < here.size(); ++s) {
+        for (std::size_t t = s + 1; t < here.size(); ++t) {
+          const int fa = std::min(here[s], here[t]), fb = std::max(here[s], here[t]);
+          if (!face_group.empty() && face_group[fa] == face_group[fb]) continue;
+          const Face& a = faces[fa];
+          const Face& b = faces[fb];
+          if (a.hi.x() < b.lo.x() || b.hi.x() < a.lo.x() || a.hi.y() < b.lo.y() ||
+              b.hi.y() < a.lo.y()) {
+            continue;
+          }
+          // Test each pair once: in the cell holding the low corner of their boxes' overlap.
+          const double x = std::max(a.lo.x(), b.lo.x()), y = std::max(a.lo.y(), b.lo.y());
+          if (cell_of(x, lo.x(), nx) != i || cell_of(y, lo.y(), ny) != j) continue;
+          if (separated_by_edges_of(a.p, b.p) || separated_by_edges_of(b.p, a.p)) continue;
+          if (static_cast<int>(out.pairs.size()) < max_pairs) out.pairs.push_back({fa, fb});
+          ++out.count;
+        }
+      }
+    }
+  }
+  std::sort(out.pairs.begin(), out.pairs.end());
+  return out;
+}
+
+ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
+                         const std::vector<int>& face_chart, const ChartPackingOptions& options) {
+  const auto start = Clock::now();
+  check_input("pack_charts", layout, triangles, face_chart, "face_chart");
+  if (triangles.rows() == 0) throw InvalidInput("pack_charts: no faces");
+  if (!(options.gutter >= 0 && options.gutter < 0.5)) {
+    throw InvalidInput("pack_charts: gutter " + std::to_string(options.gutter) +
+                       " is not in [0, 0.5)");
+  }
+  ChartPacking out;
+  out.face_chart = face_chart.empty() ? connected_pieces(triangles, layout.rows()) : face_chart;
+  int num_charts = 0;
+  for (int c : out.face_chart) {
+    if (c < 0) throw InvalidInput("pack_charts: negative chart index " + std::to_string(c));
+    num_charts = std::max(num_charts, c + 1);
+  }
+  out.charts.resize(num_charts);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    out.charts[out.face_chart[f]].faces.push_back(static_cast<int>(f));
+  }
+  for (int c = 0; c < num_charts; ++c) {
+    if (out.charts[c].faces.empty()) {
+      throw InvalidInput("pack_charts: chart " + std::to_string(c) + " has no faces");
+    }
+  }
+
+  // Each chart's orientation and rotated box. The chart's vertices: those of its faces (a
+  // vertex shared by two charts would be placed twice, the last placement kept: a caller's
+  // mistake that find_uv_overlaps below would not see, so it is refused).
+  std::vector<int> vertex_chart(layout.rows(), -1);
+  std::vector<std::vector<int>> chart_vertices(num_charts);
+  for (int c = 0; c < num_charts; ++c) {
+    for (int f : out.charts[c].faces) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = triangles(f, k);
+        if (vertex_chart[v] == c) continue;
+        if (vertex_chart[v] >= 0) {
+          throw InvalidInput("pack_charts: position " + std::to_string(v) + " is used by charts " +
+                             std::to_string(vertex_chart[v]) + " and " + std::to_string(c));
+        }
+        vertex_chart[v] = c;
+        chart_vertices[c].push_back(v);
+      }
+    }
+  }
+  std::vector<ChartShape> shapes(num_charts);
+  for (int c = 0; c < num_charts; ++c) {
+    ChartShape& shape = shapes[c];
+    if (options.rotate) {
+      std::vector<Eigen::Vector2d> points;
+      points.reserve(chart_vertices[c].size());
+      for (int v : chart_vertices[c]) points.push_back(point(layout, v));
+      shape.rotation = minimal_rectangle_rotation(convex_hull(std::move(points)));
+    }
+    const Eigen::Rotation2Dd turn(shape.rotation);
+    shape.lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    shape.hi = -shape.lo;
+    for (int v : chart_vertices[c]) {
+      const Eigen::Vector2d q = turn * point(layout, v);
+      shape.lo = shape.lo.cwiseMin(q), shape.hi = shape.hi.cwiseMax(q);
+    }
+  }
+
+  // The largest common scale at which the padded rectangles pack, by bisection. Several item
+  // orders are tried at each scale (the packing is greedy; one order may fail where another
+  // fits).
+  double gutter = std::max(options.gutter, kMinGutter);
+  while (!cells_fit(num_charts, gutter)) gutter /= 2;
+  double box_area = 0, longest = 0;
+  for (const ChartShape& s : shapes) {
+    const Eigen::Vector2d d = s.hi - s.lo;
+    box_area += d.x() * d.y();
+    longest = std::max(longest, d.maxCoeff());
+  }
+  std::vector<std::vector<int>> orders;
+  {
+    std::vector<int> base(num_charts);
+    std::iota(base.begin(), base.end(), 0);
+    auto by = [&](auto key) {
+      std::vector<int> order = base;
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) > key(b); });
+      orders.push_back(std::move(order));
+    };
+    auto size = [&](int c) -> Eigen::Vector2d { return shapes[c].hi - shapes[c].lo; };
+    by([&](int c) { return size(c).maxCoeff(); });
+    by([&](int c) { return size(c).prod(); });
+    by([&](int c) { return size(c).minCoeff(); });
+    by([&](int c) { return size(c).sum(); });
+  }
+  std::vector<Eigen::Vector2d> padded(num_charts);
+  std::vector<Rect> placed, best_placed;
+  std::vector<char> turned, best_turned;
+  auto fits = [&](double scale) {
+    for (int c = 0; c < num_charts; ++c) {
+      padded[c] = scale * (shapes[c].hi - shapes[c].lo) + Eigen::Vector2d::Constant(gutter);
+    }
+    for (const std::vector<int>& order : orders) {
+      ++out.packing_attempts;
+      if (pack_rectangles(padded, order, options.rotate, placed, turned)) return true;
+    }
+    return false;
+  };
+  // Upper bound: the rectangles' total area, and the longest side, must fit in the square. Then
+  // down by steps of 0.8 to a scale that fits (rectangle packings usually fill 70 to 95% of the
+  // square), and bisection between it and the last that did not.
+  double high = longest > 0 ? (1 - gutter) / longest : 1.0;
+  if (box_area > 0) high = std::min(high, 1 / std::sqrt(box_area));
+  double low = high;
+  bool found = false;
+  for (int step = 0; step < 60 && !found; ++step) {
+    found = fits(low);
+    if (!found) high = low, low *= 0.8;
+  }
+  if (!found) {
+    low = 0;
+    if (!fits(0)) {
+      throw SolverError("pack_charts: " + std::to_string(num_charts) +
+                        " charts do not fit even at zero size");  // cells_fit guarantees they do
+    }
+  }
+  best_placed = placed, best_turned = turned;
+  const double tolerance = std::max(options.scale_tolerance, 1e-12);
+  while (low < high && high - low > tolerance * high) {
+    const double mid = 0.5 * (low + high);
+    if (fits(mid)) {
+      low = mid;
+      best_placed = placed, best_turned = turned;
+    } else {
+      high = mid;
+    }
+  }
+  out.scale = low;
+  out.gutter = gutter;
+
+  // Placement: each chart turned (and given the packer's quarter turn), scaled, and moved so that
+  // its rotated box sits half a gutter inside its rectangle.
+  out.uv = Points::Zero(layout.rows(), 2);
+  for (int c = 0; c < num_charts; ++c) {
+    PackedChart& chart = out.charts[c];
+    const ChartShape& shape = shapes[c];
+    const Eigen::Vector2d size = out.scale * (shape.hi - shape.lo);
+    // Quarter turn (x, y) -> (-y, x) of the scaled box [0, w] x [0, h] lands on [-h, 0] x [0, w].
+    const bool turn = best_turned[c];
+    chart.rotation = shape.rotation + (turn ? kPi / 2 : 0);
+    const Eigen::Rotation2Dd rotation(shape.rotation);
+    const Eigen::Vector2d corner(best_placed[c].x0 + gutter / 2, best_placed[c].y0 + gutter / 2);
+    for (int v : chart_vertices[c]) {
+      Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo);
+      if (turn) q = Eigen::Vector2d(size.y() - q.y(), q.x());
+      out.uv.row(v) = (corner + q).transpose();
+    }
+    // uv = scale R(rotation) p + translation: read the translation off the map of the origin.
+    Eigen::Vector2d origin = -out.scale * shape.lo;
+    if (turn) origin = Eigen::Vector2d(size.y() - origin.y(), origin.x());
+    chart.translation = corner + origin;
+    chart.box_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    chart.box_max = -chart.box_min;
+    for (int v : chart_vertices[c]) {
+      chart.box_min = chart.box_min.cwiseMin(point(out.uv, v));
+      chart.box_max = chart.box_max.cwiseMax(point(out.uv, v));
+    }
+    for (int f : chart.faces) chart.area += 0.5 * std::abs(twice_area(out.uv, triangles, f));
+    out.coverage += chart.area;
+    out.rectangle_coverage += size.prod();
+  }
+  out.overlapping_face_pairs = find_uv_overlaps(out.uv, triangles, out.face_chart, 0).count;
+  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return out;
+}
+
+}  // namespace ricci
