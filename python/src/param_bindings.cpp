@@ -47,6 +47,10 @@ void bind_param(py::module_& m) {
              "turn charts to their minimal-area rectangle (and quarter turns)")
       .field("scale_tolerance", &ChartPackingOptions::scale_tolerance,
              "relative precision of the common scale's search")
+      .field("raster_resolution", &ChartPackingOptions::raster_resolution,
+             "also pack by shape on a grid of about this many cells across (0: rectangles only)")
+      .field("raster_work_limit", &ChartPackingOptions::raster_work_limit,
+             "work (grid rows and positions tried) after which the shape search stops")
       .keyword_constructor()
       .repr();
 
@@ -72,6 +76,9 @@ void bind_param(py::module_& m) {
                 "area of the charts' bounding rectangles / area of the square")
       .readonly("overlapping_face_pairs", &ChartPacking::overlapping_face_pairs,
                 "pairs of faces of different charts overlapping (0)")
+      .readonly("by_shape", &ChartPacking::by_shape,
+                "placed by shape on the grid (else in their rectangles)")
+      .readonly("raster_work", &ChartPacking::raster_work, "work the shape search did")
       .readonly("packing_attempts", &ChartPacking::packing_attempts, "")
       .readonly("seconds", &ChartPacking::seconds, "")
       .repr();

@@ -1,8 +1,10 @@
 #include "ricci/param/chart_packing.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -261,17 +263,303 @@ bool pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, const std::vecto
   return true;
 }
 
+/// Whether n gutter-sized cells fit in the square as a grid (what a zero scale needs; one row
+/// and column spare for the rounding of the cells' coordinates).
+bool cells_fit(std::size_t n, double gutter) {
+  const double per_side = std::floor(1 / gutter) - 1;
+  return per_side * per_side >= static_cast<double>(n);
+}
+
+/// Where one chart goes: `turns` quarter turns inside its box (the box of its rotated, scaled
+/// layout, of size `box` before turning), then the box's lower-left corner at `corner`.
+struct Placement {
+  int turns = 0;
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  ///< of the layout inside its box
+  Eigen::Vector2d box = Eigen::Vector2d::Zero();
+  Eigen::Vector2d corner = Eigen::Vector2d::Zero();
+};
+
+/// A point of the box [0, box.x] x [0, box.y] after `turns` quarter turns, (x, y) -> (H - y, x)
+/// each, which keep it in the turned box.
+Eigen::Vector2d turn_in_box(Eigen::Vector2d q, int turns, Eigen::Vector2d box) {
+  for (int t = 0; t < turns; ++t) {
+    q = Eigen::Vector2d(box.y() - q.y(), q.x());
+    box = Eigen::Vector2d(box.y(), box.x());
+  }
+  return q;
+}
+
+/// A chart's cells as one span per row, [lo, hi] (lo > hi: an empty row). Filling each row
+/// between its first and last cell keeps the masks cheap to test; charts still nest into each
+/// other's concavities from above and below.
+struct SpanMask {
+  int width = 0, height = 0;
+  std::vector<int> lo, hi;
+  std::vector<int> widest_first;  ///< the non-empty rows, widest span first (they collide first)
+  long long cells = 0;
+};
+
+/// The atlas as rows of bits (1: taken).
+class Occupancy {
+ public:
+  explicit Occupancy(int side)
+      : side_(side), words_((side + 63) / 64), bits_(side * words_, 0), longest_free_(side, side) {}
+  int side() const { return side_; }
+  /// The longest run of free cells in row y.
+  int longest_free(int y) const { return longest_free_[y]; }
+  /// The lowest row with a free run of at least `length` cells (side() when none). Runs only
+  /// shrink as cells are taken, so each length's answer only moves up: kept per length.
+  int lowest_row_with_run(int length) {
+    if (length > side_) return side_;
+    if (lowest_row_.empty()) lowest_row_.assign(side_ + 1, 0);
+    int& y = lowest_row_[length];
+    while (y < side_ && longest_free_[y] < length) ++y;
+    return y;
+  }
+  /// First taken cell in [a, b] of row y, or -1.
+  int first_taken(int y, int a, int b) const {
+    const std::uint64_t* row = &bits_[static_cast<std::size_t>(y) * words_];
+    for (int w = a / 64; w <= b / 64; ++w) {
+      std::uint64_t word = row[w];
+      if (w == a / 64) word &= ~std::uint64_t{0} << (a % 64);
+      if (w == b / 64 && b % 64 != 63) word &= (std::uint64_t{1} << (b % 64 + 1)) - 1;
+      if (word) return 64 * w + std::countr_zero(word);
+    }
+    return -1;
+  }
+  /// First free cell at or after x in row y (side() when none).
+  int first_free(int y, int x) const {
+    const std::uint64_t* row = &bits_[static_cast<std::size_t>(y) * words_];
+    for (int w = x / 64; w < words_; ++w) {
+      std::uint64_t word = ~row[w];
+      if (w == x / 64) word &= ~std::uint64_t{0} << (x % 64);
+      if (word) return std::min(side_, 64 * w + std::countr_zero(word));
+    }
+    return side_;
+  }
+  void take(int y, int a, int b) {
+    std::uint64_t* row = &bits_[static_cast<std::size_t>(y) * words_];
+    for (int x = a; x <= b; ++x) row[x / 64] |= std::uint64_t{1} << (x % 64);
+    int longest = 0;
+    for (int x = first_free(y, 0); x < side_;) {
+      const int end = x < side_ - 1 ? first_taken(y, x, side_ - 1) : -1;
+      const int stop = end < 0 ? side_ : end;
+      longest = std::max(longest, stop - x);
+      x = stop < side_ ? first_free(y, stop) : side_;
+    }
+    longest_free_[y] = longest;
+  }
+
+ private:
+  int side_, words_;
+  std::vector<std::uint64_t> bits_;
+  std::vector<int> longest_free_;
+  std::vector<int> lowest_row_;
+};
+
+/// Bottom-left first fit of a mask: the lowest row, then the leftmost column, where no row span
+/// meets a taken cell, with its top at most max_top. A collision in row j moves the mask to the
+/// next free run of that row long enough for its span. `work` counts the rows and positions
+/// tried.
+bool first_fit(Occupancy& atlas, const SpanMask& m, int max_top, int& at_x, int& at_y,
+               long long& work) {
+  const int side = atlas.side();
+  if (m.width > side || m.height > side || m.widest_first.empty()) return false;
+  // The widest row needs a free run as long as its span: no row below the lowest such run.
+  const int widest = m.widest_first.front();
+  const int start = atlas.lowest_row_with_run(m.hi[widest] - m.lo[widest] + 1) - widest;
+  for (int y = std::max(0, start); y + m.height <= std::min(side, max_top); ++y) {
+    // Rows without a free run as long as the mask's span there rule the row out at once.
+    ++work;
+    bool possible = true;
+    for (int j = 0; j < m.height && possible; ++j) {
+      possible = m.lo[j] > m.hi[j] || atlas.longest_free(y + j) > m.hi[j] - m.lo[j];
+    }
+    if (!possible) continue;
+    int x = 0;
+    while (x + m.width <= side) {
+      ++work;
+      // The first row that collides bounds the next x from below (wide rows collide first).
+      int next = -1;
+      for (int j : m.widest_first) {
+        int taken = atlas.first_taken(y + j, x + m.lo[j], x + m.hi[j]);
+        if (taken < 0) continue;
+        // Past the taken run, to the next free run of this row long enough for its span.
+        const int span = m.hi[j] - m.lo[j] + 1;
+        for (;;) {
+          const int free = atlas.first_free(y + j, taken);
+          if (free + span > side) {
+            next = side;
+            break;
+          }
+          taken = atlas.first_taken(y + j, free, free + span - 1);
+          if (taken < 0) {
+            next = std::max(x + 1, free - m.lo[j]);
+            break;
+          }
+        }
+        break;
+      }
+      if (next < 0) {
+        at_x = x, at_y = y;
+        return true;
+      }
+      x = next;
+    }
+  }
+  return false;
+}
+
+/// Whether the closed triangle t, grown by margin, meets the closed square [x0, x1] x [y0, y1]:
+/// separating axes are the square's and the triangle's edge normals.
+bool triangle_meets_square(const std::array<Eigen::Vector2d, 3>& t, bool ccw, double x0, double y0,
+                           double x1, double y1, double margin) {
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d& p = t[k];
+    const Eigen::Vector2d& q = t[(k + 1) % 3];
+    // Outward normal of edge p -> q (the interior is on the left when counter-clockwise).
+    Eigen::Vector2d n(q.y() - p.y(), p.x() - q.x());
+    if (!ccw) n = -n;
+    const double length = n.norm();
+    if (length == 0) continue;
+    // The square's corner deepest inside the edge's half-plane.
+    const double x = n.x() > 0 ? x0 : x1, y = n.y() > 0 ? y0 : y1;
+    if (n.x() * (x - p.x()) + n.y() * (y - p.y()) > margin * length) return false;
+  }
+  return true;
+}
+
 /// One chart ready to pack: its rotation and its rotated bounding box in layout units.
 struct ChartShape {
   double rotation = 0;
   Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
 };
 
-/// Whether n gutter-sized cells fit in the square as a grid (what a zero scale needs; one row
-/// and column spare for the rounding of the cells' coordinates).
-bool cells_fit(std::size_t n, double gutter) {
-  const double per_side = std::floor(1 / gutter) - 1;
-  return per_side * per_side >= static_cast<double>(n);
+/// The grid of the shape packing: cells of side `cell`, `side` of them across the square, each
+/// chart grown by `dilation` cells (so that two charts' cells lie 2 dilation cells apart).
+struct Grid {
+  double cell = 0;
+  int side = 0, dilation = 1;
+};
+
+/// Packs the charts by their shapes at `scale`: each rasterised (every cell its triangles meet,
+/// up to a margin that covers the rounding of the placement), grown by the dilation, rows filled
+/// between their first and last cell, in each of four quarter turns; placed largest first at the
+/// bottom-left first fit of the turn whose top is lowest. False when one does not fit, or when
+/// the work counted (first_fit) passes the budget.
+bool pack_shapes(const Points& layout, const Triangles& triangles,
+                 const std::vector<PackedChart>& charts, const std::vector<ChartShape>& shapes,
+                 double scale, const Grid& grid, bool rotate, long long& work, long long budget,
+                 std::vector<Placement>& placement) {
+  constexpr double kMargin = 1e-12;  // uv units: far above the placement's rounding
+  const int n = static_cast<int>(charts.size());
+  const int d = grid.dilation;
+  std::vector<std::array<SpanMask, 4>> masks(n);
+  std::vector<Placement> base(n);
+  std::vector<Eigen::Vector2d> q;
+  for (int c = 0; c < n; ++c) {
+    const ChartShape& shape = shapes[c];
+    const Eigen::Vector2d size = scale * (shape.hi - shape.lo);
+    const int w = static_cast<int>(std::floor(size.x() / grid.cell)) + 1 + 2 * d;
+    const int h = static_cast<int>(std::floor(size.y() / grid.cell)) + 1 + 2 * d;
+    if (w > grid.side || h > grid.side) return false;
+    Placement& p = base[c];
+    p.offset = Eigen::Vector2d::Constant(d * grid.cell);
+    p.box = Eigen::Vector2d(w * grid.cell, h * grid.cell);
+    const Eigen::Rotation2Dd turn(shape.rotation);
+    std::vector<char> bitmap(static_cast<std::size_t>(w) * h, 0);
+    for (int f : charts[c].faces) {
+      std::array<Eigen::Vector2d, 3> t;
+      for (int k = 0; k < 3; ++k) {
+        t[k] = scale * (turn * point(layout, triangles(f, k)) - shape.lo) + p.offset;
+      }
+      const bool ccw =
+          (t[1] - t[0]).x() * (t[2] - t[0]).y() - (t[1] - t[0]).y() * (t[2] - t[0]).x() >= 0;
+      const Eigen::Vector2d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+      const Eigen::Vector2d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+      const int i0 = std::max(0, static_cast<int>(std::floor((lo.x() - kMargin) / grid.cell)));
+      const int i1 = std::min(w - 1, static_cast<int>(std::floor((hi.x() + kMargin) / grid.cell)));
+      const int j0 = std::max(0, static_cast<int>(std::floor((lo.y() - kMargin) / grid.cell)));
+      const int j1 = std::min(h - 1, static_cast<int>(std::floor((hi.y() + kMargin) / grid.cell)));
+      for (int j = j0; j <= j1; ++j) {
+        for (int i = i0; i <= i1; ++i) {
+          char& cell = bitmap[static_cast<std::size_t>(j) * w + i];
+          if (!cell && triangle_meets_square(t, ccw, i * grid.cell, j * grid.cell,
+                                             (i + 1) * grid.cell, (j + 1) * grid.cell, kMargin)) {
+            cell = 1;
+          }
+        }
+      }
+    }
+    // Grow by d cells (the chart's cells lie d cells inside its bitmap, so nothing is lost).
+    std::vector<char> grown(bitmap.size(), 0);
+    for (int j = 0; j < h; ++j) {
+      for (int i = 0; i < w; ++i) {
+        if (!bitmap[static_cast<std::size_t>(j) * w + i]) continue;
+        for (int b = std::max(0, j - d); b <= std::min(h - 1, j + d); ++b) {
+          for (int a = std::max(0, i - d); a <= std::min(w - 1, i + d); ++a) {
+            grown[static_cast<std::size_t>(b) * w + a] = 1;
+          }
+        }
+      }
+    }
+    // Row spans of each quarter turn: (i, j) of the w x h bitmap goes to (h - 1 - j, i).
+    for (int turns = 0; turns < (rotate ? 4 : 1); ++turns) {
+      SpanMask& m = masks[c][turns];
+      const bool swapped = turns % 2 == 1;
+      m.width = swapped ? h : w;
+      m.height = swapped ? w : h;
+      m.lo.assign(m.height, std::numeric_limits<int>::max());
+      m.hi.assign(m.height, -1);
+      for (int j = 0; j < h; ++j) {
+        for (int i = 0; i < w; ++i) {
+          if (!grown[static_cast<std::size_t>(j) * w + i]) continue;
+          int x = i, y = j;
+          for (int t = 0, tw = w, th = h; t < turns; ++t) {
+            const int nx = th - 1 - y;
+            y = x, x = nx;
+            std::swap(tw, th);
+          }
+          m.lo[y] = std::min(m.lo[y], x);
+          m.hi[y] = std::max(m.hi[y], x);
+        }
+      }
+      for (int y = 0; y < m.height; ++y) {
+        if (m.hi[y] < m.lo[y]) continue;
+        m.cells += m.hi[y] - m.lo[y] + 1;
+        m.widest_first.push_back(y);
+      }
+      std::stable_sort(m.widest_first.begin(), m.widest_first.end(),
+                       [&](int a, int b) { return m.hi[a] - m.lo[a] > m.hi[b] - m.lo[b]; });
+    }
+  }
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return masks[a][0].cells > masks[b][0].cells; });
+  Occupancy atlas(grid.side);
+  placement = base;
+  for (int c : order) {
+    int best_turn = -1, best_x = 0, best_y = 0, best_top = std::numeric_limits<int>::max();
+    for (int turns = 0; turns < (rotate ? 4 : 1); ++turns) {
+      int x, y;
+      // Only a lower top (or the same, further left) can beat the turn found so far.
+      if (work > budget) return false;
+      if (!first_fit(atlas, masks[c][turns], best_top, x, y, work)) continue;
+      const int top = y + masks[c][turns].height;
+      if (top < best_top || (top == best_top && x < best_x)) {
+        best_turn = turns, best_x = x, best_y = y, best_top = top;
+      }
+    }
+    if (best_turn < 0) return false;
+    const SpanMask& m = masks[c][best_turn];
+    for (int j = 0; j < m.height; ++j) {
+      if (m.lo[j] <= m.hi[j]) atlas.take(best_y + j, best_x + m.lo[j], best_x + m.hi[j]);
+    }
+    placement[c].turns = best_turn;
+    placement[c].corner = Eigen::Vector2d(best_x * grid.cell, best_y * grid.cell);
+  }
+  return true;
 }
 
 }  // namespace
@@ -514,30 +802,86 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
       high = mid;
     }
   }
-  out.scale = low;
+  double scale = low;
+  std::vector<Placement> placement(num_charts);
+  for (int c = 0; c < num_charts; ++c) {
+    placement[c].turns = best_turned[c];
+    placement[c].box = scale * (shapes[c].hi - shapes[c].lo);
+    placement[c].corner = Eigen::Vector2d(best_placed[c].x0, best_placed[c].y0) +
+                          Eigen::Vector2d::Constant(gutter / 2);
+  }
+
+  // By shape, on a grid: worth it when charts leave their rectangles partly empty. Searched like
+  // the rectangles' scale, from the charts' own area bound down to the rectangles' scale; kept
+  // only when it does better.
+  if (options.raster_resolution > 0) {
+    Grid grid;
+    // Cells of about 1 / resolution, two dilations wide exactly the gutter when it is wider.
+    const double target = 1.0 / options.raster_resolution;
+    grid.dilation = std::max(1, static_cast<int>(std::lround(gutter / (2 * target))));
+    grid.cell = gutter >= 2 * target ? gutter / (2 * grid.dilation) : target;
+    grid.side = static_cast<int>(std::floor(1 / grid.cell));
+    double chart_area = 0;
+    for (const PackedChart& chart : out.charts) {
+      for (int f : chart.faces) chart_area += 0.5 * std::abs(twice_area(layout, triangles, f));
+    }
+    double bound = longest > 0 ? 1 / longest : 1.0;
+    if (chart_area > 0) bound = std::min(bound, 1 / std::sqrt(chart_area));
+    std::vector<Placement> shaped;
+    long long work = 0;
+    const long long budget = options.raster_work_limit;
+    auto shapes_fit = [&](double s) {
+      ++out.packing_attempts;
+      return pack_shapes(layout, triangles, out.charts, shapes, s, grid, options.rotate, work,
+                         budget, shaped);
+    };
+    // From just above the rectangles' scale up by 10% steps while the shapes fit, then
+    // bisection; the work limit stops the search with the best packing found so far.
+    double shape_low = scale * (1 + tolerance);
+    if (shape_low < bound && shapes_fit(shape_low)) {
+      std::vector<Placement> best = shaped;
+      double shape_high = bound;
+      for (double s = shape_low * 1.1; work <= budget; s *= 1.1) {
+        if (s >= bound || !shapes_fit(s)) {
+          shape_high = std::min(s, bound);
+          break;
+        }
+        shape_low = s;
+        best = shaped;
+      }
+      while (work <= budget && shape_high - shape_low > tolerance * shape_high) {
+        const double mid = 0.5 * (shape_low + shape_high);
+        if (shapes_fit(mid)) {
+          shape_low = mid;
+          best = shaped;
+        } else {
+          shape_high = mid;
+        }
+      }
+      scale = shape_low;
+      placement = std::move(best);
+      out.by_shape = true;
+    }
+    out.raster_work = work;
+  }
+  out.scale = scale;
   out.gutter = gutter;
 
-  // Placement: each chart turned (and given the packer's quarter turn), scaled, and moved so that
-  // its rotated box sits half a gutter inside its rectangle.
+  // Placement: each chart turned, scaled, turned by the packer's quarter turns inside its box,
+  // the box moved to its corner.
   out.uv = Points::Zero(layout.rows(), 2);
   for (int c = 0; c < num_charts; ++c) {
     PackedChart& chart = out.charts[c];
     const ChartShape& shape = shapes[c];
-    const Eigen::Vector2d size = out.scale * (shape.hi - shape.lo);
-    // Quarter turn (x, y) -> (-y, x) of the scaled box [0, w] x [0, h] lands on [-h, 0] x [0, w].
-    const bool turn = best_turned[c];
-    chart.rotation = shape.rotation + (turn ? kPi / 2 : 0);
+    const Placement& p = placement[c];
+    chart.rotation = shape.rotation + p.turns * kPi / 2;
     const Eigen::Rotation2Dd rotation(shape.rotation);
-    const Eigen::Vector2d corner(best_placed[c].x0 + gutter / 2, best_placed[c].y0 + gutter / 2);
     for (int v : chart_vertices[c]) {
-      Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo);
-      if (turn) q = Eigen::Vector2d(size.y() - q.y(), q.x());
-      out.uv.row(v) = (corner + q).transpose();
+      const Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo) + p.offset;
+      out.uv.row(v) = (p.corner + turn_in_box(q, p.turns, p.box)).transpose();
     }
     // uv = scale R(rotation) p + translation: read the translation off the map of the origin.
-    Eigen::Vector2d origin = -out.scale * shape.lo;
-    if (turn) origin = Eigen::Vector2d(size.y() - origin.y(), origin.x());
-    chart.translation = corner + origin;
+    chart.translation = p.corner + turn_in_box(-out.scale * shape.lo + p.offset, p.turns, p.box);
     chart.box_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     chart.box_max = -chart.box_min;
     for (int v : chart_vertices[c]) {
@@ -546,7 +890,7 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
     }
     for (int f : chart.faces) chart.area += 0.5 * std::abs(twice_area(out.uv, triangles, f));
     out.coverage += chart.area;
-    out.rectangle_coverage += size.prod();
+    out.rectangle_coverage += (out.scale * (shape.hi - shape.lo)).prod();
   }
   out.overlapping_face_pairs = find_uv_overlaps(out.uv, triangles, out.face_chart, 0).count;
   out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
