@@ -405,8 +405,8 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
             << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
             << d.flipped_faces << ", " << result.seconds << " s\n";
   if (overlapping > 0) {
-    std::cout << "  " << overlapping
-              << " components' layouts overlap themselves (charts never overlap each other)\n";
+    std::cout << "  components whose layout overlaps itself: " << overlapping
+              << " (charts never overlap each other)\n";
   }
   const bool all = n <= 20;
   int skipped = 0;
@@ -469,7 +469,7 @@ int run_param(const ParamArgs& args) {
   // Several components: the atlas covers every face even when some components failed (laid out
   // as patches of their own shape), so it is written, and the exit status says that not all
   // went well.
-  const bool several = !result.components.empty();
+  const bool several = !result.components.empty() && result.uv.rows() > 0;
   if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
                      several ? result.message : "the flow did not converge: " + result.message) &&
       !several) {

@@ -184,7 +184,8 @@ void bind_param(py::module_& m) {
         py::arg("uv"), "Measures a layout (uv_triangles index uv per corner) against the mesh.");
 
   StructBinding<ParamResult>(m, "ParamResult", "What parameterize returns.")
-      .readonly("converged", &ParamResult::converged, "the flow reached its tolerance")
+      .readonly("converged", &ParamResult::converged,
+                "the flow reached its tolerance (several components: every one in one chart)")
       .readonly("message", &ParamResult::message, "why not, when it did not")
       .computed(
           "vertices", [](const ParamResult& r) { return r.mesh.positions; },

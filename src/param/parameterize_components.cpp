@@ -322,6 +322,15 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     if (sub.num_faces() > 2) {
       ParamOptions component_options = options;
       component_options.cones = user_cones[c];
+      // Whichever flow the progress callback stops (cone settling included), stop here too.
+      bool cancelled = false;
+      if (options.flow.progress) {
+        component_options.flow.progress = [&](const IterationRecord& record) {
+          const bool go = options.flow.progress(record);
+          cancelled = cancelled || !go;
+          return go;
+        };
+      }
       try {
         info.param = parameterize_one_component(sub, component_options);
         if (!info.param.converged) info.message = info.param.message;
@@ -330,6 +339,16 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         info.message = e.what();
       }
       info.parameterized = info.param.converged;
+      if (cancelled) {
+        // The progress callback asked to stop: no other component is started, no atlas made.
+        ParamResult stopped;
+        stopped.mesh = input;
+        stopped.message =
+            "parameterize: cancelled in component " + std::to_string(c) + ": " + info.message;
+        for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
+        stopped.seconds = seconds_since(start);
+        return stopped;
+      }
     }
     if (!info.parameterized) {
       PatchLayout patches = develop_patches(sub);

@@ -348,6 +348,19 @@ TEST(ParameterizeComponents, EdgeSplitsInOneComponentKeepTheOthersFaces) {
   EXPECT_NEAR(uv_angle_sum(r, split.cones.front().vertex), 2 * kPi + 4 * kPi, 1e-8);
 }
 
+TEST(ParameterizeComponents, CancellingStopsEverything) {
+  ParamOptions options = vertex_scaling();
+  int calls = 0;
+  options.flow.progress = [&](const IterationRecord&) { return ++calls < 2; };
+  const ParamResult r =
+      parameterize(combine({{make_torus(24, 10), 1.0}, {make_icosphere(3), 1.0}}), options);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.message.find("cancelled in component 0"), std::string::npos) << r.message;
+  EXPECT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.uv.rows(), 0);
+  EXPECT_EQ(calls, 2);
+}
+
 TEST(ParameterizeComponents, OneComponentIsUnchanged) {
   const ParamResult r = parameterize(make_torus(24, 10));
   EXPECT_TRUE(r.components.empty());

@@ -167,9 +167,10 @@ struct ComponentParam {
 /// distortion and seam_length of the whole atlas; flow gathers the components' flows (converged,
 /// max_error, flips, components with whole-mesh vertices, u, curvature, target_curvature; its
 /// topology, lengths, structure and flip list are per component, in components[c].param.flow);
-/// cone_selection is per component. converged is true when every component was parameterized (in
-/// one chart). \throw InvalidInput (bad cones; on one component also an inadmissible target or cone
-/// mode),
+/// cone_selection is per component. converged is true when every component was parameterized
+/// (in one chart). A flow cancelled by its progress callback stops everything: the result then
+/// has no uv, converged false and the components done so far.
+/// \throw InvalidInput (bad cones; one component: also an inadmissible target or cone mode),
 ///        TopologyError
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});
 
