@@ -397,7 +397,8 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
             << "  " << n << " components: " << n - failed - unfolded << " by the flow, " << unfolded
             << " unfolded (" << rescued << " of them after the flow failed), " << failed
             << " failed (in several patches)\n"
-            << "  atlas: " << p.charts.size() << " charts, coverage " << std::setprecision(4)
+            << "  atlas: " << p.charts.size() << " charts packed by "
+            << (p.by_shape ? "shape" : "rectangles") << ", coverage " << std::setprecision(4)
             << p.coverage << " (bounding rectangles " << p.rectangle_coverage << "), gutter "
             << p.gutter << ", overlapping face pairs " << p.overlapping_face_pairs << "\n"
             << "  cones " << result.cones.size() << ", seam length " << result.seam_length

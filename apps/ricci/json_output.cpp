@@ -238,6 +238,8 @@ nlohmann::json packing_json(const ChartPacking& p) {
           {"coverage", p.coverage},
           {"rectangle_coverage", p.rectangle_coverage},
           {"overlapping_face_pairs", p.overlapping_face_pairs},
+          {"by_shape", p.by_shape},
+          {"raster_work", p.raster_work},
           {"packing_attempts", p.packing_attempts},
           {"seconds", p.seconds}};
 }

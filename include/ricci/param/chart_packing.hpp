@@ -64,8 +64,9 @@ struct ChartPacking {
   double gutter = 0;  ///< gutter used: options.gutter unless too many charts forced it smaller
   /// Total uv area of the charts' faces: the fraction of the unit square they cover.
   double coverage = 0;
-  /// Total area of the charts' bounding rectangles (gutter not included): what the rectangle
-  /// packing covers; coverage / rectangle_coverage is how well the charts fill their rectangles.
+  /// Total area of the charts' minimal bounding rectangles (gutter not included): coverage /
+  /// rectangle_coverage is how well the charts fill them. Packed by shape, rectangles overlap
+  /// and this can pass 1.
   double rectangle_coverage = 0;
   /// Pairs of faces of different charts whose uv triangles overlap (find_uv_overlaps): 0 always,
   /// checked after the placement rather than assumed.
