@@ -12,6 +12,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
@@ -115,7 +116,9 @@ bool finish_report(const std::string& mesh, const std::string& output,
 /// --cones of param and spline: auto, N, none, one, or 'V:K,...' / a file (file vertex indices).
 void apply_cones_option(const std::string& c, const std::string& mesh, const ReadResult& read,
                         ParamOptions& options) {
-  if (c == "auto") {
+  if (c == "needed") {
+    options.cone_mode = ConeMode::Needed;
+  } else if (c == "auto") {
     options.cone_mode = ConeMode::Auto;
   } else if (c == "none") {
     options.cone_mode = ConeMode::None;
@@ -225,7 +228,9 @@ int run_flow(const FlowArgs& args) {
   spec.boundary = !args.boundary.empty() ? parse_boundary_mode(args.boundary)
                   : hyperbolic           ? BoundaryMode::Geodesic
                                          : BoundaryMode::Free;
-  if (args.target == "flat") {
+  if (args.target == "natural") {
+    spec.kind = TargetKind::Natural;
+  } else if (args.target == "flat") {
     spec.kind = TargetKind::Flat;
   } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length" ||
              args.target == "geodesic") {
@@ -250,8 +255,8 @@ int run_flow(const FlowArgs& args) {
     }
   } else {
     throw InvalidInput("--target: '" + args.target +
-                       "' is neither flat, free, disk, disk-length, geodesic, uniform nor a file "
-                       "of per-vertex curvatures");
+                       "' is neither natural, flat, free, disk, disk-length, geodesic, uniform "
+                       "nor a file of per-vertex curvatures");
   }
   // Cone vertices are numbered as in the file (0-based).
   const std::vector<int> to_mesh = inverse_map(read.vertex_map);
@@ -263,7 +268,7 @@ int run_flow(const FlowArgs& args) {
     cone.vertex = to_mesh[cone.vertex];
     spec.cones.push_back(cone);
   }
-  if (!spec.cones.empty() && spec.kind != TargetKind::Flat) {
+  if (!spec.cones.empty() && spec.kind != TargetKind::Flat && spec.kind != TargetKind::Natural) {
     throw InvalidInput(
         "--cones needs a flat target (--target flat, free, disk, disk-length or geodesic)");
   }
@@ -331,7 +336,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
   options.structure.scheme = parse_scheme(args.scheme);
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
-  if (args.cones != "auto" && args.cones != "none") {
+  if (args.cones != "needed" && args.cones != "auto" && args.cones != "none") {
     throw InvalidInput(
         "--cones: the hyperbolic parameterization has no cones (its metric has "
         "zero curvature at every vertex); leave --cones out");
@@ -371,10 +376,18 @@ int run_param_hyperbolic(const ParamArgs& args) {
             << l.max_length_relative_error << ", flipped " << l.num_flipped_faces
             << ", angle distortion mean " << result.distortion.angle_distortion_mean << " max "
             << result.distortion.angle_distortion_max << ", " << result.seconds << " s\n";
+  if (result.flow.flips > 0) {
+    std::cout << "  " << result.flow.flips
+              << " edges flipped (intrinsic Delaunay); the input's faces developed in the final "
+                 "metric agree on their edges to "
+              << result.development_length_mismatch << " (relative)\n";
+  }
   if (result.has_group) {
     std::cout << "  Fuchsian group: " << 2 * result.group.genus
               << " generators, |a1 b1 a1^-1 b1^-1 ... - I| = " << result.group.relation_residual
               << " (around the nodes: " << result.group.node_residual << ")\n";
+  } else if (!result.group_failure.empty()) {
+    std::cout << "  Fuchsian group not computed: " << result.group_failure << "\n";
   }
   if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   return kOk;
@@ -497,8 +510,14 @@ int run_param(const ParamArgs& args) {
               << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
     if (result.flow.flips > 0) {
       std::cout << "  " << result.flow.flips
-                << " edges flipped: the output's faces are the intrinsic Delaunay triangulation "
-                   "of the input vertices\n";
+                << " intrinsic edge flips; the output keeps the input's faces (development "
+                   "mismatch "
+                << result.development_length_mismatch << ")\n";
+    }
+    if (d.flipped_faces > 0) {
+      std::cout << "  warning: " << d.flipped_faces
+                << " uv triangles are flipped: cones too strong for the valence of their "
+                   "vertices (try more cones, or --scheme thurston, which raises the valence)\n";
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
@@ -619,10 +638,17 @@ int run_generate(const GenerateArgs& args) {
   } else if (args.kind == "surface") {
     mesh = args.holes > 0 ? make_surface_with_holes(args.genus, args.holes, r > 0 ? r : 24)
                           : make_closed_surface(args.genus, r > 0 ? r : 24);
+  } else if (args.kind == "cad-cylinder") {
+    mesh = make_cad_cylinder(r > 0 ? r : 360);
+  } else if (args.kind == "cad-ring") {
+    mesh = make_cad_ring(r > 0 ? r : 360);
   } else {
     throw InvalidInput("generate: unknown kind '" + args.kind +
-                       "'; expected tetrahedron, icosphere, disk, torus or surface");
+                       "'; expected tetrahedron, icosphere, disk, torus, surface, cad-cylinder "
+                       "or cad-ring");
   }
+  if (args.valence3) mesh = split_faces_near_corner(mesh, 0.05, 0.05, 3);
+  if (args.needles > 0) mesh = pull_vertices_to_neighbours(mesh, args.needles, 1, 2);
   write_obj(args.output, mesh);
   std::cout << "wrote " << args.output << ": " << mesh.num_vertices() << " vertices, "
             << mesh.num_faces() << " faces\n";

@@ -30,10 +30,10 @@ struct FlowArgs {
   std::string mesh;
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string geometry = "euclidean";
   std::string init = "fit";
-  std::string target = "flat";
+  std::string target = "natural";
   std::string boundary;  ///< empty: free (euclidean) or geodesic (hyperbolic)
   std::string cones;
   std::string solver = "newton";
@@ -52,14 +52,14 @@ struct ParamArgs {
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string output;
-  std::string cones = "auto";
+  std::string cones = "needed";
   std::string boundary = "free";
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string flips = "auto";
   std::string report;
   bool quantize = false;
   double max_log_scale = 1.0;
-  int max_cones = 64;
+  int max_cones = 0;
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;
@@ -74,7 +74,7 @@ struct SphereArgs {
   bool repair = false;             ///< --repair (kRepairHelp)
   bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
   std::string output;
-  std::string scheme = "thurston";
+  std::string scheme = "vertex-scaling";
   std::string flips = "auto";
   int pole = -1;  ///< file vertex index; -1: automatic
   double tolerance = 1e-12;
@@ -105,7 +105,9 @@ int run_spline(const SplineArgs& args);
 struct GenerateArgs {
   std::string kind;
   std::string output;
-  int resolution = 0;  ///< 0: the kind's default
+  double needles = 0;     ///< --needles: pull_vertices_to_neighbours amount (0: none)
+  bool valence3 = false;  ///< --valence3: split_faces_near_corner
+  int resolution = 0;     ///< 0: the kind's default
   int genus = 2;
   int holes = 0;
 };

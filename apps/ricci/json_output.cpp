@@ -370,7 +370,9 @@ nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
   j["layout"] = {{"root_face", r.layout.root_face},
                  {"max_length_relative_error", r.layout.max_length_relative_error},
                  {"flipped_faces", r.layout.num_flipped_faces},
-                 {"max_radius", r.layout.max_radius}};
+                 {"max_radius", r.layout.max_radius},
+                 {"development_length_mismatch", r.development_length_mismatch}};
+  if (!r.group_failure.empty()) j["fuchsian_group_failure"] = r.group_failure;
   if (r.has_group) {
     const FuchsianGroup& g = r.group;
     nlohmann::json a = nlohmann::json::array(), b = nlohmann::json::array();

@@ -67,8 +67,9 @@ int main(int argc, char** argv) {
   flow_cmd->add_option("MESH", flow.mesh, "mesh file (.obj .off .ply .stl)")->required();
   flow_cmd
       ->add_option("--scheme", flow.scheme,
-                   "discrete metric: thurston, tangential, inversive-distance, vertex-scaling, "
-                   "virtual-radius")
+                   "discrete metric: vertex-scaling (discrete conformal equivalence with "
+                   "intrinsic Delaunay flips: reaches every admissible target), thurston (the "
+                   "tutorial's circle packing), tangential, inversive-distance, virtual-radius")
       ->capture_default_str();
   flow_cmd
       ->add_option("--geometry", flow.geometry,
@@ -83,10 +84,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   flow_cmd
       ->add_option("--target", flow.target,
-                   "target curvature: flat (zero but at --cones), free (flat, boundary radii "
-                   "fixed), disk (boundary curvature 2 pi chi / m), disk-length (boundary "
-                   "curvature by length), geodesic (boundary curvature 0), uniform (2 pi chi / "
-                   "n), or a file with one value per vertex")
+                   "target curvature: natural (flat where the topology allows one: with "
+                   "boundary, or a torus; uniform on other closed components; flat with "
+                   "--cones), flat (zero but at --cones), free (flat, boundary radii fixed), "
+                   "disk (boundary curvature 2 pi chi / m), disk-length (boundary curvature by "
+                   "length), geodesic (boundary curvature 0), uniform (2 pi chi / n), or a file "
+                   "with one value per vertex")
       ->capture_default_str();
   flow_cmd->add_option("--boundary", flow.boundary,
                        "boundary of a flat target: free (the euclidean default), disk, disk-length "
@@ -97,8 +100,9 @@ int main(int argc, char** argv) {
   flow_cmd->add_option("--solver", flow.solver, "newton or gradient")->capture_default_str();
   flow_cmd
       ->add_option("--flips", flow.flips,
-                   "intrinsic Delaunay edge flips: auto (on for vertex-scaling, which then "
-                   "reaches every target that satisfies Gauss-Bonnet), off, or delaunay")
+                   "intrinsic Delaunay edge flips: auto (on for vertex-scaling, in either "
+                   "geometry, which then reaches every target that satisfies Gauss-Bonnet), "
+                   "off, or delaunay")
       ->capture_default_str();
   flow_cmd->add_option("--tol", flow.tolerance, "stop at max |K-bar - K| <= tol (radians)")
       ->capture_default_str()
@@ -132,15 +136,18 @@ int main(int argc, char** argv) {
   param_cmd->add_option("-o,--output", param.output, "output .obj with vt coordinates")->required();
   param_cmd
       ->add_option("--cones", param.cones,
-                   "auto (until --max-log-scale holds), N (that many automatic cones), none, one "
-                   "(all curvature at one cone, genus >= 2), or cones as 'V:K,...' or a file")
+                   "needed (none where the topology allows: surfaces with boundary and tori; "
+                   "automatic otherwise), auto (automatic until --max-log-scale holds), N (that "
+                   "many automatic cones), none, one (all curvature at one cone, genus >= 2), or "
+                   "cones as 'V:K,...' or a file")
       ->capture_default_str();
   param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
       ->capture_default_str();
   param_cmd
       ->add_option("--flips", param.flips,
-                   "intrinsic Delaunay edge flips (see ricci flow --help); after flips the output "
-                   "faces are the intrinsic Delaunay triangulation of the input vertices")
+                   "intrinsic Delaunay edge flips (see ricci flow --help); the output keeps the "
+                   "input's own faces, each vertex at its image in the final (flat or "
+                   "hyperbolic) metric")
       ->capture_default_str();
   param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
       ->capture_default_str();
@@ -157,7 +164,10 @@ int main(int argc, char** argv) {
                    "automatic cones: add cones until max |log area scale| is below this")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  param_cmd->add_option("--max-cones", param.max_cones, "automatic cones: at most this many")
+  param_cmd
+      ->add_option("--max-cones", param.max_cones,
+                   "automatic cones: at most this many (0: 64, or 6 |chi| on surfaces of high "
+                   "genus)")
       ->capture_default_str();
   param_cmd
       ->add_option("--gutter", param.gutter,
@@ -248,8 +258,13 @@ int main(int argc, char** argv) {
 
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
-      "generate", "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface.");
-  generate_cmd->add_option("KIND", generate.kind, "tetrahedron, icosphere, disk, torus, surface")
+      "generate",
+      "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface, or a hard "
+      "case (cad-cylinder, cad-ring: CAD strips and fans), optionally made harder still "
+      "(--needles, --valence3).");
+  generate_cmd
+      ->add_option("KIND", generate.kind,
+                   "tetrahedron, icosphere, disk, torus, surface, cad-cylinder, cad-ring")
       ->required();
   generate_cmd->add_option("-o,--output", generate.output, "output .obj file")->required();
   generate_cmd
@@ -260,6 +275,15 @@ int main(int argc, char** argv) {
   generate_cmd->add_option("--genus", generate.genus, "genus of `surface`")->capture_default_str();
   generate_cmd->add_option("--holes", generate.holes, "boundary loops cut into `surface`")
       ->capture_default_str();
+  generate_cmd
+      ->add_option("--needles", generate.needles,
+                   "pull every other interior vertex this fraction (0..1) of the way to a "
+                   "neighbour: scan-like needles (0.998: angles of about 0.1 degree)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.9999));
+  generate_cmd->add_flag("--valence3", generate.valence3,
+                         "split every third face 1-to-3 near a corner, the new vertex lifted off "
+                         "the surface: valence-3 vertices and needles");
 
   try {
     app.parse(argc, argv);

@@ -51,15 +51,19 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, geometry=
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles.
 
     Target (``TargetSpec``):
-      target: ``"flat"`` (zero curvature but at the cones; the default), ``"free"``, ``"disk"`` or
-        ``"disk-length"`` (flat with that boundary mode), ``"uniform"`` (2 pi chi / n per
-        vertex), or an (n,) array of per-vertex target curvatures.
-      cones: flat target only: ``[(vertex, curvature), ...]``, ``{vertex: curvature}`` or
+      target: ``"natural"`` (the default: per component, flat where its topology admits a flat
+        metric, i.e. with boundary or a torus, uniform curvature otherwise; flat with cones;
+        zero curvature in the hyperbolic geometry), ``"flat"`` (zero curvature but at the
+        cones), ``"free"``, ``"disk"`` or ``"disk-length"`` (flat with that boundary mode),
+        ``"uniform"`` (2 pi chi / n per vertex), or an (n,) array of per-vertex target
+        curvatures.
+      cones: natural or flat target: ``[(vertex, curvature), ...]``, ``{vertex: curvature}`` or
         ``"V:K,V:K"``; curvature in radians or text like ``"pi/2"``.
       boundary: ``"free"`` (u fixed on the boundary, the Euclidean default), ``"disk"``,
         ``"disk-length"``, ``"geodesic"`` (zero boundary curvature, the hyperbolic default).
-    Metric (``StructureOptions``): scheme (``"thurston"``, the default, ``"tangential"``,
-      ``"inversive-distance"``, ``"vertex-scaling"``, ``"virtual-radius"``), geometry
+    Metric (``StructureOptions``): scheme (``"vertex-scaling"``, the default: discrete conformal
+      equivalence with intrinsic Delaunay flips, ``"thurston"``, the tutorial's circle packing,
+      ``"tangential"``, ``"inversive-distance"``, ``"virtual-radius"``), geometry
       (``"euclidean"``, the default, or ``"hyperbolic"``: curvature -1, where the flat target
       gives the uniformization metric of a surface with chi < 0; the result's components then
       report ``total_area``; virtual-radius has no hyperbolic energy), packing_init
@@ -69,9 +73,9 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, geometry=
       max_backtracks, use_cholmod, reuse_factorization_cg_iterations, and progress: a callable
       taking an ``IterationRecord`` after every iteration; returning False stops the flow
       (status ``FlowStatus.Cancelled``). flips: ``"auto"`` (the default: intrinsic Delaunay edge
-      flips for vertex scaling, which then reaches every target that satisfies Gauss-Bonnet),
-      ``"off"`` or ``"delaunay"``; after flips ``triangles`` and ``edges`` describe the intrinsic
-      triangulation of the same vertices.
+      flips for vertex scaling, in either geometry, which then reaches every target that
+      satisfies Gauss-Bonnet), ``"off"`` or ``"delaunay"``; after flips ``triangles``, ``edges``
+      and ``eta`` describe the intrinsic triangulation of the same vertices.
     vertex_labels: numbers error messages show for vertices.
     options: a ``MeshFlowOptions`` to start from (copied); the other arguments, when not None,
       override its fields. None everywhere means the C++ default.
@@ -104,7 +108,7 @@ def flow(V, F, *, target=None, cones=None, boundary=None, scheme=None, geometry=
         raise ValueError(f"target 'values' needs an ({mesh.num_vertices},) array of curvatures")
     if cones is not None:
         spec.cones = cone_list(cones)
-    if spec.cones and spec.kind != _ricci.TargetKind.Flat:
+    if spec.cones and spec.kind not in (_ricci.TargetKind.Flat, _ricci.TargetKind.Natural):
         raise ValueError("cones need a flat target (target='flat', 'free', 'disk' or "
                          "'disk-length')")
     if geometry is not None:

@@ -64,9 +64,11 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     disk. It has no cones and no boundary choice: cones, boundary, quantize, the automatic-cone
     settings and modify_connectivity must be left out (``cones="none"`` and
     ``boundary="geodesic"`` are accepted), else InvalidInput. The metric and solver arguments
-    apply as above; root_face picks the face laid out first (-1: the default). Returns a
-    ``HyperbolicParamResult``: converged, message, uv (k, 2) with every |uv| < 1, uv_triangles
-    (m, 3), segment_maps, node_words, has_group, group, distortion, seam_length, and the stages
+    apply as above; with scheme="vertex-scaling" the flow flips edges (hyperbolic intrinsic
+    Delaunay flips, flips="auto"), and the input's own faces are developed in the final metric,
+    so uv_triangles are always the input's faces. root_face picks the face laid out first (-1:
+    the default). Returns a ``HyperbolicParamResult``: converged, message, uv (k, 2) with every
+    |uv| < 1, uv_triangles (m, 3) per corner of the input's faces, segment_maps, node_words, has_group, group, distortion, seam_length, and the stages
     flow, cut, cut_mesh, layout (``HyperbolicLayout``: max_radius, max_length_relative_error,
     num_flipped_faces, segment_maps as ``SegmentIsometry``). Every Moebius map of the disk is a
     (2, 2) complex numpy matrix [[a, b], [conj b, conj a]] of determinant 1, acting by
@@ -76,7 +78,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     +-identity. On a closed surface (genus >= 2) group is a ``FuchsianGroup``: genus, a and b
     (lists of g matrices) with a1 b1 a1^-1 b1^-1 ... ag bg ag^-1 bg^-1 = +-identity, a_words and
     b_words (the generators as words in the segment maps), relation_residual, node_residual;
-    with boundary group is None (has_group False).
+    with boundary group is None (has_group False). After flips development_length_mismatch
+    says how well the developed input faces agree on their shared edges.
 
     Raises ValueError for arrays of the wrong shape or dtype, TopologyError for non-manifold
     meshes, InvalidInput for bad cones, and (hyperbolic) for

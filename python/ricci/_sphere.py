@@ -17,9 +17,10 @@ def sphere(V, F, *, scheme=None, pole=None, flips=None, tolerance=None, max_iter
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles, one closed
     genus-0 component.
 
-    scheme: the disk's discrete metric (``"thurston"``, the default, ``"tangential"``,
-      ``"inversive-distance"``, ``"vertex-scaling"``, ``"virtual-radius"``).
-    pole: vertex removed for the flow (default: the flattest vertex of valence >= 5).
+    scheme: the disk's discrete metric (``"vertex-scaling"``, the default, ``"thurston"``,
+      ``"tangential"``, ``"inversive-distance"``, ``"virtual-radius"``).
+    pole: vertex removed for the flow (default: choose_pole_vertex, the vertex whose link keeps
+      the angles the disk's boundary asks for).
     flips, tolerance (1e-12), max_iterations, packing_init, max_intersection_angle, progress:
       as ``ricci.flow``.
     centre_tolerance (1e-12), max_centre_iterations (100): the Moebius normalisation.

@@ -22,12 +22,14 @@ PackingInit parse_packing_init(const std::string& name) {
   throw InvalidInput("packing_init: unknown value '" + name + "'; expected fit or unit");
 }
 
-/// "flat", "uniform" or "values".
+/// "natural", "flat", "uniform" or "values".
 TargetKind parse_target_kind(const std::string& name) {
+  if (name == "natural") return TargetKind::Natural;
   if (name == "flat") return TargetKind::Flat;
   if (name == "uniform") return TargetKind::Uniform;
   if (name == "values") return TargetKind::Values;
-  throw InvalidInput("target kind: unknown value '" + name + "'; expected flat, uniform or values");
+  throw InvalidInput("target kind: unknown value '" + name +
+                     "'; expected natural, flat, uniform or values");
 }
 
 /// Lets an enum be built from its ricci name: `Scheme("thurston")`.
@@ -104,7 +106,8 @@ void bind_flow(py::module_& m) {
   construct_from_name(boundary, &parse_boundary_mode);
 
   py::enum_<TargetKind> kind(m, "TargetKind", "Kinds of target flow_mesh builds.");
-  kind.value("Flat", TargetKind::Flat)
+  kind.value("Natural", TargetKind::Natural)
+      .value("Flat", TargetKind::Flat)
       .value("Uniform", TargetKind::Uniform)
       .value("Values", TargetKind::Values);
   construct_from_name(kind, &parse_target_kind);
@@ -238,6 +241,9 @@ void bind_flow(py::module_& m) {
       .readonly("triangles", &FlowResult::triangles,
                 "#F by 3 final triangulation (the intrinsic Delaunay one after flips)")
       .readonly("flips", &FlowResult::flips, "edges flipped over the whole flow")
+      .readonly("isometric_flips", &FlowResult::isometric_flips,
+                "the first flips: the input metric retriangulated isometrically")
+      .readonly("eta", &FlowResult::eta, "#E eta on the final triangulation (set by the flips)")
       .readonly("blocked_flips", &FlowResult::blocked_flips, "non-Delaunay edges left")
       .readonly("iterations", &FlowResult::iterations, "")
       .readonly("max_error", &FlowResult::max_error, "final max |K-bar - K|")
@@ -287,6 +293,8 @@ void bind_flow(py::module_& m) {
           "#F by 3 final triangulation: the input's, or its intrinsic Delaunay triangulation "
           "after flips (same vertices)")
       .readonly("flips", &MeshFlowResult::flips, "edges flipped, all components")
+      .readonly("eta", &MeshFlowResult::eta,
+                "#E eta of the structure on the final triangulation (set by the flips)")
       .readonly("blocked_flips", &MeshFlowResult::blocked_flips, "non-Delaunay edges left")
       .computed(
           "history",

@@ -114,7 +114,7 @@ void bind_hyperbolic_param(py::module_& m) {
                 "#V_cut by 2 texture coordinates in the Poincare disk (|uv| < 1)")
       .computed(
           "uv_triangles", [](const HyperbolicParamResult& r) { return r.cut_mesh.triangles; },
-          "#F by 3 indices into uv per corner (cut_mesh.triangles)")
+          "#F by 3 indices into uv per corner of the input's faces (cut_mesh.triangles)")
       .computed(
           "segment_maps",
           [](const HyperbolicParamResult& r) {
@@ -129,6 +129,8 @@ void bind_hyperbolic_param(py::module_& m) {
           "layout.node_words")
       .readonly("has_group", &HyperbolicParamResult::has_group,
                 "closed surface: the Fuchsian group was computed")
+      .readonly("group_failure", &HyperbolicParamResult::group_failure,
+                "closed surface whose group could not be computed: why (else empty)")
       .computed(
           "group",
           [](const HyperbolicParamResult& r) -> py::object {
@@ -148,6 +150,9 @@ void bind_hyperbolic_param(py::module_& m) {
                 "cuts laid out before the kept one was chosen")
       .readonly("cut_root", &HyperbolicParamResult::cut_root,
                 "root vertex of the kept cut (-1: cut_graph's default)")
+      .readonly("development_length_mismatch", &HyperbolicParamResult::development_length_mismatch,
+                "after flips: how well the input faces developed in the metric agree on their "
+                "shared edges (relative)")
       .computed(
           "refined_error",
           [](const HyperbolicParamResult& r) { return r.refinement.max_error_after; },

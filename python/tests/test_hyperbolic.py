@@ -151,3 +151,56 @@ def test_parameterize_reports_the_refinement_and_the_cut_search():
     one = ricci.parameterize(V, F, geometry="hyperbolic",
                              options=ricci.HyperbolicParamOptions(cut_candidates=1))
     assert one.cut_candidates_tried == 1 and one.cut_root == -1
+
+
+# Hyperbolic intrinsic Delaunay flips (vertex scaling): what the input triangulation cannot reach.
+
+def _spiky(V, F, stride=5, push=1.0):
+    """Every stride-th face split 1-to-3 near its first corner, the new vertex pushed out along
+    the face normal by push times the face's longest edge: valence-3 spikes."""
+    V = [np.asarray(v, dtype=float) for v in V]
+    faces = []
+    for f, (a, b, c) in enumerate(F):
+        if f % stride:
+            faces.append((a, b, c))
+            continue
+        pa, pb, pc = V[a], V[b], V[c]
+        normal = np.cross(pb - pa, pc - pa)
+        normal /= np.linalg.norm(normal)
+        longest = max(np.linalg.norm(pb - pa), np.linalg.norm(pc - pb), np.linalg.norm(pa - pc))
+        V.append(0.8 * pa + 0.1 * pb + 0.1 * pc + push * longest * normal)
+        p = len(V) - 1
+        faces += [(a, b, p), (b, c, p), (c, a, p)]
+    return np.array(V), np.array(faces, dtype=np.int32)
+
+
+@pytest.fixture(scope="module")
+def spiky_genus_two():
+    return _spiky(*ricci.generate.closed_surface(2, 12))
+
+
+def test_hyperbolic_flips_uniformize_spikes(spiky_genus_two):
+    V, F = spiky_genus_two
+    off = ricci.flow(V, F, geometry="hyperbolic", scheme="vertex-scaling", flips="off")
+    assert not off.converged and off.flips == 0
+    on = ricci.flow(V, F, geometry="hyperbolic", scheme="vertex-scaling")  # flips="auto"
+    assert on.converged and on.max_error <= 1e-10, on.message
+    flow = on.components[0].flow
+    assert on.flips > flow.isometric_flips > 0  # isometric first, then Ptolemy
+    assert flow.total_area == pytest.approx(4 * math.pi, abs=1e-8)
+    assert on.eta.shape == on.lengths.shape and on.triangles.shape == F.shape
+    assert not np.array_equal(on.triangles, F)
+
+
+def test_hyperbolic_parameterize_with_flips_keeps_the_input_faces(spiky_genus_two):
+    V, F = spiky_genus_two
+    result = ricci.parameterize(V, F, geometry="hyperbolic", scheme="vertex-scaling")
+    assert result.converged, result.message
+    assert result.flow.flips > 0
+    # uv per corner of the input's faces: each cut-mesh corner copies the input's vertex.
+    to_original = np.asarray(result.cut_mesh.to_original)
+    np.testing.assert_array_equal(to_original[result.uv_triangles], F)
+    assert np.all(np.hypot(result.uv[:, 0], result.uv[:, 1]) < 1)
+    assert result.group.genus == 2 and result.group.relation_residual < 1e-10
+    assert result.development_length_mismatch < 1e-14
+    assert result.refined_error < 1e-16

@@ -99,8 +99,9 @@ def test_several_components_share_one_atlas(torus):
     result = ricci.parameterize(V, F, scheme="vertex-scaling", gutter=0.01)
     assert result.converged, result.message
     methods = [c.method for c in result.components]
+    # The tetrahedron goes by the flow (three cones); the lone triangle is unfolded.
     assert methods == [ricci.ComponentMethod.Flow, ricci.ComponentMethod.Flow,
-                       ricci.ComponentMethod.Unfolded, ricci.ComponentMethod.Unfolded]
+                       ricci.ComponentMethod.Flow, ricci.ComponentMethod.Unfolded]
     assert [len(c.faces) for c in result.components] == [len(torus[1]), 1280, 4, 1]
     packing = result.packing
     assert packing.gutter == 0.01 and len(packing.charts) == 4
@@ -120,7 +121,13 @@ def test_several_components_share_one_atlas(torus):
     assert sphere.param.converged and len(sphere.cones) == len(sphere.param.cones) > 0
     assert all(c.vertex == sphere.vertex_map[d.vertex]
                for c, d in zip(sphere.cones, sphere.param.cones))
-    assert result.components[2].message  # the tetrahedron's flow failed; it unfolded
+    assert all(c.parameterized and c.message == "" for c in result.components)
+    # With no cones asked for, the tetrahedron cannot flatten: unfolded, four cones of pi.
+    result = ricci.parameterize(V, F, scheme="vertex-scaling", cones="none")
+    tetrahedron = result.components[2]
+    assert result.converged and tetrahedron.method == ricci.ComponentMethod.Unfolded
+    assert "no flat metric without cones" in tetrahedron.message
+    assert [c.curvature for c in tetrahedron.cones] == pytest.approx([math.pi] * 4, abs=1e-12)
 
 
 def test_pack_charts_and_overlaps():

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <complex>
 #include <optional>
 #include <utility>
 
@@ -83,6 +85,34 @@ void transplant(const Topology& local, const Component& comp, const ComponentVie
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
                     const TargetSpec& spec, const std::vector<int>& vertex_labels) {
   switch (spec.kind) {
+    case TargetKind::Natural: {
+      if (!spec.cones.empty()) {
+        return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
+      }
+      Target target = flat_target(topology, {}, spec.boundary, input_lengths, vertex_labels);
+      const Target uniform = uniform_target(topology);
+      bool any_flat = false, any_uniform = false;
+      for (const Component& comp : topology.components) {
+        if (comp.num_boundary_loops > 0 || comp.euler_characteristic == 0) {
+          any_flat = true;
+          continue;
+        }
+        any_uniform = true;
+        for (int v : comp.vertices) {
+          target.curvature[v] = uniform.curvature[v];
+          target.fixed[v] = 0;
+        }
+      }
+      if (any_uniform) {
+        target.description =
+            any_flat ? target.description +
+                           "; uniform curvature 2 pi chi / n on closed components "
+                           "of genus other than 1"
+                     : uniform.description +
+                           " (closed, genus other than 1: no flat metric without cones)";
+      }
+      return target;
+    }
     case TargetKind::Flat:
       return flat_target(topology, spec.cones, spec.boundary, input_lengths, vertex_labels);
     case TargetKind::Uniform:
@@ -93,15 +123,191 @@ Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengt
   throw InvalidInput("build_target: unknown target kind");
 }
 
+namespace {
+
+/// A component with boundary and its mirror image glued along the boundary: a closed surface on
+/// which interior flips reach every edge (a boundary edge becomes an interior one). Interior
+/// vertices get a mirror copy, boundary vertices are shared; mirrored faces have the reverse
+/// orientation. The doubled target asks the same curvature of both copies of an interior vertex
+/// and twice the boundary curvature of a boundary vertex (both halves' angles meet there).
+struct Doubled {
+  Topology topology;
+  Triangles triangles;
+  std::vector<int> original;  // doubled vertex -> local vertex
+  ConformalStructure structure;
+  Target target;
+};
+
+// Mirrored corner k of face f copies corner kMirror[k]: (a, b, c) becomes (a', c', b').
+constexpr int kMirror[3] = {0, 2, 1};
+
+Doubled double_component(const Topology& t, const ConformalStructure& s, const Target& target) {
+  Doubled d;
+  const int nv = t.num_vertices, nf = t.num_faces;
+  std::vector<int> mirror(nv, -1);
+  d.original.resize(nv);
+  for (int v = 0; v < nv; ++v) d.original[v] = v;
+  for (int v = 0; v < nv; ++v) {
+    if (t.is_boundary_vertex[v]) {
+      mirror[v] = v;
+    } else {
+      mirror[v] = static_cast<int>(d.original.size());
+      d.original.push_back(v);
+    }
+  }
+  d.triangles.resize(2 * nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      d.triangles(f, k) = t.triangles(f, k);
+      d.triangles(nf + f, k) = mirror[t.triangles(f, kMirror[k])];
+    }
+  }
+  const int n2 = static_cast<int>(d.original.size());
+  d.topology = build_topology(d.triangles, n2);
+  d.structure.scheme = s.scheme;
+  d.structure.geometry = s.geometry;
+  d.structure.length_scale = s.length_scale;
+  d.structure.epsilon.resize(n2);
+  d.structure.initial_u.resize(n2);
+  d.target.curvature.resize(n2);
+  d.target.fixed.resize(n2);
+  d.target.description = target.description + " (doubled along the boundary)";
+  for (int v = 0; v < n2; ++v) {
+    const int o = d.original[v];
+    d.structure.epsilon[v] = s.epsilon[o];
+    d.structure.initial_u[v] = s.initial_u[o];
+    d.target.curvature[v] = t.is_boundary_vertex[o] ? 2 * target.curvature[o] : target.curvature[o];
+    d.target.fixed[v] = target.fixed[o];
+  }
+  d.structure.eta.resize(d.topology.num_edges);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const double eta = s.eta[t.halfedge_edge[3 * f + k]];
+      d.structure.eta[d.topology.halfedge_edge[3 * f + k]] = eta;
+      // Mirrored halfedge k lies opposite the copy of corner kMirror[k].
+      d.structure.eta[d.topology.halfedge_edge[3 * (nf + f) + k]] =
+          s.eta[t.halfedge_edge[3 * f + kMirror[k]]];
+    }
+  }
+  return d;
+}
+
+/// Whether a failed flow on a component with boundary should be tried again on its double:
+/// boundary edges cannot flip, so a triangle along the boundary can break where the doubled
+/// surface simply flips the edge (CAD fans, the disk of the sphere map).
+bool worth_doubling(const Topology& t, const ConformalStructure& s, const FlowOptions& options,
+                    const FlowResult& flow) {
+  if (flow.converged || t.num_boundary_loops() == 0) return false;
+  if (flow.status == FlowStatus::Cancelled) return false;
+  if (s.geometry != Geometry::Euclidean || !uses_edge_flips(s, options)) return false;
+  return true;
+}
+
+/// Runs the flow on the double of a component; on success `out` holds it (its flow in the
+/// doubled surface's indices) and the developed shapes of the component's own faces.
+void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& target,
+                  const FlowOptions& options, ComponentFlow& out) {
+  Doubled d = double_component(t, s, target);
+  FlowResult flow = ricci_flow(d.topology, d.structure, d.target, options);
+  if (!flow.converged) return;
+  const Development development = develop_input_faces(d.topology, flow.flipped_edges, flow.lengths);
+  out.doubled = true;
+  out.first_attempt_message = out.flow.message;
+  out.flow = std::move(flow);
+  out.doubled_triangles = std::move(d.triangles);
+  out.doubled_vertex_original = std::move(d.original);
+  out.doubled_shapes.assign(development.shapes.begin(), development.shapes.begin() + t.num_faces);
+}
+
+/// Writes a doubled component's u, curvature and the lengths of its own edges (in the final
+/// metric, from the developed faces) into the whole-mesh arrays; the maps are local -> whole
+/// (empty: the component is the whole mesh).
+void gather_doubled(const ComponentFlow& out, const Topology& t, const std::vector<int>& vertex_map,
+                    const std::vector<int>& edge_map, MeshFlowResult& result) {
+  auto whole_vertex = [&](int v) { return vertex_map.empty() ? v : vertex_map[v]; };
+  auto whole_edge = [&](int e) { return edge_map.empty() ? e : edge_map[e]; };
+  for (int v = 0; v < t.num_vertices; ++v) {
+    const double half = t.is_boundary_vertex[v] ? 0.5 : 1.0;
+    result.u[whole_vertex(v)] = out.flow.u[v];
+    result.curvature[whole_vertex(v)] = half * out.flow.curvature[v];
+    result.target_curvature[whole_vertex(v)] = half * out.flow.target_curvature[v];
+  }
+  for (int f = 0; f < t.num_faces; ++f) {
+    const auto& p = out.doubled_shapes[f];
+    for (int k = 0; k < 3; ++k) {
+      const int e = t.face_edges(f, k);
+      const double l = std::abs(p[(k + 2) % 3] - p[(k + 1) % 3]);
+      result.lengths[whole_edge(e)] = l;
+      const double ui = out.flow.u[t.edge_vertices(e, 0)], uj = out.flow.u[t.edge_vertices(e, 1)];
+      result.eta[whole_edge(e)] = 0.5 * l * l * std::exp(-(ui + uj));
+    }
+  }
+}
+
+}  // namespace
+
+Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow) {
+  return develop_input_faces(build_topology(mesh.triangles, mesh.num_vertices()), flow);
+}
+
+Development develop_input_faces(const Topology& input, const MeshFlowResult& flow) {
+  Development d = develop_input_faces(input, flow.flipped_edges, flow.lengths);
+  bool any_doubled = false;
+  for (std::size_t c = 0; c < flow.components.size(); ++c) {
+    const ComponentFlow& comp = flow.components[c];
+    if (!comp.doubled) continue;
+    any_doubled = true;
+    const std::vector<int>& faces = input.components[c].faces;
+    for (std::size_t f = 0; f < faces.size(); ++f) d.shapes[faces[f]] = comp.doubled_shapes[f];
+  }
+  if (any_doubled) {
+    d = Development{d.shapes, d.lengths, 0, 0, 0};
+    for (int e = 0; e < input.num_edges; ++e) {
+      auto side = [&](int h) {
+        const auto& p = d.shapes[h / 3];
+        return std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+      };
+      const double la = side(input.edge_halfedges(e, 0));
+      d.lengths[e] = la;
+      if (input.edge_halfedges(e, 1) >= 0) {
+        const double lb = side(input.edge_halfedges(e, 1));
+        d.max_length_mismatch =
+            std::max(d.max_length_mismatch, std::abs(la - lb) / std::max(la, lb));
+      }
+    }
+    for (const auto& p : d.shapes) {
+      const std::complex<double> a = p[1] - p[0], b = p[2] - p[0];
+      const double area = a.real() * b.imag() - a.imag() * b.real();
+      const double scale = std::max({std::norm(a), std::norm(b), std::norm(p[2] - p[1])});
+      if (std::abs(area) <= 1e-14 * scale) {
+        ++d.degenerate_faces;
+      } else if (area < 0) {
+        ++d.flipped_faces;
+      }
+    }
+  }
+  return d;
+}
+
 MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
+  return flow_mesh(mesh, build_topology(mesh.triangles, mesh.num_vertices()), options);
+}
+
+MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
+                         const MeshFlowOptions& options) {
   const auto start = Clock::now();
   MeshFlowResult result;
-  result.topology = build_topology(mesh.triangles, mesh.num_vertices());
+  result.topology = topology;
   const Topology& whole = result.topology;
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);
   const ConformalStructure& structure = result.structure.structure;
-  result.target = build_target(whole, lbar, options.target, options.vertex_labels);
+  TargetSpec spec = options.target;
+  // Zero curvature is the hyperbolic background's natural target (the uniformization metric).
+  if (spec.kind == TargetKind::Natural && structure.geometry == Geometry::Hyperbolic) {
+    spec.kind = TargetKind::Flat;
+  }
+  result.target = build_target(whole, lbar, spec, options.vertex_labels);
   // Checked on the whole mesh so that messages name whole-mesh vertices.
   AdmissibilityOptions admissibility;
   admissibility.vertex_labels = options.vertex_labels;
@@ -113,6 +319,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
   result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
   result.target_curvature = result.target.curvature;
   result.lengths = lbar;
+  result.eta = structure.eta;
   result.converged = true;
 
   // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
@@ -125,15 +332,25 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
     out.boundary_loops = comp.num_boundary_loops;
     if (whole.components.size() == 1) {
       out.flow = ricci_flow(whole, structure, result.target, options.flow);
-      result.u = out.flow.u;
-      result.curvature = out.flow.curvature;
-      result.target_curvature = out.flow.target_curvature;
-      result.lengths = out.flow.lengths;
+      if (worth_doubling(whole, structure, options.flow, out.flow)) {
+        flow_doubled(whole, structure, result.target, options.flow, out);
+      }
+      if (out.doubled) {
+        gather_doubled(out, whole, std::vector<int>(), std::vector<int>(), result);
+      } else {
+        result.u = out.flow.u;
+        result.curvature = out.flow.curvature;
+        result.target_curvature = out.flow.target_curvature;
+        result.lengths = out.flow.lengths;
+        result.eta = out.flow.eta;
+      }
     } else {
       const ComponentView view = restrict_to(whole, comp);
       const int nv = view.topology.num_vertices, ne = view.topology.num_edges;
       ConformalStructure local;
       local.scheme = structure.scheme;
+      local.geometry = structure.geometry;
+      local.length_scale = structure.length_scale;
       local.epsilon.resize(nv);
       local.initial_u.resize(nv);
       local.eta.resize(ne);
@@ -150,24 +367,34 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
       }
       for (int e = 0; e < ne; ++e) local.eta[e] = structure.eta[view.edge_map[e]];
       out.flow = ricci_flow(view.topology, local, target, options.flow);
-      for (int i = 0; i < nv; ++i) {
-        const int v = view.vertex_map[i];
-        result.u[v] = out.flow.u[i];
-        result.curvature[v] = out.flow.curvature[i];
-        result.target_curvature[v] = out.flow.target_curvature[i];
+      if (worth_doubling(view.topology, local, options.flow, out.flow)) {
+        flow_doubled(view.topology, local, target, options.flow, out);
       }
-      for (int e = 0; e < ne; ++e) result.lengths[view.edge_map[e]] = out.flow.lengths[e];
-      if (out.flow.flips > 0) {
-        if (!flipped) flipped = whole;
-        transplant(*out.flow.intrinsic_topology, comp, view, *flipped);
-        for (int e : out.flow.flipped_edges) result.flipped_edges.push_back(view.edge_map[e]);
-        result.flip_is_isometric.insert(result.flip_is_isometric.end(),
-                                        out.flow.flipped_edges.size(), 0);
-        std::fill_n(result.flip_is_isometric.end() - out.flow.flipped_edges.size(),
-                    out.flow.isometric_flips, 1);
+      if (out.doubled) {
+        gather_doubled(out, view.topology, view.vertex_map, view.edge_map, result);
+      } else {
+        for (int i = 0; i < nv; ++i) {
+          const int v = view.vertex_map[i];
+          result.u[v] = out.flow.u[i];
+          result.curvature[v] = out.flow.curvature[i];
+          result.target_curvature[v] = out.flow.target_curvature[i];
+        }
+        for (int e = 0; e < ne; ++e) {
+          result.lengths[view.edge_map[e]] = out.flow.lengths[e];
+          result.eta[view.edge_map[e]] = out.flow.eta[e];
+        }
+        if (out.flow.flips > 0) {
+          if (!flipped) flipped = whole;
+          transplant(*out.flow.intrinsic_topology, comp, view, *flipped);
+          for (int e : out.flow.flipped_edges) result.flipped_edges.push_back(view.edge_map[e]);
+          result.flip_is_isometric.insert(result.flip_is_isometric.end(),
+                                          out.flow.flipped_edges.size(), 0);
+          std::fill_n(result.flip_is_isometric.end() - out.flow.flipped_edges.size(),
+                      out.flow.isometric_flips, 1);
+        }
       }
     }
-    if (whole.components.size() == 1 && out.flow.flips > 0) {
+    if (whole.components.size() == 1 && out.flow.flips > 0 && !out.doubled) {
       flipped = *out.flow.intrinsic_topology;
       result.flipped_edges = out.flow.flipped_edges;
       result.flip_is_isometric.assign(out.flow.flipped_edges.size(), 0);

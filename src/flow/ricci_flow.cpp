@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
@@ -63,12 +65,8 @@ const char* edge_flips_name(EdgeFlips flips) {
 
 bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options) {
   if (options.flips == EdgeFlips::Off) return false;
-  if (structure.geometry == Geometry::Hyperbolic) {
-    if (options.flips == EdgeFlips::Auto) return false;
-    throw InvalidInput(
-        "RicciFlow: Delaunay edge flips are implemented for the Euclidean background only (the "
-        "hyperbolic Ptolemy relation is not); use --flips off (the default there)");
-  }
+  // Both backgrounds: Ptolemy's relation holds for l (Euclidean) and for sinh(l / 2)
+  // (hyperbolic), see ricci/metric/delaunay_flips.hpp.
   const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
   if (options.flips == EdgeFlips::Auto) return vertex_scaling;
   if (!vertex_scaling) {
@@ -180,7 +178,8 @@ struct RicciFlow::State {
       return Evaluation::BadLength;
     }
     const Topology* t = &topology;
-    if (count_non_delaunay_edges(topology, trial_lengths) > blocked_flips) {
+    if (count_non_delaunay_edges(topology, trial_lengths, flip_options().tolerance,
+                                 structure.geometry) > blocked_flips) {
       trial_topology = topology;
       trial_structure = structure;
       const DelaunayFlipResult r = flip_to_delaunay(*trial_topology, trial_structure, trial_u,
@@ -192,7 +191,9 @@ struct RicciFlow::State {
       trial_blocked = r.blocked;
       t = &*trial_topology;
     }
-    if (corner_angles(*t, trial_lengths, trial_angles) >= 0) return Evaluation::TriangleInequality;
+    if (corner_angles(*t, trial_lengths, trial_angles, structure.geometry) >= 0) {
+      return Evaluation::TriangleInequality;
+    }
     vertex_curvature(*t, trial_angles, trial_curvature);
     return Evaluation::Valid;
   }
@@ -250,14 +251,58 @@ struct RicciFlow::State {
     } else if (max_error <= options.tolerance) {
       finish(FlowStatus::Converged,
              "reached max |K-bar - K| = " + format(max_error) + " <= " + format(options.tolerance));
+    } else if (history.size() >= 2 && max_error > 0.5 * history[history.size() - 2].max_error &&
+               finish_at_floor(max_error)) {
+      // stagnating within the floor: done
     } else if (iteration >= options.max_iterations) {
-      finish(FlowStatus::MaxIterations,
-             "stopped after " + std::to_string(iteration) +
-                 " iterations at max |K-bar - K| = " + format(max_error));
+      if (!finish_at_floor(max_error)) {
+        finish(FlowStatus::MaxIterations,
+               "stopped after " + std::to_string(iteration) +
+                   " iterations at max |K-bar - K| = " + format(max_error));
+      }
     }
     if (options.progress && !options.progress(r) && !finished) {
       finish(FlowStatus::Cancelled, "cancelled by the progress callback");
     }
+  }
+
+  /// The smallest max |K-bar - K| double arithmetic can resolve at the current metric, per
+  /// vertex: the rounding of its angle sum (about eps per angle, 2 pi in all, times its valence)
+  /// and of its angles' dependence on the log radii (eps (1 + |u|) each, times dK/du, the edge
+  /// weights: large next to needles), with a factor 4 of room. Well-shaped meshes sit near 1e-14;
+  /// 0.1-degree needles bring it to the 1e-12 a parameterization asks for.
+  double error_floor() const {
+    // The weights of the last assembly (or of the gradient flow's step size): one step stale
+    // at most, which an estimate with a factor of room tolerates.
+    if (edge_w.size() != topology.num_edges) return 0.0;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    std::vector<double> weight(topology.num_vertices, 0.0);
+    for (int e = 0; e < topology.num_edges; ++e) {
+      const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+      const double w = std::abs(edge_w[e]) * (1 + std::max(std::abs(u[i]), std::abs(u[j])));
+      weight[i] += w;
+      weight[j] += w;
+    }
+    double worst = 0;
+    for (int v = 0; v < topology.num_vertices; ++v) {
+      if (target.fixed[v] || topology.vertex_component[v] < 0) continue;
+      const double floor =
+          4 * eps * (2 * std::numbers::pi * topology.vertex_degree[v] + 2 * weight[v]);
+      worst = std::max(worst, floor);
+    }
+    return worst;
+  }
+
+  /// A flow that cannot improve on an error within the floating-point floor has converged as
+  /// far as the arithmetic goes: finish it so, saying so. Returns whether it did.
+  bool finish_at_floor(double max_error) {
+    const double floor = error_floor();
+    if (!(max_error <= floor)) return false;
+    finish(FlowStatus::Converged, "reached max |K-bar - K| = " + format(max_error) +
+                                      ", the floating-point floor of this metric (about " +
+                                      format(floor) + "), above the tolerance " +
+                                      format(options.tolerance));
+    return true;
   }
 
   static std::string format(double x) {
@@ -515,7 +560,7 @@ struct RicciFlow::State {
           why << " (" << length_failures
               << " trial steps gave an edge a non-positive or overflowing length)";
         }
-        finish(FlowStatus::LineSearchFailed, why.str());
+        if (!finish_at_floor(max0)) finish(FlowStatus::LineSearchFailed, why.str());
         record(0.0, backtracks, triangle_failures + length_failures);
         return;
       }
@@ -566,11 +611,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   check_admissible(topology, structure, target, admissibility);
   if (s.flips) {
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
-    // intrinsic Delaunay triangulation: the same flat surface, so the discrete conformal class
-    // is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex scaling on Delaunay
-    // triangulations, flips between them). Ptolemy flips there would change the metric where
-    // the input is not Delaunay: on face.obj (13k such edges) the map's mean angle distortion
-    // on the input faces went from 1.029 to 1.068.
+    // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
+    // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
+    // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
+    // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
+    // distortion on the input faces went from 1.029 to 1.068.
     if (edge_lengths(s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
@@ -693,7 +738,9 @@ FlowResult RicciFlow::result() const {
   r.triangles = s.topology.triangles;
   r.flips = s.total_flips;
   r.flipped_edges = s.flipped_edges;
+  r.eta = s.structure.eta;
   r.isometric_flips = s.isometric_flips;
+  r.error_floor = s.error_floor();
   r.blocked_flips = s.blocked_flips;
   if (s.total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(s.topology);
   r.iterations = s.iteration;

@@ -280,7 +280,7 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                            ", which must exceed 2 pi chi = " + format_value(expected) +
                            " (chi = " + std::to_string(comp.euler_characteristic) +
                            ") by the metric's area; zero curvature needs chi < 0 (genus >= 2, "
-                           "or boundaries)");
+                           "or boundaries); use the Euclidean geometry for this surface");
       }
       continue;
     }
@@ -288,7 +288,9 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
       throw InvalidInput("check_admissible: component " + std::to_string(c) +
                          " breaks Gauss-Bonnet: its target curvatures sum to " + format_value(sum) +
                          " but must sum to 2 pi chi = " + format_value(expected) +
-                         " (chi = " + std::to_string(comp.euler_characteristic) + ")");
+                         " (chi = " + std::to_string(comp.euler_characteristic) +
+                         "); give cones that make up the difference, or use the natural or "
+                         "uniform target (automatic cones: parameterize)");
     }
   }
 }

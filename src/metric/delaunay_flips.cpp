@@ -8,6 +8,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
 namespace {
@@ -76,6 +77,29 @@ double euclidean_diagonal(double ab, double ca, double cb, double da, double db)
 
 double delaunay_margin(double ab, double ca, double cb, double da, double db) {
   return cosine_term(ab, ca, cb) + cosine_term(ab, da, db);
+}
+
+double lambda_length(double length, Geometry geometry) {
+  return geometry == Geometry::Hyperbolic ? std::sinh(0.5 * length) : length;
+}
+
+double length_from_lambda(double lambda, Geometry geometry) {
+  return geometry == Geometry::Hyperbolic ? 2.0 * std::asinh(lambda) : lambda;
+}
+
+double hyperbolic_delaunay_margin(double ab, double ca, double cb, double da, double db) {
+  const auto s = [](double l) { return std::sinh(0.5 * l); };
+  return delaunay_margin(s(ab), s(ca), s(cb), s(da), s(db));
+}
+
+double hyperbolic_diagonal(double ab, double ca, double cb, double da, double db) {
+  // The angle of the quad at a: the angles at a of (c, a, b) and (d, b, a).
+  const double alpha =
+      hyperbolic_angle_from_lengths(cb, ca, ab) + hyperbolic_angle_from_lengths(db, da, ab);
+  // cosh cd = cosh ca cosh da - sinh ca sinh da cos alpha, minus cosh(ca - da), with
+  // cosh x - 1 = 2 sinh^2(x / 2) and 1 - cos alpha = 2 sin^2(alpha / 2).
+  const double h = std::sinh(0.5 * (ca - da)), s = std::sin(0.5 * alpha);
+  return 2.0 * std::asinh(std::sqrt(h * h + std::sinh(ca) * std::sinh(da) * s * s));
 }
 
 bool can_flip_edge(const Topology& t, int e, bool keep_simplicial) {
@@ -148,23 +172,45 @@ bool is_simplicial(const Topology& t) {
   return std::adjacent_find(pairs.begin(), pairs.end()) == pairs.end();
 }
 
+namespace {
+
+/// Flips edge e of quad q to the new length cd, with the eta that makes edge_lengths reproduce
+/// it: lambda_cd^2 = 2 eta exp(u_c + u_d) in both backgrounds (vertex scaling, epsilon = 0).
+void set_flipped_edge(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
+                      Eigen::VectorXd& l, int e, const Quad& q, double cd) {
+  flip_edge(t, e);
+  l[e] = cd;
+  const double lambda = lambda_length(cd, structure.geometry);
+  structure.eta[e] = 0.5 * std::exp(2.0 * std::log(lambda) - u[q.c] - u[q.d]);
+}
+
+/// The Delaunay margin of edge e in the given background.
+double margin_of(const Eigen::VectorXd& l, int e, const Quad& q, Geometry geometry) {
+  return geometry == Geometry::Hyperbolic
+             ? hyperbolic_delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db])
+             : delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]);
+}
+
+}  // namespace
+
 double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
                     Eigen::VectorXd& l, int e) {
   const Quad q = quad_of(t, e);
-  // Ptolemy: the diagonals of the (decorated) quad a, d, b, c.
-  const double cd = (l[q.ca] * l[q.db] + l[q.da] * l[q.cb]) / l[e];
-  flip_edge(t, e);
-  l[e] = cd;
-  structure.eta[e] = 0.5 * std::exp(2.0 * std::log(cd) - u[q.c] - u[q.d]);
+  // Ptolemy: the diagonals of the (decorated) quad a, d, b, c, on the lambda lengths.
+  const Geometry g = structure.geometry;
+  auto lambda = [&](int edge) { return lambda_length(l[edge], g); };
+  const double cd = length_from_lambda(
+      (lambda(q.ca) * lambda(q.db) + lambda(q.da) * lambda(q.cb)) / lambda(e), g);
+  set_flipped_edge(t, structure, u, l, e, q, cd);
   return cd;
 }
 
-int count_non_delaunay_edges(const Topology& t, const Eigen::VectorXd& l, double tolerance) {
+int count_non_delaunay_edges(const Topology& t, const Eigen::VectorXd& l, double tolerance,
+                             Geometry geometry) {
   int count = 0;
   for (int e = 0; e < t.num_edges; ++e) {
     if (t.edge_halfedges(e, 1) < 0) continue;
-    const Quad q = quad_of(t, e);
-    if (delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]) < -tolerance) ++count;
+    if (margin_of(l, e, quad_of(t, e), geometry) < -tolerance) ++count;
   }
   return count;
 }
@@ -178,6 +224,7 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
         "structure is " +
         std::string(scheme_name(structure.scheme)));
   }
+  const Geometry geometry = structure.geometry;
   DelaunayFlipResult result;
   const int max_flips = options.max_flips > 0 ? options.max_flips : 50 * t.num_edges;
   // A stack of edges to check, lowest index on top; an edge re-enters when a flip changes its
@@ -194,8 +241,7 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     stack.pop_back();
     queued[e] = 0;
     const Quad q = quad_of(t, e);
-    const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
-    if (!(delaunay_margin(ab, ca, cb, da, db) < -options.tolerance)) continue;
+    if (!(margin_of(l, e, q, geometry) < -options.tolerance)) continue;
     if (!can_flip_edge(t, e, options.keep_simplicial)) {
       ++result.blocked;
       continue;
@@ -205,10 +251,10 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
       break;
     }
     if (options.isometric) {
-      const double cd = euclidean_diagonal(ab, ca, cb, da, db);
-      flip_edge(t, e);
-      l[e] = cd;
-      structure.eta[e] = 0.5 * std::exp(2.0 * std::log(cd) - u[q.c] - u[q.d]);
+      const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
+      const double cd = geometry == Geometry::Hyperbolic ? hyperbolic_diagonal(ab, ca, cb, da, db)
+                                                         : euclidean_diagonal(ab, ca, cb, da, db);
+      set_flipped_edge(t, structure, u, l, e, q, cd);
     } else {
       ptolemy_flip(t, structure, u, l, e);
     }
@@ -222,7 +268,9 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     }
   }
   // Blocked edges were counted each time they were visited; report those still not Delaunay.
-  if (result.blocked > 0) result.blocked = count_non_delaunay_edges(t, l, options.tolerance);
+  if (result.blocked > 0) {
+    result.blocked = count_non_delaunay_edges(t, l, options.tolerance, geometry);
+  }
   return result;
 }
 

@@ -12,6 +12,8 @@ namespace ricci {
 namespace {
 
 using Complex = std::complex<double>;
+using Wide = long double;
+using WideComplex = std::complex<Wide>;
 
 /// The two halfedges of a flipped edge at the moment of its flip: h0 in face f0 opposite its
 /// corner k0 (the new diagonal's corner a), h1 likewise (corner b).
@@ -40,6 +42,48 @@ std::vector<FlipRecord> replay(Topology& t, const std::vector<int>& flipped_edge
     flip_edge(t, e);
   }
   return records;
+}
+
+/// Undoes the recorded flips on the faces' shapes, last first. Before the flip of record r, face
+/// f0 read (c, a, b) and f1 (d, b, a) from corners k0 and k1; flip_edge turned them into (a, d, c)
+/// and (b, c, d). `glue(a, d0, c0, b1, c1, d1)` receives f0's corners a, d, c and f1's b, c, d,
+/// each face in its own frame, and returns a, b, c, d in one frame (f1 moved onto f0 along their
+/// shared edge cd); `settle` may then move each new face into a frame of its choice.
+template <class Point, class Glue, class Settle>
+void undo_flips(const std::vector<FlipRecord>& records, std::vector<std::array<Point, 3>>& shapes,
+                Glue glue, Settle settle) {
+  for (auto r = records.rbegin(); r != records.rend(); ++r) {
+    const int f0 = r->h0 / 3, k0 = r->h0 % 3, f1 = r->h1 / 3, k1 = r->h1 % 3;
+    auto& p0 = shapes[f0];
+    auto& p1 = shapes[f1];
+    const std::array<Point, 4> q = glue(p0[k0], p0[(k0 + 1) % 3], p0[(k0 + 2) % 3], p1[k1],
+                                        p1[(k1 + 1) % 3], p1[(k1 + 2) % 3]);
+    const Point a = q[0], b = q[1], c = q[2], d = q[3];
+    p0 = {c, a, b};
+    std::rotate(p0.begin(), p0.begin() + (3 - k0) % 3, p0.end());
+    p1 = {d, b, a};
+    std::rotate(p1.begin(), p1.begin() + (3 - k1) % 3, p1.end());
+    settle(p0);
+    settle(p1);
+  }
+}
+
+/// The isometry of the Poincare disk moving p to the centre, z -> (z - p) / (1 - conj(p) z).
+WideComplex to_frame(WideComplex p, WideComplex z) {
+  return (z - p) / (Wide{1} - std::conj(p) * z);
+}
+
+/// Hyperbolic distance of two points of the disk.
+Wide disk_distance(WideComplex p, WideComplex q) {
+  return 2 * std::atanh(std::abs(to_frame(p, q)));
+}
+
+/// Moves a face into its own frame: corner 0 at the centre, corner 1 on the positive real axis
+/// (points stay near the centre, where the disk loses no precision).
+void settle_hyperbolic(std::array<WideComplex, 3>& p) {
+  const WideComplex q1 = to_frame(p[0], p[1]), q2 = to_frame(p[0], p[2]);
+  const Wide r1 = std::abs(q1);
+  p = {WideComplex{0}, WideComplex{r1}, q2 * std::conj(q1) / r1};
 }
 
 }  // namespace
@@ -76,24 +120,17 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
   Development d;
   d.shapes = face_shapes_from_lengths(t, final_lengths);
   FaceShapes& shapes = d.shapes;
-  // Undo the flips, last first. Before the flip of record r, face f0 read (c, a, b) and f1
-  // (d, b, a) from corners k0 and k1; flip_edge turned them into (a, d, c) and (b, c, d).
-  for (auto r = records.rbegin(); r != records.rend(); ++r) {
-    const int f0 = r->h0 / 3, k0 = r->h0 % 3, f1 = r->h1 / 3, k1 = r->h1 % 3;
-    auto& p0 = shapes[f0];
-    auto& p1 = shapes[f1];
-    const Complex a = p0[k0], d0 = p0[(k0 + 1) % 3], c0 = p0[(k0 + 2) % 3];
-    const Complex b1 = p1[k1], c1 = p1[(k1 + 1) % 3], d1 = p1[(k1 + 2) % 3];
-    // The rigid motion taking f1's copy of the shared edge cd onto f0's: rotation from the two
-    // directions, translation matching the midpoints (the copies agree up to rounding).
-    Complex rotation = (d0 - c0) / (d1 - c1);
-    rotation /= std::abs(rotation);
-    const Complex b = 0.5 * (c0 + d0) + rotation * (b1 - 0.5 * (c1 + d1));
-    p0 = {c0, a, b};
-    std::rotate(p0.begin(), p0.begin() + (3 - k0) % 3, p0.end());
-    p1 = {d0, b, a};
-    std::rotate(p1.begin(), p1.begin() + (3 - k1) % 3, p1.end());
-  }
+  undo_flips(
+      records, shapes,
+      [](Complex a, Complex d0, Complex c0, Complex b1, Complex c1, Complex d1) {
+        // The rigid motion taking f1's copy of the shared edge cd onto f0's: rotation from the
+        // two directions, translation matching the midpoints (the copies agree up to rounding).
+        Complex rotation = (d0 - c0) / (d1 - c1);
+        rotation /= std::abs(rotation);
+        const Complex b = 0.5 * (c0 + d0) + rotation * (b1 - 0.5 * (c1 + d1));
+        return std::array<Complex, 4>{a, b, c0, d0};
+      },
+      [](std::array<Complex, 3>&) {});
 
   d.lengths.resize(input.num_edges);
   auto side = [&](int h) {
@@ -114,6 +151,78 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
     const double scale =
         std::max({std::norm(p[1] - p[0]), std::norm(p[2] - p[1]), std::norm(p[0] - p[2])});
     if (std::abs(area) <= 1e-14 * scale) {
+      ++d.degenerate_faces;
+    } else if (area < 0) {
+      ++d.flipped_faces;
+    }
+  }
+  return d;
+}
+
+WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
+                                                   const WideVector& lengths) {
+  WideAngles angles;
+  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
+  if (bad >= 0) {
+    throw InvalidInput("hyperbolic_face_shapes_from_lengths: face " + std::to_string(bad) +
+                       " breaks a triangle inequality");
+  }
+  // A point at hyperbolic distance l from the centre lies at Euclidean radius tanh(l / 2).
+  WideFaceShapes shapes(static_cast<std::size_t>(topology.num_faces));
+  for (int f = 0; f < topology.num_faces; ++f) {
+    shapes[f] = {WideComplex{0}, WideComplex{std::tanh(lengths[topology.face_edges(f, 2)] / 2)},
+                 std::polar(std::tanh(lengths[topology.face_edges(f, 1)] / 2), angles(f, 0))};
+  }
+  return shapes;
+}
+
+HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
+                                                     const std::vector<int>& flipped_edges,
+                                                     const WideVector& final_lengths) {
+  Topology t = input;
+  const std::vector<FlipRecord> records = replay(t, flipped_edges);
+  if (final_lengths.size() != t.num_edges) {
+    throw InvalidInput("develop_input_faces_hyperbolic: " + std::to_string(final_lengths.size()) +
+                       " lengths for " + std::to_string(t.num_edges) + " edges");
+  }
+  HyperbolicDevelopment d;
+  d.shapes = hyperbolic_face_shapes_from_lengths(t, final_lengths);
+  undo_flips(
+      records, d.shapes,
+      [](WideComplex a, WideComplex d0, WideComplex c0, WideComplex b1, WideComplex c1,
+         WideComplex d1) {
+        // Both faces moved so that c is the centre and d lies on the positive real axis: the
+        // isometry taking f1's copy of the shared edge cd onto f0's.
+        const WideComplex d0_frame = to_frame(c0, d0), d1_frame = to_frame(c1, d1);
+        const Wide r0 = std::abs(d0_frame), r1 = std::abs(d1_frame);
+        const WideComplex a_frame = to_frame(c0, a) * std::conj(d0_frame) / r0;
+        const WideComplex b_frame = to_frame(c1, b1) * std::conj(d1_frame) / r1;
+        return std::array<WideComplex, 4>{a_frame, b_frame, WideComplex{0},
+                                          WideComplex{(r0 + r1) / 2}};
+      },
+      settle_hyperbolic);
+
+  d.lengths.resize(input.num_edges);
+  auto side = [&](int h) {
+    const auto& p = d.shapes[h / 3];
+    return disk_distance(p[(h % 3 + 2) % 3], p[(h % 3 + 1) % 3]);
+  };
+  for (int e = 0; e < input.num_edges; ++e) {
+    const Wide la = side(input.edge_halfedges(e, 0));
+    d.lengths[e] = la;
+    if (input.edge_halfedges(e, 1) >= 0) {
+      const Wide lb = side(input.edge_halfedges(e, 1));
+      d.max_length_mismatch = std::max(d.max_length_mismatch,
+                                       static_cast<double>(std::abs(la - lb) / std::max(la, lb)));
+    }
+  }
+  for (int f = 0; f < input.num_faces; ++f) {
+    // Geodesic triangles are convex: orientation and degeneracy are those of the straight one.
+    const auto& p = d.shapes[f];
+    const WideComplex e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const Wide area = e1.real() * e2.imag() - e1.imag() * e2.real();
+    const Wide scale = std::max({std::norm(e1), std::norm(p[2] - p[1]), std::norm(e2)});
+    if (std::abs(area) <= Wide{1e-14} * scale) {
       ++d.degenerate_faces;
     } else if (area < 0) {
       ++d.flipped_faces;

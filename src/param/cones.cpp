@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
 #include <numbers>
 
 #include "ricci/errors.hpp"
@@ -69,9 +73,121 @@ void grow_rings(const std::vector<std::vector<int>>& neighbours, int source, int
 
 }  // namespace
 
+namespace {
+
+/// min 1/2 k^T M k + r^T k subject to lo <= k <= hi and, with `sum_constraint`, sum k = total:
+/// a small dense quadratic programme, solved by an active-set method (the KKT system of the free
+/// variables, bounds fixed one violation at a time and released when their multiplier turns).
+/// Returns whether the bounds could all be met; when they cannot, the equality-constrained
+/// minimiser without bounds is returned.
+bool bounded_least_squares(const Eigen::MatrixXd& M, const Eigen::VectorXd& r,
+                           const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                           bool sum_constraint, double total, Eigen::VectorXd& k,
+                           double& multiplier) {
+  const int m = static_cast<int>(r.size());
+  const double ridge = 1e-12 * std::max(1e-300, M.diagonal().cwiseAbs().maxCoeff());
+  // state: 0 free, -1 at lo, +1 at hi
+  std::vector<int> state(m, 0);
+  auto solve_free = [&](Eigen::VectorXd& x, double& lambda) -> bool {
+    std::vector<int> free;
+    for (int i = 0; i < m; ++i) {
+      if (state[i] == 0) free.push_back(i);
+    }
+    x.resize(m);
+    for (int i = 0; i < m; ++i) {
+      if (state[i] < 0) x[i] = lo[i];
+      if (state[i] > 0) x[i] = hi[i];
+    }
+    const int nf = static_cast<int>(free.size());
+    const int rows = nf + (sum_constraint ? 1 : 0);
+    lambda = 0;
+    if (nf == 0)
+      return !sum_constraint || std::abs(x.sum() - total) <= 1e-9 * (1 + std::abs(total));
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(rows, rows);
+    Eigen::VectorXd b(rows);
+    for (int a = 0; a < nf; ++a) {
+      double fixed_part = 0;
+      for (int j = 0; j < m; ++j) {
+        if (state[j] != 0) fixed_part += M(free[a], j) * x[j];
+      }
+      b[a] = -r[free[a]] - fixed_part;
+      for (int c = 0; c < nf; ++c) K(a, c) = M(free[a], free[c]);
+      K(a, a) += ridge;
+    }
+    if (sum_constraint) {
+      double fixed_sum = 0;
+      for (int j = 0; j < m; ++j) {
+        if (state[j] != 0) fixed_sum += x[j];
+      }
+      for (int a = 0; a < nf; ++a) K(a, nf) = K(nf, a) = 1.0;
+      b[nf] = total - fixed_sum;
+    }
+    const Eigen::VectorXd y = K.fullPivLu().solve(b);
+    for (int a = 0; a < nf; ++a) x[free[a]] = y[a];
+    if (sum_constraint) lambda = y[nf];
+    return y.allFinite();
+  };
+
+  if (sum_constraint && (lo.sum() > total || hi.sum() < total)) {
+    std::fill(state.begin(), state.end(), 0);
+    solve_free(k, multiplier);
+    return false;
+  }
+  Eigen::VectorXd x;
+  double lambda = 0;
+  for (int iteration = 0; iteration < 4 * m + 8; ++iteration) {
+    if (!solve_free(x, lambda)) break;
+    // The worst violated bound among the free variables becomes active.
+    int worst = -1;
+    double worst_violation = 1e-12;
+    for (int i = 0; i < m; ++i) {
+      if (state[i] != 0) continue;
+      const double v = std::max(lo[i] - x[i], x[i] - hi[i]);
+      if (v > worst_violation) {
+        worst_violation = v;
+        worst = i;
+      }
+    }
+    if (worst >= 0) {
+      int free_count = 0;
+      for (int st : state) free_count += st == 0;
+      if (sum_constraint && free_count == 1) break;  // the sum needs one free variable
+      state[worst] = x[worst] < lo[worst] ? -1 : 1;
+      continue;
+    }
+    // Feasible: release the active bound whose multiplier has the wrong sign, if any. The
+    // gradient of the Lagrangian at a bound at lo must be >= 0 (at hi <= 0).
+    const Eigen::VectorXd gradient = M * x + r + Eigen::VectorXd::Constant(m, lambda);
+    int release = -1;
+    double most = 1e-12 * (1 + gradient.cwiseAbs().maxCoeff());
+    for (int i = 0; i < m; ++i) {
+      const double wrong = state[i] < 0 ? -gradient[i] : state[i] > 0 ? gradient[i] : 0.0;
+      if (wrong > most) {
+        most = wrong;
+        release = i;
+      }
+    }
+    if (release < 0) {
+      k = x;
+      multiplier = lambda;
+      return true;
+    }
+    state[release] = 0;
+  }
+  std::fill(state.begin(), state.end(), 0);
+  solve_free(k, multiplier);
+  return false;
+}
+
+}  // namespace
+
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options) {
-  if (options.count < 0 || options.max_cones < 0 || !(options.max_log_scale > 0)) {
-    throw InvalidInput("select_cones: count and max_cones must be >= 0 and max_log_scale > 0");
+  if (options.count < 0 || options.max_cones < 0 || !(options.max_log_scale > 0) ||
+      !(options.max_face_angle > 0) || !(options.max_corner_angle > 0) ||
+      !(options.max_curvature < 2 * std::numbers::pi)) {
+    throw InvalidInput(
+        "select_cones: count and max_cones must be >= 0, max_log_scale, max_face_angle and "
+        "max_corner_angle > 0, max_curvature < 2 pi");
   }
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   if (t.components.size() != 1) {
@@ -79,6 +195,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
                        " connected components; choose cones for each on its own");
   }
   const int nv = t.num_vertices;
+  constexpr double kPi = std::numbers::pi;
   const ConformalStructure s =
       make_conformal_structure(t, input_edge_lengths(mesh, t), options.structure).structure;
   Eigen::VectorXd lengths, hw, ew, curvature;
@@ -88,159 +205,223 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     throw InvalidInput("select_cones: the initial metric breaks a triangle inequality");
   }
   vertex_curvature(t, angles, curvature);
-  halfedge_weights(t, s, s.initial_u, lengths, angles, hw);
-  edge_weights(t, hw, ew);
-  Eigen::SparseMatrix<double> L = curvature_hessian(t, ew);
-  if (!positive_definite_with_one_pin(L)) {
-    // Obtuse needles make some weights negative enough that L is indefinite (the repaired
-    // Stanford dragon): the linearised problem then uses the cotangent Laplacian of the input's
-    // intrinsic Delaunay triangulation, whose weights are all non-negative.
+  Eigen::SparseMatrix<double> L;
+  if (options.structure.scheme == Scheme::VertexScaling) {
+    // The flow with flips linearises to the Laplacian of the intrinsic Delaunay triangulation.
     L = intrinsic_delaunay_laplacian(mesh, t);
+  } else {
+    halfedge_weights(t, s, s.initial_u, lengths, angles, hw);
+    edge_weights(t, hw, ew);
+    L = curvature_hessian(t, ew);
+    if (!positive_definite_with_one_pin(L)) {
+      // Obtuse needles make some weights negative enough that L is indefinite (the repaired
+      // Stanford dragon): the intrinsic Delaunay Laplacian has non-negative weights.
+      L = intrinsic_delaunay_laplacian(mesh, t);
+    }
   }
 
-  // Dirichlet vertices are held at u = 0 by a penalty on the diagonal, so that the sparsity
-  // pattern (and CHOLMOD's analysis) stays the same while the cone set grows.
-  const double penalty = 1e10 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  // Area weights: a third of the 3D area of the faces around each vertex, normalised.
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(nv);
+  for (int f = 0; f < t.num_faces; ++f) {
+    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
+    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
+    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
+    const double third = (b - a).cross(c - a).norm() / 6;
+    for (int k = 0; k < 3; ++k) area[t.triangles(f, k)] += third;
+  }
+  area /= area.sum();
+  // P x = a (x - mean_a x): J = u^T P u.
+  auto spread = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    const double mean = area.dot(x);
+    return (area.array() * (x.array() - mean)).matrix();
+  };
+
   const bool has_boundary = t.num_boundary_loops() > 0;
   const int chi = t.euler_characteristic();
+  const bool closed = !has_boundary;
+  // Dirichlet vertices (the boundary) and the gauge of a closed surface are held at u = 0 by a
+  // penalty on the diagonal; the cones are sources on the right-hand side, so one factorisation
+  // serves every cone set.
   std::vector<char> held(nv, 0);
-  if (has_boundary) {
-    for (int v = 0; v < nv; ++v) held[v] = t.is_boundary_vertex[v];
+  for (int v = 0; v < nv; ++v) held[v] = has_boundary && t.is_boundary_vertex[v];
+  int gauge = -1;
+  if (closed) {
+    gauge = 0;
+    held[gauge] = 1;
   }
-  ConeSelection result;
-  std::vector<char> is_cone(nv, 0);
-  // A cone of curvature K makes u behave like -(K / 2 pi) log r next to it: that singularity is
-  // the cone, not distortion more cones could remove. Vertices within `kSeparation` rings of a
-  // cone neither count in the measure nor become cones themselves (else the greedy choice would
-  // pile cones next to each other).
-  constexpr int kSeparation = 3;
-  std::vector<int> ring(nv, kSeparation + 1);
+  const double penalty = 1e10 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  Eigen::SparseMatrix<double> A = L;
+  for (int v = 0; v < nv; ++v) {
+    if (held[v]) A.coeffRef(v, v) += penalty;
+  }
+  SparseCholesky cholesky;
+  cholesky.analyze(A);
+  cholesky.factorize(A);
+  Eigen::VectorXd rhs0 = -curvature;
+  for (int v = 0; v < nv; ++v) {
+    if (held[v] && v != gauge) rhs0[v] = 0;
+  }
+  const Eigen::VectorXd u0 = cholesky.solve(rhs0);
+  const Eigen::VectorXd Pu0 = spread(u0);
+
+  // Cone bounds: drawable on the input's faces, and a positive angle. Near a cone the map scales
+  // the angles at the vertex by about (its cone angle) / (its angle sum in the input), so the
+  // largest input corner there, scaled, must stay below max_corner_angle; and the average below
+  // max_face_angle.
+  Eigen::VectorXd angle_sum = Eigen::VectorXd::Zero(nv), largest_corner = Eigen::VectorXd::Zero(nv);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = t.triangles(f, c);
+      angle_sum[v] += angles(f, c);
+      largest_corner[v] = std::max(largest_corner[v], angles(f, c));
+    }
+  }
+  auto lower_bound = [&](int v) {
+    const double by_average = options.max_face_angle * t.vertex_degree[v];
+    const double by_largest = options.max_corner_angle * angle_sum[v] / largest_corner[v];
+    return 2 * kPi - std::min(by_average, by_largest);
+  };
+  const double upper = options.max_curvature;
+
   std::vector<std::vector<int>> neighbours(nv);
   for (int e = 0; e < t.num_edges; ++e) {
     neighbours[t.edge_vertices(e, 0)].push_back(t.edge_vertices(e, 1));
     neighbours[t.edge_vertices(e, 1)].push_back(t.edge_vertices(e, 0));
   }
+  // A cone of curvature k makes u behave like -(k / 2 pi) log r next to it: the cone itself,
+  // not distortion more cones could remove. Vertices within `separation` rings of a cone are
+  // left out of the measure and of the candidates (else cones pile up next to each other).
+  int separation = 3;
+  std::vector<int> ring(nv, separation + 1);
+
+  ConeSelection result;
+  std::vector<int>& S = result.vertices;
+  Eigen::MatrixXd M(0, 0);
+  Eigen::VectorXd r(0);
+  std::vector<char> is_cone(nv, 0);
   auto add_cone = [&](int v) {
+    const int m = static_cast<int>(S.size());
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(nv);
+    e[v] = 1;
+    const Eigen::VectorXd g = cholesky.solve(e);
+    const Eigen::VectorXd h = cholesky.solve(spread(g));
+    S.push_back(v);
     is_cone[v] = 1;
-    held[v] = 1;
-    result.vertices.push_back(v);
-    grow_rings(neighbours, v, kSeparation, ring);
+    M.conservativeResize(m + 1, m + 1);
+    r.conservativeResize(m + 1);
+    for (int i = 0; i <= m; ++i) M(i, m) = M(m, i) = h[S[i]];
+    r[m] = g.dot(Pu0);
+    grow_rings(neighbours, v, separation, ring);
   };
-  if (!has_boundary && chi != 0) {
-    // Curvature 2 pi chi must go somewhere before the linear problem has a solution: start at the
-    // sharpest vertex of the right sign.
-    int first = 0;
-    for (int v = 1; v < nv; ++v) {
+  auto reset_rings = [&]() {
+    std::fill(ring.begin(), ring.end(), separation + 1);
+    for (int v : S) grow_rings(neighbours, v, separation, ring);
+  };
+
+  int max_cones = options.max_cones;
+  if (max_cones == 0) {
+    max_cones = 64;
+    // Each cone can take at most about pi of negative curvature on a valence-6 vertex.
+    if (closed && chi < 0) max_cones = std::max(max_cones, 6 * -chi);
+  }
+  const int wanted = options.count > 0 ? std::min(options.count, std::max(max_cones, 1)) : -1;
+  const double total = 2 * kPi * chi;
+
+  if (closed && chi != 0) {
+    // The first cone makes the problem solvable: among well-spread candidates (farthest-point
+    // samples in edge hops, from the vertex of most extreme curvature), the one whose single
+    // cone of 2 pi chi spreads u least.
+    int first = 1 % nv;
+    for (int v = 0; v < nv; ++v) {
+      if (v == gauge) continue;
       if ((chi > 0 && curvature[v] > curvature[first]) ||
           (chi < 0 && curvature[v] < curvature[first])) {
         first = v;
       }
     }
-    add_cone(first);
-  }
-
-  SparseCholesky cholesky;
-  Eigen::SparseMatrix<double> A = L;
-  cholesky.analyze(A);
-  struct Solution {
-    Eigen::VectorXd u;
-    double largest = 0;  // max |u - mean| away from the cones
-    int worst = -1;      // the free vertex where it is reached
-  };
-  auto solve = [&](const std::vector<char>& hold, const std::vector<int>& rings) {
-    bool any_held = false;
-    for (char h : hold) any_held = any_held || h;
-    // A closed torus with no cone yet: pin vertex 0 as the gauge (it is not a cone), and take
-    // the mean out of the right-hand side so that the system is consistent.
-    const int gauge = any_held ? -1 : 0;
-    A = L;
-    Eigen::VectorXd rhs = -curvature;
-    if (gauge >= 0) rhs.array() -= rhs.mean();
-    for (int v = 0; v < nv; ++v) {
-      if (hold[v] || v == gauge) {
-        A.coeffRef(v, v) += penalty;
-        rhs[v] = 0;
-      }
-    }
-    cholesky.factorize(A);
-    Solution sol;
-    sol.u = cholesky.solve(rhs);
-    // The cones' own u = 0 only fixes the global scale; the distortion is the spread of u over
-    // the other vertices (a free boundary, held at its true scale, counts).
-    double mean = 0;
-    int counted = 0;
-    for (int v = 0; v < nv; ++v) {
-      if (rings[v] <= kSeparation) continue;
-      mean += sol.u[v];
-      ++counted;
-    }
-    mean /= std::max(counted, 1);
-    for (int v = 0; v < nv; ++v) {
-      if (rings[v] <= kSeparation) continue;
-      const double d = std::abs(sol.u[v] - mean);
-      sol.largest = std::max(sol.largest, d);
-      if (!hold[v] && (sol.worst < 0 || d > std::abs(sol.u[sol.worst] - mean))) sol.worst = v;
-    }
-    return sol;
-  };
-
-  if (options.try_first_cone_candidates > 1 && result.vertices.size() == 1) {
-    // Try well-spread candidates for the first cone (farthest-point samples in edge hops from
-    // the sharpest vertex) and keep the one whose linearised metric spreads least.
+    std::vector<int> candidates = {first};
     std::vector<int> hops(nv, std::numeric_limits<int>::max());
-    std::vector<int> candidates = {result.vertices.front()};
-    auto spread_hops = [&](int from) {
-      grow_rings(neighbours, from, std::numeric_limits<int>::max(), hops);
-    };
-    spread_hops(candidates.front());
-    while (static_cast<int>(candidates.size()) < std::min(options.try_first_cone_candidates, nv)) {
-      const int far = static_cast<int>(std::max_element(hops.begin(), hops.end()) - hops.begin());
-      if (hops[far] == 0) break;
+    grow_rings(neighbours, first, std::numeric_limits<int>::max(), hops);
+    while (static_cast<int>(candidates.size()) < std::max(1, options.try_first_cone_candidates)) {
+      int far = -1;
+      for (int v = 0; v < nv; ++v) {
+        if (v != gauge && (far < 0 || hops[v] > hops[far])) far = v;
+      }
+      if (far < 0 || hops[far] == 0) break;
       candidates.push_back(far);
-      spread_hops(far);
+      grow_rings(neighbours, far, std::numeric_limits<int>::max(), hops);
     }
-    int best = candidates.front();
-    double best_spread = INFINITY;
+    int best = first;
+    double best_energy = INFINITY;
     for (int c : candidates) {
-      std::vector<char> hold = held;
-      std::fill(hold.begin(), hold.end(), 0);
-      for (int v = 0; v < nv; ++v) hold[v] = has_boundary && t.is_boundary_vertex[v];
-      hold[c] = 1;
-      std::vector<int> rings(nv, kSeparation + 1);
-      grow_rings(neighbours, c, kSeparation, rings);
-      const double spread = solve(hold, rings).largest;
-      if (spread < best_spread) {
-        best_spread = spread;
+      Eigen::VectorXd rhs = rhs0;
+      rhs[c] += total;
+      const Eigen::VectorXd u = cholesky.solve(rhs);
+      const double energy = u.dot(spread(u));
+      if (energy < best_energy) {
+        best_energy = energy;
         best = c;
       }
     }
-    if (best != result.vertices.front()) {
-      // Restart the cone set from the best candidate.
-      const int old = result.vertices.front();
-      is_cone[old] = 0;
-      held[old] = has_boundary && t.is_boundary_vertex[old];
-      result.vertices.clear();
-      std::fill(ring.begin(), ring.end(), kSeparation + 1);
-      add_cone(best);
-    }
+    add_cone(best);
   }
 
-  const int wanted = options.count > 0 ? std::min(options.count, options.max_cones) : -1;
+  Eigen::VectorXd k;
   for (;;) {
-    const Solution sol = solve(held, ring);
-    result.max_log_scale.push_back(sol.largest);
-    const int have = static_cast<int>(result.vertices.size());
-    const bool done = wanted >= 0
-                          ? have >= wanted
-                          : (sol.largest <= options.max_log_scale || have >= options.max_cones);
-    if (done || sol.worst < 0) {
-      const Eigen::VectorXd absorbed = curvature + L * sol.u;
-      result.linear_curvature.clear();
-      for (int v : result.vertices) result.linear_curvature.push_back(absorbed[v]);
-      break;
+    const int m = static_cast<int>(S.size());
+    double lambda = 0;
+    result.within_bounds = true;
+    if (m > 0) {
+      Eigen::VectorXd lo(m), hi(m);
+      for (int i = 0; i < m; ++i) {
+        lo[i] = lower_bound(S[i]);
+        hi[i] = upper;
+      }
+      result.within_bounds = bounded_least_squares(M, r, lo, hi, closed, total, k, lambda);
+    } else {
+      k.resize(0);
     }
-    add_cone(sol.worst);
+    Eigen::VectorXd rhs = rhs0;
+    for (int i = 0; i < m; ++i) rhs[S[i]] += k[i];
+    const Eigen::VectorXd u = cholesky.solve(rhs);
+    const Eigen::VectorXd Pu = spread(u);
+    const double mean = area.dot(u);
+    double largest = 0;
+    for (int v = 0; v < nv; ++v) {
+      if (ring[v] > separation) largest = std::max(largest, std::abs(u[v] - mean));
+    }
+    result.max_log_scale.push_back(largest);
+    result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(Pu)));
+    const bool done =
+        wanted >= 0 ? m >= wanted
+                    : (largest <= options.max_log_scale && result.within_bounds) || m >= max_cones;
+    if (done) break;
+    // dJ/dk_t for every vertex t at once: q = A^-1 P u (A is symmetric); on a closed surface a
+    // new cone's curvature comes out of the others', whose common gradient is -lambda.
+    const Eigen::VectorXd q = cholesky.solve(Pu);
+    const int batch = std::max(1, m / 8);
+    const int room = (wanted >= 0 ? wanted : max_cones) - m;
+    std::vector<std::pair<double, int>> order;
+    for (int v = 0; v < nv; ++v) {
+      if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
+      order.emplace_back(-std::abs(q[v] + lambda), v);
+    }
+    if (order.empty()) {
+      if (separation == 0) break;
+      --separation;  // crowded (high genus on a coarse mesh): let cones come closer
+      reset_rings();
+      continue;
+    }
+    std::sort(order.begin(), order.end());
+    int added = 0;
+    for (const auto& [gain, v] : order) {
+      if (added >= std::min(batch, room)) break;
+      if (ring[v] <= separation) continue;  // next to a cone added in this batch
+      add_cone(v);
+      ++added;
+    }
   }
+  result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;
 }
 

@@ -356,7 +356,9 @@ void explore(const NormalForm& form, std::vector<std::pair<int, int>>& blocks, i
              int breadth, Handles& best) {
   if (remaining == 0) {
     Handles handles = read_handles(form, blocks);
-    if (handles.size < best.size) best = std::move(handles);
+    // (A size that overflowed, as the partial products of a high-genus group can, still gives
+    // generators: the first finished form is kept rather than none.)
+    if (handles.size < best.size || best.a_words.empty()) best = std::move(handles);
     return;
   }
   const std::vector<NormalForm::Choice> options = form.choices();
@@ -365,9 +367,10 @@ void explore(const NormalForm& form, std::vector<std::pair<int, int>>& blocks, i
                        ": no two unfinished letters of the reduced relator interleave (not the "
                        "word of a one-vertex orientable surface)");
   }
-  // Choices much dearer than the cheapest (new letters 20 times larger) are not worth trying.
+  // Choices much dearer than the cheapest (new letters 20 times larger) are not worth trying;
+  // the cheapest always is (even when the costs overflowed, as a high genus's can).
   const int tries = std::min(breadth, static_cast<int>(options.size()));
-  for (int t = 0; t < tries && options[t].cost <= options[0].cost + 3.0; ++t) {
+  for (int t = 0; t < tries && (t == 0 || options[t].cost <= options[0].cost + 3.0); ++t) {
     NormalForm next = form;
     blocks.push_back(next.make_block(options[t]));
     explore(next, blocks, remaining - 1, breadth, best);

@@ -80,45 +80,38 @@ SegmentIsometry fit_segment(const Topology& topology, const Topology& cut_topolo
   }
   const WideMobius map = wide_isometry(from[0], from[far], to[0], to[far]);
   result.wide_map = {map.a, map.b};
-  result.map = normalized(
-      Mobius{Complex(static_cast<double>(map.a.real()), static_cast<double>(map.a.imag())),
-             Complex(static_cast<double>(map.b.real()), static_cast<double>(map.b.imag()))});
+  // Normalised in long double before rounding to double: far out in the disk (high genus) |a|
+  // and |b| agree to more digits than double has, so the determinant of the rounded map is
+  // noise (0 or negative) and normalizing it there would fail.
+  const Wide p = std::abs(map.a), q = std::abs(map.b);
+  const Wide det = (p - q) * (p + q);
+  const Wide unit = det > 0 ? (map.a.real() < 0 ? Wide{-1} : Wide{1}) / std::sqrt(det) : Wide{1};
+  result.map = Mobius{
+      Complex(static_cast<double>(unit * map.a.real()), static_cast<double>(unit * map.a.imag())),
+      Complex(static_cast<double>(unit * map.b.real()), static_cast<double>(unit * map.b.imag()))};
   for (std::size_t i = 0; i < from.size(); ++i) {
     // Hyperbolic distance 2 atanh(|to_frame(a, b)|) of the image from its target.
     const Wide d = 2 * std::atanh(std::abs(to_frame(to[i], wide_apply(map, from[i]))));
     result.mismatch = std::max(result.mismatch, static_cast<double>(d) / scale[i]);
   }
-  result.translation_length = translation_length(result.map);
+  // From the long double map, for the reason above.
+  const Wide half_trace = std::abs(unit * map.a.real());
+  result.translation_length =
+      half_trace > 1 ? static_cast<double>(2 * std::acosh(half_trace)) : 0.0;
   return result;
 }
 
-}  // namespace
-
-HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::VectorXd& lengths,
-                                   const CutGraph& cut, const CutMesh& cut_mesh,
-                                   const HyperbolicLayoutOptions& options) {
-  return layout_hyperbolic(topology, WideVector(lengths.cast<long double>()), cut, cut_mesh,
-                           options);
-}
-
-HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& lengths,
-                                   const CutGraph& cut, const CutMesh& cut_mesh,
-                                   const HyperbolicLayoutOptions& options) {
+/// The layout proper, from each edge's length and each corner's signed angle (angle(f, k) turns
+/// the direction from corner k to corner k + 1 into the direction to corner k + 2; negative on a
+/// face whose shape is reversed). \pre check_inputs passed
+HyperbolicLayout layout_from_angles(const Topology& topology, const WideVector& lengths,
+                                    const WideAngles& angles, const CutGraph& cut,
+                                    const CutMesh& cut_mesh,
+                                    const HyperbolicLayoutOptions& options) {
   const Eigen::VectorXd double_lengths = lengths.cast<double>();
-  layout_support::check_inputs("layout_hyperbolic", topology, double_lengths, cut, cut_mesh,
-                               options.root_face);
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
-  WideAngles angles;
-  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
-  if (bad >= 0) {
-    throw InvalidInput("layout_hyperbolic: face " + std::to_string(bad) + ": its lengths " +
-                       std::to_string(double_lengths[topology.face_edges(bad, 0)]) + ", " +
-                       std::to_string(double_lengths[topology.face_edges(bad, 1)]) + ", " +
-                       std::to_string(double_lengths[topology.face_edges(bad, 2)]) +
-                       " break a triangle inequality");
-  }
 
   HyperbolicLayout layout;
   const std::vector<int> roots =
@@ -145,7 +138,8 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
     // Hyperbolic area (pi - angle sum) of every face: its weight in the centre.
     std::vector<Wide> area(nf);
     for (int f = 0; f < nf; ++f) {
-      area[f] = std::numbers::pi_v<Wide> - (angles(f, 0) + angles(f, 1) + angles(f, 2));
+      area[f] = std::numbers::pi_v<Wide> -
+                (std::abs(angles(f, 0)) + std::abs(angles(f, 1)) + std::abs(angles(f, 2)));
     }
     for (int step = 0; step < 8; ++step) {
       WideComplex centre{0};
@@ -166,6 +160,17 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
     }
   }
 
+  for (int v = 0; v < ncv; ++v) {
+    if (cut_topology.vertex_component[v] >= 0 && !(std::abs(uv[v]) < 1)) {
+      // 1 - |z| of a point at hyperbolic distance d from the centre is about 2 e^-d: past
+      // d ~ 44 long double cannot tell the point from the circle (a generated genus-50 plate:
+      // its handles in a row put the far end hundreds of units away).
+      throw InvalidInput(
+          "layout_hyperbolic: the fundamental domain reaches too far from its centre for the "
+          "Poincare disk in long double (a point lands on or past the unit circle); the "
+          "hyperbolic metric itself is fine, only its disk layout cannot be represented");
+    }
+  }
   layout.uv.resize(ncv, 2);
   for (int v = 0; v < ncv; ++v) {
     layout.uv(v, 0) = static_cast<double>(uv[v].real());
@@ -222,6 +227,61 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
     } while (h != start && h >= 0);
   }
   return layout;
+}
+
+}  // namespace
+
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::VectorXd& lengths,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options) {
+  return layout_hyperbolic(topology, WideVector(lengths.cast<long double>()), cut, cut_mesh,
+                           options);
+}
+
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& lengths,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options) {
+  const Eigen::VectorXd double_lengths = lengths.cast<double>();
+  layout_support::check_inputs("layout_hyperbolic", topology, double_lengths, cut, cut_mesh,
+                               options.root_face);
+  WideAngles angles;
+  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
+  if (bad >= 0) {
+    throw InvalidInput("layout_hyperbolic: face " + std::to_string(bad) + ": its lengths " +
+                       std::to_string(double_lengths[topology.face_edges(bad, 0)]) + ", " +
+                       std::to_string(double_lengths[topology.face_edges(bad, 1)]) + ", " +
+                       std::to_string(double_lengths[topology.face_edges(bad, 2)]) +
+                       " break a triangle inequality");
+  }
+  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
+}
+
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideFaceShapes& shapes,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options) {
+  if (shapes.size() != static_cast<std::size_t>(topology.num_faces)) {
+    throw InvalidInput("layout_hyperbolic: " + std::to_string(shapes.size()) + " face shapes for " +
+                       std::to_string(topology.num_faces) + " faces");
+  }
+  // Each edge's length as its first face sees it (its other face agrees up to rounding), and
+  // each corner's signed angle: in the frame that moves the corner to the centre, geodesics
+  // through it are straight.
+  WideVector lengths(topology.num_edges);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    const int h = topology.edge_halfedges(e, 0);
+    const auto& p = shapes[h / 3];
+    lengths[e] = 2 * std::atanh(std::abs(to_frame(p[(h % 3 + 1) % 3], p[(h % 3 + 2) % 3])));
+  }
+  layout_support::check_inputs("layout_hyperbolic", topology, lengths.cast<double>(), cut, cut_mesh,
+                               options.root_face);
+  WideAngles angles(topology.num_faces, 3);
+  for (int f = 0; f < topology.num_faces; ++f) {
+    const auto& p = shapes[f];
+    for (int k = 0; k < 3; ++k) {
+      angles(f, k) = std::arg(to_frame(p[k], p[(k + 2) % 3]) / to_frame(p[k], p[(k + 1) % 3]));
+    }
+  }
+  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
 }
 
 }  // namespace ricci

@@ -1,6 +1,9 @@
 #include "ricci/param/hyperbolic_param.hpp"
 
 #include <chrono>
+#include <limits>
+#include <sstream>
+#include <string>
 
 #include "ricci/errors.hpp"
 
@@ -14,6 +17,7 @@ struct Attempt {
   CutMesh cut_mesh;
   HyperbolicLayout layout;
   FuchsianGroup group;
+  std::string group_failure;  // why the group could not be computed (empty: it was)
 };
 
 /// The default root (-1: cut_graph's own choice), then vertices spread over the surface by
@@ -98,11 +102,27 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   }
 
   // 2. The metric refined in long double: the group relation multiplies every misclosure of the
-  // layout by the squared norms of long words.
-  const Topology& topology = result.flow.topology;
-  const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
-  result.refinement = refine_hyperbolic_metric(topology, result.flow.structure.structure,
+  // layout by the squared norms of long words. With flips the metric lives on the intrinsic
+  // Delaunay triangulation (possibly a Delta-complex), with the constants its flips set.
+  ConformalStructure final_structure = result.flow.structure.structure;
+  final_structure.eta = result.flow.eta;
+  result.refinement = refine_hyperbolic_metric(result.flow.topology, final_structure,
                                                result.flow.target, result.flow.u);
+
+  // The input's own faces in that metric: without flips their lengths; with flips each face
+  // developed into the disk by undoing the flips (long double), so that the cut runs along input
+  // edges and the layout, the seams and the written faces are the user's.
+  const Topology& topology = t0;
+  const bool flipped = result.flow.flips > 0;
+  HyperbolicDevelopment development;
+  Eigen::VectorXd path_lengths = result.flow.lengths;  // hyperbolic lengths of the input edges
+  if (flipped) {
+    development = develop_input_faces_hyperbolic(topology, result.flow.flipped_edges,
+                                                 result.refinement.lengths);
+    result.development_length_mismatch = development.max_length_mismatch;
+    path_lengths = development.lengths.cast<double>();
+  }
+  const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
 
   // 3. Cut graph (no cones: 2 g loops, joined to the boundaries), slicing, disk layout and, on a
   // closed surface, the Fuchsian group. Shortest paths follow the hyperbolic metric, so that
@@ -114,14 +134,25 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   const std::vector<int> roots =
       closed ? candidate_roots(topology, std::max(1, options.cut_candidates))
              : std::vector<int>{-1};
+  bool have_layout = false;
+  std::string layout_failure;
   for (int root : roots) {
     Attempt a;
     CutGraphOptions cut_options;
     cut_options.root_vertex = root;
-    a.cut = cut_graph(topology, result.flow.lengths, cut_options);
+    a.cut = cut_graph(topology, path_lengths, cut_options);
     a.cut_mesh = slice(topology, a.cut);
-    a.layout =
-        layout_hyperbolic(topology, result.refinement.lengths, a.cut, a.cut_mesh, options.layout);
+    try {
+      a.layout = flipped ? layout_hyperbolic(topology, development.shapes, a.cut, a.cut_mesh,
+                                             options.layout)
+                         : layout_hyperbolic(topology, result.refinement.lengths, a.cut, a.cut_mesh,
+                                             options.layout);
+    } catch (const InvalidInput& e) {
+      // Another root may give a domain that stays within reach of the arithmetic.
+      layout_failure = e.what();
+      ++result.cut_candidates_tried;
+      continue;
+    }
     if (closed) {
       SegmentRelations relations;
       for (const SegmentIsometry& s : a.layout.segment_maps) {
@@ -129,21 +160,41 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
         relations.wide_segment_maps.push_back(s.wide_map);
       }
       relations.node_words = a.layout.node_words;
-      a.group = fuchsian_group(relations);
+      try {
+        a.group = fuchsian_group(relations);
+      } catch (const InvalidInput& e) {
+        // Far out in the disk (high genus) the segment maps' entries grow past what double
+        // rounds faithfully; keep the layout, try the next cut, and say why if none works.
+        a.group = FuchsianGroup{};
+        a.group.relation_residual = std::numeric_limits<double>::infinity();
+        a.group_failure = e.what();
+      }
     }
     ++result.cut_candidates_tried;
-    const bool better = result.cut_candidates_tried == 1 ||
-                        a.group.relation_residual < result.group.relation_residual;
+    const bool better = !have_layout || a.group.relation_residual < result.group.relation_residual;
+    have_layout = true;
     if (better) {
       result.cut = std::move(a.cut);
       result.cut_mesh = std::move(a.cut_mesh);
       result.layout = std::move(a.layout);
       result.group = std::move(a.group);
+      result.group_failure = std::move(a.group_failure);
       result.cut_root = root;
     }
     if (!closed || result.group.relation_residual <= options.good_relation_residual) break;
   }
-  result.has_group = closed;
+  if (!have_layout)
+    throw InvalidInput(layout_failure + " (tried " + std::to_string(roots.size()) + " cuts)");
+  if (closed && result.group_failure.empty() &&
+      !(result.group.relation_residual <= options.usable_relation_residual)) {
+    std::ostringstream why;
+    why << "the best of " << result.cut_candidates_tried
+        << " cuts gives generators whose relation misses the identity by "
+        << result.group.relation_residual
+        << ": far out in the disk the segment maps exceed what the arithmetic resolves";
+    result.group_failure = why.str();
+  }
+  result.has_group = closed && result.group_failure.empty();
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }

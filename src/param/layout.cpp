@@ -143,15 +143,50 @@ double length_error(const Topology& topology, const Topology& cut_topology,
   return worst;
 }
 
-/// Global least-squares refinement: positions p minimising the sum over faces and their edges
+/// Each face's rotation into the layout, propagated from the root faces across uncut edges
+/// (breadth first): the face across an edge is turned so that its copy of the edge points the way
+/// the first face's does. Unit complex numbers compose with an error that adds up (about one ulp
+/// of angle per step), where positions placed vertex by vertex multiply it through needles.
+std::vector<Complex> propagated_rotations(const Topology& cut_topology,
+                                          const std::vector<std::array<Complex, 3>>& q,
+                                          const std::vector<int>& roots) {
+  const int nf = cut_topology.num_faces;
+  std::vector<Complex> rotation(nf, Complex{0});
+  std::vector<int> queue;
+  queue.reserve(nf);
+  for (int root : roots) {
+    rotation[root] = 1;
+    queue.push_back(root);
+  }
+  for (std::size_t next = 0; next < queue.size(); ++next) {
+    const int f = queue[next];
+    for (int k = 0; k < 3; ++k) {
+      const int twin = cut_topology.halfedge_twin[3 * f + k];
+      if (twin < 0) continue;
+      const int g = twin / 3, kg = twin % 3;
+      if (rotation[g] != Complex{0}) continue;
+      // Halfedge 3f + k runs from corner k + 1 to corner k + 2 of f; its twin the other way.
+      const Complex in_f = q[f][(k + 2) % 3] - q[f][(k + 1) % 3];
+      const Complex in_g = q[g][(kg + 1) % 3] - q[g][(kg + 2) % 3];
+      Complex turn = rotation[f] * in_f / in_g;
+      rotation[g] = turn / std::abs(turn);
+      queue.push_back(g);
+    }
+  }
+  return rotation;
+}
+
+/// Global least-squares layout: positions p minimising the sum over faces and their edges
 /// (a, b) of |p_b - p_a - R_f (q_b - q_a)|^2, with q_f the face's triangle in the metric and R_f
-/// its best rotation onto the current layout (a few alternations). A tree layout puts all of the
-/// holonomy the metric's residual curvature leaves (about 1e-15 per vertex, 1e-10 radians over
-/// 50k vertices) on the edges that close the tree's loops; the least-squares layout spreads it
-/// over every edge. One vertex per component keeps its place (the gauge).
-void refine_least_squares(const Topology& topology, const Topology& cut_topology,
-                          const Eigen::VectorXd& lengths, const CornerAngles& angles,
-                          int iterations, std::vector<Complex>& uv) {
+/// its rotation: first the propagated rotations (propagated_rotations), then, for further
+/// iterations, each face's best rotation onto the current layout. The vertex-by-vertex layout
+/// multiplies rounding errors through needles (igea's 1-degree triangles in a vertex-scaling
+/// metric: relative length errors up to 1e-5); this one solves one Poisson-like system and
+/// spreads the metric's residual holonomy over every edge. One vertex per component keeps its
+/// place (the gauge).
+void refine_least_squares(const Topology& cut_topology, const std::vector<std::array<Complex, 3>>& q,
+                          const std::vector<Complex>& propagated, int iterations,
+                          std::vector<Complex>& uv) {
   const int nf = cut_topology.num_faces, nv = cut_topology.num_vertices;
   std::vector<int> row(nv, -1);
   std::vector<char> pinned(nv, 0);
@@ -178,12 +213,6 @@ void refine_least_squares(const Topology& topology, const Topology& cut_topology
   A.setFromTriplets(triplets.begin(), triplets.end());
   SparseCholesky cholesky;
   cholesky.factorize(A);
-  // The metric triangle of each face: corner 0 at 0, corner 1 on the positive real axis.
-  std::vector<std::array<Complex, 3>> q(nf);
-  for (int f = 0; f < nf; ++f) {
-    q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]},
-            std::polar(lengths[topology.face_edges(f, 1)], angles(f, 0))};
-  }
   Eigen::VectorXd bx(n), by(n);
   for (int iteration = 0; iteration < iterations; ++iteration) {
     bx.setZero();
@@ -191,12 +220,15 @@ void refine_least_squares(const Topology& topology, const Topology& cut_topology
     for (int f = 0; f < nf; ++f) {
       int v[3];
       for (int k = 0; k < 3; ++k) v[k] = cut_topology.triangles(f, k);
-      Complex fit{0};
-      for (int k = 0; k < 3; ++k) {
-        const int a = (k + 1) % 3, b = (k + 2) % 3;
-        fit += (uv[v[b]] - uv[v[a]]) * std::conj(q[f][b] - q[f][a]);
+      Complex rotation = propagated[f];
+      if (iteration > 0) {
+        Complex fit{0};
+        for (int k = 0; k < 3; ++k) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          fit += (uv[v[b]] - uv[v[a]]) * std::conj(q[f][b] - q[f][a]);
+        }
+        rotation = fit / std::abs(fit);
       }
-      const Complex rotation = fit / std::abs(fit);
       for (int k = 0; k < 3; ++k) {
         const int a = (k + 1) % 3, b = (k + 2) % 3;
         const Complex d = rotation * (q[f][b] - q[f][a]);
@@ -234,41 +266,61 @@ Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengt
   const std::vector<int> roots =
       layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
 
-  // Each vertex is placed from a face whose other two corners are placed: the direction i -> j
-  // turned by the corner angle at i, scaled to l_ik (normalised rather than multiplied by
-  // l_ik / l_ij, so that the new edge has its metric length whatever rounding |p_j - p_i|
-  // carries). An error in the base edge ij is magnified by about l_ik / l_ij in the new vertex,
-  // so a plain breadth-first order through needle triangles lets errors grow geometrically.
-  // Vertices are therefore placed in the order of least estimated error growth (Dijkstra with
-  // the ratio l_ik / l_ij as the cost of a step: about one per step on a regular mesh, where it
-  // is breadth-first, and large through needles), each from its best-conditioned face. On
-  // face.obj with a vertex-scaling metric this cuts the largest length error from 1.3e-6
-  // (breadth-first) to 2.8e-8, and on a 1M-face torus from 3.5e-10 to 2.0e-10.
-  std::vector<Complex> uv(ncv, Complex{0});
-  for (int root : roots) {
-    const int a = cut_topology.triangles(root, 0), b = cut_topology.triangles(root, 1),
-              c = cut_topology.triangles(root, 2);
-    uv[a] = 0;
-    uv[b] = lengths[topology.face_edges(root, 2)];
-    uv[c] = std::polar(lengths[topology.face_edges(root, 1)], angles(root, 0));
+  // Each face's triangle in the metric, corner 0 at 0 and corner 1 on the positive real axis,
+  // and its rotation into the layout, propagated face to face across uncut edges from the roots
+  // (propagated_rotations): rotation errors add up, about one ulp of angle per step. Vertices are
+  // then placed breadth first over the same faces, each new corner from the two it shares with
+  // the face it was reached from, by that face's own rotated triangle: positions take no
+  // direction from other positions, so rounding is not magnified through needles, which is how
+  // placing each vertex from the direction p_j - p_i went wrong (errors multiplied by l_ik / l_ij
+  // per step: 1.8e-8 relative on a 1M-face disk, 1e-5 on igea's 1-degree needles in a
+  // vertex-scaling metric; this gives 1e-10 and below at the cost of one pass).
+  std::vector<std::array<Complex, 3>> q(nf);
+  for (int f = 0; f < nf; ++f) {
+    q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]},
+            std::polar(lengths[topology.face_edges(f, 1)], angles(f, 0))};
   }
-  // Each vertex is placed from a face whose other two corners are placed: the direction i -> j
-  // turned by the corner angle at i, scaled to l_ik (normalised rather than multiplied by
-  // l_ik / l_ij, so that the new edge has its metric length whatever rounding |p_j - p_i|
-  // carries), in the order of least error growth (layout_support::placement_order).
-  for (int t : layout_support::placement_order(topology, cut_topology, lengths, roots)) {
-    const int g = t / 3, kg = t % 3, ki = (kg + 1) % 3;
-    // Counter-clockwise, face g reads i -> j -> k with i the tail and j the head of t.
-    const int vi = cut_topology.triangles(g, ki), vj = cut_topology.triangles(g, (kg + 2) % 3);
-    const Complex direction = uv[vj] - uv[vi];
-    uv[cut_topology.triangles(g, kg)] =
-        uv[vi] + std::polar(lengths[topology.face_edges(g, (kg + 2) % 3)], angles(g, ki)) *
-                     (direction / std::abs(direction));
+  const std::vector<Complex> rotation = propagated_rotations(cut_topology, q, roots);
+  std::vector<Complex> uv(ncv, Complex{0});
+  {
+    std::vector<char> placed(ncv, 0), visited(nf, 0);
+    std::vector<int> queue;
+    queue.reserve(nf);
+    for (int root : roots) {
+      for (int k = 0; k < 3; ++k) {
+        uv[cut_topology.triangles(root, k)] = rotation[root] * q[root][k];
+        placed[cut_topology.triangles(root, k)] = 1;
+      }
+      visited[root] = 1;
+      queue.push_back(root);
+    }
+    for (std::size_t next = 0; next < queue.size(); ++next) {
+      const int f = queue[next];
+      for (int k = 0; k < 3; ++k) {
+        const int twin = cut_topology.halfedge_twin[3 * f + k];
+        if (twin < 0) continue;
+        const int g = twin / 3, kg = twin % 3;
+        if (visited[g]) continue;
+        visited[g] = 1;
+        queue.push_back(g);
+        // The twin lies opposite corner kg of g; its ends i, j are corners kg + 1, kg + 2,
+        // placed with f.
+        const int vk = cut_topology.triangles(g, kg);
+        if (placed[vk]) continue;
+        const int ki = (kg + 1) % 3, kj = (kg + 2) % 3;
+        const Complex from_i = uv[cut_topology.triangles(g, ki)] +
+                               rotation[g] * (q[g][kg] - q[g][ki]);
+        const Complex from_j = uv[cut_topology.triangles(g, kj)] +
+                               rotation[g] * (q[g][kg] - q[g][kj]);
+        uv[vk] = 0.5 * (from_i + from_j);
+        placed[vk] = 1;
+      }
+    }
   }
 
   if (options.refine_above >= 0 &&
       length_error(topology, cut_topology, lengths, uv) > options.refine_above) {
-    refine_least_squares(topology, cut_topology, lengths, angles, options.refine_iterations, uv);
+    refine_least_squares(cut_topology, q, rotation, options.refine_iterations, uv);
     layout.refined = true;
   }
 

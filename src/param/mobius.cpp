@@ -117,7 +117,11 @@ double operator_norm(const Mobius& m) {
 }
 
 double half_trace(const Mobius& m) {
-  return std::abs(normalized(m).a.real());
+  // A map of huge translation length (entries near 1e8) was normalised in higher precision;
+  // its double determinant is rounding noise, so take it as normalised rather than fail.
+  const double det = determinant(m);
+  const double scale = det > 0 && std::isfinite(det) ? std::sqrt(det) : 1.0;
+  return std::abs(m.a.real()) / scale;
 }
 
 double translation_length(const Mobius& m) {

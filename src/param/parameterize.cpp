@@ -16,54 +16,31 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 
-bool is_packing(Scheme s) {
-  return s == Scheme::Thurston || s == Scheme::Tangential;
-}
-
 /// Valence a cone of curvature k needs for the single-vertex bound with room to spare: packings
 /// with Phi up to pi/2 give each face at least pi/2, so valence > (2 pi - k) / (pi/2); the other
 /// schemes give each face up to pi, so valence > (2 pi - k) / pi.
 int required_valence(double k, Scheme scheme) {
-  const double per_face = is_packing(scheme) ? kPi / 2 : kPi;
+  const bool packing = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
+  const double per_face = packing ? kPi / 2 : kPi;
   return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
-}
-
-/// Cone curvatures the surface takes when u is held at the cone vertices (and on the boundary)
-/// and every other vertex is flattened.
-std::vector<Cone> settle_cones(const Mesh& mesh, const std::vector<int>& vertices,
-                               const ParamOptions& options, ParamResult& result) {
-  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const StructureResult s =
-      make_conformal_structure(t, input_edge_lengths(mesh, t), options.structure);
-  Target target;
-  target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
-  target.fixed.assign(t.num_vertices, 0);
-  for (int v = 0; v < t.num_vertices; ++v) target.fixed[v] = t.is_boundary_vertex[v];
-  for (int v : vertices) target.fixed[v] = 1;
-  target.description = "flat, u held at the chosen cones";
-  const FlowResult flow = ricci_flow(t, s.structure, target, options.flow);
-  if (!flow.converged) {
-    result.message = "settling the automatic cones: " + flow.message;
-    return {};
-  }
-  std::vector<Cone> cones;
-  for (int v : vertices) cones.push_back({v, flow.curvature[v]});
-  return cones;
 }
 
 }  // namespace
 
 ConeMode parse_cone_mode(const std::string& name) {
+  if (name == "needed") return ConeMode::Needed;
   if (name == "none") return ConeMode::None;
   if (name == "user") return ConeMode::User;
   if (name == "auto") return ConeMode::Auto;
   if (name == "one") return ConeMode::OneCone;
   throw InvalidInput("parse_cone_mode: unknown cone mode '" + name +
-                     "'; expected none, user, auto or one");
+                     "'; expected needed, none, user, auto or one");
 }
 
 const char* cone_mode_name(ConeMode mode) {
   switch (mode) {
+    case ConeMode::Needed:
+      return "needed";
     case ConeMode::None:
       return "none";
     case ConeMode::User:
@@ -79,21 +56,33 @@ const char* cone_mode_name(ConeMode mode) {
 ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
   const auto start = Clock::now();
   ParamResult result;
-  const Topology t0 = build_topology(input.triangles, input.num_vertices());
+  // Wall time since the previous lap, added to a phase of result.timings.
+  auto last = start;
+  auto lap = [&last](double& phase) {
+    const auto now = Clock::now();
+    phase += std::chrono::duration<double>(now - last).count();
+    last = now;
+  };
+  Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
                        " connected components");
   }
-  const Component& comp = t0.components[0];
-  const bool closed = comp.num_boundary_loops == 0;
-  const int chi = comp.euler_characteristic;
+  // (Copied: t0 is rebuilt below when the Thurston scheme splits edges.)
+  const int genus = t0.components[0].genus, boundary_loops = t0.components[0].num_boundary_loops;
+  const bool closed = boundary_loops == 0;
+  const int chi = t0.components[0].euler_characteristic;
 
   // 1. Singularities, in input vertex indices.
   std::vector<Cone> cones;
-  switch (options.cone_mode) {
+  ConeMode mode = options.cone_mode;
+  if (mode == ConeMode::Needed) mode = closed && chi != 0 ? ConeMode::Auto : ConeMode::None;
+  switch (mode) {
+    case ConeMode::Needed:
+      break;
     case ConeMode::None:
       if (closed && chi != 0) {
-        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(comp.genus) +
+        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
                            " has no flat metric without cones (chi = " + std::to_string(chi) +
                            "); use automatic cones or one cone");
       }
@@ -102,17 +91,17 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       cones = options.cones;
       break;
     case ConeMode::OneCone: {
-      if (!closed || comp.genus < 2) {
+      if (!closed || genus < 2) {
         throw InvalidInput(
             "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
             "2; this one has genus " +
-            std::to_string(comp.genus) + " and " + std::to_string(comp.num_boundary_loops) +
-            " boundary loops");
+            std::to_string(genus) + " and " + std::to_string(boundary_loops) + " boundary loops");
       }
       ConeSelectionOptions one = options.auto_cones;
       one.count = 1;
       one.try_first_cone_candidates = 16;
       one.structure = options.structure;
+      one.max_cones = 1;
       result.cone_selection = select_cones(input, one);
       cones.push_back({result.cone_selection.vertices.front(), 2 * kPi * chi});
       break;
@@ -122,15 +111,14 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       selection.structure = options.structure;
       selection.boundary = options.boundary;
       result.cone_selection = select_cones(input, selection);
-      cones = settle_cones(input, result.cone_selection.vertices, options, result);
-      if (!result.message.empty()) {
-        result.mesh = input;
-        result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        return result;
+      for (std::size_t i = 0; i < result.cone_selection.vertices.size(); ++i) {
+        cones.push_back(
+            {result.cone_selection.vertices[i], result.cone_selection.linear_curvature[i]});
       }
       break;
     }
   }
+  lap(result.timings.cones);
   if (options.quantize && !cones.empty()) {
     double total = 0;
     for (const Cone& c : cones) total += c.curvature;
@@ -143,7 +131,13 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   result.mesh = input;
   result.vertex_origin.resize(input.num_vertices());
   for (int v = 0; v < input.num_vertices(); ++v) result.vertex_origin[v] = v;
-  if (options.modify_connectivity) {
+  // With flips every admissible target is reachable on the input's own triangulation, which is
+  // kept. (A cone much stronger than its valence then shows as flipped uv triangles around it, as
+  // every map drawn linearly on the input's faces does; the common refinement is exact.)
+  const bool flips =
+      options.flow.flips == EdgeFlips::Delaunay ||
+      (options.flow.flips == EdgeFlips::Auto && options.structure.scheme == Scheme::VertexScaling);
+  if (options.modify_connectivity && !flips) {
     for (const Cone& cone : cones) {
       if (cone.vertex < 0 || cone.vertex >= result.mesh.num_vertices()) continue;  // flat_target
       const Topology t = build_topology(result.mesh.triangles, result.mesh.num_vertices());
@@ -159,6 +153,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     }
   }
   result.cones = cones;
+  // The connectivity every later stage reads, built once (again only if edges were split).
+  if (result.edge_splits > 0)
+    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
 
   // 3. Ricci flow to the flat metric with these cones.
   MeshFlowOptions flow_options;
@@ -167,27 +164,28 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  result.flow = flow_mesh(result.mesh, flow_options);
+  result.flow = flow_mesh(result.mesh, t0, flow_options);
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
-  if (!result.converged && options.modify_connectivity && !cones.empty() &&
+  if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
       (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
     // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
     // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
     // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
     // an edge midpoint).
-    const Topology t = build_topology(result.mesh.triangles, result.mesh.num_vertices());
     const int before = result.mesh.num_vertices();
     result.mesh = subdivide_midpoint(result.mesh);
-    for (int e = 0; e < t.num_edges; ++e) {
-      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
+    for (int e = 0; e < t0.num_edges; ++e) {
+      result.added_vertex_parents.push_back({t0.edge_vertices(e, 0), t0.edge_vertices(e, 1)});
       result.vertex_origin.push_back(-1);
     }
     result.edge_splits += result.mesh.num_vertices() - before;
     result.subdivided = true;
-    result.flow = flow_mesh(result.mesh, flow_options);
+    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+    result.flow = flow_mesh(result.mesh, t0, flow_options);
     result.converged = result.flow.converged;
   }
+  lap(result.timings.flow);
   if (!result.converged) {
     result.message = result.flow.components.front().flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -198,23 +196,22 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   // faces. After Delaunay flips the flat metric lives on the intrinsic triangulation; each input
   // face is developed in it (its corners at their exact images), so the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
-  const Topology input_topology = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-  const Topology& topology = input_topology;
+  const Topology& topology = t0;
   const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   result.cut = cut_graph(topology, lengths_3d, cut_options);
   result.cut_mesh = slice(topology, result.cut);
-  if (result.flow.flips > 0) {
-    Development development =
-        develop_input_faces(topology, result.flow.flipped_edges, result.flow.lengths);
-    result.development_length_mismatch = development.max_length_mismatch;
-    result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
-  } else {
-    result.layout = layout_flat(topology, result.flow.lengths, result.cut, result.cut_mesh);
-  }
+  lap(result.timings.cut);
+  const Development development = develop_input_faces(topology, result.flow);
+  result.development_length_mismatch = development.max_length_mismatch;
+  lap(result.timings.development);
+  result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
+  lap(result.timings.layout);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
+  lap(result.timings.atlas);
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  lap(result.timings.distortion);
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }

@@ -577,6 +577,10 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     segment_offset += static_cast<int>(p.cut.segments.size());
 
     if (info.method != ComponentMethod::Flow) continue;
+    const ParamTimings& t = p.timings;
+    result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
+    result.timings.development += t.development, result.timings.layout += t.layout;
+    result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
     const MeshFlowResult& flow = p.flow;
     result.flow.converged = result.flow.converged && flow.converged;
     result.flow.max_error = std::max(result.flow.max_error, flow.max_error);

@@ -125,20 +125,6 @@ void fit_circle(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d& cen
 }
 
 /// Corner angles of the mesh in R^3, summed per vertex.
-Eigen::VectorXd angle_sums(const Mesh& mesh) {
-  Eigen::VectorXd sums = Eigen::VectorXd::Zero(mesh.num_vertices());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int i = mesh.triangles(f, k), j = mesh.triangles(f, (k + 1) % 3),
-                l = mesh.triangles(f, (k + 2) % 3);
-      const Eigen::Vector3d pi = mesh.positions.row(i);
-      sums[i] += angle_between(mesh.positions.row(j).transpose() - pi,
-                               mesh.positions.row(l).transpose() - pi);
-    }
-  }
-  return sums;
-}
-
 /// Weighted (by w, summing to 1) mean and population standard deviation.
 void weighted_stats(const std::vector<double>& values, const std::vector<double>& w, double& mean,
                     double& stddev) {
@@ -156,18 +142,65 @@ void weighted_stats(const std::vector<double>& values, const std::vector<double>
 
 int choose_pole_vertex(const Mesh& mesh) {
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const Eigen::VectorXd sums = angle_sums(mesh);
-  int best = -1;
-  double best_defect = std::numeric_limits<double>::infinity();
-  int most_valent = -1;
-  for (int v = 0; v < t.num_vertices; ++v) {
-    if (t.vertex_component[v] < 0) continue;
-    if (most_valent < 0 || t.vertex_degree[v] > t.vertex_degree[most_valent]) most_valent = v;
-    if (t.vertex_degree[v] < 5) continue;
-    const double defect = std::abs(2 * kPi - sums[v]);
-    if (defect < best_defect) best_defect = defect, best = v;
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(nv);
+  Eigen::MatrixXd corner(nf, 3);
+  std::vector<int> star_start(nv + 1, 0), star_corner(3 * static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = mesh.positions.row(mesh.triangles(f, k));
+      corner(f, k) =
+          angle_between(mesh.positions.row(mesh.triangles(f, (k + 1) % 3)).transpose() - p,
+                        mesh.positions.row(mesh.triangles(f, (k + 2) % 3)).transpose() - p);
+      sums[mesh.triangles(f, k)] += corner(f, k);
+      ++star_start[mesh.triangles(f, k) + 1];
+    }
   }
-  return best >= 0 ? best : most_valent;
+  for (int v = 0; v < nv; ++v) star_start[v + 1] += star_start[v];
+  {
+    std::vector<int> fill(star_start.begin(), star_start.end() - 1);
+    for (int f = 0; f < nf; ++f) {
+      for (int k = 0; k < 3; ++k) star_corner[fill[mesh.triangles(f, k)]++] = 3 * f + k;
+    }
+  }
+  // Removing the pole's star leaves each vertex w of its link on the disk's boundary with the
+  // interior angle it had outside the star, where the disk-length target asks for about
+  // pi - 2 pi / valence. The flow bridges the difference with the boundary edges held (they
+  // cannot flip), so the pole is the vertex whose link comes closest, which also keeps needles
+  // away from the star (a link vertex left with a sliver of angle broke the triangles along the
+  // boundary of a needle-ridden scan and stalled the flow at error 1), and which is flat.
+  std::vector<double> removed(nv, 0.0);
+  double best_score = std::numeric_limits<double>::infinity();
+  int best = -1;
+  for (int v = 0; v < nv; ++v) {
+    const int valence = t.vertex_degree[v];
+    if (t.vertex_component[v] < 0 || valence < 3) continue;
+    for (int c = star_start[v]; c < star_start[v + 1]; ++c) {
+      const int f = star_corner[c] / 3, k = star_corner[c] % 3;
+      removed[mesh.triangles(f, (k + 1) % 3)] += corner(f, (k + 1) % 3);
+      removed[mesh.triangles(f, (k + 2) % 3)] += corner(f, (k + 2) % 3);
+    }
+    const double wanted = kPi - 2 * kPi / valence;
+    double score = std::abs(2 * kPi - sums[v]);
+    for (int c = star_start[v]; c < star_start[v + 1]; ++c) {
+      const int f = star_corner[c] / 3, k = star_corner[c] % 3;
+      for (int j : {(k + 1) % 3, (k + 2) % 3}) {
+        const int w = mesh.triangles(f, j);
+        score = std::max(score, std::abs(sums[w] - removed[w] - wanted));
+      }
+    }
+    if (valence < 5) score += kPi;  // a triangle or square for the disk's boundary: last resort
+    for (int c = star_start[v]; c < star_start[v + 1]; ++c) {
+      const int f = star_corner[c] / 3, k = star_corner[c] % 3;
+      removed[mesh.triangles(f, (k + 1) % 3)] = 0;
+      removed[mesh.triangles(f, (k + 2) % 3)] = 0;
+    }
+    if (score < best_score) {
+      best_score = score;
+      best = v;
+    }
+  }
+  return best;
 }
 
 SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
@@ -252,7 +285,9 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
 
   // 3. Layout, normalised so that the boundary's least-squares circle is the unit circle.
   const auto layout_start = Clock::now();
-  const Topology& disk_topology = result.flow.topology;
+  // The disk's own faces, developed in the flat metric when the flow flipped edges (the same
+  // vertex positions as a layout of the intrinsic triangulation, which may be a Delta-complex).
+  const Topology disk_topology = build_topology(disk.triangles, disk.num_vertices());
   if (disk_topology.components.size() != 1 || disk_topology.boundary_loops.size() != 1) {
     throw Error("sphere_map: removing the pole's star did not leave a disk (internal error)");
   }
@@ -261,7 +296,8 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   uncut.topology = disk_topology;
   uncut.to_original.resize(disk_topology.num_vertices);
   for (int v = 0; v < disk_topology.num_vertices; ++v) uncut.to_original[v] = v;
-  const Layout layout = layout_flat(disk_topology, result.flow.lengths, CutGraph{}, uncut);
+  const Layout layout =
+      layout_flat(disk_topology, develop_input_faces(disk, result.flow).shapes, CutGraph{}, uncut);
   result.layout_length_error = layout.max_length_relative_error;
   const std::vector<int>& loop = disk_topology.boundary_loops[0];
   std::vector<Eigen::Vector2d> boundary;

@@ -49,7 +49,9 @@ SplineDomain spline_domain(const ParamResult& param) {
   }
   std::vector<int> cones;
   for (const Cone& c : param.cones) cones.push_back(c.vertex);
-  return spline_domain(param.flow.topology, param.cut_mesh.triangles, param.layout.uv, cones);
+  // The layout is of the parameterized mesh's own faces (also after edge flips).
+  const Topology topology = build_topology(param.mesh.triangles, param.mesh.num_vertices());
+  return spline_domain(topology, param.cut_mesh.triangles, param.layout.uv, cones);
 }
 
 SplineError measure_spline_error(const SplineDomain& d, const Positions& positions,

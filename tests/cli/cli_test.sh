@@ -88,8 +88,8 @@ expect_out "info --help" "MESH" "--json"
 
 ricci flow --help
 expect_rc "flow --help" 0
-expect_out "flow --help" "--scheme" "=thurston" "tangential" "inversive-distance" "vertex-scaling" \
-  "virtual-radius" "--init" "=fit" "--target" "=flat" "disk-length" "uniform" "--boundary" \
+expect_out "flow --help" "--scheme" "=vertex-scaling" "thurston" "tangential" "inversive-distance" "vertex-scaling" \
+  "virtual-radius" "--init" "=fit" "--target" "=natural" "disk-length" "uniform" "--boundary" \
   "free (the euclidean default)" "geodesic (the hyperbolic default)" "--geometry" "=euclidean" \
   "hyperbolic" "--cones" "--solver" "=newton" "--tol" "1e-10" "--max-iterations" "--step" \
   "-o,--output" "--json" "--progress"
@@ -177,7 +177,7 @@ flow_ok() {
 
 flow_ok "torus flat" meshes/torus.obj
 expect_json "flow torus flat summary" flow.json \
-  'd["scheme"] == "thurston" and d["solver"] == "newton" and d["vertices"] == 2048 and d["edges"] == 6144 and d["faces"] == 4096 and d["tolerance"] == 1e-10 and d["components"][0]["genus"] == 1'
+  'd["scheme"] == "vertex-scaling" and d["solver"] == "newton" and d["vertices"] == 2048 and d["edges"] == 6144 and d["faces"] == 4096 and d["tolerance"] == 1e-10 and d["components"][0]["genus"] == 1'
 
 for target in free disk disk-length; do
   flow_ok "disk --target $target" meshes/disk.obj --target "$target"
@@ -528,12 +528,20 @@ bad_flow() {
   expect_no_file "$name writes no output" bad_out.json
 }
 ico=meshes/icosphere.obj
-bad_flow "no cones on a sphere" "Gauss-Bonnet" -- "$ico"
+# The natural default target exists on every topology: uniform on a closed sphere.
+ricci flow "$ico" --json
+expect_rc "flow sphere with the natural target" 0
+cp "$WORK/out.txt" natural.json
+expect_json "natural target on a sphere is uniform" natural.json \
+  'd["converged"] is True and "uniform" in d["target"]'
+bad_flow "flat sphere without cones" "Gauss-Bonnet" "natural" -- "$ico" --target flat
 bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" -- "$ico" --cones '0:pi'
-# -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, the bound fails.
+# -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, Thurston's
+# single-vertex bound fails (vertex scaling with flips, the default, has no such bound).
 bad_flow "cone breaking the vertex bound" "vertex 0" "bound" -- \
-  "$ico" --cones '0:-4pi,1:pi,2:pi,3:pi,4:pi,5:pi,6:pi,7:pi,8:pi'
-bad_flow "cone of -20 pi" "vertex 0" "bound" -- "$ico" --cones '0:-20pi,3:pi,5:pi,9:pi'
+  "$ico" --scheme thurston --cones '0:-4pi,1:pi,2:pi,3:pi,4:pi,5:pi,6:pi,7:pi,8:pi'
+bad_flow "cone of -20 pi" "vertex 0" "bound" -- "$ico" --scheme thurston \
+  --cones '0:-20pi,3:pi,5:pi,9:pi'
 bad_flow "malformed --cones curvature" "pix" -- "$ico" --cones '0:pi,3:pix'
 bad_flow "malformed --cones item" "0pi" -- "$ico" --cones '0pi'
 bad_flow "malformed --cones vertex" "-1" -- "$ico" --cones='-1:pi,0:pi,3:pi,5:pi,9:pi'
@@ -728,6 +736,26 @@ ricci param hyperbolic/pants.obj --geometry hyperbolic --scheme vertex-scaling -
 expect_rc "param pants hyperbolic" 0
 expect_json "param pants hyperbolic: no group" "$WORK/out.txt" \
   'd["converged"] and "fuchsian_group" not in d and d["layout"]["max_radius"] < 1'
+# Hyperbolic intrinsic Delaunay flips (vertex scaling, the default --flips auto): the flow flips,
+# and param writes the input's own faces (one per input face, all vt in the disk) with the group.
+flow_ok "genus 2 hyperbolic vertex scaling flips" hyperbolic/g2.obj --geometry hyperbolic \
+  --scheme vertex-scaling
+expect_json "flow hyperbolic flips" flow.json \
+  'd["flips"] == "auto" and d["flipped_edges"] > 0 and abs(d["components"][0]["total_area"] - 4 * math.pi) <= 1e-6'
+ricci param hyperbolic/g2.obj --geometry hyperbolic --scheme vertex-scaling \
+  -o hyperbolic/flipped.obj --report hyperbolic/flipped.json
+expect_rc "param hyperbolic with flips" 0
+expect_out "param hyperbolic with flips" "edges flipped"
+expect_json "param hyperbolic with flips report" hyperbolic/flipped.json \
+  'd["flow"]["flipped_edges"] > 0 and d["fuchsian_group"]["relation_residual"] < 1e-10 and d["layout"]["development_length_mismatch"] < 1e-14'
+if "$PYTHON" - hyperbolic/g2.obj hyperbolic/flipped.obj <<'EOF'
+import sys
+def faces(path):
+    return [[int(c.split("/")[0]) for c in line.split()[1:]] for line in open(path) if line.startswith("f ")]
+vt = [[float(x) for x in line.split()[1:3]] for line in open(sys.argv[2]) if line.startswith("vt ")]
+sys.exit(0 if faces(sys.argv[1]) == faces(sys.argv[2]) and vt and all(u * u + v * v < 1 for u, v in vt) else 1)
+EOF
+then ok; else fail "param hyperbolic with flips OBJ" "faces differ from the input's, or a vt outside the disk"; fi
 expect_no_temporaries "hyperbolic leaves no temporaries" hyperbolic
 
 # --- interrupts: SIGINT leaves neither output nor temporary files ------------------------------

@@ -1,6 +1,7 @@
 // Vertex scaling with intrinsic Delaunay flips (ricci/metric/delaunay_flips.hpp): targets that
 // break a triangle without flips converge with them, the flipped triangulation carries the final
 // metric exactly, and every manifold shared mesh reaches a random admissible target.
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -10,6 +11,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
@@ -194,6 +196,63 @@ TEST(EdgeFlips, ReplayingTheFlipsReproducesTheTriangulationOfEveryComponent) {
   EXPECT_EQ(replayed.halfedge_twin, r.topology.halfedge_twin);
   EXPECT_EQ(replayed.edge_vertices, r.topology.edge_vertices);
   EXPECT_EQ(replayed.edge_halfedges, r.topology.edge_halfedges);
+}
+
+TEST(EdgeFlips, TrianglesBreakingAlongTheBoundaryFlipOnTheDoubledSurface) {
+  // A CAD cylinder without the star of a rim vertex: a disk whose boundary runs along the fan's
+  // needles. With the disk-length boundary the flow on the disk itself breaks triangles next to
+  // the boundary (boundary edges cannot flip); on the disk glued to its mirror image it converges.
+  const Mesh cylinder = make_cad_cylinder(120);
+  Mesh disk;
+  {
+    const int pole = 0;
+    std::vector<int> to(cylinder.num_vertices(), -1);
+    int n = 0;
+    for (int v = 0; v < cylinder.num_vertices(); ++v) {
+      if (v != pole) to[v] = n++;
+    }
+    std::vector<std::array<int, 3>> faces;
+    for (int f = 0; f < cylinder.num_faces(); ++f) {
+      const Eigen::Vector3i c = cylinder.triangles.row(f);
+      if (c[0] != pole && c[1] != pole && c[2] != pole)
+        faces.push_back({to[c[0]], to[c[1]], to[c[2]]});
+    }
+    disk.positions.resize(n, 3);
+    for (int v = 0; v < cylinder.num_vertices(); ++v) {
+      if (to[v] >= 0) disk.positions.row(to[v]) = cylinder.positions.row(v);
+    }
+    disk.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      for (int k = 0; k < 3; ++k) disk.triangles(static_cast<Eigen::Index>(f), k) = faces[f][k];
+    }
+  }
+  MeshFlowOptions options;
+  options.target.kind = TargetKind::Flat;
+  options.target.boundary = BoundaryMode::DiskLength;
+  options.flow.tolerance = 1e-12;
+  const MeshFlowResult r = flow_mesh(disk, options);
+  ASSERT_TRUE(r.converged) << r.components[0].flow.message;
+  ASSERT_TRUE(r.components[0].doubled);
+  EXPECT_FALSE(r.components[0].first_attempt_message.empty());
+  EXPECT_LE(r.max_error, 1e-12);
+  // The disk's own faces, developed in the doubled metric: each edge agrees from both sides, and
+  // the angles around each vertex add up to 2 pi - K (boundary: pi - K), modulo 2 pi: a face
+  // whose developed corners come out reversed (the fans' needles do, drawn straight) turns the
+  // other way round its corner.
+  const Development d = develop_input_faces(disk, r);
+  EXPECT_LT(d.max_length_mismatch, 1e-10);
+  const Topology t = build_topology(disk.triangles, disk.num_vertices());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(t.num_vertices);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const auto& p = d.shapes[f];
+      sum[t.triangles(f, k)] += std::arg((p[(k + 2) % 3] - p[k]) / (p[(k + 1) % 3] - p[k]));
+    }
+  }
+  for (int v = 0; v < t.num_vertices; ++v) {
+    const double expected = (t.is_boundary_vertex[v] ? kPi : 2 * kPi) - r.target_curvature[v];
+    EXPECT_NEAR(std::remainder(sum[v] - expected, 2 * kPi), 0.0, 1e-9) << v;
+  }
 }
 
 TEST(EdgeFlips, RandomConeSetsOnASphereConverge) {

@@ -9,14 +9,17 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
+#include "../support/hard_meshes.hpp"
 #include "../support/shared_meshes.hpp"
 #include "flow_test_util.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/flow/hyperbolic_refinement.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/curvature.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
@@ -198,13 +201,206 @@ TEST(HyperbolicStructure, RefusesTheVirtualRadiusScheme) {
   EXPECT_THROW(hyperbolic_structure(t, mesh, Scheme::VirtualRadius), InvalidInput);
 }
 
-TEST(HyperbolicFlow, RefusesDelaunayFlips) {
-  const Mesh mesh = make_closed_surface(2, 6);
+// ---- Intrinsic Delaunay flips in the hyperbolic background ----
+
+/// The hyperbolic vertex-scaling job with flips as asked.
+MeshFlowResult uniformize_vertex_scaling(const Mesh& mesh, EdgeFlips flips) {
   MeshFlowOptions o;
   o.structure.scheme = Scheme::VertexScaling;
   o.structure.geometry = Geometry::Hyperbolic;
-  o.flow.flips = EdgeFlips::Delaunay;
-  EXPECT_THROW(flow_mesh(mesh, o), InvalidInput);
+  o.target.boundary = BoundaryMode::Geodesic;
+  o.flow.flips = flips;
+  return flow_mesh(mesh, o);
+}
+
+/// The final structure of a flow: the input's constants, eta as the flips left them.
+ConformalStructure final_structure(const MeshFlowResult& r) {
+  ConformalStructure s = r.structure.structure;
+  s.eta = r.eta;
+  return s;
+}
+
+TEST(HyperbolicFlips, AreOnForVertexScalingAndRefusedForCirclePackings) {
+  const Mesh mesh = make_closed_surface(2, 6);
+  const Topology t = build_topology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
+  FlowOptions automatic, delaunay;
+  delaunay.flips = EdgeFlips::Delaunay;
+  EXPECT_TRUE(
+      uses_edge_flips(hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure, automatic));
+  const ConformalStructure thurston = hyperbolic_structure(t, mesh, Scheme::Thurston).structure;
+  EXPECT_FALSE(uses_edge_flips(thurston, automatic));
+  EXPECT_THROW(uses_edge_flips(thurston, delaunay), InvalidInput);
+}
+
+TEST(HyperbolicFlips, ConvergeOnValence3SpikesWhereTheFixedTriangulationFails) {
+  // Faces split 1-to-3 near a corner, the new vertex pushed out by a face's length: valence-3
+  // spikes whose slivers vertex scaling cannot flatten without breaking a triangle.
+  for (int genus : {2, 3}) {
+    SCOPED_TRACE("genus " + std::to_string(genus));
+    const Mesh mesh = testing::with_valence3_spikes(make_closed_surface(genus, 12), 5, 1.0);
+    if (genus == 2) {  // (about 0.3 s of backtracking)
+      const MeshFlowResult fixed = uniformize_vertex_scaling(mesh, EdgeFlips::Off);
+      EXPECT_EQ(fixed.components[0].flow.status, FlowStatus::LineSearchFailed);
+    }
+    const MeshFlowResult r = uniformize_vertex_scaling(mesh, EdgeFlips::Auto);
+    expect_uniformized(r, 2 - 2 * genus);
+    const FlowResult& f = r.components[0].flow;
+    EXPECT_GT(f.isometric_flips, 0);
+    EXPECT_GT(f.flips, f.isometric_flips);  // Ptolemy flips during the flow too
+    EXPECT_EQ(f.blocked_flips, 0);
+    // The final triangulation is Delaunay for the final metric, and the structure with the
+    // flipped constants reproduces its lengths.
+    EXPECT_EQ(count_non_delaunay_edges(r.topology, r.lengths, 1e-12, Geometry::Hyperbolic), 0);
+    Eigen::VectorXd l;
+    ASSERT_EQ(edge_lengths(r.topology, final_structure(r), r.u, l), 0);
+    EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
+  }
+}
+
+TEST(HyperbolicFlips, ConvergeOnNeedlesAndNoise) {
+  // 0.1-degree needles (edges split next to an end), and a surface whose vertices were moved in
+  // their tangent planes by up to 45% of their shortest edge: far from Delaunay.
+  const Mesh needles = testing::with_needles(make_closed_surface(2, 12), 3, 0.0017);
+  const Mesh noisy = testing::jitter_tangentially(make_closed_surface(2, 16), 0.45, 3);
+  for (const Mesh* mesh : {&needles, &noisy}) {
+    const MeshFlowResult r = uniformize_vertex_scaling(*mesh, EdgeFlips::Auto);
+    expect_uniformized(r, -2);
+    EXPECT_GT(r.flips, 100);
+    testing::expect_quadratic_convergence(r.components[0].flow);
+  }
+}
+
+TEST(HyperbolicFlips, HessianMatchesFiniteDifferencesOnTheFlippedTriangulation) {
+  // The flow's Hessian on the intrinsic Delaunay triangulation it ends on (with the constants
+  // the flips set), at points around its solution: central differences of K(u) on that fixed
+  // triangulation agree, and it stays positive definite.
+  const Mesh mesh = testing::with_valence3_spikes(make_closed_surface(2, 6), 3, 1.0);
+  const MeshFlowResult r = uniformize_vertex_scaling(mesh, EdgeFlips::Auto);
+  ASSERT_TRUE(r.converged);
+  ASSERT_GT(r.flips, 20);
+  const ConformalStructure s = final_structure(r);
+  std::mt19937 random(13);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  Eigen::VectorXd u = r.u;
+  for (int v = 0; v < u.size(); ++v) u[v] += jitter(random);
+  const Eigen::MatrixXd h = assembled_hessian(r.topology, s, u);
+  const Eigen::MatrixXd fd = finite_difference_hessian(r.topology, s, u, 1e-6);
+  EXPECT_LT((h - fd).cwiseAbs().maxCoeff(), 1e-7 * h.cwiseAbs().maxCoeff());
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(h);
+  EXPECT_GT(eig.eigenvalues().minCoeff(), 1e-8 * eig.eigenvalues().maxCoeff());
+}
+
+TEST(HyperbolicFlips, TheHessianIsContinuousAcrossAFlip) {
+  // Where an edge's quad is concyclic (Delaunay margin 0) both triangulations describe the same
+  // surface (the Ptolemy flip is isometric there), and the energy is twice differentiable across
+  // the flip (Springborn 2020): the Hessians of the two triangulations agree.
+  const Mesh mesh = make_closed_surface(2, 6);
+  const Topology t = build_topology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
+  const ConformalStructure s = hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure;
+  int tested = 0;
+  for (int e = 0; e < t.num_edges && tested < 5; e += 37) {
+    if (!can_flip_edge(t, e)) continue;
+    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+    const int a = t.tail(h0), b = t.head(h0);
+    // Growing a and b lengthens ab more than the sides: the angles opposite it open until the
+    // quad turns non-Delaunay at some x.
+    auto scaled = [&](double x) {
+      Eigen::VectorXd u = s.initial_u;
+      u[a] += x;
+      u[b] += x;
+      return u;
+    };
+    auto margin_at = [&](double x) {
+      Eigen::VectorXd l;
+      edge_lengths(t, s, scaled(x), l);
+      return hyperbolic_delaunay_margin(l[e], l[t.face_edges(h0 / 3, (h0 % 3 + 2) % 3)],
+                                        l[t.face_edges(h0 / 3, (h0 % 3 + 1) % 3)],
+                                        l[t.face_edges(h1 / 3, (h1 % 3 + 1) % 3)],
+                                        l[t.face_edges(h1 / 3, (h1 % 3 + 2) % 3)]);
+    };
+    if (a == b || !(margin_at(0) > 0) || !(margin_at(1.5) < 0)) continue;
+    double lo = 0, hi = 1.5;
+    for (int i = 0; i < 100; ++i) (margin_at(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+    const Eigen::VectorXd u = scaled(lo);
+    Eigen::VectorXd l;
+    ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+    Topology flipped = t;
+    ConformalStructure s_flipped = s;
+    ptolemy_flip(flipped, s_flipped, u, l, e);
+    const Eigen::MatrixXd before = assembled_hessian(t, s, u);
+    const Eigen::MatrixXd after = assembled_hessian(flipped, s_flipped, u);
+    EXPECT_LT((before - after).cwiseAbs().maxCoeff(), 1e-8 * before.cwiseAbs().maxCoeff())
+        << "edge " << e;
+    // And the curvature itself is the same.
+    EXPECT_LT((evaluate(t, s, u).curvature - evaluate(flipped, s_flipped, u).curvature)
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-12);
+    ++tested;
+  }
+  EXPECT_GE(tested, 3);
+}
+
+TEST(HyperbolicFlips, FlowAndRefinementWorkOnADeltaComplex) {
+  // A coarse genus-2 surface flipped to its Delaunay triangulation at log radii -2 on two
+  // vertices: the small vertices are surrounded by edges wrapping round them, and the result is
+  // a Delta-complex (an edge joining a vertex to itself, or two edges the same two vertices).
+  // On it, with its flipped constants: the Hessian against finite differences, Newton from a
+  // perturbed start back to the curvature of that metric, and the long double refinement.
+  const Mesh mesh = make_closed_surface(2, 2);
+  Topology t = build_topology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
+  ConformalStructure s = hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure;
+  Eigen::VectorXd u = s.initial_u, l;
+  u[0] = u[10] = -2.0;
+  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  const DelaunayFlipResult flips = flip_to_delaunay(t, s, u, l);
+  ASSERT_GT(flips.flips, 20);
+  ASSERT_FALSE(is_simplicial(t));
+  const Target target = values_target(t, evaluate(t, s, u).curvature);
+  const Eigen::MatrixXd h = assembled_hessian(t, s, u);
+  const Eigen::MatrixXd fd = finite_difference_hessian(t, s, u, 1e-6);
+  EXPECT_LT((h - fd).cwiseAbs().maxCoeff(), 1e-7 * h.cwiseAbs().maxCoeff());
+
+  FlowOptions o;
+  o.flips = EdgeFlips::Off;
+  o.tolerance = 1e-12;
+  s.initial_u = u;  // where this triangulation's triangles exist
+  RicciFlow flow(t, s, target, o);
+  std::mt19937 random(31);
+  std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
+  Eigen::VectorXd start = u;
+  for (int v = 0; v < start.size(); ++v) start[v] += jitter(random);
+  flow.set_u(start);
+  while (flow.step()) {
+  }
+  const FlowResult r = flow.result();
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_LT((r.u - u).cwiseAbs().maxCoeff(), 1e-9);  // the energy is strictly convex
+  const HyperbolicRefinement refined = refine_hyperbolic_metric(t, s, target, r.u);
+  EXPECT_LT(refined.max_error_after, 1e-16);
+  EXPECT_LE(refined.max_error_after, refined.max_error_before);
+}
+
+TEST(HyperbolicFlips, EachComponentOfAMeshFlowsInTheHyperbolicBackground) {
+  // Two disjoint surfaces (genus 2 with spikes, genus 3): each component's flow runs on its own
+  // copy of the structure, which must keep the hyperbolic geometry (area 2 pi |chi| each).
+  const Mesh a = testing::with_valence3_spikes(make_closed_surface(2, 8), 5, 1.0);
+  const Mesh b = make_closed_surface(3, 8);
+  Mesh both;
+  both.positions.resize(a.num_vertices() + b.num_vertices(), 3);
+  both.positions << a.positions, b.positions.rowwise() + Eigen::RowVector3d(20, 0, 0);
+  both.triangles.resize(a.num_faces() + b.num_faces(), 3);
+  both.triangles << a.triangles, b.triangles.array() + a.num_vertices();
+  const MeshFlowResult r = uniformize_vertex_scaling(both, EdgeFlips::Auto);
+  ASSERT_TRUE(r.converged);
+  ASSERT_EQ(r.components.size(), 2u);
+  EXPECT_NEAR(r.components[0].flow.total_area, 4 * kPi, 1e-8);
+  EXPECT_NEAR(r.components[1].flow.total_area, 8 * kPi, 1e-8);
+  EXPECT_GT(r.components[0].flow.flips, 0);
+  // The whole mesh's final triangulation and constants reproduce the gathered lengths.
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(r.topology, final_structure(r), r.u, l), 0);
+  EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
 }
 
 TEST(HyperbolicFlow, UniformizesEveryClosedSharedMeshOfGenusAtLeastTwo) {

@@ -9,6 +9,7 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/split.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "support/test_meshes.hpp"
@@ -232,6 +233,26 @@ TEST(Newton, StepsThatBreakATriangleAreShortened) {
   EXPECT_TRUE(r.curvature.allFinite());
   EXPECT_TRUE(r.lengths.allFinite());
   EXPECT_LT(r.gauss_bonnet_relative_error, 1e-12);
+}
+
+TEST(Newton, AToleranceBelowTheFloatingPointFloorEndsAtTheFloor) {
+  // 1e-17 radians is below what double angle sums resolve: the flow stops where it stagnates
+  // within its estimated floor, converged, saying so, in a handful of iterations. On a mesh
+  // with 0.1-degree needles the floor is two orders of magnitude higher than on a regular one.
+  for (const Mesh& mesh :
+       {make_icosphere(3), pull_vertices_to_neighbours(make_closed_surface(2, 20), 0.998, 7, 2)}) {
+    MeshFlowOptions options;
+    options.target.kind = TargetKind::Uniform;
+    options.flow.tolerance = 1e-17;
+    const MeshFlowResult r = flow_mesh(mesh, options);
+    const FlowResult& f = r.components[0].flow;
+    ASSERT_TRUE(r.converged) << f.message;
+    EXPECT_NE(f.message.find("floating-point floor"), std::string::npos) << f.message;
+    EXPECT_LE(f.max_error, f.error_floor);
+    EXPECT_GT(f.error_floor, 1e-16);
+    EXPECT_LT(f.error_floor, 1e-11);
+    EXPECT_LE(f.iterations, 15);
+  }
 }
 
 TEST(MeshFlow, SolvesEveryComponentOnItsOwn) {

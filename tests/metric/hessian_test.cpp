@@ -77,7 +77,10 @@ TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
 TEST(Hessian, ThurstonHessianIsPositiveSemidefiniteWithConstantKernel) {
   const Mesh mesh = make_closed_surface(2, 6);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const ConformalStructure s = make_conformal_structure(t, input_edge_lengths(mesh, t)).structure;
+  StructureOptions thurston;
+  thurston.scheme = Scheme::Thurston;
+  const ConformalStructure s =
+      make_conformal_structure(t, input_edge_lengths(mesh, t), thurston).structure;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> noise(-1.0, 1.0);
   Eigen::VectorXd u = s.initial_u;

@@ -4,14 +4,18 @@
 // meshes and on needle fans whose intrinsic Delaunay triangulation is a Delta-complex.
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -145,6 +149,122 @@ TEST(IntrinsicTriangulation, EuclideanDiagonalOfASquareAndOfAKite) {
   EXPECT_NEAR(
       euclidean_diagonal(2, std::sqrt(10.0), std::sqrt(10.0), std::sqrt(2.0), std::sqrt(2.0)), 4.0,
       1e-14);
+}
+
+// ---- Hyperbolic metrics: the development in the Poincare disk ----
+
+using WideComplex = std::complex<long double>;
+
+/// Hyperbolic distance of two disk points, and the signed angle at p from q to r.
+long double disk_distance(WideComplex p, WideComplex q) {
+  return 2 * std::atanh(std::abs((q - p) / (1.0L - std::conj(p) * q)));
+}
+long double disk_angle(WideComplex p, WideComplex q, WideComplex r) {
+  const auto frame = [&](WideComplex z) { return (z - p) / (1.0L - std::conj(p) * z); };
+  return std::arg(frame(r) / frame(q));
+}
+
+/// Vertex scaling in the hyperbolic background.
+ConformalStructure hyperbolic_vertex_scaling(const Mesh& mesh, const Topology& t) {
+  StructureOptions options;
+  options.scheme = Scheme::VertexScaling;
+  options.geometry = Geometry::Hyperbolic;
+  return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
+}
+
+/// Undoes isometric hyperbolic flips: every input face comes back with its own hyperbolic
+/// lengths (the scaled input lengths the structure reproduces) and orientation.
+void expect_hyperbolic_input_faces_recovered(const Mesh& mesh, int min_flips) {
+  const Topology input = build_topology(mesh.triangles, mesh.num_vertices());
+  Topology t = input;
+  ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
+  Eigen::VectorXd input_lengths, l;
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, input_lengths), 0);
+  l = input_lengths;
+  DelaunayFlipOptions isometric;
+  isometric.isometric = true;
+  const DelaunayFlipResult r = flip_to_delaunay(t, s, s.initial_u, l, isometric);
+  ASSERT_GE(r.flips, min_flips);
+  EXPECT_EQ(count_non_delaunay_edges(t, l, 1e-12, Geometry::Hyperbolic), 0);
+  const HyperbolicDevelopment d =
+      develop_input_faces_hyperbolic(input, r.flipped_edges, l.cast<long double>());
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_EQ(d.degenerate_faces, 0);
+  EXPECT_LT(d.max_length_mismatch, 1e-12);
+  double worst = 0;
+  for (int e = 0; e < input.num_edges; ++e) {
+    worst = std::max(
+        worst, static_cast<double>(std::abs(d.lengths[e] - input_lengths[e]) / input_lengths[e]));
+  }
+  // The flipped lengths carry the rounding of double: relative 1e-15 per flip near the face.
+  EXPECT_LT(worst, 1e-11);
+}
+
+TEST(IntrinsicTriangulation, UndoingHyperbolicIsometricFlipsRecoversTheInputFaces) {
+  expect_hyperbolic_input_faces_recovered(split_near_corners(2, 0.05), 100);
+  expect_hyperbolic_input_faces_recovered(cad_strip(100, 0.01), 100);
+}
+
+TEST(IntrinsicTriangulation, HyperbolicDevelopmentAfterPtolemyFlipsKeepsTheVertexAngles) {
+  // Ptolemy flips at smooth scale factors change the metric; the input faces developed in the
+  // final one tile the same surface: around every vertex their angles add up to the final
+  // triangulation's angle sum, and their areas to its area.
+  const Mesh mesh = split_near_corners(2, 0.1);
+  const Topology input = build_topology(mesh.triangles, mesh.num_vertices());
+  Topology t = input;
+  ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
+  Eigen::VectorXd u(mesh.num_vertices()), l;
+  for (int v = 0; v < u.size(); ++v) u[v] = 0.3 * std::sin(3 * mesh.positions(v, 0));
+  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
+  ASSERT_GT(r.flips, 100);
+  CornerAngles angles;
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  const Eigen::VectorXd angle_sum = 2 * std::numbers::pi - vertex_curvature(t, angles).array();
+  const HyperbolicDevelopment d =
+      develop_input_faces_hyperbolic(input, r.flipped_edges, l.cast<long double>());
+  EXPECT_LT(d.max_length_mismatch, 1e-12);
+  Eigen::VectorXd developed_sum = Eigen::VectorXd::Zero(input.num_vertices);
+  long double area = 0;
+  for (int f = 0; f < input.num_faces; ++f) {
+    const auto& p = d.shapes[f];
+    long double face_angles = 0;
+    for (int k = 0; k < 3; ++k) {
+      const long double a = disk_angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+      developed_sum[input.triangles(f, k)] += static_cast<double>(a);
+      face_angles += a;
+    }
+    area += std::numbers::pi_v<long double> - face_angles;
+  }
+  EXPECT_EQ(d.flipped_faces, 0);
+  EXPECT_LT((developed_sum - angle_sum).cwiseAbs().maxCoeff(), 1e-12);
+  const double final_area = hyperbolic_total_area(angles);
+  EXPECT_NEAR(static_cast<double>(area), final_area, 1e-12 * final_area);
+  // Each developed edge is a geodesic between the developed corners: its length from the shape.
+  for (int e = 0; e < input.num_edges; e += 11) {
+    const int h = input.edge_halfedges(e, 0);
+    const auto& p = d.shapes[h / 3];
+    EXPECT_NEAR(static_cast<double>(disk_distance(p[(h % 3 + 1) % 3], p[(h % 3 + 2) % 3])),
+                static_cast<double>(d.lengths[e]), 1e-15);
+  }
+}
+
+TEST(IntrinsicTriangulation, WithoutFlipsTheHyperbolicDevelopmentIsTheFacesThemselves) {
+  const Mesh mesh = make_closed_surface(2, 6);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
+  Eigen::VectorXd l;
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, l), 0);
+  const WideVector wide = l.cast<long double>();
+  const HyperbolicDevelopment d = develop_input_faces_hyperbolic(t, {}, wide);
+  const WideFaceShapes shapes = hyperbolic_face_shapes_from_lengths(t, wide);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(d.shapes[f][k], shapes[f][k]);
+  }
+  for (int e = 0; e < t.num_edges; ++e) {
+    EXPECT_NEAR(static_cast<double>(d.lengths[e] / wide[e]), 1.0, 1e-15);
+  }
+  EXPECT_THROW(develop_input_faces_hyperbolic(t, {}, wide.head(3)), InvalidInput);
 }
 
 }  // namespace

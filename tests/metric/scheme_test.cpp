@@ -85,6 +85,7 @@ TEST(Scheme, UnitRadiiShortcutGivesEqualEdges) {
   const Mesh mesh = make_icosphere(1);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   StructureOptions options;
+  options.scheme = Scheme::Thurston;
   options.packing_init = PackingInit::UnitRadii;
   const StructureResult r = make_conformal_structure(t, input_edge_lengths(mesh, t), options);
   Eigen::VectorXd l;

@@ -144,17 +144,14 @@ TEST(ParameterizeComponents, TorusSphereDiskTriangleAndTetrahedronAtVeryDifferen
   expect_atlas(r, "five components");
   ASSERT_TRUE(r.converged) << r.message;
   ASSERT_EQ(r.components.size(), 5u);
+  // The tetrahedron goes by the flow too (three cones); the triangle is unfolded as it is.
   const ComponentMethod expected[] = {ComponentMethod::Flow, ComponentMethod::Flow,
                                       ComponentMethod::Flow, ComponentMethod::Unfolded,
-                                      ComponentMethod::Unfolded};
+                                      ComponentMethod::Flow};
   for (int c = 0; c < 5; ++c) {
     EXPECT_EQ(r.components[c].method, expected[c]) << "component " << c;
+    EXPECT_TRUE(r.components[c].message.empty()) << r.components[c].message;
   }
-  // The tetrahedron's flow fails (automatic cones degenerate on four faces): unfolded, cones at
-  // its four vertices of curvature pi.
-  EXPECT_FALSE(r.components[4].message.empty());
-  ASSERT_EQ(r.components[4].cones.size(), 4u);
-  for (const Cone& c : r.components[4].cones) EXPECT_NEAR(c.curvature, kPi, 1e-12);
   // No edge splits with vertex scaling: the mesh is the input itself.
   EXPECT_EQ(r.mesh.positions, input.positions);
   EXPECT_EQ(r.mesh.triangles, input.triangles);
@@ -172,12 +169,50 @@ TEST(ParameterizeComponents, TorusSphereDiskTriangleAndTetrahedronAtVeryDifferen
   for (const Cone& c : r.cones) {
     EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * kPi - c.curvature, 1e-8) << "cone " << c.vertex;
   }
-  // The unfolded components keep their 3D shape exactly (up to the common scale).
-  for (int c : {3, 4}) {
+  // The unfolded triangle keeps its 3D shape exactly (up to the common scale).
+  for (int c : {3}) {
     for (int f : r.components[c].face_map) {
       EXPECT_NEAR(std::abs(uv_area(r, f)), area_3d(r.mesh, f) * r.uv_scale * r.uv_scale,
                   1e-12 * area_3d(r.mesh, f) * r.uv_scale * r.uv_scale);
     }
+  }
+}
+
+/// A unit cube, two triangles per side, outward counter-clockwise.
+Mesh cube() {
+  Mesh m;
+  m.positions.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.positions.row(i) << ((i >> 2) & 1), ((i >> 1) & 1), (i & 1);
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  m.triangles.resize(12, 3);
+  for (int q = 0; q < 6; ++q) {
+    m.triangles.row(2 * q) << quads[q][0], quads[q][1], quads[q][2];
+    m.triangles.row(2 * q + 1) << quads[q][0], quads[q][2], quads[q][3];
+  }
+  return m;
+}
+
+TEST(ParameterizeComponents, ClosedComponentsWhosePipelineFailsUnfold) {
+  // No cones asked for: the torus flattens, the tetrahedron and the cube cannot (a closed
+  // genus-0 surface needs cones) and are unfolded, their cones where their 3D shape curves.
+  ParamOptions options = vertex_scaling();
+  options.cone_mode = ConeMode::None;
+  const ParamResult r = parameterize(
+      combine({{make_torus(24, 10), 1.0}, {testing::tetrahedron(), 1.0}, {cube(), 1.0}}), options);
+  expect_atlas(r, "torus, tetrahedron, cube");
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_EQ(r.components[0].method, ComponentMethod::Flow);
+  for (const auto& [c, cones, curvature] : {std::tuple{1, 4u, kPi}, std::tuple{2, 8u, kPi / 2}}) {
+    const ComponentParam& comp = r.components[c];
+    EXPECT_EQ(comp.method, ComponentMethod::Unfolded);
+    EXPECT_NE(comp.message.find("no flat metric without cones"), std::string::npos) << comp.message;
+    ASSERT_EQ(comp.cones.size(), cones);
+    for (const Cone& cone : comp.cones) {
+      EXPECT_NEAR(cone.curvature, curvature, 1e-12);
+      EXPECT_NEAR(uv_angle_sum(r, cone.vertex), 2 * kPi - curvature, 1e-12);
+    }
+    EXPECT_NEAR(comp.distortion.angle_distortion_max, 1.0, 1e-12);
   }
 }
 
@@ -269,7 +304,7 @@ TEST(ParameterizeComponents, AFailedComponentIsReportedAndLaidOutAsPatches) {
   EXPECT_EQ(find_uv_overlaps(r.uv, r.cut_mesh.triangles).count, 0);
 }
 
-TEST(ParameterizeComponents, ManyTinyComponentsUnfoldExactly) {
+TEST(ParameterizeComponents, ManyTinyComponents) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(0, 1);
   std::vector<std::pair<Mesh, double>> parts;
@@ -292,7 +327,10 @@ TEST(ParameterizeComponents, ManyTinyComponentsUnfoldExactly) {
   expect_atlas(r, "60 tiny components");
   ASSERT_TRUE(r.converged) << r.message;
   for (const ComponentParam& comp : r.components) {
-    EXPECT_EQ(comp.method, ComponentMethod::Unfolded);
+    // One or two faces are unfolded; the tetrahedra go by the flow.
+    EXPECT_EQ(comp.method,
+              comp.faces.size() <= 2 ? ComponentMethod::Unfolded : ComponentMethod::Flow);
+    if (comp.method != ComponentMethod::Unfolded) continue;
     // Every uv edge is its 3D edge times the common scale.
     for (int f : comp.face_map) {
       for (int k = 0; k < 3; ++k) {

@@ -3,6 +3,7 @@
 /// The whole job on a mesh: conformal structure, target, admissibility, and the Ricci flow on
 /// every connected component, one by one, with the results gathered on the whole mesh.
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,12 +12,18 @@
 #include "ricci/flow/target.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
 
 /// Kinds of target the mesh-level driver builds.
 enum class TargetKind {
+  /// Per component, the flat target where its topology admits one (any surface with boundary,
+  /// boundary as TargetSpec::boundary says; a closed torus), else uniform curvature (closed
+  /// genus 0 or >= 2, which need cones to be flat: ricci/param/parameterize.hpp chooses them).
+  /// With cones: Flat. In the hyperbolic background: Flat.
+  Natural,
   Flat,     ///< zero curvature but at cones; boundary as TargetSpec::boundary says
   Uniform,  ///< 2 pi chi / n on every vertex of each component
   Values,   ///< one value per vertex, given
@@ -24,7 +31,7 @@ enum class TargetKind {
 
 /// The target, in whole-mesh vertex indices.
 struct TargetSpec {
-  TargetKind kind = TargetKind::Flat;
+  TargetKind kind = TargetKind::Natural;
   std::vector<Cone> cones;                     ///< Flat: cone vertices and curvatures
   BoundaryMode boundary = BoundaryMode::Free;  ///< Flat on meshes with boundary
   Eigen::VectorXd values;                      ///< Values: #V curvatures
@@ -44,7 +51,17 @@ struct MeshFlowOptions {
 struct ComponentFlow {
   std::vector<int> vertices;  ///< whole-mesh index of each component vertex
   int euler_characteristic = 0, genus = 0, boundary_loops = 0;
-  FlowResult flow;  ///< in component-local indices
+  /// in component-local indices; for a doubled component, in the doubled surface's
+  FlowResult flow;
+  /// The flow on the component failed next to its boundary (boundary edges cannot flip) and was
+  /// run again on the component glued to its mirror image along the boundary, a closed surface
+  /// whose interior flips reach every edge; `flow` is that run. Its vertices are the
+  /// component's (local indices) followed by the mirror copies of the interior vertices.
+  bool doubled = false;
+  std::string first_attempt_message;         ///< why the flow on the component itself failed
+  Triangles doubled_triangles;               ///< the doubled surface before flips
+  std::vector<int> doubled_vertex_original;  ///< doubled vertex -> local vertex
+  FaceShapes doubled_shapes;                 ///< the component's faces developed in the metric
 };
 
 /// What flow_mesh returns, gathered on the whole mesh.
@@ -58,7 +75,9 @@ struct MeshFlowResult {
   Topology topology;
   int flips = 0;  ///< edges flipped, all components together
   /// The flips in whole-mesh edge indices, component after component: flip_edge applied to them
-  /// in order on build_topology(mesh) reproduces `topology` exactly.
+  /// in order on build_topology(mesh) reproduces `topology` exactly. Doubled components (see
+  /// ComponentFlow::doubled) keep the input's triangulation in `topology` and add no entries;
+  /// develop_input_faces(mesh, result) covers every component.
   std::vector<int> flipped_edges;
   /// Per entry of flipped_edges: 1 for an isometric flip (a component's initial retriangulation
   /// of the input metric), 0 for a Ptolemy flip (FlowResult::isometric_flips).
@@ -68,6 +87,9 @@ struct MeshFlowResult {
   Eigen::VectorXd curvature;         ///< #V final curvature
   Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)
   Eigen::VectorXd lengths;           ///< #E final lengths, edges as topology.edge_vertices
+  /// #E eta of the structure on `topology`: structure.structure.eta but on flipped edges
+  /// (FlowResult::eta); with it the structure gives `lengths` at `u` on `topology`.
+  Eigen::VectorXd eta;
   std::vector<ComponentFlow> components;
   double setup_seconds = 0;  ///< topology, structure, target, checks
   double total_seconds = 0;
@@ -78,9 +100,21 @@ struct MeshFlowResult {
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
                     const TargetSpec& spec, const std::vector<int>& vertex_labels = {});
 
-/// Runs the flow on every component of a mesh.
+/// Every input face developed in the final metric (ricci/metric/intrinsic_triangulation.hpp),
+/// doubled components included: what the layouts of the input's own faces start from.
+/// \pre flow = flow_mesh(mesh, ...) in the Euclidean background
+Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow);
+/// The same with the input's connectivity at hand (build_topology(mesh)).
+Development develop_input_faces(const Topology& input, const MeshFlowResult& flow);
+
+/// Runs the flow on every component of a mesh. A component with boundary whose flow fails
+/// (vertex scaling with flips, Euclidean background) is flowed again on its double
+/// (ComponentFlow::doubled).
 /// \pre the mesh passed validate_mesh
 /// \throw TopologyError, InvalidInput (inadmissible target, naming the vertex), SolverError
 MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options = {});
+/// The same with the mesh's connectivity at hand. \pre topology = build_topology(mesh)
+MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
+                         const MeshFlowOptions& options = {});
 
 }  // namespace ricci

@@ -70,9 +70,9 @@ struct FlowOptions {
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
   int reuse_factorization_cg_iterations = 25;
-  /// Intrinsic Delaunay flips. With them vertex scaling reaches every target that satisfies
-  /// Gauss-Bonnet (and K < 2 pi inside): no triangle inequality can break. Delaunay with another
-  /// scheme is an InvalidInput.
+  /// Intrinsic Delaunay flips, in the Euclidean and in the hyperbolic background. With them
+  /// vertex scaling reaches every target that satisfies Gauss-Bonnet (and K < 2 pi inside): no
+  /// triangle inequality can break. Delaunay with another scheme is an InvalidInput.
   EdgeFlips flips = EdgeFlips::Auto;
   /// Only flips that keep a simplicial complex (no double edge, no loop): the result can be
   /// written as an ordinary mesh, at the price of leaving some edges non-Delaunay (the
@@ -124,19 +124,28 @@ struct FlowResult {
   Triangles triangles;
   /// After flips: the whole final connectivity (edges for `lengths`); null without flips.
   std::shared_ptr<const Topology> intrinsic_topology;
+  /// #E the conformal structure's eta on the final triangulation: the structure's own, but on
+  /// flipped edges (whose constants the flips set), so that edge_lengths of the structure with
+  /// this eta on intrinsic_topology gives `lengths` at u.
+  Eigen::VectorXd eta;
   int flips = 0;  ///< edges flipped over the whole flow (initial Delaunay flips included)
   /// Every accepted flip in order (edge indices of the topology the flow was given): flip_edge
   /// applied to them one after the other on that topology reproduces intrinsic_topology exactly
   /// (replay_flips in ricci/metric/intrinsic_triangulation.hpp).
   std::vector<int> flipped_edges;
   /// The first isometric_flips of flipped_edges retriangulate the input metric isometrically
-  /// into its intrinsic Delaunay triangulation (the new edge is the Euclidean diagonal); the
-  /// others are Ptolemy flips of the flow (the same discrete conformal class).
+  /// into its intrinsic Delaunay triangulation (the new edge is the diagonal of the developed
+  /// quad, Euclidean or hyperbolic); the others are Ptolemy flips of the flow (the same discrete
+  /// conformal class).
   int isometric_flips = 0;
   int blocked_flips = 0;  ///< non-Delaunay edges left unflipped at the end (see
                           ///< DelaunayFlipResult::blocked)
   int iterations = 0;
-  double max_error = 0;                  ///< final max |K-bar - K| over vertices with a target
+  double max_error = 0;  ///< final max |K-bar - K| over vertices with a target
+  /// The smallest max error double arithmetic resolves at the final metric (rounding of the
+  /// angle sums and of the angles' dependence on u; large next to needles). A flow that cannot
+  /// improve on an error below it counts as converged, and its message says so.
+  double error_floor = 0;
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Intrinsic Delaunay edge flips for the vertex-scaling metric (THEORY.md section 9).
+/// Intrinsic Delaunay edge flips for the vertex-scaling metric (THEORY.md section 9), in the
+/// Euclidean and in the hyperbolic background.
 ///
 /// Vertex scaling l_ij = lbar_ij exp((u_i + u_j) / 2) fails as soon as a triangle inequality
 /// breaks, and strong targets break it. The cure (Gu, Luo, Sun and Wu; Springborn) keeps the
@@ -13,6 +14,26 @@
 /// convex and twice differentiable across flips. The Delaunay test is written so that it needs no
 /// triangle inequality (cos theta_c + cos theta_d >= 0 expressed through the lengths), which is
 /// what lets the flips repair a metric whose triangles have already broken.
+///
+/// Hyperbolic background (Gu, Guo, Luo, Sun and Wu, "A discrete uniformization theorem for
+/// polyhedral surfaces II", J. Differential Geom. 2018; Springborn, "Ideal hyperbolic polyhedra
+/// and discrete uniformization", 2020). Vertex scaling reads sinh(l_ij / 2) = exp((u_i + u_j) / 2)
+/// sinh(lbar_ij / 2), so the lambda lengths lambda = sinh(l / 2) scale exactly as Euclidean
+/// lengths do, and everything above holds for them in place of l:
+///  - In the hyperboloid model, 2 sinh(l / 2) is the Minkowski chord between two points of the
+///    hyperboloid. Points on a hyperbolic circle lie in a spacelike plane, where the chords form
+///    a Euclidean polygon inscribed in a Euclidean circle: four concyclic points satisfy
+///    Ptolemy's relation for sinh(l / 2), so a Ptolemy flip of a concyclic quad is isometric.
+///  - Up to a constant factor the lambda lengths are Penner's coordinates of a decorated ideal
+///    triangulation (Penner, "The decorated Teichmueller space of punctured surfaces"), whose
+///    Delaunay (Epstein-Penner convex hull) condition is the Euclidean delaunay_margin of the
+///    lambdas. It agrees with the hyperbolic empty-circle condition and with Leibon's angle
+///    condition theta_c + theta_d <= (sum of the other four angles of the quad) wherever the
+///    triangles exist (tested on random quads).
+///  - On a closed surface the lambdas of a Delaunay triangulation satisfy every triangle
+///    inequality (a broken face would force its neighbour across the long edge to be broken
+///    along a strictly longer edge), and lambdas that do give hyperbolic lengths that do (asinh
+///    is subadditive): the flow with flips never meets a broken hyperbolic triangle.
 ///
 /// The flipped triangulation is in general a Delta-complex: two edges may join the same two
 /// vertices, an edge may join a vertex to itself, and a face may use a vertex twice (CAD meshes
@@ -40,6 +61,27 @@ double delaunay_margin(double ab, double ca, double cb, double da, double db);
 /// of ab), with the sides named as for delaunay_margin. \pre both triangles are valid
 double euclidean_diagonal(double ab, double ca, double cb, double da, double db);
 
+/// Penner's lambda length of an edge of length l (see the file comment): l in the Euclidean
+/// background, sinh(l / 2) in the hyperbolic one. Vertex scaling multiplies it by
+/// exp((u_i + u_j) / 2) in both.
+double lambda_length(double length, Geometry geometry);
+
+/// The edge length whose lambda length is lambda (inverse of lambda_length): lambda, or
+/// 2 asinh(lambda).
+double length_from_lambda(double lambda, Geometry geometry);
+
+/// The Delaunay margin of edge ab in a hyperbolic metric: delaunay_margin of the lambda lengths
+/// sinh(l / 2). Non-negative exactly when the quad is Delaunay (d outside the circumcircle of
+/// a, b, c, or equivalently theta_c + theta_d <= the other four angles of the two triangles);
+/// defined for any positive lengths, broken triangles included.
+double hyperbolic_delaunay_margin(double ab, double ca, double cb, double da, double db);
+
+/// The other diagonal cd of the quad of edge ab developed into the hyperbolic plane, by the
+/// hyperbolic law of cosines at a in the form sinh^2(cd / 2) = sinh^2((ca - da) / 2) +
+/// sinh(ca) sinh(da) sin^2(alpha / 2), alpha the angle of the quad at a (no cancellation for
+/// short or nearly straight diagonals). \pre both triangles are valid hyperbolic triangles
+double hyperbolic_diagonal(double ab, double ca, double cb, double da, double db);
+
 /// Whether interior edge e can be flipped: its two faces differ and, with keep_simplicial, the
 /// opposite vertices c, d are distinct and not yet joined by an edge.
 bool can_flip_edge(const Topology& topology, int e, bool keep_simplicial = false);
@@ -56,7 +98,8 @@ bool is_simplicial(const Topology& topology);
 void flip_edge(Topology& topology, int e);
 
 /// Flips interior edge e of a vertex-scaling metric at log radii u: the new edge's length by
-/// Ptolemy's relation from the current lengths, its eta so that edge_lengths reproduces it.
+/// Ptolemy's relation from the current lengths (on the lambda lengths sinh(l / 2) in the
+/// hyperbolic background), its eta so that edge_lengths reproduces it.
 /// \pre can_flip_edge(topology, e); lengths are l(u) of the current triangulation
 /// \return the new length
 double ptolemy_flip(Topology& topology, ConformalStructure& structure, const Eigen::VectorXd& u,
@@ -70,8 +113,9 @@ struct DelaunayFlipOptions {
   int max_flips = 0;  ///< safety stop; 0: 50 #E
   /// Skip flips that would leave a simplicial complex (see the file comment).
   bool keep_simplicial = false;
-  /// Flip isometrically (the new edge is the Euclidean diagonal of the unfolded quad: the same
-  /// flat surface, retriangulated) instead of by Ptolemy's relation (the same conformal class).
+  /// Flip isometrically (the new edge is the diagonal of the quad developed into the plane, or
+  /// into the hyperbolic plane: the same surface, retriangulated) instead of by Ptolemy's
+  /// relation (the same conformal class).
   bool isometric = false;
 };
 
@@ -88,8 +132,10 @@ struct DelaunayFlipResult {
 };
 
 /// Flips a vertex-scaling metric (epsilon = 0 at every vertex) to an intrinsic Delaunay
-/// triangulation at log radii u. Edges are visited in index order and re-queued when a
-/// neighbouring flip changes their quad, so the result is deterministic.
+/// triangulation at log radii u, in the background geometry of the structure (the Delaunay test,
+/// Ptolemy's relation and the isometric diagonal are those of structure.geometry). Edges are
+/// visited in index order and re-queued when a neighbouring flip changes their quad, so the
+/// result is deterministic.
 /// \param[in,out] topology the triangulation, flipped in place
 /// \param[in,out] structure its eta changes on flipped edges (epsilon must be zero)
 /// \param[in,out] lengths #E current lengths l(u), updated on flipped edges
@@ -98,8 +144,9 @@ DelaunayFlipResult flip_to_delaunay(Topology& topology, ConformalStructure& stru
                                     const Eigen::VectorXd& u, Eigen::VectorXd& lengths,
                                     const DelaunayFlipOptions& options = {});
 
-/// Number of interior edges whose delaunay_margin is below -tolerance at these lengths.
+/// Number of interior edges whose Delaunay margin (delaunay_margin, or
+/// hyperbolic_delaunay_margin) is below -tolerance at these lengths.
 int count_non_delaunay_edges(const Topology& topology, const Eigen::VectorXd& lengths,
-                             double tolerance = 1e-12);
+                             double tolerance = 1e-12, Geometry geometry = Geometry::Euclidean);
 
 }  // namespace ricci

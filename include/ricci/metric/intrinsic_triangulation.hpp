@@ -18,6 +18,11 @@
 /// flip changes a face's index, so every face of T ends with its own corners. Delta-complexes
 /// (double edges, loops, a face using a vertex twice) need nothing special: faces are developed
 /// as abstract triangles, corner by corner.
+///
+/// A hyperbolic metric (curvature -1 in every triangle) is developed the same way into the
+/// Poincare disk, with hyperbolic isometries (Moebius maps of the disk) in place of rigid motions,
+/// in long double: the hyperbolic layout and the Fuchsian group it leads to amplify every rounding
+/// error (ricci/flow/hyperbolic_refinement.hpp).
 
 #include <array>
 #include <complex>
@@ -26,6 +31,7 @@
 #include <Eigen/Core>
 
 #include "ricci/mesh/topology.hpp"
+#include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
 
@@ -66,5 +72,38 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
 /// positive real axis, corner 2 above it (angles by the half-angle formula).
 /// \throw InvalidInput naming the face when its lengths break a triangle inequality
 FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::VectorXd& lengths);
+
+/// Per face of a triangulation, its three corners in the Poincare disk (|z| < 1), in long double;
+/// each face in a frame of its own: corner 0 at the centre, corner 1 on the positive real axis.
+using WideFaceShapes = std::vector<std::array<std::complex<long double>, 3>>;
+
+/// What develop_input_faces_hyperbolic returns.
+struct HyperbolicDevelopment {
+  WideFaceShapes shapes;  ///< #F: the input faces' corners in the disk, each in its own frame
+  /// #E of the input: each input edge's hyperbolic length in the final metric, as seen from its
+  /// first face.
+  WideVector lengths;
+  /// max over interior input edges of the relative difference between the hyperbolic lengths the
+  /// edge gets in its two faces (0 in exact arithmetic).
+  double max_length_mismatch = 0;
+  int flipped_faces = 0;     ///< input faces developed with negative orientation
+  int degenerate_faces = 0;  ///< input faces developed with (relative) zero area
+};
+
+/// develop_input_faces for a hyperbolic metric: every face of the input triangulation developed
+/// into the Poincare disk, in long double, by undoing the flips with hyperbolic isometries.
+/// \param final_lengths #E hyperbolic lengths of T''s edges (refine_hyperbolic_metric's)
+/// \pre final_lengths satisfy the triangle inequalities on every face of T'
+/// \throw InvalidInput when the flips cannot be replayed or a final face breaks a triangle
+///        inequality
+HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
+                                                     const std::vector<int>& flipped_edges,
+                                                     const WideVector& final_lengths);
+
+/// The shapes of a triangulation's hyperbolic faces from their edge lengths: corner 0 at the
+/// centre of the disk, corner 1 on the positive real axis at tanh(l / 2), corner 2 above it.
+/// \throw InvalidInput naming the face when its lengths break a triangle inequality
+WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
+                                                   const WideVector& lengths);
 
 }  // namespace ricci

@@ -40,7 +40,7 @@ Scheme parse_scheme(const std::string& name);
 /// eta sinh r_i sinh r_j, and for vertex scaling (eps = 0) is sinh(l / 2) = e^{(u_i + u_j) / 2}
 /// sinh(lbar / 2) (hyperbolic discrete conformal equivalence).
 struct ConformalStructure {
-  Scheme scheme = Scheme::Thurston;
+  Scheme scheme = Scheme::VertexScaling;
   Geometry geometry = Geometry::Euclidean;
   /// Hyperbolic background: the input lengths were multiplied by this before they were read as
   /// hyperbolic lengths (1 in the Euclidean background, where scale does not matter).
@@ -58,7 +58,11 @@ enum class PackingInit {
 
 /// Options of make_conformal_structure.
 struct StructureOptions {
-  Scheme scheme = Scheme::Thurston;             ///< which discrete metric
+  /// Which discrete metric. Vertex scaling (discrete conformal equivalence) with intrinsic
+  /// Delaunay flips reaches every admissible target and is the conformal one; Thurston's
+  /// circle packing (the tutorial's) fits the input lengths only approximately and needs the
+  /// single-vertex bound (valence-3 vertices of CAD meshes break it).
+  Scheme scheme = Scheme::VertexScaling;
   PackingInit packing_init = PackingInit::Fit;  ///< Thurston and tangential only
   /// Largest intersection angle Phi the Thurston fit may use (radians; theory allows pi/2). Each
   /// face gives its vertex at most pi - Phi of angle, so at pi/2 a valence-4 vertex whose edges

@@ -1,13 +1,24 @@
 #pragma once
 /// \file
 /// Singularity selection (tutorial section 5.2): where to put cones, and how much curvature each
-/// carries, so that the flat metric distorts area little. Greedy placement on the linearised
-/// problem (the Hessian L at the input metric: K(u) ~ K + L u): with the cone set S held at
-/// u = 0, solve L u = -K on the other vertices; the vertex of largest |u| (the worst area
-/// distortion) joins S. Vertices within 3 rings of a cone are left out of that choice and of the
-/// measure: next to a cone u follows the cone's own log singularity. The nonlinear flow then holds
-/// u at the cones and flattens the rest, so the cones take exactly the curvature the surface needs
-/// there.
+/// carries, so that the flat metric distorts area little.
+///
+/// The model is the flow linearised at the input metric: K(u) ~ K + L u, with L the cotangent
+/// Laplacian of the input's intrinsic Delaunay triangulation (the scheme's own Hessian for the
+/// circle packings). A flat metric with cones k_s at the vertices s of S (and u = 0 on a free
+/// boundary) has log scale u(k) = A^-1 (sum_s k_s e_s - K): affine in the curvatures. For a cone
+/// set S the curvatures minimise the area-weighted spread of u,
+///     J(k) = sum_v a_v (u_v - mean u)^2      (a_v: a third of the 3D area around v),
+/// subject to Gauss-Bonnet on a closed surface (sum k = 2 pi chi) and to bounds that keep every
+/// cone drawable on the input's own faces: a cone's angle 2 pi - k spread over its faces as
+/// straight uv triangles needs every corner there below pi (max_face_angle, max_corner_angle),
+/// and k <= max_curvature. J is the log-scale L2 norm of the tutorial's area distortion; its
+/// minimiser spreads curvature over the cones instead of piling it on one.
+/// Cones are added greedily where dJ/dk (the gradient of J with respect to a new cone's
+/// curvature, one solve for every vertex at once) is largest, at least 3 rings from the cones
+/// already there, until max |u - mean u| <= max_log_scale and every cone is within its bounds.
+/// One factorisation serves the whole selection (the cones are sources, not constraints), with
+/// four solves per cone added.
 
 #include <vector>
 
@@ -21,11 +32,23 @@ struct ConeSelectionOptions {
   /// Add cones until max |u - mean u| (the largest log area scale factor of the linearised flat
   /// metric, relative to its mean) is at most this.
   double max_log_scale = 1.0;
-  int max_cones = 64;  ///< never more than this many
+  /// Never more than this many; 0: 64, or 6 |chi| on surfaces whose curvature needs more cones
+  /// to stay within the bounds.
+  int max_cones = 0;
   /// On a closed surface the first cone is needed before anything can be solved; try this many
   /// well-spread candidates for it (farthest-point samples) and keep the least distorting one.
-  /// 1: take the vertex of most extreme curvature.
-  int try_first_cone_candidates = 1;
+  int try_first_cone_candidates = 8;
+  /// Largest average uv corner angle a cone may ask of the faces around it (radians): a cone at
+  /// a vertex of valence deg gets curvature at least 2 pi - max_face_angle deg (pi is the hard
+  /// limit of straight uv triangles).
+  double max_face_angle = 0.6 * 3.14159265358979323846;
+  /// Largest uv corner angle at a cone, estimated as the largest input corner there scaled by
+  /// (cone angle) / (input angle sum): bounds the curvature of a cone at an irregular vertex.
+  /// On eight.off cones at the average bound alone flipped the faces whose input corner at the
+  /// cone was 105 and 107 degrees (scaled to about 190).
+  double max_corner_angle = 0.75 * 3.14159265358979323846;
+  /// Largest curvature of a cone (radians; its angle is 2 pi - this).
+  double max_curvature = 4.71238898038469;  // 1.5 pi
   /// Boundary treatment while cones are chosen: Free holds the boundary at u = 0 (it flattens
   /// with no cone needed); the disk modes leave it free as well during selection.
   BoundaryMode boundary = BoundaryMode::Free;
@@ -35,12 +58,17 @@ struct ConeSelectionOptions {
 /// What select_cones returns.
 struct ConeSelection {
   std::vector<int> vertices;          ///< cone vertices in the order they were chosen
-  std::vector<double> max_log_scale;  ///< after each addition (linearised)
-  /// Curvature each cone takes in the linearised solution (sums with the boundary to 2 pi chi).
+  std::vector<double> max_log_scale;  ///< max |u - mean u| after each addition (linearised)
+  /// The curvature of each cone minimising J (in the order of `vertices`): on a closed surface
+  /// they sum to 2 pi chi; with a boundary the boundary takes the rest.
   std::vector<double> linear_curvature;
+  double log_scale_rms = 0;  ///< sqrt(J / total area) at the end
+  /// Whether every cone's curvature lies within its bounds (false when the cap on the number of
+  /// cones stopped the selection first).
+  bool within_bounds = true;
 };
 
-/// Chooses cone vertices greedily (see the file comment).
+/// Chooses cone vertices and curvatures (see the file comment).
 /// \pre the mesh is a single connected component that passed validate_mesh
 /// \throw InvalidInput when options are out of range
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options = {});

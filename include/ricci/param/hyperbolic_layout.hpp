@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "ricci/flow/hyperbolic_refinement.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/mobius.hpp"
 
@@ -82,6 +83,17 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const Eigen::Vector
 /// long double in either case; from double lengths the metric's own rounding (curvature about
 /// 1e-15 per vertex) limits how well the sides of the cut match.
 HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& lengths,
+                                   const CutGraph& cut, const CutMesh& cut_mesh,
+                                   const HyperbolicLayoutOptions& options = {});
+
+/// The same from the shapes of the faces in the disk instead of edge lengths: each face's corners
+/// as the metric develops them (develop_input_faces_hyperbolic: the input's faces in the
+/// hyperbolic metric of the intrinsic triangulation a flow with flips ends on). A face whose
+/// shape is reversed is laid out reversed (and counted in num_flipped_faces). Edge lengths are
+/// read from each edge's first face.
+/// \throw InvalidInput as above (but for the triangle inequality), or when there is not one
+///        shape per face
+HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideFaceShapes& shapes,
                                    const CutGraph& cut, const CutMesh& cut_mesh,
                                    const HyperbolicLayoutOptions& options = {});
 

@@ -34,17 +34,27 @@ struct HyperbolicParamOptions {
   int cut_candidates = 32;
   /// Stop trying further cuts once the relation residual is this small.
   double good_relation_residual = 1e-11;
+  /// Above this relation residual the generators are reported as not computed
+  /// (HyperbolicParamResult::group_failure) rather than as a group.
+  double usable_relation_residual = 1e-6;
 };
 
 /// What parameterize_hyperbolic returns.
 struct HyperbolicParamResult {
   bool converged = false;  ///< the flow reached its tolerance
   std::string message;     ///< why not, when it did not
-  MeshFlowResult flow;     ///< the flow to the hyperbolic metric
+  /// The flow to the hyperbolic metric. With vertex scaling it flips edges (FlowOptions::flips
+  /// Auto): its topology is then the intrinsic Delaunay triangulation the metric lives on, and
+  /// the input's own faces are developed in it (develop_input_faces_hyperbolic) before the cut
+  /// and the layout, which work on the input's faces and edges.
+  MeshFlowResult flow;
   /// The converged metric refined in long double (residual curvature about 1e-18), which the
   /// layout uses.
   HyperbolicRefinement refinement;
-  CutGraph cut;
+  /// After flips: max relative difference between the hyperbolic lengths an input edge gets in
+  /// its two developed faces (HyperbolicDevelopment::max_length_mismatch); 0 without flips.
+  double development_length_mismatch = 0;
+  CutGraph cut;  ///< on the input mesh's edges
   CutMesh cut_mesh;
   HyperbolicLayout layout;
   int cut_candidates_tried = 0;  ///< cuts laid out (HyperbolicParamOptions::cut_candidates)
@@ -52,6 +62,11 @@ struct HyperbolicParamResult {
   /// Closed surfaces (genus >= 2): the canonical generators; has_group false otherwise (a
   /// surface with boundary has a free Fuchsian group, whose generators are the segment maps).
   bool has_group = false;
+  /// A closed surface whose canonical generators could not be computed for any cut tried: why
+  /// (at high genus the fundamental domain reaches so close to the circle that the segment maps'
+  /// entries exceed what double precision rounds faithfully). The layout and the segment maps are
+  /// still there.
+  std::string group_failure;
   FuchsianGroup group;
   /// The disk layout against the 3D mesh: the Poincare model is conformal, so the angle
   /// distortion is that of the hyperbolic metric against the input (areas shrink towards the
@@ -59,7 +74,7 @@ struct HyperbolicParamResult {
   Distortion distortion;
   double seam_length = 0;  ///< 3D length of the cut edges
   /// Texture coordinates: the disk positions of the cut-mesh vertices (|uv| < 1), indexed per
-  /// corner by cut_mesh.triangles.
+  /// corner by cut_mesh.triangles (whose faces are the input mesh's, flips or not).
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
   double seconds = 0;
 };

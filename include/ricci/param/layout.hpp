@@ -42,7 +42,9 @@ struct LayoutOptions {
   /// on a few edges; least squares spreads it over all). Negative: never refine.
   /// (The tests ask for 1e-9; 5e-10 keeps a margin and spares large regular meshes the cost.)
   double refine_above = 5e-10;
-  int refine_iterations = 10;  ///< rotation / position alternations of the refinement
+  /// Least-squares solves of the refinement: the first with the propagated rotations, each
+  /// further one with the rotations fitted to the previous layout (measured: no gain after one).
+  int refine_iterations = 1;
 };
 
 /// What layout_flat returns.
@@ -70,10 +72,14 @@ struct Layout {
 };
 
 /// Lays out a flat metric on the sliced mesh, breadth-first from the root over faces that share
-/// an uncut edge: the root gets p_i = 0, p_j = l_ij, p_k = l_ik e^{i theta_i}; every later face
-/// places its third vertex k from its edge (i, j) as p_k = p_i + l_ik e^{i theta_i} (p_j - p_i) /
-/// |p_j - p_i|, angles by the half-angle formula (metric/angles.hpp). Each vertex is placed once,
-/// by the first face that reaches it. Linear time (about 0.12 s for a million faces).
+/// an uncut edge. Each face's triangle in the metric (corner 0 at 0, corner 1 on the positive
+/// real axis, angles by the half-angle formula of metric/angles.hpp) gets a rotation propagated
+/// from its neighbour's across their shared edge; the root is placed as it is, and every later
+/// face places its third vertex k from the two it shares (i, j) by its rotated triangle,
+/// p_k = ((p_i + R (q_k - q_i)) + (p_j + R (q_k - q_j))) / 2. Each vertex is placed once, by the
+/// first face that reaches it. Rounding adds up along the breadth-first tree instead of being
+/// multiplied through needles. Linear time (0.16 s for a million faces, relative length error
+/// 1.4e-11 on a 1M-face disk).
 /// A curvature residual d at an interior vertex shows as a misclosure of about d times the
 /// distance to the root: flatten to well below the accuracy wanted.
 /// \param topology the original mesh's connectivity

@@ -22,19 +22,23 @@ namespace ricci {
 
 /// Where the cones come from.
 enum class ConeMode {
+  /// Cones only where the topology needs them: none on a torus or a surface with boundary (its
+  /// flat metric exists without), automatic (Auto) on closed surfaces of genus 0 or >= 2.
+  Needed,
   None,     ///< no cones: genus 1 closed, or any surface with boundary (free or disk boundary)
   User,     ///< ParamOptions::cones as given
-  Auto,     ///< select_cones (a count, or until the log scale bound holds)
+  Auto,     ///< select_cones (a count, or until the log scale bound holds), also on surfaces
+            ///< that need none
   OneCone,  ///< all curvature 2 pi chi at one vertex (genus >= 2), chosen by select_cones
 };
 
-/// "none", "user", "auto", "one". \throw InvalidInput otherwise
+/// "needed", "none", "user", "auto", "one". \throw InvalidInput otherwise
 ConeMode parse_cone_mode(const std::string& name);
 const char* cone_mode_name(ConeMode mode);
 
 /// Options of parameterize.
 struct ParamOptions {
-  ConeMode cone_mode = ConeMode::Auto;
+  ConeMode cone_mode = ConeMode::Needed;
   std::vector<Cone> cones;          ///< ConeMode::User: vertices (input indices) and curvatures
   ConeSelectionOptions auto_cones;  ///< ConeMode::Auto: count or log-scale bound
   bool quantize = false;            ///< round cone curvatures to multiples of pi/2
@@ -49,8 +53,22 @@ struct ParamOptions {
     f.tolerance = 1e-12;
     return f;
   }();
-  /// Split edges around cones whose valence breaks the single-vertex bound (tutorial 5.3).
+  /// Without edge flips (the circle packings): split edges around cones whose valence breaks the
+  /// single-vertex bound (tutorial 5.3), and subdivide once when the flow still degenerates.
+  /// With flips (vertex scaling, the default) every admissible target is reached on the input's
+  /// own triangulation, which is never modified.
   bool modify_connectivity = true;
+};
+
+/// Wall time of each stage of parameterize, seconds.
+struct ParamTimings {
+  double cones = 0;        ///< topology checks and cone selection
+  double flow = 0;         ///< connectivity modification and the Ricci flow
+  double cut = 0;          ///< cut graph and slicing
+  double development = 0;  ///< the input's faces developed in the flow's metric
+  double layout = 0;       ///< planar layout (with its least-squares refinement)
+  double atlas = 0;        ///< affine atlas
+  double distortion = 0;   ///< distortion figures
 };
 
 struct ComponentParam;
@@ -92,6 +110,7 @@ struct ParamResult {
   double uv_scale = 1;  ///< uv = (layout - offset) * uv_scale
   Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
   double seconds = 0;
+  ParamTimings timings;  ///< several components: summed over the components
   /// Several components: one entry per connected component of the input, in the order of
   /// Topology::components. Empty for a mesh of one component.
   std::vector<ComponentParam> components;

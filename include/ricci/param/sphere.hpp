@@ -106,12 +106,13 @@ struct SphereResult {
   double flow_seconds = 0, layout_seconds = 0, normalisation_seconds = 0, seconds = 0;
 };
 
-/// The default pole: among vertices of valence at least 5, the one whose angle defect
-/// 2 pi - (sum of its corner angles) is smallest in absolute value, ties to the lowest index;
-/// the lowest-index vertex of largest valence when none has valence 5. A flat, well-surrounded
-/// vertex makes the disk's boundary (the pole's link) a polygon with at least 5 sides whose
-/// vertices each keep faces inside the disk, and puts the puncture where the surface looks most
-/// like a plane.
+/// The default pole: the vertex whose removal leaves the easiest disk for the flow. Each vertex w
+/// of its link becomes a boundary vertex with the interior angle it had outside the star, where
+/// the disk-length target asks for about pi - 2 pi / valence; the score is the largest such
+/// difference (boundary edges cannot flip, so the flow must bridge it near the boundary) and the
+/// pole's own angle defect |2 pi - sum of its angles|, plus pi for valence below 5. The lowest
+/// score wins, ties to the lowest index. On a scan full of needles this keeps them away from
+/// the star; on a regular mesh it picks a flat, well-surrounded vertex.
 /// \pre the mesh is closed (every vertex of a face has a full fan)
 int choose_pole_vertex(const Mesh& mesh);
 
