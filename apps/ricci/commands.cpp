@@ -408,8 +408,8 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
   const std::size_t n = result.components.size();
   std::cout << args.mesh << " -> " << args.output << "\n"
             << "  " << n << " components: " << n - failed - unfolded << " by the flow, " << unfolded
-            << " unfolded (" << rescued << " of them after the flow failed), " << failed
-            << " failed (in several patches)\n"
+            << " unfolded (" << rescued << " of them in place of a failed or distorted flow), "
+            << failed << " failed (in several patches)\n"
             << "  atlas: " << p.charts.size() << " charts packed by "
             << (p.by_shape ? "shape" : "rectangles") << ", coverage " << std::setprecision(4)
             << p.coverage << " (bounding rectangles " << p.rectangle_coverage << "), gutter "

@@ -34,6 +34,11 @@ constexpr double kFlatCurvature = 1e-9;
 /// put their shared vertex when the vertex between them is flat: closer than this (relative to
 /// the face's longest edge) it takes that position exactly and the two faces are glued.
 constexpr double kSnap = 1e-9;
+/// A component whose flow layout maps some face with sigma_max / sigma_min above this is
+/// unfolded instead when its own shape lays out in one chart. Conformal layouts stay near 1
+/// (1.1 to 2 on the shared meshes); tens to 1e5 come from tiny closed parts given the few cones
+/// their topology needs (the repaired dragon's needle tetrahedra).
+constexpr double kUnfoldAbove = 10;
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -348,6 +353,21 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
         stopped.seconds = seconds_since(start);
         return stopped;
+      }
+    }
+    const bool distorted =
+        info.parameterized && info.param.distortion.angle_distortion_max > kUnfoldAbove;
+    if (distorted) {
+      // The flow's layout is valid but far from conformal somewhere (the few cones a tiny
+      // closed part needs, on a needle-shaped tetrahedron): its own shape, if it lays out in one
+      // piece, has no distortion at all.
+      PatchLayout patches = develop_patches(sub);
+      if (patches.num_patches == 1) {
+        info.message = "the flow's layout distorts angles by up to " +
+                       std::to_string(info.param.distortion.angle_distortion_max) +
+                       " (sigma_max / sigma_min)";
+        info.method = ComponentMethod::Unfolded;
+        info.param = unfolded_result(sub, patches);
       }
     }
     if (!info.parameterized) {

@@ -216,6 +216,32 @@ TEST(ParameterizeComponents, ClosedComponentsWhosePipelineFailsUnfold) {
   }
 }
 
+TEST(ParameterizeComponents, AFlowLayoutFarFromConformalGivesWayToTheUnfolding) {
+  // A needle tetrahedron of the repaired dragon: with the three cones its topology needs, the
+  // flow's layout stretches some face by a factor of 1e5 (measured); its own shape unfolds with
+  // no distortion and a cone at each corner.
+  const Mesh tetrahedron = testing::make_mesh({{0.0339525, 0.0647486, -0.000393758},
+                                               {0.0338756, 0.0639078, -0.000273782},
+                                               {0.0341065, 0.0642107, 0.000314219},
+                                               {0.0342168, 0.0644548, 0.000549007}},
+                                              {{1, 0, 2}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}});
+  const Mesh triangle = testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.2, 0.9, 0}}, {{0, 1, 2}});
+  const ParamResult alone = parameterize(tetrahedron, vertex_scaling());
+  ASSERT_TRUE(alone.converged) << alone.message;
+  const ParamResult r =
+      parameterize(combine({{tetrahedron, 1.0}, {triangle, 0.001}}), vertex_scaling());
+  expect_atlas(r, "needle tetrahedron");
+  const ComponentParam& comp = r.components[0];
+  if (alone.distortion.angle_distortion_max > 10) {
+    EXPECT_EQ(comp.method, ComponentMethod::Unfolded);
+    EXPECT_NE(comp.message.find("distorts angles"), std::string::npos) << comp.message;
+    EXPECT_EQ(comp.cones.size(), 4u);
+    EXPECT_NEAR(comp.distortion.angle_distortion_max, 1.0, 1e-9);
+  } else {  // the pipeline has improved: its layout stays
+    EXPECT_EQ(comp.method, ComponentMethod::Flow);
+  }
+}
+
 TEST(ParameterizeComponents, TransitionsAndAtlasMoveWithTheCharts) {
   // Two tori: every interior cut edge has a transition taking one side's copy onto the other's.
   const ParamResult r = parameterize(combine({{make_torus(24, 10), 1.0}, {make_torus(20, 8), 3.0}}),

@@ -123,9 +123,10 @@ enum class ComponentMethod {
   Flow,  ///< the pipeline: cones, flow, cut, layout (as for a mesh of one component)
   /// Its own faces laid out in their 3D shapes as one chart (an unfolding: each face developed
   /// across an edge of one already placed, none overlapping another): components of one or two
-  /// faces, and components whose pipeline failed when this works. No distortion at all; its
-  /// cones are its curved interior vertices (3D angle sum not 2 pi), and its cut runs between
-  /// faces that were not laid out side by side.
+  /// faces, and, when this works, components whose pipeline failed or whose flow layout distorts
+  /// angles by more than a factor 10 somewhere (tiny closed parts with the few cones their
+  /// topology needs). No distortion at all; its cones are its curved interior vertices (3D angle
+  /// sum not 2 pi), and its cut runs between faces that were not laid out side by side.
   Unfolded,
   /// The pipeline failed and the unfolding needed several patches not to overlap: each patch
   /// its own chart, as above. The component counts as failed.
@@ -143,7 +144,7 @@ struct ComponentParam {
   ComponentMethod method = ComponentMethod::Flow;
   bool parameterized = false;  ///< in one chart: Flow or Unfolded (false for Patches)
   /// Why the pipeline failed (its message, or the exception it threw), also when the unfolding
-  /// then served; empty when it did not fail.
+  /// then served, or why its layout gave way to the unfolding; empty when the flow served.
   std::string message;
   std::vector<Cone> cones;  ///< its cones, in vertices of ParamResult::mesh
   Distortion distortion;    ///< of its own part of the atlas
