@@ -835,10 +835,17 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
       return pack_shapes(layout, triangles, out.charts, shapes, s, grid, options.rotate, work,
                          budget, shaped);
     };
-    // From just above the rectangles' scale up by 10% steps while the shapes fit, then
-    // bisection; the work limit stops the search with the best packing found so far.
-    double shape_low = scale * (1 + tolerance);
-    if (shape_low < bound && shapes_fit(shape_low)) {
+    // A scale where the shapes fit: the rectangles' (or a little less: a tight rectangle
+    // packing can leave no room for the cells a shape's outline and gutter round up to). Then up
+    // by 10% steps while they fit, then bisection; the work limit stops the search with the best
+    // packing found so far. The shapes are kept only when they beat the rectangles.
+    double shape_low = std::min(scale, bound);
+    bool fit = false;
+    for (int step = 0; step < 4 && !fit && work <= budget; ++step, shape_low *= 0.97) {
+      fit = shapes_fit(shape_low);
+      if (fit) break;
+    }
+    if (fit) {
       std::vector<Placement> best = shaped;
       double shape_high = bound;
       for (double s = shape_low * 1.1; work <= budget; s *= 1.1) {
@@ -858,9 +865,11 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
           shape_high = mid;
         }
       }
-      scale = shape_low;
-      placement = std::move(best);
-      out.by_shape = true;
+      if (shape_low > scale) {
+        scale = shape_low;
+        placement = std::move(best);
+        out.by_shape = true;
+      }
     }
     out.raster_work = work;
   }
