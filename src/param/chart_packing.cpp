@@ -491,16 +491,24 @@ bool pack_shapes(const Points& layout, const Triangles& triangles,
         }
       }
     }
-    // Grow by d cells (the chart's cells lie d cells inside its bitmap, so nothing is lost).
-    std::vector<char> grown(bitmap.size(), 0);
+    // Grow by d cells (the chart's cells lie d cells inside its bitmap, so nothing is lost): a
+    // square of side 2 d + 1 is a row window then a column window, each a running count.
+    auto at = [w](int i, int j) { return static_cast<std::size_t>(j) * w + i; };
+    std::vector<char> across(bitmap.size(), 0), grown(bitmap.size(), 0);
     for (int j = 0; j < h; ++j) {
-      for (int i = 0; i < w; ++i) {
-        if (!bitmap[static_cast<std::size_t>(j) * w + i]) continue;
-        for (int b = std::max(0, j - d); b <= std::min(h - 1, j + d); ++b) {
-          for (int a = std::max(0, i - d); a <= std::min(w - 1, i + d); ++a) {
-            grown[static_cast<std::size_t>(b) * w + a] = 1;
-          }
-        }
+      int count = 0;
+      for (int i = 0; i < w + d; ++i) {
+        if (i < w) count += bitmap[at(i, j)];
+        if (i - 2 * d - 1 >= 0) count -= bitmap[at(i - 2 * d - 1, j)];
+        if (i - d >= 0) across[at(i - d, j)] = count > 0;
+      }
+    }
+    for (int i = 0; i < w; ++i) {
+      int count = 0;
+      for (int j = 0; j < h + d; ++j) {
+        if (j < h) count += across[at(i, j)];
+        if (j - 2 * d - 1 >= 0) count -= across[at(i, j - 2 * d - 1)];
+        if (j - d >= 0) grown[at(i, j - d)] = count > 0;
       }
     }
     // Row spans of each quarter turn: (i, j) of the w x h bitmap goes to (h - 1 - j, i).
@@ -844,6 +852,11 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
     for (int step = 0; step < 4 && !fit && work <= budget; ++step, shape_low *= 0.97) {
       fit = shapes_fit(shape_low);
       if (fit) break;
+    }
+    // Found below the rectangles' scale: worth going on only if the shapes also fit above it.
+    if (fit && shape_low < scale) {
+      shape_low = scale * (1 + tolerance);
+      fit = shape_low < bound && work <= budget && shapes_fit(shape_low);
     }
     if (fit) {
       std::vector<Placement> best = shaped;

@@ -483,7 +483,11 @@ TEST(ParameterizeComponents, DragonAfterRepairWithoutItsLargestComponent) {
     rest.triangles.middleRows(nf, m.num_faces()) = m.triangles.array() + nv;
     nv += m.num_vertices(), nf += m.num_faces();
   }
-  const ParamResult r = parameterize(rest, vertex_scaling());
+  // Rectangles only: the shape search spends seconds on 819 charts (its coverage, 0.50, is in
+  // docs/parameterization.md).
+  ParamOptions options = vertex_scaling();
+  options.packing.raster_resolution = 0;
+  const ParamResult r = parameterize(rest, options);
   expect_atlas(r, "dragon's small components");
   EXPECT_TRUE(r.converged) << r.message;
   EXPECT_EQ(r.components.size(), 819u);
