@@ -1,10 +1,12 @@
 #include "commands.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "json_output.hpp"
@@ -15,6 +17,7 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/param/common_refinement.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
 #include "ricci/spline/manifold_spline.hpp"
@@ -331,8 +334,101 @@ int run_flow(const FlowArgs& args) {
 namespace {
 
 /// `param --geometry hyperbolic`: the uniformization metric laid out in the Poincare disk.
+/// The files `param --faces refinement` writes beside -o (docs/parameterization.md).
+struct RefinementFiles {
+  std::string linear, vertex_map, matrix;
+};
+
+RefinementFiles refinement_files(const std::string& output) {
+  const std::filesystem::path p(output);
+  const std::string stem = (p.parent_path() / p.stem()).string();
+  return {stem + ".linear.obj", stem + ".vertex_map.txt", stem + ".spmat"};
+}
+
+/// Per vertex of the parameterized mesh, the input file's vertices (0-based) it is made of: its
+/// own, or for a vertex added by an edge split the halves of its parents'.
+std::vector<std::vector<std::pair<int, double>>> file_columns(const ParamResult& r,
+                                                              const ReadResult& read) {
+  const int n = r.mesh.num_vertices();
+  const int first_added = n - static_cast<int>(r.added_vertex_parents.size());
+  std::vector<std::vector<std::pair<int, double>>> columns(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) {
+    if (r.vertex_origin[v] >= 0) {
+      columns[v] = {{read.vertex_map[r.vertex_origin[v]], 1.0}};
+      continue;
+    }
+    // Split edges join earlier vertices.
+    for (int parent : r.added_vertex_parents[v - first_added]) {
+      for (const auto& [c, w] : columns[parent]) {
+        auto it = std::find_if(columns[v].begin(), columns[v].end(),
+                               [c = c](const auto& e) { return e.first == c; });
+        if (it == columns[v].end()) {
+          columns[v].push_back({c, 0.5 * w});
+        } else {
+          it->second += 0.5 * w;
+        }
+      }
+    }
+  }
+  return columns;
+}
+
+/// Writes the refinement (homogeneous vt) to `output` and its companions beside it.
+void write_refinement(const std::string& output, const std::string& input, const ParamResult& r,
+                      const CommonRefinement& c, const ReadResult& read) {
+  const RefinementFiles files = refinement_files(output);
+  Mesh mesh;
+  mesh.positions = c.positions;
+  mesh.triangles = c.triangles;
+  Triangles corners(c.triangles.rows(), 3);
+  for (Eigen::Index t = 0; t < corners.rows(); ++t) corners.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+  write_obj(output, mesh, corners, c.projective_uv);
+  write_obj(files.linear, mesh, c.uv_triangles, c.uv);
+  const std::string name = std::filesystem::path(output).filename().string();
+  write_file_atomically(files.vertex_map, [&](std::ostream& out) {
+    out << "# ricci param --faces refinement: where the input's vertices are in " << name
+        << "\n# input_vertex refinement_vertex, 1-based: the order of the v lines in "
+        << std::filesystem::path(input).filename().string() << " and in " << name << "\n";
+    for (int v = 0; v < r.mesh.num_vertices(); ++v) {
+      if (r.vertex_origin[v] < 0) continue;
+      out << read.vertex_map[r.vertex_origin[v]] + 1 << " " << c.input_vertex[v] + 1 << "\n";
+    }
+  });
+  const auto columns = file_columns(r, read);
+  write_file_atomically(files.matrix, [&](std::ostream& out) {
+    char buffer[96];
+    std::vector<std::pair<int, double>> row;
+    for (int i = 0; i < c.interpolation.rows(); ++i) {
+      row.clear();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(c.interpolation, i); it;
+           ++it) {
+        for (const auto& [col, w] : columns[it.col()]) {
+          auto found = std::find_if(row.begin(), row.end(),
+                                    [col = col](const auto& e) { return e.first == col; });
+          if (found == row.end()) {
+            row.push_back({col, w * it.value()});
+          } else {
+            found->second += w * it.value();
+          }
+        }
+      }
+      std::sort(row.begin(), row.end());
+      for (const auto& [col, w] : row) {
+        out.write(buffer, std::snprintf(buffer, sizeof buffer, "%d %d %.17g\n", i + 1, col + 1, w));
+      }
+    }
+    // A last zero entry at (rows, columns) fixes the size for Matlab's spconvert.
+    out << c.interpolation.rows() << " " << read.file_vertices << " 0\n";
+  });
+}
+
 int run_param_hyperbolic(const ParamArgs& args) {
   HyperbolicParamOptions options;
+  if (args.faces != "input") {
+    throw InvalidInput("--faces " + args.faces +
+                       ": the common refinement is that of vertex scaling in the plane; leave "
+                       "--faces out with --geometry hyperbolic");
+  }
   options.structure.scheme = parse_scheme(args.scheme);
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
@@ -471,11 +567,32 @@ int run_param(const ParamArgs& args) {
   options.packing.gutter = args.gutter;
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
+  const bool refinement = args.faces == "refinement";
+  const RefinementFiles files = refinement_files(args.output);
+  if (refinement) {
+    if (options.structure.scheme != Scheme::VertexScaling) {
+      throw InvalidInput(
+          "--faces refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
+          "conformal class); add --scheme vertex-scaling");
+    }
+    for (const std::string& path : {files.linear, files.vertex_map, files.matrix}) {
+      check_output_is_not_input(path, {args.mesh, args.cones, args.output});
+    }
+  }
 
   const ReadResult read =
       read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
   apply_cones_option(args.cones, args.mesh, read, options);
+  if (refinement) {
+    const Topology t = build_topology(read.mesh.triangles, read.mesh.num_vertices());
+    if (t.components.size() > 1) {
+      throw InvalidInput(args.mesh + ": --faces refinement: the mesh has " +
+                         std::to_string(t.components.size()) +
+                         " connected components, and the common refinement is made for one; "
+                         "leave --faces out for one atlas of them all");
+    }
+  }
   const ParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize(read.mesh, options); });
@@ -484,12 +601,25 @@ int run_param(const ParamArgs& args) {
   // as patches of their own shape), so it is written, and the exit status says that not all
   // went well.
   const bool several = !result.components.empty() && result.uv.rows() > 0;
+  std::optional<CommonRefinement> exact;
+  if (refinement && result.converged) {
+    exact = common_refinement(result);
+    report["refinement"] = refinement_report(*exact, result);
+    report["refinement"]["files"] = {{"projective", args.output},
+                                     {"linear", files.linear},
+                                     {"vertex_map", files.vertex_map},
+                                     {"interpolation_matrix", files.matrix}};
+  }
   if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
                      several ? result.message : "the flow did not converge: " + result.message) &&
       !several) {
     return kNotConverged;
   }
-  write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
+  if (exact) {
+    write_refinement(args.output, args.mesh, result, *exact, read);
+  } else {
+    write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
+  }
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result);
 #endif
@@ -508,16 +638,29 @@ int run_param(const ParamArgs& args) {
               << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
               << d.flipped_faces << ", layout length error "
               << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
-    if (result.flow.flips > 0) {
+    if (exact) {
+      const CommonRefinement& c = *exact;
+      std::cout << "  refinement " << c.positions.rows() << " vertices, " << c.triangles.rows()
+                << " triangles (" << c.isometric_flips << " isometric and " << c.ptolemy_flips
+                << " Ptolemy flips undone): final lengths along the intrinsic edges to "
+                << c.max_intrinsic_length_error << ", " << c.seconds << " s\n"
+                << "  wrote " << files.linear << ", " << files.vertex_map << ", " << files.matrix
+                << "\n";
+    } else if (result.flow.flips > 0) {
       std::cout << "  " << result.flow.flips
                 << " intrinsic edge flips; the output keeps the input's faces (development "
                    "mismatch "
-                << result.development_length_mismatch << ")\n";
+                << result.development_length_mismatch
+                << "; --faces refinement writes the exact map)\n";
     }
     if (d.flipped_faces > 0) {
+      // Each vertex sits at its exact image; a face drawn straight between them folds where the
+      // map bends it strongly: needles, or faces next to a strong cone.
       std::cout << "  warning: " << d.flipped_faces
-                << " uv triangles are flipped: cones too strong for the valence of their "
-                   "vertices (try more cones, or --scheme thurston, which raises the valence)\n";
+                << " uv triangles are flipped (needle faces, or faces around a cone too strong "
+                   "for its valence, drawn straight between their vertices' exact images); "
+                   "--faces refinement gives the exact map without folds"
+                << (result.cones.empty() ? "" : ", more cones spread the curvature") << "\n";
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }

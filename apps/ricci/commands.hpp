@@ -65,6 +65,9 @@ struct ParamArgs {
   bool progress = false;
   std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
   std::string geometry = "euclidean";
+  /// --faces: "input" (the input's faces, linear uv) or "refinement" (the common refinement
+  /// with homogeneous uv, ricci/param/common_refinement.hpp, and its companion files)
+  std::string faces = "input";
   double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
 };
 int run_param(const ParamArgs& args);

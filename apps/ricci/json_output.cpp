@@ -341,6 +341,28 @@ nlohmann::json words_json(const std::vector<SegmentWord>& words) {
 
 }  // namespace
 
+nlohmann::json refinement_report(const CommonRefinement& c, const ParamResult& p) {
+  return {{"vertices", c.positions.rows()},
+          {"triangles", c.triangles.rows()},
+          {"texture_coordinates", c.uv.rows()},
+          {"input_vertices", p.mesh.num_vertices()},
+          {"input_faces", p.mesh.num_faces()},
+          {"isometric_flips", c.isometric_flips},
+          {"ptolemy_flips", c.ptolemy_flips},
+          {"points",
+           {{"input_x_delaunay", c.input_delaunay_points},
+            {"delaunay_x_intrinsic", c.delaunay_intrinsic_points},
+            {"input_x_intrinsic", c.interior_points}}},
+          {"max_intrinsic_length_error", c.max_intrinsic_length_error},
+          {"max_corner_mismatch", c.max_corner_mismatch},
+          {"max_metric_mismatch", c.max_metric_mismatch},
+          {"max_development_error", c.max_development_error},
+          {"degenerate_triangles", c.degenerate_triangles},
+          {"inverted_triangles", c.inverted_triangles},
+          {"order_repairs", c.order_repairs},
+          {"seconds", c.seconds}};
+}
+
 nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
                                        const HyperbolicParamOptions& options) {
   nlohmann::json j;

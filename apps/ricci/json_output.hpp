@@ -7,6 +7,7 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/repair.hpp"
+#include "ricci/param/common_refinement.hpp"
 #include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
@@ -31,6 +32,10 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
 /// Report of a parameterization: cones, modifications, cut, layout, atlas, distortion and the
 /// flow summary.
 nlohmann::json param_report(const ParamResult& result, const ParamOptions& options);
+
+/// The figures of a common refinement (`param --faces refinement`): sizes beside the input's,
+/// flips undone, crossing points, exactness checks, timing.
+nlohmann::json refinement_report(const CommonRefinement& refinement, const ParamResult& param);
 
 /// The report of `param --geometry hyperbolic`: flow, cut, disk layout, the deck transformation
 /// of every segment, the words around the nodes, the Fuchsian group and the distortion.

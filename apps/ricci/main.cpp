@@ -158,6 +158,16 @@ int main(int argc, char** argv) {
                    "Poincare disk; deck transformations and Fuchsian generators in the report; "
                    "--pictures draws the tiling of the disk)")
       ->capture_default_str();
+  param_cmd
+      ->add_option("--faces", param.faces,
+                   "input: the input's faces with linear texture coordinates; refinement "
+                   "(vertex-scaling): the common refinement of the input and the final intrinsic "
+                   "triangulation with homogeneous texture coordinates 'vt u v w' (divided by w "
+                   "per pixel they give the exact map), written to -o, beside it STEM.linear.obj "
+                   "(the same with linear uv), STEM.vertex_map.txt and STEM.spmat (the "
+                   "interpolation matrix); docs/parameterization.md")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"input", "refinement"}));
   param_cmd->add_flag("--quantize", param.quantize, "round cone curvatures to multiples of pi/2");
   param_cmd
       ->add_option("--max-log-scale", param.max_log_scale,

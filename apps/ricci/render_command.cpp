@@ -156,6 +156,7 @@ int run_render(const RenderArgs& args) {
   options.smooth_shading = args.smooth;
   options.draw_seams = !args.no_seams;
   options.mark_cones = !args.no_cones;
+  options.uv_weights = textured.uv_weights;  // homogeneous vt: projective interpolation
   const RenderResult rendered =
       render_textured_mesh(textured.mesh, textured.uv_triangles, textured.uv, options);
   write_png(args.output, rendered.image);

@@ -7,6 +7,7 @@ classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
     V, F, info = ricci.read_mesh("bunny.obj")
     result = ricci.flow(V, F, target="flat", cones={0: "pi/2"})
     param = ricci.parameterize(V, F, cones="auto")
+    exact = ricci.common_refinement(ricci.parameterize(V, F, scheme="vertex-scaling"))
     disk = ricci.parameterize(V, F, geometry="hyperbolic")  # chi < 0: uv in the Poincare disk
     sphere = ricci.sphere(V, F)  # closed genus 0: positions on the unit sphere
     s = ricci.spline(V, F)  # manifold spline: s.surface, s.control_net, s.error, s.continuity
@@ -25,6 +26,8 @@ from ._ricci import (
     Component,
     ComponentFlow,
     ComponentInfo,
+    CommonRefinement,
+    CommonRefinementOptions,
     ComponentMethod,
     ComponentParam,
     Cone,
@@ -94,12 +97,13 @@ from ._ricci import (
 )
 from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj
-from ._param import parameterize
+from ._param import common_refinement, interpolate_to_refinement, parameterize
 from ._sphere import sphere
 from ._spline import spline
 
 __all__ = [
-    "flow", "info", "parameterize", "read_mesh", "repair", "validate", "write_obj", "generate",
+    "flow", "info", "parameterize", "common_refinement", "interpolate_to_refinement",
+    "CommonRefinement", "CommonRefinementOptions", "read_mesh", "repair", "validate", "write_obj", "generate",
     "sphere", "SphereOptions", "SphereResult",
     "spline", "SplineOptions", "SplineResult", "SplineError", "SplineFit", "ContinuityReport",
     "FuchsianGroup", "HyperbolicLayout", "HyperbolicLayoutOptions", "HyperbolicParamOptions",

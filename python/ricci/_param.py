@@ -187,3 +187,53 @@ def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, 
     set_fields(opts.layout, root_face=root_face)
     set_structure_and_solver(opts, **structure_and_solver)
     return _ricci.parameterize_hyperbolic(mesh, opts)
+
+
+def common_refinement(param, *, interpolation_matrix=None, options=None):
+    """The exact discrete conformal map of a vertex-scaling parameterization, on the common
+    refinement of the input triangulation, its intrinsic Delaunay triangulation and the final
+    intrinsic triangulation (docs/parameterization.md, "The exact map").
+
+    param: a converged ``ParamResult`` of ``parameterize(..., scheme="vertex-scaling")``.
+    interpolation_matrix: build the interpolation matrix (True).
+    options: a ``CommonRefinementOptions`` to start from (copied).
+
+    Returns a ``CommonRefinement``: vertices (r, 3) on the input surface (the input's vertices
+    first, unchanged, then the crossing points), triangles (t, 3), and for every triangle the
+    input_face, delaunay_face and intrinsic_face holding it; uv (k, 2) linear texture
+    coordinates in param.uv's unit square (its rows first: the input vertices sit where the
+    default output puts them) with uv_triangles (t, 3); projective_uv (3 t, 3): corner k of
+    triangle t at row 3 t + k as (w u, w v, w), which interpolated linearly over the triangle and
+    divided by w give the exact map; interpolation_triplets (rows, cols, values) of the (r, n)
+    matrix of barycentric weights over the input's vertices (see
+    ``interpolate_to_refinement``); delaunay_barycentric and intrinsic_barycentric (3 t, 3); and
+    figures (flips undone, crossing points, max_intrinsic_length_error, seconds).
+    Raises InvalidInput for another scheme or an unconverged result.
+    """
+    if not isinstance(param, _ricci.ParamResult):
+        raise _ricci.InvalidInput(f"common_refinement: param must be a ParamResult, got "
+                                  f"{type(param).__name__}")
+    if options is not None and not isinstance(options, _ricci.CommonRefinementOptions):
+        raise _ricci.InvalidInput(f"common_refinement: options must be a "
+                                  f"CommonRefinementOptions, got {type(options).__name__}")
+    opts = _ricci.CommonRefinementOptions() if options is None else copy.copy(options)
+    set_fields(opts, interpolation_matrix=interpolation_matrix)
+    return _ricci.common_refinement(param, opts)
+
+
+def interpolate_to_refinement(refinement, values):
+    """Carries per-vertex values of the mesh parameterized ((n,) or (n, k) array) onto the
+    refinement's vertices with its interpolation matrix: (r,) or (r, k)."""
+    rows, cols, weights = refinement.interpolation_triplets
+    n = len(refinement.input_vertex)
+    values = np.asarray(values, dtype=float)
+    if values.ndim not in (1, 2) or values.shape[0] != n:
+        raise ValueError(f"interpolate_to_refinement: expected ({n},) or ({n}, k) values, got "
+                         f"shape {values.shape}")
+    if len(rows) == 0 and n > 0:
+        raise _ricci.InvalidInput("interpolate_to_refinement: the refinement was built without "
+                                  "its interpolation matrix")
+    out = np.zeros((refinement.vertices.shape[0],) + values.shape[1:])
+    picked = values[cols]
+    np.add.at(out, rows, picked * (weights[:, None] if values.ndim == 2 else weights))
+    return out

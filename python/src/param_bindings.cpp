@@ -4,6 +4,7 @@
 
 #include "bindings.hpp"
 #include "ricci/mesh/validate.hpp"
+#include "ricci/param/common_refinement.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci::python {
@@ -275,6 +276,82 @@ void bind_param(py::module_& m) {
       "Global conformal parameterization of a manifold mesh (validated first); several "
       "components are parameterized one by one and packed into one atlas. Raises "
       "InvalidInput, TopologyError.");
+
+  StructBinding<CommonRefinementOptions>(m, "CommonRefinementOptions",
+                                         "Options of common_refinement.")
+      .field("interpolation_matrix", &CommonRefinementOptions::interpolation_matrix,
+             "build the interpolation matrix (interpolation_triplets)")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<CommonRefinement>(
+      m, "CommonRefinement",
+      "The common refinement of the input, its intrinsic Delaunay triangulation and the final "
+      "intrinsic triangulation, with the exact (projective) map to the plane.")
+      .readonly("vertices", &CommonRefinement::positions,
+                "#R by 3 positions on the input surface: the input's vertices first, then the "
+                "crossing points")
+      .readonly("triangles", &CommonRefinement::triangles, "#T by 3")
+      .readonly("input_face", &CommonRefinement::input_face, "#T: input face holding each")
+      .readonly("delaunay_face", &CommonRefinement::delaunay_face,
+                "#T: face of delaunay_topology holding each")
+      .readonly("intrinsic_face", &CommonRefinement::intrinsic_face,
+                "#T: face of the final triangulation (flow.topology) holding each")
+      .readonly("input_vertex", &CommonRefinement::input_vertex,
+                "#V: refinement vertex of each input vertex")
+      .computed(
+          "interpolation_triplets",
+          [](const CommonRefinement& r) {
+            std::vector<long> rows, cols;
+            std::vector<double> values;
+            for (int i = 0; i < r.interpolation.outerSize(); ++i) {
+              for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(r.interpolation,
+                                                                                  i);
+                   it; ++it) {
+                rows.push_back(it.row());
+                cols.push_back(it.col());
+                values.push_back(it.value());
+              }
+            }
+            return py::make_tuple(py::array(py::cast(rows)), py::array(py::cast(cols)),
+                                  py::array(py::cast(values)));
+          },
+          "(rows, cols, values) of the #R by #V interpolation matrix: barycentric weights of "
+          "each refinement vertex over the input's vertices")
+      .readonly("uv", &CommonRefinement::uv,
+                "#UV by 2 linear texture coordinates in ParamResult.uv's unit square (its rows "
+                "first)")
+      .readonly("uv_triangles", &CommonRefinement::uv_triangles, "#T by 3 indices into uv")
+      .readonly("projective_uv", &CommonRefinement::projective_uv,
+                "3#T by 3: corner k of triangle t at row 3 t + k as (w u, w v, w); linear "
+                "interpolation divided by w is the exact map")
+      .readonly("delaunay_barycentric", &CommonRefinement::delaunay_barycentric,
+                "3#T by 3: each corner in its Delaunay face")
+      .readonly("intrinsic_barycentric", &CommonRefinement::intrinsic_barycentric,
+                "3#T by 3: each corner in its final face")
+      .readonly("delaunay_topology", &CommonRefinement::delaunay_topology,
+                "Topology of the intrinsic Delaunay triangulation of the input")
+      .readonly("delaunay_lengths", &CommonRefinement::delaunay_lengths, "its edge lengths")
+      .readonly("isometric_flips", &CommonRefinement::isometric_flips, "")
+      .readonly("ptolemy_flips", &CommonRefinement::ptolemy_flips, "")
+      .readonly("input_delaunay_points", &CommonRefinement::input_delaunay_points, "")
+      .readonly("delaunay_intrinsic_points", &CommonRefinement::delaunay_intrinsic_points, "")
+      .readonly("interior_points", &CommonRefinement::interior_points, "")
+      .readonly("max_intrinsic_length_error", &CommonRefinement::max_intrinsic_length_error,
+                "relative, over final edges: uv length along the edge vs final length")
+      .readonly("max_corner_mismatch", &CommonRefinement::max_corner_mismatch, "")
+      .readonly("max_metric_mismatch", &CommonRefinement::max_metric_mismatch, "")
+      .readonly("max_development_error", &CommonRefinement::max_development_error, "")
+      .readonly("degenerate_triangles", &CommonRefinement::degenerate_triangles, "")
+      .readonly("inverted_triangles", &CommonRefinement::inverted_triangles, "")
+      .readonly("order_repairs", &CommonRefinement::order_repairs, "")
+      .readonly("seconds", &CommonRefinement::seconds, "")
+      .repr();
+
+  m.def("common_refinement", &common_refinement, py::arg("param"),
+        py::arg("options") = CommonRefinementOptions{},
+        "The common refinement of a converged vertex-scaling ParamResult with the exact map. "
+        "Raises InvalidInput for other schemes or an unconverged result.");
 }
 
 }  // namespace ricci::python

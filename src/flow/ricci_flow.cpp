@@ -585,8 +585,24 @@ struct RicciFlow::State {
     normalise_gauge();
     timings.line_search += seconds_since(t0);
     ++iteration;
+    // Steps cut to almost nothing by triangles that break (with flips: next to a boundary, whose
+    // edges cannot flip) make no progress however long the flow runs: give up after a few, so
+    // that the caller can do something else (flow_mesh retries on the doubled surface). The
+    // repaired dragon crept at steps of 4e-12 for 200 iterations (190 s) before this.
+    blocked_steps = alpha < 1e-6 && triangle_failures > 0 ? blocked_steps + 1 : 0;
+    if (newton && blocked_steps >= 3) {
+      finish(FlowStatus::LineSearchFailed,
+             "the Newton steps are blocked by triangles that break a triangle inequality" +
+                 std::string(flips ? " next to the boundary (whose edges cannot flip)"
+                                   : " (the target may need edge flips: --flips delaunay with "
+                                     "vertex-scaling, or another scheme)") +
+                 ": steps of " + format(alpha) + " for " + std::to_string(blocked_steps) +
+                 " iterations at max |K-bar - K| = " + format(max0));
+    }
     record(alpha, backtracks, triangle_failures + length_failures, flipped);
   }
+
+  int blocked_steps = 0;  // consecutive iterations whose step triangles cut below 1e-6
 };
 
 RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structure,

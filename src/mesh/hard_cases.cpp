@@ -91,8 +91,9 @@ Mesh make_cad_ring(int segments) {
 
 Mesh split_faces_near_corner(const Mesh& mesh, double weight, double lift, int stride) {
   if (!(weight > 0 && weight <= 1.0 / 3) || stride < 1 || !std::isfinite(lift)) {
-    throw InvalidInput("split_faces_near_corner: need weight in (0, 1/3], stride >= 1 and a "
-                       "finite lift");
+    throw InvalidInput(
+        "split_faces_near_corner: need weight in (0, 1/3], stride >= 1 and a "
+        "finite lift");
   }
   std::vector<Eigen::Vector3d> points;
   for (int v = 0; v < mesh.num_vertices(); ++v) points.push_back(mesh.positions.row(v));
@@ -117,8 +118,7 @@ Mesh split_faces_near_corner(const Mesh& mesh, double weight, double lift, int s
   return from_lists(points, faces);
 }
 
-Mesh pull_vertices_to_neighbours(const Mesh& mesh, double amount, std::uint32_t seed,
-                                 int stride) {
+Mesh pull_vertices_to_neighbours(const Mesh& mesh, double amount, std::uint32_t seed, int stride) {
   if (!(amount >= 0 && amount < 1) || stride < 1) {
     throw InvalidInput("pull_vertices_to_neighbours: need amount in [0, 1) and stride >= 1");
   }
@@ -136,8 +136,8 @@ Mesh pull_vertices_to_neighbours(const Mesh& mesh, double amount, std::uint32_t 
     if (blocked[v] || t.is_boundary_vertex[v] || neighbours[v].empty()) continue;
     const int w = neighbours[v][random() % neighbours[v].size()];
     const double fraction = amount * (0.5 + 0.5 * unit(random));
-    out.positions.row(v) = mesh.positions.row(v) +
-                           fraction * (mesh.positions.row(w) - mesh.positions.row(v));
+    out.positions.row(v) =
+        mesh.positions.row(v) + fraction * (mesh.positions.row(w) - mesh.positions.row(v));
     // No two neighbours move: each moved vertex stays inside its own star.
     blocked[v] = 1;
     for (int u : neighbours[v]) blocked[u] = 1;

@@ -185,8 +185,12 @@ void write_obj(const std::string& path, const Mesh& mesh) {
   });
 }
 
-void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+namespace {
+
+/// write_obj with texture coordinates of `Columns` components (2: u v; 3: u v w).
+template <int Columns>
+void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+                       const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv) {
   auto invalid = [&](const std::string& what) {
     throw InvalidInput("write_obj: " + path + ": " + what);
   };
@@ -226,7 +230,12 @@ void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
                            mesh.positions(v, 1), mesh.positions(v, 2)));
     }
     for (Eigen::Index t = 0; t < uv.rows(); ++t) {
-      append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
+      if constexpr (Columns == 2) {
+        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
+      } else {
+        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g %.17g\n", uv(t, 0), uv(t, 1),
+                             uv(t, 2)));
+      }
     }
     for (int f = 0; f < mesh.num_faces(); ++f) {
       append(std::snprintf(buffer, sizeof buffer, "f %d/%d %d/%d %d/%d\n", mesh.triangles(f, 0) + 1,
@@ -235,6 +244,18 @@ void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
     }
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
   });
+}
+
+}  // namespace
+
+void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  write_obj_with_vt(path, mesh, uv_triangles, uv);
+}
+
+void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw) {
+  write_obj_with_vt(path, mesh, uvw_triangles, uvw);
 }
 
 }  // namespace ricci

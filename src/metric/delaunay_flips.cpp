@@ -254,6 +254,14 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
       const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
       const double cd = geometry == Geometry::Hyperbolic ? hyperbolic_diagonal(ab, ca, cb, da, db)
                                                          : euclidean_diagonal(ab, ca, cb, da, db);
+      // A diagonal of almost no length joins two corners that nearly coincide: a loop around a
+      // needle (the doubled Stanford dragon folds its 0.04-degree boundary ears onto
+      // themselves). Its direction is lost to rounding, and with it the relative position of
+      // its two faces, so it is not made: the edge stays, counted as blocked.
+      if (!(cd > 1e-9 * std::max({ca, cb, da, db}))) {
+        ++result.blocked;
+        continue;
+      }
       set_flipped_edge(t, structure, u, l, e, q, cd);
     } else {
       ptolemy_flip(t, structure, u, l, e);

@@ -125,8 +125,12 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
       [](Complex a, Complex d0, Complex c0, Complex b1, Complex c1, Complex d1) {
         // The rigid motion taking f1's copy of the shared edge cd onto f0's: rotation from the
         // two directions, translation matching the midpoints (the copies agree up to rounding).
+        // A shared edge of no length at all (two corners rounded onto one point: the doubled
+        // repaired Stanford dragon has them) leaves the turn undetermined; any turn keeps the
+        // development finite, and the faces it misplaces show up as flipped.
         Complex rotation = (d0 - c0) / (d1 - c1);
         rotation /= std::abs(rotation);
+        if (!std::isfinite(rotation.real()) || !std::isfinite(rotation.imag())) rotation = 1;
         const Complex b = 0.5 * (c0 + d0) + rotation * (b1 - 0.5 * (c1 + d1));
         return std::array<Complex, 4>{a, b, c0, d0};
       },

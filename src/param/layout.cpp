@@ -168,8 +168,10 @@ std::vector<Complex> propagated_rotations(const Topology& cut_topology,
       // Halfedge 3f + k runs from corner k + 1 to corner k + 2 of f; its twin the other way.
       const Complex in_f = q[f][(k + 2) % 3] - q[f][(k + 1) % 3];
       const Complex in_g = q[g][(kg + 1) % 3] - q[g][(kg + 2) % 3];
-      Complex turn = rotation[f] * in_f / in_g;
-      rotation[g] = turn / std::abs(turn);
+      const Complex turn = rotation[f] * in_f / in_g;
+      // A zero-length edge leaves the turn undetermined: keep the neighbour's.
+      rotation[g] =
+          std::isfinite(std::abs(turn)) && std::abs(turn) > 0 ? turn / std::abs(turn) : rotation[f];
       queue.push_back(g);
     }
   }
@@ -184,7 +186,8 @@ std::vector<Complex> propagated_rotations(const Topology& cut_topology,
 /// metric: relative length errors up to 1e-5); this one solves one Poisson-like system and
 /// spreads the metric's residual holonomy over every edge. One vertex per component keeps its
 /// place (the gauge).
-void refine_least_squares(const Topology& cut_topology, const std::vector<std::array<Complex, 3>>& q,
+void refine_least_squares(const Topology& cut_topology,
+                          const std::vector<std::array<Complex, 3>>& q,
                           const std::vector<Complex>& propagated, int iterations,
                           std::vector<Complex>& uv) {
   const int nf = cut_topology.num_faces, nv = cut_topology.num_vertices;
@@ -308,10 +311,10 @@ Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengt
         const int vk = cut_topology.triangles(g, kg);
         if (placed[vk]) continue;
         const int ki = (kg + 1) % 3, kj = (kg + 2) % 3;
-        const Complex from_i = uv[cut_topology.triangles(g, ki)] +
-                               rotation[g] * (q[g][kg] - q[g][ki]);
-        const Complex from_j = uv[cut_topology.triangles(g, kj)] +
-                               rotation[g] * (q[g][kg] - q[g][kj]);
+        const Complex from_i =
+            uv[cut_topology.triangles(g, ki)] + rotation[g] * (q[g][kg] - q[g][ki]);
+        const Complex from_j =
+            uv[cut_topology.triangles(g, kj)] + rotation[g] * (q[g][kg] - q[g][kj]);
         uv[vk] = 0.5 * (from_i + from_j);
         placed[vk] = 1;
       }

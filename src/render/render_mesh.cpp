@@ -180,6 +180,12 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
     throw InvalidInput(std::string(fn) + ": supersampling must be in [1, 8], not " +
                        std::to_string(options.supersampling));
   }
+  const bool projective = options.uv_weights.size() > 0;
+  if (projective && (options.uv_weights.size() != uv.rows() || !options.uv_weights.allFinite() ||
+                     (options.uv_weights.array() <= 0).any())) {
+    throw InvalidInput(std::string(fn) + ": uv_weights needs one positive weight per texture " +
+                       "coordinate (" + std::to_string(uv.rows()) + ")");
+  }
   if (!std::isfinite(options.margin) || options.margin < 0 || options.margin >= 0.5) {
     throw InvalidInput(std::string(fn) + ": margin must be in [0, 0.5)");
   }
@@ -320,9 +326,19 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
             const double w0 = edge(s1, s2, sx + 0.5, sy + 0.5) * inv;
             const double w1 = edge(s2, s0, sx + 0.5, sy + 0.5) * inv;
             const double w2 = 1.0 - w0 - w1;
-            const Eigen::Vector2d t = w0 * Eigen::Vector2d(uv.row(uv_triangles(f, 0))) +
-                                      w1 * Eigen::Vector2d(uv.row(uv_triangles(f, 1))) +
-                                      w2 * Eigen::Vector2d(uv.row(uv_triangles(f, 2)));
+            double b0 = w0, b1 = w1, b2 = w2;
+            if (projective) {
+              b0 *= options.uv_weights[uv_triangles(f, 0)];
+              b1 *= options.uv_weights[uv_triangles(f, 1)];
+              b2 *= options.uv_weights[uv_triangles(f, 2)];
+              const double sum = b0 + b1 + b2;
+              b0 /= sum;
+              b1 /= sum;
+              b2 /= sum;
+            }
+            const Eigen::Vector2d t = b0 * Eigen::Vector2d(uv.row(uv_triangles(f, 0))) +
+                                      b1 * Eigen::Vector2d(uv.row(uv_triangles(f, 1))) +
+                                      b2 * Eigen::Vector2d(uv.row(uv_triangles(f, 2)));
             const auto parity = static_cast<long long>(std::floor(t.x() * n_checker)) +
                                 static_cast<long long>(std::floor(t.y() * n_checker));
             const Rgb& base = (parity & 1) ? options.checker_dark : options.checker_light;

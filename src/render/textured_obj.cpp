@@ -1,5 +1,6 @@
 #include "ricci/render/textured_obj.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -99,6 +100,7 @@ TexturedMesh read_textured_obj(const std::string& path) {
   if (in.bad()) throw IoError(path + ": reading failed");
 
   std::vector<double> positions, texture;  // flat x y z, u v
+  std::vector<double> third;               // per vt: w, or NaN when absent
   std::vector<int> corners, uv_corners;    // 3 per triangle
   int polygons = 0;
   std::int64_t faces = 0;
@@ -131,10 +133,16 @@ TexturedMesh read_textured_obj(const std::string& path) {
         }
         (keyword == "v" ? positions : texture).push_back(*value);
       }
-      // Further numbers (w, colours) are allowed and ignored; they must still be numbers.
+      // Further numbers (w, colours) are allowed; they must still be numbers. A vt's third is
+      // kept: homogeneous texture coordinates when every vt has a positive one.
+      bool first_extra = true;
       for (std::string_view token = next_token(rest); !token.empty(); token = next_token(rest)) {
-        if (!parse_number(token)) malformed(at, "malformed number " + quoted(token));
+        const std::optional<double> value = parse_number(token);
+        if (!value) malformed(at, "malformed number " + quoted(token));
+        if (keyword == "vt" && first_extra) third.push_back(*value);
+        first_extra = false;
       }
+      if (keyword == "vt" && first_extra) third.push_back(std::nan(""));
     } else if (keyword == "f") {
       face_vertices.clear();
       face_uvs.clear();
@@ -196,6 +204,16 @@ TexturedMesh read_textured_obj(const std::string& path) {
   result.uv.resize(nt, 2);
   for (Eigen::Index t = 0; t < nt; ++t) {
     for (int i = 0; i < 2; ++i) result.uv(t, i) = texture[2 * t + i];
+  }
+  const bool homogeneous = nt > 0 && std::all_of(third.begin(), third.end(), [](double w) {
+                             return std::isfinite(w) && w > 0;
+                           });
+  if (homogeneous) {
+    result.uv_weights.resize(nt);
+    for (Eigen::Index t = 0; t < nt; ++t) {
+      result.uv_weights[t] = third[t];
+      result.uv.row(t) /= third[t];
+    }
   }
   result.mesh.triangles.resize(nf, 3);
   result.uv_triangles.resize(nf, 3);

@@ -59,7 +59,13 @@ UvChart analyse_uv_chart(const Mesh& mesh, const Triangles& uv_triangles,
     return x.key != y.key ? x.key < y.key : x.halfedge < y.halfedge;
   });
 
-  auto same_uv = [&](int t0, int t1) { return t0 == t1 || uv.row(t0) == uv.row(t1); };
+  // Texture coordinates divided out of homogeneous ones (TexturedMesh::uv_weights) agree only up
+  // to rounding where the file repeats a corner per face: equal within 1e-12 of the layout's
+  // extent counts as the same.
+  const double extent = uv.rows() > 0 ? std::max(uv.cwiseAbs().maxCoeff(), 1e-300) : 1.0;
+  auto same_uv = [&](int t0, int t1) {
+    return t0 == t1 || (uv.row(t0) - uv.row(t1)).cwiseAbs().maxCoeff() <= 1e-12 * extent;
+  };
   UvChart chart;
   std::vector<char> on_boundary(nv, 0), on_seam(nv, 0);
   for (std::size_t i = 0; i < entries.size();) {

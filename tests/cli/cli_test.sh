@@ -240,6 +240,73 @@ expect_rc "param with flips" 0
 expect_out "param with flips" '"flipped_edges"'
 expect_json "param with flips: input vertices, intrinsic faces" "$WORK/out.txt" \
   'd["flow"]["flipped_edges"] > 0 and d["distortion"]["flipped_faces"] == 0'
+# --faces refinement: the common refinement with homogeneous vt, its linear twin, the vertex map
+# and the interpolation matrix; the input's vertices first, at the default output's uv.
+mkdir -p refined
+ricci param meshes/icosphere.obj -o refined/sphere.obj --scheme vertex-scaling \
+  --cones "$strong_cones" --faces refinement --report refined/sphere.json
+expect_rc "param --faces refinement" 0
+for f in sphere.obj sphere.linear.obj sphere.vertex_map.txt sphere.spmat; do
+  expect_file "param --faces refinement writes $f" "refined/$f"
+done
+expect_out "param --faces refinement" "refinement" "sphere.spmat"
+expect_json "param --faces refinement report" refined/sphere.json \
+  'd["refinement"]["ptolemy_flips"] > 0 and d["refinement"]["vertices"] > d["refinement"]["input_vertices"] and d["refinement"]["max_intrinsic_length_error"] < 1e-9 and d["refinement"]["inverted_triangles"] == 0 and d["refinement"]["files"]["linear"].endswith("sphere.linear.obj")'
+if "$PYTHON" - refined/sphere.obj refined/sphere.linear.obj refined/sphere.vertex_map.txt \
+    refined/sphere.spmat flipped_param.obj <<'EOF'
+import sys
+def read(path):
+    v, vt, f = [], [], []
+    for line in open(path):
+        w = line.split()
+        if not w: continue
+        if w[0] == "v": v.append([float(x) for x in w[1:4]])
+        elif w[0] == "vt": vt.append([float(x) for x in w[1:]])
+        elif w[0] == "f": f.append([tuple(int(i) - 1 for i in c.split("/")) for c in w[1:]])
+    return v, vt, f
+v, vt, f = read(sys.argv[1])
+lv, lvt, lf = read(sys.argv[2])
+dv, dvt, df = read(sys.argv[5])
+assert v == lv and len(f) == len(lf) and all(len(t) == 3 for t in vt)
+# Homogeneous corners divided by w give the linear file's uv.
+for face, lface in zip(f, lf):
+    for (a, t), (b, s) in zip(face, lface):
+        assert a == b and vt[t][2] > 0
+        assert abs(vt[t][0] / vt[t][2] - lvt[s][0]) < 1e-12 and abs(vt[t][1] / vt[t][2] - lvt[s][1]) < 1e-12
+# The vertex map: input vertex i is refinement vertex i, at the same place, with the default
+# output's texture coordinates at the default output's corners.
+pairs = [tuple(int(x) - 1 for x in line.split()) for line in open(sys.argv[3]) if not line.startswith("#")]
+assert len(pairs) == len(dv) and all(v[r] == dv[i] for i, r in pairs)
+default_uv = {(a, tuple(dvt[t])) for face in df for a, t in face}
+refined_uv = {(a, tuple(lvt[t])) for face in lf for a, t in face if a < len(dv)}
+assert refined_uv == default_uv
+# The interpolation matrix: rows sum to 1 and reproduce the positions.
+rows = {}
+entries = [line.split() for line in open(sys.argv[4])]
+shape = entries.pop()
+assert int(shape[0]) == len(v) and int(shape[1]) == len(dv) and float(shape[2]) == 0
+for r, c, w in entries:
+    rows.setdefault(int(r) - 1, []).append((int(c) - 1, float(w)))
+assert len(rows) == len(v)
+for r, row in rows.items():
+    assert abs(sum(w for _, w in row) - 1) < 1e-14
+    p = [sum(w * dv[c][k] for c, w in row) for k in range(3)]
+    assert max(abs(p[k] - v[r][k]) for k in range(3)) < 1e-12
+EOF
+then ok; else fail "param --faces refinement files" "the refinement files disagree"; fi
+ricci param meshes/icosphere.obj -o refined/thurston.obj --scheme thurston --cones "$strong_cones" \
+  --faces refinement
+expect_rc "param --faces refinement with thurston" 2
+expect_err "param --faces refinement with thurston" "vertex-scaling"
+expect_no_file "param --faces refinement with thurston writes nothing" refined/thurston.obj
+ricci param meshes/icosphere.obj -o refined/x.obj --faces exact
+expect_rc "param --faces unknown" 2
+ricci render --help
+if [[ "$rc" == 0 ]]; then
+  ricci render refined/sphere.obj -o refined/sphere.png --width 96 --height 96
+  expect_rc "render a homogeneous refinement" 0
+  expect_file "render a homogeneous refinement" refined/sphere.png
+fi
 
 ricci flow meshes/small_torus.obj --progress
 expect_rc "--progress" 0

@@ -76,6 +76,36 @@ TEST(RenderMesh, CheckerOfAFlatGridSeenFromAbove) {
   EXPECT_EQ(r.cones, 0);
 }
 
+TEST(RenderMesh, HomogeneousWeightsInterpolateProjectively) {
+  // One triangle (0,0,0), (1,0,0), (0,1,0) with uv equal to its x and y; weights (1, 4, 1).
+  // At the point of barycentric coordinates b the texture coordinates are
+  // sum b_i w_i uv_i / sum b_i w_i: at (0.3, 0.1), b = (0.6, 0.3, 0.1), u = 1.2 / 1.9 = 0.63,
+  // in the second checker column of two, where linear interpolation (u = 0.3) is in the first.
+  Mesh mesh;
+  mesh.positions.resize(3, 3);
+  mesh.positions << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  mesh.triangles.resize(1, 3);
+  mesh.triangles << 0, 1, 2;
+  UV uv(3, 2);
+  uv << 0, 0, 1, 0, 0, 1;
+  RenderOptions options;
+  options.width = options.height = 200;
+  options.checker = 2;
+  options.draw_seams = false;
+  const RenderResult linear = render_textured_mesh(mesh, mesh.triangles, uv, options);
+  EXPECT_TRUE(is_light_square(pixel_at(linear, {0.3, 0.1, 0})));
+  EXPECT_TRUE(is_dark_square(pixel_at(linear, {0.6, 0.1, 0})));
+  options.uv_weights = Eigen::Vector3d(1, 4, 1);
+  const RenderResult projective = render_textured_mesh(mesh, mesh.triangles, uv, options);
+  EXPECT_TRUE(is_dark_square(pixel_at(projective, {0.3, 0.1, 0})));
+  // At (0.04, 0.1): b = (0.86, 0.04, 0.1), u = 0.16 / 1.12 = 0.14, v = 0.09: the first square.
+  EXPECT_TRUE(is_light_square(pixel_at(projective, {0.04, 0.1, 0})));
+  options.uv_weights = Eigen::Vector3d(1, -1, 1);
+  EXPECT_THROW(render_textured_mesh(mesh, mesh.triangles, uv, options), InvalidInput);
+  options.uv_weights = Eigen::Vector2d(1, 1);
+  EXPECT_THROW(render_textured_mesh(mesh, mesh.triangles, uv, options), InvalidInput);
+}
+
 TEST(RenderMesh, NearestSurfaceWinsTheZBuffer) {
   // Quad A at z = 0 over [0, 1] x [0, 1] with a light texture, quad B at z = 0.5 over
   // [0.5, 1.5] x [0, 1] with a dark one; they overlap over [0.5, 1] x [0, 1].

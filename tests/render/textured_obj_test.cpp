@@ -65,6 +65,38 @@ TEST(TexturedObj, ReadsWhatWriteObjWrites) {
   EXPECT_EQ(t.uv, uv);  // written with 17 significant digits: exact
 }
 
+TEST(TexturedObj, ReadsHomogeneousTextureCoordinates) {
+  // Every vt with a positive third component: (u / w, v / w) and the weights.
+  const Mesh grid = make_grid(2, 1);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> uvw(grid.num_vertices(), 3);
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    const double w = 0.5 + v;
+    uvw.row(v) << w * grid.positions(v, 0), w * grid.positions(v, 1), w;
+  }
+  const std::string path = (testing::render_tmp_dir() / "grid_uvw.obj").string();
+  write_obj(path, grid, grid.triangles, uvw);
+  const TexturedMesh t = read_textured_obj(path);
+  ASSERT_EQ(t.uv_weights.size(), grid.num_vertices());
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    EXPECT_EQ(t.uv_weights[v], 0.5 + v);
+    EXPECT_NEAR(t.uv(v, 0), grid.positions(v, 0), 1e-15);
+    EXPECT_NEAR(t.uv(v, 1), grid.positions(v, 1), 1e-15);
+  }
+  // A third component of 0 (a common exporter habit) or missing on one vt: ordinary (u, v).
+  const TexturedMesh zero =
+      read_textured_obj(write_file("zero_w.obj",
+                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                   "vt 0 0 0\nvt 1 0 0\nvt 0 1 0\nf 1/1 2/2 3/3\n"));
+  EXPECT_EQ(zero.uv_weights.size(), 0);
+  EXPECT_EQ(zero.uv(1, 0), 1.0);
+  const TexturedMesh mixed =
+      read_textured_obj(write_file("mixed_w.obj",
+                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                   "vt 0 0 2\nvt 1 0\nvt 0 1 2\nf 1/1 2/2 3/3\n"));
+  EXPECT_EQ(mixed.uv_weights.size(), 0);
+  EXPECT_EQ(mixed.uv(2, 1), 1.0);
+}
+
 TEST(TexturedObj, MissingTextureCoordinateNamesFileAndLine) {
   const std::string message = error_of<InvalidInput>(
       "missing_vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\n\nf 1/1 2/2 3/3\n");

@@ -87,6 +87,7 @@ struct MeshFlowResult {
   Eigen::VectorXd curvature;         ///< #V final curvature
   Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)
   Eigen::VectorXd lengths;           ///< #E final lengths, edges as topology.edge_vertices
+  Eigen::VectorXd input_lengths;     ///< #E lengths of the input mesh, its own edges
   /// #E eta of the structure on `topology`: structure.structure.eta but on flipped edges
   /// (FlowResult::eta); with it the structure gives `lengths` at `u` on `topology`.
   Eigen::VectorXd eta;

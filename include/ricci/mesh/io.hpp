@@ -85,6 +85,13 @@ void write_obj(const std::string& path, const Mesh& mesh);
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv);
 
+/// The same with three-component texture coordinates (`vt u v w`), e.g. homogeneous ones whose
+/// linear interpolation divided by w gives a projective map (ricci/param/common_refinement.hpp).
+/// \param uvw_triangles #F by 3 indices into uvw
+/// \param uvw #UVW by 3 texture coordinates
+void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw);
+
 /// Writes a file through a temporary file in the same folder, renamed into place only when
 /// write succeeded; on any error the temporary is removed and the target is left untouched.
 /// \throw IoError naming the file when it cannot be written

@@ -71,6 +71,11 @@ struct RenderOptions {
   bool draw_edges = false;
   Rgb edge_colour{0.15, 0.15, 0.15};
   double edge_width = 0.8;  ///< pixels
+  /// #UV homogeneous weights w > 0 (TexturedMesh::uv_weights): each sample's texture
+  /// coordinates are (sum b_i w_i uv_i) / (sum b_i w_i) over the face's corners i with the
+  /// sample's barycentric coordinates b_i (projective interpolation, exact for the common
+  /// refinement's map); empty: linear interpolation.
+  Eigen::VectorXd uv_weights;
   /// Use this camera as it is (view, up, right, centre, scale; its width and height are replaced
   /// by the picture's) instead of fitting one to the mesh: several pictures from one viewpoint
   /// (fit_camera frames several meshes at once). view, up and margin are then ignored.
@@ -99,11 +104,12 @@ struct RenderResult {
 
 /// Renders a textured mesh: checkerboard with N = options.checker squares per texture unit
 /// (colour from the parity of floor(u N) + floor(v N), u and v interpolated linearly over each
-/// face), two-sided Lambert shading from the face normal (or interpolated vertex normals) with a
-/// light above-left of the camera, back faces darker; the nearest surface wins every sample of the
-/// z-buffer. The mesh fills the picture but for the margin. \param uv_triangles #F by 3 indices
-/// into uv (per-corner texture coordinates) \param uv #UV by 2 texture coordinates \throw
-/// InvalidInput on a mismatch of the arrays (see check_uv_layout), a mesh without faces,
+/// face, or projectively with options.uv_weights), two-sided Lambert shading from the face normal
+/// (or interpolated vertex normals) with a light above-left of the camera, back faces darker; the
+/// nearest surface wins every sample of the z-buffer. The mesh fills the picture but for the
+/// margin. \param uv_triangles #F by 3 indices into uv (per-corner texture coordinates) \param uv
+/// #UV by 2 texture coordinates \throw InvalidInput on a mismatch of the arrays (see
+/// check_uv_layout), a mesh without faces,
 ///        non-finite coordinates, a picture size outside [1, 16384], checker < 1, supersampling
 ///        outside [1, 8], a view direction that is zero after normalisation or parallel to up,
 ///        or a given camera whose axes or scale are not finite or whose scale is not positive

@@ -17,7 +17,8 @@ struct UvChart {
   /// Halfedges h = 3 f + k (the side of face f opposite its corner k, from corner k + 1 to
   /// corner k + 2) on the boundary of the texture chart: the edge has no face on the other side,
   /// more than two faces, or a neighbour whose texture coordinates at the two shared vertices
-  /// differ (by index and by value). An interior seam edge appears once per side.
+  /// differ (by index, and by value beyond 1e-12 of the largest |uv|). An interior seam edge
+  /// appears once per side.
   std::vector<int> seam_halfedges;
   std::vector<int> cones;  ///< interior vertices on seams whose total texture angle is not 2 pi
   std::vector<double> cone_angles;  ///< per cone: the sum of its texture corner angles (radians)
