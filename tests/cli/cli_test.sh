@@ -543,6 +543,11 @@ EOF
     expect_file "render a packed atlas" param/teapot.png
     expect_file "param --pictures of several components" param/teapot_pics/uv.png
   fi
+  ricci param --repair --scheme vertex-scaling --faces refinement "$shared/teapot.obj" \
+    -o param/teapot_refined.obj
+  expect_rc "param --faces refinement on several components" 2
+  expect_err "param --faces refinement on several components" "4 connected components"
+  expect_no_file "param --faces refinement on several components" param/teapot_refined.obj
   checkuv="$shared/../tools/checkuv.py"
   if [[ -f "$checkuv" ]]; then
     "$PYTHON" "$checkuv" param/teapot_uv.obj >param/teapot_check.json
