@@ -515,8 +515,8 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
             << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
             << d.flipped_faces << ", " << result.seconds << " s\n";
   if (overlapping > 0) {
-    std::cout << "  components whose layout overlaps itself: " << overlapping
-              << " (charts never overlap each other)\n";
+    std::cout << "  components whose layout overlapped itself, cut into charts that do not: "
+              << overlapping << "\n";
   }
   const bool all = n <= 20;
   int skipped = 0;
@@ -533,7 +533,8 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
               << comp.distortion.angle_distortion_mean << ", area scale " << comp.area_scale << ", "
               << comp.seconds << " s";
     if (comp.overlapping_face_pairs > 0) {
-      std::cout << ", " << comp.overlapping_face_pairs << " pairs of its faces overlap";
+      std::cout << ", its layout overlapped itself (" << comp.overlapping_face_pairs
+                << " face pairs): " << comp.charts.size() << " charts";
     }
     if (!comp.message.empty()) {
       std::cout << (comp.parameterized ? ": the flow failed: " : ": ") << comp.message;

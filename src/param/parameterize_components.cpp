@@ -261,6 +261,71 @@ ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches) {
   return r;
 }
 
+/// A layout cut into pieces in none of which two faces overlap: each piece grows breadth first
+/// from a seed face across the layout's shared edges, a face joining only when it overlaps no
+/// face of the piece (exact test). Returns the piece of each face; `count` pieces.
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count) {
+  const int nf = static_cast<int>(triangles.rows());
+  const Topology t = build_topology(triangles, static_cast<int>(uv.rows()));
+  std::vector<int> piece(nf, -1);
+  auto triangle = [&](int f) {
+    std::array<Eigen::Vector2d, 3> out;
+    for (int k = 0; k < 3; ++k) out[k] = uv.row(triangles(f, k)).transpose();
+    return out;
+  };
+  double mean = 0;
+  for (int f = 0; f < nf; ++f) {
+    const auto p = triangle(f);
+    mean += (p[0].cwiseMax(p[1]).cwiseMax(p[2]) - p[0].cwiseMin(p[1]).cwiseMin(p[2])).maxCoeff();
+  }
+  const double cell = std::max(2 * mean / std::max(1, nf), 1e-300);
+  std::unordered_map<long long, std::vector<int>> grid;
+  auto for_cells = [&](const std::array<Eigen::Vector2d, 3>& p, auto visit) {
+    const Eigen::Vector2d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]) / cell;
+    const Eigen::Vector2d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]) / cell;
+    for (auto i = static_cast<long long>(std::floor(lo.x())); i <= std::floor(hi.x()); ++i) {
+      for (auto j = static_cast<long long>(std::floor(lo.y())); j <= std::floor(hi.y()); ++j) {
+        visit((i << 32) ^ (j & 0xffffffffLL));
+      }
+    }
+  };
+  std::deque<int> frontier;
+  count = 0;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (piece[seed] >= 0) continue;
+    grid.clear();
+    frontier.assign(1, seed);
+    while (!frontier.empty()) {
+      const int f = frontier.front();
+      frontier.pop_front();
+      if (piece[f] >= 0) continue;
+      const auto shape = triangle(f);
+      bool overlaps = false;
+      for_cells(shape, [&](long long key) {
+        const auto it = grid.find(key);
+        if (overlaps || it == grid.end()) return;
+        for (int other : it->second) {
+          if (triangles_overlap(shape, triangle(other))) {
+            overlaps = true;
+            return;
+          }
+        }
+      });
+      if (overlaps) continue;  // it may still join from another side, or seed a piece
+      piece[f] = count;
+      for_cells(shape, [&](long long key) { grid[key].push_back(f); });
+      for (int k = 0; k < 3; ++k) {
+        const int twin = t.halfedge_twin[3 * f + k];
+        if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
+          frontier.push_back(Topology::face_of(twin));
+        }
+      }
+    }
+    ++count;
+  }
+  return piece;
+}
+
 /// One component on its way into the atlas.
 struct Piece {
   ComponentParam info;
@@ -413,6 +478,38 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
       info.seam_length = p.seam_length;
       info.overlapping_face_pairs =
           find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
+      if (info.overlapping_face_pairs > 0) {
+        // The layout overlaps itself (a flat metric cut open into one disk can wind over
+        // itself): cut it into pieces that do not, each its own chart, the pieces' shared
+        // vertices copied.
+        int count = 0;
+        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count);
+        piece.num_charts = count;
+        std::vector<std::vector<std::pair<int, int>>> copies(piece.layout.rows());
+        std::vector<int> vertex;
+        std::vector<Eigen::RowVector2d> positions;
+        for (int f = 0; f < piece.cut_triangles.rows(); ++f) {
+          for (int k = 0; k < 3; ++k) {
+            const int v = piece.cut_triangles(f, k), chart = piece.face_chart[f];
+            int id = -1;
+            for (const auto& [c2, copy] : copies[v]) {
+              if (c2 == chart) id = copy;
+            }
+            if (id < 0) {
+              id = static_cast<int>(vertex.size());
+              copies[v].push_back({chart, id});
+              vertex.push_back(piece.cut_vertex[v]);
+              positions.push_back(piece.layout.row(v));
+            }
+            piece.cut_triangles(f, k) = id;
+          }
+        }
+        piece.cut_vertex = std::move(vertex);
+        piece.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+          piece.layout.row(static_cast<Eigen::Index>(v)) = positions[v];
+        }
+      }
     }
     info.seconds = seconds_since(component_start);
   }
@@ -548,6 +645,18 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     for (int e = 0; e < local.num_edges; ++e) {
       if (p.cut.is_cut_edge[e]) result.cut.is_cut_edge[edge_map[e]] = 1;
     }
+    if (info.charts.size() > 1) {
+      // Split so as not to overlap itself: the edges between its pieces are seams too.
+      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+      const std::vector<int>& chart = pieces[c].face_chart;
+      for (int e = 0; e < local.num_edges; ++e) {
+        const int h0 = local.edge_halfedges(e, 0), h1 = local.edge_halfedges(e, 1);
+        if (h0 < 0 || h1 < 0 || p.cut.is_cut_edge[e]) continue;
+        if (chart[Topology::face_of(h0)] == chart[Topology::face_of(h1)]) continue;
+        result.cut.is_cut_edge[edge_map[e]] = 1;
+        info.seam_length += lengths[e];
+      }
+    }
     for (int v : p.cut.nodes) result.cut.nodes.push_back(info.vertex_map[v]);
     for (const std::vector<int>& segment : p.cut.segments) {
       std::vector<int>& moved = result.cut.segments.emplace_back();
@@ -558,6 +667,9 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     result.seam_length += info.seam_length;
 
     // The chart moved from the component's layout to the atlas's layout units: w = m z + s.
+    // (A layout split into pieces moves piece by piece: its transitions and atlas stay in
+    // components[c].param.)
+    const bool one_chart = info.charts.size() == 1;
     const PackedChart& chart = result.packing.charts[info.charts.front()];
     const std::complex<double> m = std::polar(info.area_scale, chart.rotation);
     const std::complex<double> s =
@@ -568,17 +680,19 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
       t.translation = moved_translation(t.rotation, t.translation, m, s);
       return t;
     };
-    for (const SeamTransition& t : p.layout.transitions) {
+    for (const SeamTransition& t :
+         one_chart ? p.layout.transitions : std::vector<SeamTransition>{}) {
       result.layout.transitions.push_back(move_transition(t));
     }
-    for (const SeamTransition& t : p.layout.segment_transitions) {
+    for (const SeamTransition& t :
+         one_chart ? p.layout.segment_transitions : std::vector<SeamTransition>{}) {
       result.layout.segment_transitions.push_back(move_transition(t));
     }
     result.layout.max_length_relative_error =
         std::max(result.layout.max_length_relative_error, p.layout.max_length_relative_error);
     result.layout.num_flipped_faces += p.layout.num_flipped_faces;
     result.layout.refined = result.layout.refined || p.layout.refined;
-    for (BoundaryChart bc : p.atlas.boundary_charts) {
+    for (BoundaryChart bc : one_chart ? p.atlas.boundary_charts : std::vector<BoundaryChart>{}) {
       bc.segment += segment_offset;
       for (int& f : bc.faces) f = info.face_map[f];
       for (Eigen::Index i = 0; i < bc.corner_uv.rows(); ++i) {

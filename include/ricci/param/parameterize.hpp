@@ -148,19 +148,23 @@ struct ComponentParam {
   std::string message;
   std::vector<Cone> cones;  ///< its cones, in vertices of ParamResult::mesh
   Distortion distortion;    ///< of its own part of the atlas
-  /// Pairs of its faces that overlap in uv (find_uv_overlaps within its chart): a conformal
-  /// layout without flipped faces can still overlap itself where the surface branches out (the
-  /// arms of triple_vierbein); 0 for Unfolded and Patches by construction.
+  /// Pairs of its faces that overlap in its own layout (find_uv_overlaps): a conformal layout
+  /// without flipped faces can still wind over itself (the arms of triple_vierbein, a surface
+  /// of many holes cut into one disk); 0 for Unfolded and Patches by construction. Such a layout
+  /// is cut into pieces that do not overlap (grown face by face across its edges), each its own
+  /// chart, so that the atlas never has two faces on the same texels.
   int overlapping_face_pairs = 0;
   double seam_length = 0;  ///< 3D length of its cut edges
   /// Its layout was multiplied by this before packing, so that its layout area equals its 3D
   /// area: every component then has the same mean texel density.
   double area_scale = 1;
-  std::vector<int> charts;      ///< its charts in ParamResult::packing.charts (one unless Patches)
+  /// Its charts in ParamResult::packing.charts: one, unless Patches or its layout overlapped
+  /// itself (overlapping_face_pairs).
+  std::vector<int> charts;
   std::vector<int> vertex_map;  ///< #V of param.mesh: the vertex of ParamResult::mesh
   std::vector<int> face_map;    ///< #F of param.mesh: the face of ParamResult::mesh
   /// Its vertices of ParamResult::cut_mesh start here: vertex i of its cut mesh (param.cut_mesh
-  /// unless Patches) is cut_vertex_offset + i.
+  /// when it has one chart) is cut_vertex_offset + i.
   int cut_vertex_offset = 0;
   double seconds = 0;
   /// The component alone, in its own indices (param.mesh is the component, plus the vertices
@@ -183,7 +187,8 @@ struct ComponentParam {
 /// giving all of its faces at the place of its first), vertex_origin, added_vertex_parents,
 /// cones, cut (whole-mesh edges; segments and nodes from the Flow components only), cut_mesh,
 /// layout (uv: the packed atlas in layout units, uv = layout.uv * uv_scale up to rounding;
-/// transitions and segment transitions moved with the charts; no lattice), atlas (moved likewise),
+/// transitions and segment transitions moved with the charts, of components in one chart; no
+/// lattice), atlas (moved likewise),
 /// distortion and seam_length of the whole atlas; flow gathers the components' flows (converged,
 /// max_error, flips, components with whole-mesh vertices, u, curvature, target_curvature; its
 /// topology, lengths, structure and flip list are per component, in components[c].param.flow);
