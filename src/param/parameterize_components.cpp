@@ -485,24 +485,39 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         int count = 0;
         piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count);
         piece.num_charts = count;
-        std::vector<std::vector<std::pair<int, int>>> copies(piece.layout.rows());
+        // Corners stay together across the edges of the layout inside one piece; each class of
+        // corners is one vertex (a piece touching itself at a vertex gets a copy per fan).
+        const Topology t =
+            build_topology(piece.cut_triangles, static_cast<int>(piece.layout.rows()));
+        std::vector<int> parent(3 * t.num_faces);
+        std::iota(parent.begin(), parent.end(), 0);
+        auto find = [&](int x) {
+          while (parent[x] != x) x = parent[x] = parent[parent[x]];
+          return x;
+        };
+        for (int h = 0; h < 3 * t.num_faces; ++h) {
+          const int twin = t.halfedge_twin[h];
+          if (twin < h || piece.face_chart[h / 3] != piece.face_chart[twin / 3]) continue;
+          // h runs tail -> head in its face, the twin head -> tail: corner k + 1 is the tail.
+          for (const auto& [a, b] :
+               {std::pair{3 * (h / 3) + (h % 3 + 1) % 3, 3 * (twin / 3) + (twin % 3 + 2) % 3},
+                std::pair{3 * (h / 3) + (h % 3 + 2) % 3, 3 * (twin / 3) + (twin % 3 + 1) % 3}}) {
+            const int ra = find(a), rb = find(b);
+            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+          }
+        }
+        std::vector<int> id(3 * t.num_faces, -1);
         std::vector<int> vertex;
         std::vector<Eigen::RowVector2d> positions;
-        for (int f = 0; f < piece.cut_triangles.rows(); ++f) {
-          for (int k = 0; k < 3; ++k) {
-            const int v = piece.cut_triangles(f, k), chart = piece.face_chart[f];
-            int id = -1;
-            for (const auto& [c2, copy] : copies[v]) {
-              if (c2 == chart) id = copy;
-            }
-            if (id < 0) {
-              id = static_cast<int>(vertex.size());
-              copies[v].push_back({chart, id});
-              vertex.push_back(piece.cut_vertex[v]);
-              positions.push_back(piece.layout.row(v));
-            }
-            piece.cut_triangles(f, k) = id;
+        for (int corner = 0; corner < 3 * t.num_faces; ++corner) {
+          const int f = corner / 3, k = corner % 3, v = piece.cut_triangles(f, k);
+          int& copy = id[find(corner)];
+          if (copy < 0) {
+            copy = static_cast<int>(vertex.size());
+            vertex.push_back(piece.cut_vertex[v]);
+            positions.push_back(piece.layout.row(v));
           }
+          piece.cut_triangles(f, k) = copy;
         }
         piece.cut_vertex = std::move(vertex);
         piece.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
