@@ -416,6 +416,34 @@ TEST(ParameterizeComponents, EdgeSplitsInOneComponentKeepTheOthersFaces) {
   EXPECT_NEAR(uv_angle_sum(r, split.cones.front().vertex), 2 * kPi + 4 * kPi, 1e-8);
 }
 
+TEST(ParameterizeComponents, ALayoutThatOverlapsItselfIsCutIntoChartsThatDoNot) {
+  // Genus 3 with 8 holes, cut open into one disk with a free boundary: the layout winds over
+  // itself (3367 face pairs measured); the atlas cuts it into charts (10 measured), and no two
+  // faces of the atlas overlap (expect_atlas counts every pair).
+  const Mesh triangle = testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.2, 0.9, 0}}, {{0, 1, 2}});
+  const ParamResult r = parameterize(
+      combine({{make_surface_with_holes(3, 8), 1.0}, {triangle, 1.0}}), vertex_scaling());
+  expect_atlas(r, "genus 3 with 8 holes");
+  ASSERT_TRUE(r.converged) << r.message;
+  const ComponentParam& comp = r.components[0];
+  EXPECT_EQ(comp.method, ComponentMethod::Flow);
+  EXPECT_GT(comp.overlapping_face_pairs, 0);
+  EXPECT_GE(comp.charts.size(), 2u);
+  // The pieces are the flow's layout, cut and moved: every edge is its own layout's edge times
+  // the component's area scale and the atlas's scale.
+  const double ratio = comp.area_scale * r.uv_scale;
+  for (int j = 0; j < comp.param.mesh.num_faces(); ++j) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d own =
+          comp.param.layout.uv.row(comp.param.cut_mesh.triangles(j, (k + 1) % 3)) -
+          comp.param.layout.uv.row(comp.param.cut_mesh.triangles(j, k));
+      const int f = comp.face_map[j];
+      const double atlas = (uv_of(r, f, (k + 1) % 3) - uv_of(r, f, k)).norm();
+      ASSERT_NEAR(atlas, own.norm() * ratio, 1e-12 * own.norm() * ratio) << "face " << j;
+    }
+  }
+}
+
 TEST(ParameterizeComponents, CancellingStopsEverything) {
   ParamOptions options = vertex_scaling();
   int calls = 0;
