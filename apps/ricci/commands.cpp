@@ -489,6 +489,70 @@ int run_param_hyperbolic(const ParamArgs& args) {
   return kOk;
 }
 
+/// `param` on a mesh of several components: the atlas, then a line per component (every one when
+/// there are few, else those that did not go by the flow).
+void print_components(const ParamArgs& args, const ParamResult& result) {
+  const Distortion& d = result.distortion;
+  const ChartPacking& p = result.packing;
+  int failed = 0, unfolded = 0, rescued = 0, overlapping = 0;
+  for (const ComponentParam& c : result.components) {
+    failed += !c.parameterized;
+    unfolded += c.method == ComponentMethod::Unfolded;
+    rescued += c.method == ComponentMethod::Unfolded && !c.message.empty();
+    overlapping += c.overlapping_face_pairs > 0;
+  }
+  const std::size_t n = result.components.size();
+  std::cout << args.mesh << " -> " << args.output << "\n"
+            << "  " << n << " components: " << n - failed - unfolded << " by the flow, " << unfolded
+            << " unfolded (" << rescued << " of them in place of a failed or distorted flow), "
+            << failed << " failed (in several patches)\n"
+            << "  atlas: " << p.charts.size() << " charts packed by "
+            << (p.by_shape ? "shape" : "rectangles") << ", coverage " << std::setprecision(4)
+            << p.coverage << " (bounding rectangles " << p.rectangle_coverage << "), gutter "
+            << p.gutter << ", overlapping face pairs " << p.overlapping_face_pairs << "\n"
+            << "  cones " << result.cones.size() << ", seam length " << result.seam_length
+            << ", area distortion " << d.area_distortion_energy << ", angle distortion mean "
+            << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
+            << d.flipped_faces << ", " << result.seconds << " s\n";
+  if (overlapping > 0) {
+    std::cout << "  components whose layout overlapped itself, cut into charts that do not: "
+              << overlapping << "\n";
+  }
+  const bool all = n <= 20;
+  int skipped = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    const ComponentParam& comp = result.components[c];
+    if (!all && comp.parameterized && comp.overlapping_face_pairs == 0) {
+      ++skipped;
+      continue;
+    }
+    std::cout << "  component " << c << " (" << comp.faces.size() << " faces, genus " << comp.genus
+              << ", " << comp.boundary_loops
+              << " boundary loops): " << component_method_name(comp.method) << ", cones "
+              << comp.cones.size() << ", angle distortion mean "
+              << comp.distortion.angle_distortion_mean << ", area scale " << comp.area_scale << ", "
+              << comp.seconds << " s";
+    if (comp.overlapping_face_pairs > 0) {
+      std::cout << ", its layout overlapped itself (" << comp.overlapping_face_pairs
+                << " face pairs): " << comp.charts.size() << " charts";
+    }
+    if (!comp.message.empty()) {
+      std::cout << (comp.parameterized ? ": the flow failed: " : ": ") << comp.message;
+    }
+    std::cout << "\n";
+  }
+  if (skipped > 0) {
+    std::cout << "  (" << skipped
+              << " more components by the flow or unfolded, none overlapping itself: --report "
+                 "lists every one)\n";
+  }
+  if (!result.converged) {
+    std::cout << "  wrote " << args.output
+              << " with the failed components laid out as patches of their own shape\n";
+  }
+  if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+}
+
 }  // namespace
 
 int run_param(const ParamArgs& args) {
@@ -501,6 +565,7 @@ int run_param(const ParamArgs& args) {
   options.auto_cones.max_cones = args.max_cones;
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
+  options.packing.gutter = args.gutter;
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
   const bool refinement = args.faces == "refinement";
@@ -520,10 +585,23 @@ int run_param(const ParamArgs& args) {
       read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
   print_warnings(read);
   apply_cones_option(args.cones, args.mesh, read, options);
+  if (refinement) {
+    const Topology t = build_topology(read.mesh.triangles, read.mesh.num_vertices());
+    if (t.components.size() > 1) {
+      throw InvalidInput(args.mesh + ": --faces refinement: the mesh has " +
+                         std::to_string(t.components.size()) +
+                         " connected components, and the common refinement is made for one; "
+                         "leave --faces out for one atlas of them all");
+    }
+  }
   const ParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize(read.mesh, options); });
   nlohmann::json report = param_report(result, options);
+  // Several components: the atlas covers every face even when some components failed (laid out
+  // as patches of their own shape), so it is written, and the exit status says that not all
+  // went well.
+  const bool several = !result.components.empty() && result.uv.rows() > 0;
   std::optional<CommonRefinement> exact;
   if (refinement && result.converged) {
     exact = common_refinement(result);
@@ -534,7 +612,8 @@ int run_param(const ParamArgs& args) {
                                      {"interpolation_matrix", files.matrix}};
   }
   if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
-                     "the flow did not converge: " + result.message)) {
+                     several ? result.message : "the flow did not converge: " + result.message) &&
+      !several) {
     return kNotConverged;
   }
   if (exact) {
@@ -547,6 +626,8 @@ int run_param(const ParamArgs& args) {
 #endif
   if (args.json) {
     std::cout << report.dump(2) << "\n";
+  } else if (several) {
+    print_components(args, result);
   } else {
     const Distortion& d = result.distortion;
     std::cout << args.mesh << " -> " << args.output << "\n"
@@ -584,7 +665,7 @@ int run_param(const ParamArgs& args) {
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
-  return kOk;
+  return result.converged ? kOk : kNotConverged;
 }
 
 int run_spline(const SplineArgs& args) {

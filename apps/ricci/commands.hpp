@@ -68,6 +68,7 @@ struct ParamArgs {
   /// --faces: "input" (the input's faces, linear uv) or "refinement" (the common refinement
   /// with homogeneous uv, ricci/param/common_refinement.hpp, and its companion files)
   std::string faces = "input";
+  double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
 };
 int run_param(const ParamArgs& args);
 

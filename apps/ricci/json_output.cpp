@@ -187,6 +187,65 @@ nlohmann::json distortion_json(const Distortion& d) {
 
 }  // namespace
 
+namespace {
+
+/// Per component of a mesh of several: how it was parameterized, its flow and its distortion.
+nlohmann::json components_json(const ParamResult& r) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t c = 0; c < r.components.size(); ++c) {
+    const ComponentParam& comp = r.components[c];
+    nlohmann::json j = {{"component", c},
+                        {"vertices", comp.vertices.size()},
+                        {"faces", comp.faces.size()},
+                        {"euler_characteristic", comp.euler_characteristic},
+                        {"genus", comp.genus},
+                        {"boundary_loops", comp.boundary_loops},
+                        {"method", component_method_name(comp.method)},
+                        {"parameterized", comp.parameterized},
+                        {"message", comp.message},
+                        {"cones", comp.cones.size()},
+                        {"overlapping_face_pairs", comp.overlapping_face_pairs},
+                        {"seam_length", comp.seam_length},
+                        {"area_scale", comp.area_scale},
+                        {"charts", comp.charts},
+                        {"seconds", comp.seconds},
+                        {"distortion", distortion_json(comp.distortion)}};
+    const MeshFlowResult& flow = comp.param.flow;
+    if (comp.method != ComponentMethod::Unfolded && !flow.components.empty()) {
+      const FlowResult& f = flow.components.front().flow;
+      j["flow"] = {{"converged", f.converged},   {"status", flow_status_name(f.status)},
+                   {"iterations", f.iterations}, {"max_error", f.max_error},
+                   {"flipped_edges", f.flips},   {"message", f.message}};
+    }
+    out.push_back(j);
+  }
+  return out;
+}
+
+nlohmann::json packing_json(const ChartPacking& p) {
+  nlohmann::json charts = nlohmann::json::array();
+  for (const PackedChart& c : p.charts) {
+    charts.push_back({{"faces", c.faces.size()},
+                      {"rotation", c.rotation},
+                      {"translation", {c.translation.x(), c.translation.y()}},
+                      {"box_min", {c.box_min.x(), c.box_min.y()}},
+                      {"box_max", {c.box_max.x(), c.box_max.y()}},
+                      {"area", c.area}});
+  }
+  return {{"charts", charts},
+          {"scale", p.scale},
+          {"gutter", p.gutter},
+          {"coverage", p.coverage},
+          {"rectangle_coverage", p.rectangle_coverage},
+          {"overlapping_face_pairs", p.overlapping_face_pairs},
+          {"by_shape", p.by_shape},
+          {"raster_work", p.raster_work},
+          {"packing_attempts", p.packing_attempts},
+          {"seconds", p.seconds}};
+}
+
+}  // namespace
+
 nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   nlohmann::json j;
   j["converged"] = r.converged;
@@ -213,7 +272,16 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   flow_options.structure = options.structure;
   flow_options.flow = options.flow;
   j["flow"] = flow_summary(r.flow, flow_options);
-  if (!r.converged) return j;
+  const bool several = !r.components.empty();
+  if (several) {
+    // The gathered flow has no whole-mesh triangulation: count the mesh parameterized.
+    j["flow"]["vertices"] = r.mesh.num_vertices();
+    j["flow"]["faces"] = r.mesh.num_faces();
+    j["flow"].erase("edges");
+    j["components"] = components_json(r);
+    j["packing"] = packing_json(r.packing);
+  }
+  if (!r.converged && !several) return j;
   nlohmann::json segments = nlohmann::json::array();
   for (std::size_t s = 0; s < r.cut.segments.size(); ++s) {
     nlohmann::json seg = {{"vertices", r.cut.segments[s].size()}};

@@ -129,7 +129,9 @@ int main(int argc, char** argv) {
   CLI::App* param_cmd = app.add_subcommand(
       "param",
       "Global conformal parameterization: cones, Ricci flow to a flat metric, cut graph, "
-      "layout; writes an OBJ with per-corner texture coordinates in the unit square.");
+      "layout; writes an OBJ with per-corner texture coordinates in the unit square. A mesh "
+      "of several components gets one atlas: each component parameterized on its own, the "
+      "charts packed into the unit square.");
   param_cmd->add_option("MESH", param.mesh, "mesh file (.obj .off .ply .stl)")->required();
   param_cmd->add_option("-o,--output", param.output, "output .obj with vt coordinates")->required();
   param_cmd
@@ -177,6 +179,11 @@ int main(int argc, char** argv) {
                    "automatic cones: at most this many (0: 64, or 6 |chi| on surfaces of high "
                    "genus)")
       ->capture_default_str();
+  param_cmd
+      ->add_option("--gutter", param.gutter,
+                   "several components: space between packed charts, in uv units")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.25));
   param_cmd->add_option("--tol", param.tolerance, "flow tolerance on max |K-bar - K|")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

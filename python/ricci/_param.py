@@ -17,10 +17,13 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
                  reuse_factorization_cg_iterations=None, progress=None, flips=None,
-                 geometry=None, root_face=None, options=None):
-    """Global conformal parameterization of a single-component manifold mesh: cones, valence
-    raising, Ricci flow to a flat metric, cut graph, layout, atlas, distortion, uv in the unit
-    square.
+                 geometry=None, root_face=None, gutter=None, options=None):
+    """Global conformal parameterization of a manifold mesh: cones, valence raising, Ricci flow
+    to a flat metric, cut graph, layout, atlas, distortion, uv in the unit square. A mesh of
+    several components gets one atlas: each component is parameterized on its own (a component
+    of one or two faces, or one whose flow fails, is unfolded in its own 3D shape; one whose
+    unfolding needs several patches not to overlap counts as failed), its layout scaled
+    to its 3D area, and the charts packed into the unit square without overlap.
 
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles.
 
@@ -39,6 +42,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     geometry: ``"euclidean"`` (the default: a flat metric with cones, uv in the unit square)
       or ``"hyperbolic"`` (a surface with chi < 0: the uniformization metric laid out in the
       Poincare disk, see below).
+    gutter: several components, the space between packed charts in uv units (0.002; options
+      field packing.gutter).
     options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
       (copied); other arguments, when not None, override its fields.
 
@@ -47,7 +52,12 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     (after edge splits; input vertices first), vertex_origin, cones, distortion (with
     flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length, and
     the stages: flow, cut, cut_mesh, layout, atlas, cone_selection. When the flow does not
-    converge, converged is False and message says why (nothing is raised).
+    converge, converged is False and message says why (nothing is raised). Several components:
+    the same fields cover the whole mesh, components lists a ``ComponentParam`` per component
+    (method, parameterized, message, cones, distortion, overlapping_face_pairs, area_scale,
+    chart, vertex_map, face_map, and param: the component's own ``ParamResult``), packing is the
+    ``ChartPacking`` (coverage, scale, gutter, charts, overlapping_face_pairs), and converged is
+    False when some component needed several patches (uv still covers every face).
 
     geometry="hyperbolic" (``parameterize_hyperbolic``): Ricci flow in the hyperbolic background
     to zero curvature at every vertex and geodesic boundary, cut graph, layout in the Poincare
@@ -72,10 +82,13 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     says how well the developed input faces agree on their shared edges.
 
     Raises ValueError for arrays of the wrong shape or dtype, TopologyError for non-manifold
-    meshes, InvalidInput for bad cones or a mesh of several components, and (hyperbolic) for
+    meshes, InvalidInput for bad cones, and (hyperbolic) for
     a surface with chi >= 0 or a scheme without a hyperbolic energy (virtual-radius).
     """
     mesh = _arrays.mesh(V, F)
+    if gutter is not None and _is_hyperbolic(geometry):
+        raise _ricci.InvalidInput("parameterize: gutter is an option of the Euclidean "
+                                  "parameterization only")
     if _is_hyperbolic(geometry):
         return _parameterize_hyperbolic(
             mesh, cones=cones, boundary=boundary, quantize=quantize,
@@ -98,6 +111,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     set_cones(opts, cones)
     set_fields(opts, boundary=boundary, quantize=quantize,
                modify_connectivity=modify_connectivity)
+    set_fields(opts.packing, gutter=gutter)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
                try_first_cone_candidates=try_first_cone_candidates)
     set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,

@@ -41,6 +41,64 @@ void bind_param(py::module_& m) {
                 "curvature of each cone in the linearised solution")
       .repr();
 
+  StructBinding<ChartPackingOptions>(m, "ChartPackingOptions", "Options of pack_charts.")
+      .field("gutter", &ChartPackingOptions::gutter,
+             "space between the charts' rectangles in uv units (half of it to the edge)")
+      .field("rotate", &ChartPackingOptions::rotate,
+             "turn charts to their minimal-area rectangle (and quarter turns)")
+      .field("scale_tolerance", &ChartPackingOptions::scale_tolerance,
+             "relative precision of the common scale's search")
+      .field("raster_resolution", &ChartPackingOptions::raster_resolution,
+             "also pack by shape on a grid of about this many cells across (0: rectangles only)")
+      .field("raster_work_limit", &ChartPackingOptions::raster_work_limit,
+             "work (grid rows and positions tried) after which the shape search stops")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<PackedChart>(m, "PackedChart",
+                             "A placed chart: uv = scale R(rotation) layout + translation.")
+      .readonly("faces", &PackedChart::faces, "its faces")
+      .readonly("rotation", &PackedChart::rotation, "radians, counter-clockwise")
+      .readonly("translation", &PackedChart::translation, "")
+      .readonly("box_min", &PackedChart::box_min, "bounding box of its uv")
+      .readonly("box_max", &PackedChart::box_max, "")
+      .readonly("area", &PackedChart::area, "uv area of its faces")
+      .repr();
+
+  StructBinding<ChartPacking>(m, "ChartPacking", "What pack_charts returns.")
+      .readonly("uv", &ChartPacking::uv,
+                "#V by 2 in [0, 1]^2 (empty in ParamResult.packing: moved into its uv)")
+      .readonly("face_chart", &ChartPacking::face_chart, "#F chart of each face")
+      .readonly("charts", &ChartPacking::charts, "list of PackedChart")
+      .readonly("scale", &ChartPacking::scale, "the common scale (uv units per layout unit)")
+      .readonly("gutter", &ChartPacking::gutter, "gutter used")
+      .readonly("coverage", &ChartPacking::coverage, "uv area of the faces / area of the square")
+      .readonly("rectangle_coverage", &ChartPacking::rectangle_coverage,
+                "area of the charts' bounding rectangles / area of the square")
+      .readonly("overlapping_face_pairs", &ChartPacking::overlapping_face_pairs,
+                "pairs of faces of different charts overlapping (0)")
+      .readonly("by_shape", &ChartPacking::by_shape,
+                "placed by shape on the grid (else in their rectangles)")
+      .readonly("raster_work", &ChartPacking::raster_work, "work the shape search did")
+      .readonly("packing_attempts", &ChartPacking::packing_attempts, "")
+      .readonly("seconds", &ChartPacking::seconds, "")
+      .repr();
+
+  m.def("pack_charts", &pack_charts, py::arg("layout"), py::arg("triangles"),
+        py::arg("face_chart") = std::vector<int>{}, py::arg("options") = ChartPackingOptions{},
+        "Packs the charts of a layout (#V by 2, any units) into the unit square: each turned "
+        "to its minimal-area rectangle, one common scale, no overlap. face_chart: chart per "
+        "face, or empty for the connected pieces.");
+
+  StructBinding<UvOverlaps>(m, "UvOverlaps", "What find_uv_overlaps returns.")
+      .readonly("count", &UvOverlaps::count, "overlapping pairs")
+      .readonly("pairs", &UvOverlaps::pairs, "the first max_pairs of them (face indices)")
+      .repr();
+  m.def("find_uv_overlaps", &find_uv_overlaps, py::arg("uv"), py::arg("triangles"),
+        py::arg("face_group") = std::vector<int>{}, py::arg("max_pairs") = 16,
+        "Pairs of faces whose uv triangles' interiors intersect, decided exactly; with "
+        "face_group only pairs of different groups.");
+
   StructBinding<ParamOptions>(m, "ParamOptions", "Options of parameterize.")
       .enum_field("cone_mode", &ParamOptions::cone_mode, &parse_cone_mode,
                   "ConeMode (or 'none', 'user', 'auto', 'one')")
@@ -53,6 +111,8 @@ void bind_param(py::module_& m) {
       .field("flow", &ParamOptions::flow, "FlowOptions (tolerance 1e-12 by default)")
       .field("modify_connectivity", &ParamOptions::modify_connectivity,
              "split edges around cones whose valence breaks the single-vertex bound")
+      .field("packing", &ParamOptions::packing,
+             "ChartPackingOptions: several components, how their charts are packed")
       .keyword_constructor()
       .repr();
 
@@ -125,7 +185,8 @@ void bind_param(py::module_& m) {
         py::arg("uv"), "Measures a layout (uv_triangles index uv per corner) against the mesh.");
 
   StructBinding<ParamResult>(m, "ParamResult", "What parameterize returns.")
-      .readonly("converged", &ParamResult::converged, "the flow reached its tolerance")
+      .readonly("converged", &ParamResult::converged,
+                "the flow reached its tolerance (several components: every one in one chart)")
       .readonly("message", &ParamResult::message, "why not, when it did not")
       .computed(
           "vertices", [](const ParamResult& r) { return r.mesh.positions; },
@@ -163,6 +224,45 @@ void bind_param(py::module_& m) {
       .readonly("layout", &ParamResult::layout, "Layout")
       .readonly("atlas", &ParamResult::atlas, "AffineAtlas")
       .readonly("seconds", &ParamResult::seconds, "")
+      .readonly("components", &ParamResult::components,
+                "several components: a ComponentParam per component (empty for one)")
+      .readonly("packing", &ParamResult::packing, "several components: ChartPacking")
+      .repr();
+
+  py::enum_<ComponentMethod>(m, "ComponentMethod",
+                             "How a component of a mesh of several was parameterized.")
+      .value("Flow", ComponentMethod::Flow)
+      .value("Unfolded", ComponentMethod::Unfolded)
+      .value("Patches", ComponentMethod::Patches);
+  m.def("component_method_name", &component_method_name, py::arg("method"));
+
+  StructBinding<ComponentParam>(m, "ComponentParam",
+                                "One component of a mesh of several (ParamResult.components).")
+      .readonly("vertices", &ComponentParam::vertices, "input vertices of the component")
+      .readonly("faces", &ComponentParam::faces, "input faces of the component")
+      .readonly("euler_characteristic", &ComponentParam::euler_characteristic, "")
+      .readonly("genus", &ComponentParam::genus, "")
+      .readonly("boundary_loops", &ComponentParam::boundary_loops, "")
+      .readonly("method", &ComponentParam::method, "ComponentMethod")
+      .readonly("parameterized", &ComponentParam::parameterized,
+                "in one chart: by the flow or unfolded (False: Patches)")
+      .readonly("message", &ComponentParam::message, "why the pipeline failed")
+      .readonly("cones", &ComponentParam::cones, "its cones (vertices of ParamResult.mesh)")
+      .readonly("distortion", &ComponentParam::distortion, "of its part of the atlas")
+      .readonly("overlapping_face_pairs", &ComponentParam::overlapping_face_pairs,
+                "pairs of its own faces overlapping in uv")
+      .readonly("seam_length", &ComponentParam::seam_length, "")
+      .readonly("area_scale", &ComponentParam::area_scale,
+                "its layout scaled by this to its 3D area before packing")
+      .readonly("charts", &ComponentParam::charts, "its charts in ParamResult.packing.charts")
+      .readonly("vertex_map", &ComponentParam::vertex_map,
+                "per vertex of param.mesh: vertex of ParamResult.mesh")
+      .readonly("face_map", &ComponentParam::face_map,
+                "per face of param.mesh: face of ParamResult.mesh")
+      .readonly("cut_vertex_offset", &ComponentParam::cut_vertex_offset,
+                "first of its vertices in ParamResult.cut_mesh")
+      .readonly("seconds", &ComponentParam::seconds, "")
+      .readonly("param", &ComponentParam::param, "ParamResult of the component alone")
       .repr();
 
   m.def(
@@ -173,8 +273,9 @@ void bind_param(py::module_& m) {
                                             [&] { return parameterize(mesh, options); });
       },
       py::arg("mesh"), py::arg("options") = ParamOptions{},
-      "Global conformal parameterization of a single-component manifold mesh (validated "
-      "first). Raises InvalidInput, TopologyError.");
+      "Global conformal parameterization of a manifold mesh (validated first); several "
+      "components are parameterized one by one and packed into one atlas. Raises "
+      "InvalidInput, TopologyError.");
 
   StructBinding<CommonRefinementOptions>(m, "CommonRefinementOptions",
                                          "Options of common_refinement.")

@@ -77,3 +77,69 @@ def test_options_object_is_honoured(torus):
     assert result.converged and result.cones == []
     assert result.flow.max_error <= 1e-11
     assert len(result.lattice) == 2
+
+
+def _side_by_side(*parts):
+    """Meshes (V, F, scale) as one mesh of several components, moved apart along x."""
+    Vs, Fs, x, n = [], [], 0.0, 0
+    for V, F, s in parts:
+        V = np.asarray(V, float) * s
+        V = V + [x - V[:, 0].min(), 0, 0]
+        x = V[:, 0].max() + s
+        Vs.append(V)
+        Fs.append(np.asarray(F) + n)
+        n += len(V)
+    return np.vstack(Vs), np.vstack(Fs)
+
+
+def test_several_components_share_one_atlas(torus):
+    triangle = ([[0, 0, 0], [1, 0, 0], [0.2, 0.9, 0]], [[0, 1, 2]], 10.0)
+    V, F = _side_by_side((*torus, 1.0), (*ricci.generate.icosphere(3), 100.0),
+                         (*ricci.generate.tetrahedron(), 0.1), triangle)
+    result = ricci.parameterize(V, F, scheme="vertex-scaling", gutter=0.01)
+    assert result.converged, result.message
+    methods = [c.method for c in result.components]
+    # The tetrahedron goes by the flow (three cones); the lone triangle is unfolded.
+    assert methods == [ricci.ComponentMethod.Flow, ricci.ComponentMethod.Flow,
+                       ricci.ComponentMethod.Flow, ricci.ComponentMethod.Unfolded]
+    assert [len(c.faces) for c in result.components] == [len(torus[1]), 1280, 4, 1]
+    packing = result.packing
+    assert packing.gutter == 0.01 and len(packing.charts) == 4
+    assert packing.overlapping_face_pairs == 0
+    assert ricci.find_uv_overlaps(result.uv, result.uv_triangles, packing.face_chart).count == 0
+    assert result.uv.min() >= 0.005 - 1e-12 and result.uv.max() <= 0.995 + 1e-12
+    # One texel density: uv area / 3D area is the same for every component.
+    p = result.uv[result.uv_triangles]
+    uv_area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+    q = result.vertices[result.triangles]
+    area = 0.5 * np.linalg.norm(np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]), axis=1)
+    density = [uv_area[c.face_map].sum() / area[c.face_map].sum() for c in result.components]
+    assert density == pytest.approx([result.uv_scale ** 2] * 4, rel=1e-9)
+    assert packing.coverage == pytest.approx(uv_area.sum(), rel=1e-12)
+    # Each component's own result, and its cones in whole-mesh indices.
+    sphere = result.components[1]
+    assert sphere.param.converged and len(sphere.cones) == len(sphere.param.cones) > 0
+    assert all(c.vertex == sphere.vertex_map[d.vertex]
+               for c, d in zip(sphere.cones, sphere.param.cones))
+    assert all(c.parameterized and c.message == "" for c in result.components)
+    # With no cones asked for, the tetrahedron cannot flatten: unfolded, four cones of pi.
+    result = ricci.parameterize(V, F, scheme="vertex-scaling", cones="none")
+    tetrahedron = result.components[2]
+    assert result.converged and tetrahedron.method == ricci.ComponentMethod.Unfolded
+    assert "no flat metric without cones" in tetrahedron.message
+    assert [c.curvature for c in tetrahedron.cones] == pytest.approx([math.pi] * 4, abs=1e-12)
+
+
+def test_pack_charts_and_overlaps():
+    # Two unit squares (two triangles each) and a triangle, overlapping where they are given.
+    layout = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5], [1.5, 0.5], [1.5, 1.5],
+                       [0.5, 1.5], [0, 0], [2, 0], [0, 2]], float)
+    faces = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [8, 9, 10]])
+    assert ricci.find_uv_overlaps(layout, faces).count > 0
+    packed = ricci.pack_charts(layout, faces, options=ricci.ChartPackingOptions(gutter=0.05))
+    assert len(packed.charts) == 3 and list(packed.face_chart) == [0, 0, 1, 1, 2]
+    assert packed.overlapping_face_pairs == 0
+    assert ricci.find_uv_overlaps(packed.uv, faces).count == 0
+    assert packed.uv.min() >= 0.025 - 1e-12 and packed.uv.max() <= 0.975 + 1e-12
+    with pytest.raises(ricci.InvalidInput):
+        ricci.pack_charts(layout, faces, options=ricci.ChartPackingOptions(gutter=-1))

@@ -221,6 +221,12 @@ FlowInput flow_input(const ParamResult& param) {
 CommonRefinement common_refinement(const ParamResult& param,
                                    const CommonRefinementOptions& options) {
   const auto started = Clock::now();
+  if (!param.components.empty()) {
+    throw InvalidInput(
+        "common_refinement: the parameterization covers " +
+        std::to_string(param.components.size()) +
+        " components; take the refinement of each one's own result (components[c].param)");
+  }
   if (!param.converged) {
     throw InvalidInput("common_refinement: the parameterization did not converge" +
                        (param.message.empty() ? std::string() : ": " + param.message));

@@ -1,5 +1,6 @@
 #include "ricci/param/parameterize.hpp"
 
+#include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
@@ -52,7 +53,7 @@ const char* cone_mode_name(ConeMode mode) {
   return "unknown";
 }
 
-ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
   const auto start = Clock::now();
   ParamResult result;
   // Wall time since the previous lap, added to a phase of result.timings.
@@ -65,7 +66,7 @@ ParamResult parameterize(const Mesh& input, const ParamOptions& options) {
   Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
-                       " connected components; parameterize them one by one");
+                       " connected components");
   }
   // (Copied: t0 is rebuilt below when the Thurston scheme splits edges.)
   const int genus = t0.components[0].genus, boundary_loops = t0.components[0].num_boundary_loops;

@@ -1,9 +1,11 @@
 #include "ricci/render/param_pictures.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 #include "ricci/errors.hpp"
@@ -38,11 +40,32 @@ ParamPicturesResult write_parameterization_pictures(const std::string& folder,
 
   // Newton's history, and the gradient flow from the same start to the same target.
   std::vector<ConvergenceCurve> curves;
-  if (!result.flow.components.empty()) {
+  if (!result.components.empty()) {
+    // Several components: Newton on the (up to four) largest that went by the flow.
+    std::vector<int> order;
+    for (std::size_t c = 0; c < result.components.size(); ++c) {
+      const ComponentParam& comp = result.components[c];
+      if (comp.method == ComponentMethod::Flow && !comp.param.flow.components.empty()) {
+        order.push_back(static_cast<int>(c));
+      }
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return result.components[a].faces.size() > result.components[b].faces.size();
+    });
+    const std::array<Rgb, 4> colours{
+        {{0.12, 0.35, 0.75}, {0.80, 0.15, 0.10}, {0.10, 0.55, 0.20}, {0.55, 0.30, 0.65}}};
+    for (std::size_t i = 0; i < std::min<std::size_t>(order.size(), 4); ++i) {
+      const ComponentParam& comp = result.components[order[i]];
+      curves.push_back(convergence_curve("Newton, component " + std::to_string(order[i]),
+                                         comp.param.flow.components.front().flow.history,
+                                         colours[i]));
+    }
+  } else if (!result.flow.components.empty()) {
     curves.push_back(convergence_curve("Newton", result.flow.components.front().flow.history,
                                        {0.12, 0.35, 0.75}));
   }
-  if (result.flow.components.size() == 1 && mesh.num_vertices() < options.gradient_max_vertices) {
+  if (result.components.empty() && result.flow.components.size() == 1 &&
+      mesh.num_vertices() < options.gradient_max_vertices) {
     FlowOptions gradient;
     gradient.solver = FlowSolver::Gradient;
     gradient.tolerance = options.gradient_tolerance;

@@ -150,8 +150,15 @@ SplineResult fit_manifold_spline(const Mesh& mesh, const SplineOptions& options)
   }
   SplineResult result;
   ParamOptions param_options = options.param;
+  const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  if (topology.components.size() != 1) {
+    // The spline domain is one surface's atlas; parameterize would pack several into one square.
+    throw InvalidInput("fit_manifold_spline: the mesh has " +
+                       std::to_string(topology.components.size()) +
+                       " connected components; fit them one by one");
+  }
   if (options.choose_cone_mode) {
-    const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+    const Topology& t = topology;
     if (t.components.size() == 1) {
       const Component& c = t.components.front();
       if (c.num_boundary_loops > 0 || c.genus == 1) param_options.cone_mode = ConeMode::None;

@@ -519,9 +519,41 @@ if [[ -f "$shared/teapot.obj" && -f "$shared/triple_vierbein.obj" ]]; then
     'd["valid"] and d["repair"]["welded_vertices"]["count"] == 403 and d["components"] == 4 and d["euler_characteristic"] == 2'
   ricci flow --repair "$shared/teapot.obj" --json
   expect_rc "flow --repair teapot" 0
-  ricci param --repair "$shared/teapot.obj" -o param/teapot_uv.obj
-  expect_rc "param --repair teapot: several components" 2
-  expect_err "param --repair teapot: several components" "4 connected components"
+  # Four components, one atlas: every component parameterized, the charts packed apart.
+  teapot_pictures=()
+  ricci render --help
+  [[ "$rc" == 0 ]] && teapot_pictures=(--pictures param/teapot_pics)
+  ricci param --repair --scheme vertex-scaling "$shared/teapot.obj" -o param/teapot_uv.obj \
+    --report param/teapot.json "${teapot_pictures[@]}"
+  expect_rc "param --repair teapot: several components" 0
+  expect_out "param --repair teapot: several components" "4 components: 4 by the flow" \
+    "overlapping face pairs 0" "component 3 ("
+  expect_json "param --repair teapot report" param/teapot.json \
+    'd["converged"] and len(d["components"]) == 4 and all(c["method"] == "flow" and c["parameterized"] for c in d["components"]) and d["packing"]["overlapping_face_pairs"] == 0 and d["packing"]["coverage"] > 0.5 and d["distortion"]["flipped_faces"] == 0'
+  # Texture coordinates inside the square, half a gutter from its edges.
+  if "$PYTHON" - param/teapot_uv.obj <<'EOF'
+import sys
+vt = [tuple(map(float, l.split()[1:3])) for l in open(sys.argv[1]) if l.startswith("vt ")]
+sys.exit(0 if vt and all(0.001 - 1e-9 <= c <= 0.999 + 1e-9 for t in vt for c in t) else 1)
+EOF
+  then ok; else fail "param --repair teapot: uv" "texture coordinates outside [0.001, 0.999]"; fi
+  if (( ${#teapot_pictures[@]} )); then
+    ricci render param/teapot_uv.obj -o param/teapot.png --width 96 --height 96
+    expect_rc "render a packed atlas" 0
+    expect_file "render a packed atlas" param/teapot.png
+    expect_file "param --pictures of several components" param/teapot_pics/uv.png
+  fi
+  ricci param --repair --scheme vertex-scaling --faces refinement "$shared/teapot.obj" \
+    -o param/teapot_refined.obj
+  expect_rc "param --faces refinement on several components" 2
+  expect_err "param --faces refinement on several components" "4 connected components"
+  expect_no_file "param --faces refinement on several components" param/teapot_refined.obj
+  checkuv="$shared/../tools/checkuv.py"
+  if [[ -f "$checkuv" ]]; then
+    "$PYTHON" "$checkuv" param/teapot_uv.obj >param/teapot_check.json
+    expect_json "checkuv on the teapot atlas" param/teapot_check.json \
+      'd["faces"] == 6320 and d["flipped"] == 0 and d["degenerate"] == 0 and d["seam_length_mismatch"] < 1e-9'
+  fi
   ricci param --largest-component "$shared/triple_vierbein.obj" -o param/vierbein_uv.obj --report param/vierbein.json
   expect_rc "param --largest-component triple_vierbein" 0
   expect_json "param --largest-component triple_vierbein" param/vierbein.json \
@@ -529,6 +561,29 @@ if [[ -f "$shared/teapot.obj" && -f "$shared/triple_vierbein.obj" ]]; then
 else
   echo "note: $shared not found: --repair on the shared meshes not checked"
 fi
+
+# --- several components: one failing -----------------------------------------------------------
+# A saddle (eight faces around vertex 0, 787 degrees of angle) beside a triangle; an inadmissible
+# cone on the saddle makes its pipeline fail: its own shape, in patches, fills its part of the
+# atlas, the file is written and ricci exits 3 naming the component.
+"$PYTHON" - <<'EOF'
+import math
+with open("saddle_and_triangle.obj", "w") as out:
+    out.write("v 0 0 0\n")
+    for i in range(8):
+        out.write(f"v {math.cos(math.pi * i / 4)} {math.sin(math.pi * i / 4)} {1 if i % 2 else -1}\n")
+    out.write("v 3 0 0\nv 4 0 0\nv 3 1 0\n")
+    for i in range(8):
+        out.write(f"f 1 {2 + i} {2 + (i + 1) % 8}\n")
+    out.write("f 10 11 12\n")
+EOF
+ricci param saddle_and_triangle.obj --cones 0:7 -o param/saddle_uv.obj --report param/saddle.json
+expect_rc "param: a component fails" 3
+expect_err "param: a component fails" "1 of 2 components failed" "component 0 (8 faces"
+expect_out "param: a component fails" "component 0 (8 faces" "patches" "component 1 (1 faces"
+expect_file "param: a component fails: the atlas is still written" param/saddle_uv.obj
+expect_json "param: a component fails: report" param/saddle.json \
+  'not d["converged"] and [c["method"] for c in d["components"]] == ["patches", "unfolded"] and len(d["components"][0]["charts"]) >= 2 and d["packing"]["overlapping_face_pairs"] == 0'
 
 # --- bad targets and options -------------------------------------------------------------------
 # bad_flow NAME TEXT... -- ARGS...: flow ARGS -o bad_out.json exits 2 naming every TEXT, no output.

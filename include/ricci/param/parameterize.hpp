@@ -12,6 +12,7 @@
 
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/param/atlas.hpp"
+#include "ricci/param/chart_packing.hpp"
 #include "ricci/param/cones.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
@@ -41,6 +42,8 @@ struct ParamOptions {
   std::vector<Cone> cones;          ///< ConeMode::User: vertices (input indices) and curvatures
   ConeSelectionOptions auto_cones;  ///< ConeMode::Auto: count or log-scale bound
   bool quantize = false;            ///< round cone curvatures to multiples of pi/2
+  /// A mesh of several components: how their charts are packed into the unit square.
+  ChartPackingOptions packing;
   BoundaryMode boundary = BoundaryMode::Free;  ///< free or disk boundary
   StructureOptions structure;                  ///< discrete metric scheme
   /// Newton to 1e-12: the layout closes around each interior vertex only as well as the metric
@@ -68,10 +71,16 @@ struct ParamTimings {
   double distortion = 0;   ///< distortion figures
 };
 
-/// What parameterize returns.
+struct ComponentParam;
+
+/// What parameterize returns. On a mesh of several components every field describes the whole
+/// mesh (see parameterize for what the stages hold then), and `components` and `packing` say how
+/// each component was parameterized and where its chart went.
 struct ParamResult {
-  bool converged = false;  ///< the flow reached its tolerance
-  std::string message;     ///< why not, when it did not
+  /// The flow reached its tolerance. Several components: every component was parameterized
+  /// (ComponentParam::parameterized); the atlas covers the whole mesh either way.
+  bool converged = false;
+  std::string message;  ///< why not, when it did not (several components: which ones failed)
   /// The mesh parameterized: the input itself (same vertices, faces and order), except that the
   /// Thurston scheme's valence raising (modify_connectivity) appends the vertices its edge splits
   /// add. With edge flips the flat metric lives on the flow's intrinsic triangulation
@@ -101,11 +110,93 @@ struct ParamResult {
   double uv_scale = 1;  ///< uv = (layout - offset) * uv_scale
   Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
   double seconds = 0;
-  ParamTimings timings;
+  ParamTimings timings;  ///< several components: summed over the components
+  /// Several components: one entry per connected component of the input, in the order of
+  /// Topology::components. Empty for a mesh of one component.
+  std::vector<ComponentParam> components;
+  /// Several components: how the charts were packed (its uv moved into `uv`, so empty here).
+  ChartPacking packing;
 };
 
-/// Runs the pipeline on a single-component manifold mesh.
-/// \throw InvalidInput (bad cones, inadmissible target, several components), TopologyError
+/// How one component of a mesh of several components was parameterized.
+enum class ComponentMethod {
+  Flow,  ///< the pipeline: cones, flow, cut, layout (as for a mesh of one component)
+  /// Its own faces laid out in their 3D shapes as one chart (an unfolding: each face developed
+  /// across an edge of one already placed, none overlapping another): components of one or two
+  /// faces, and, when this works, components whose pipeline failed or whose flow layout distorts
+  /// angles by more than a factor 10 somewhere (tiny closed parts with the few cones their
+  /// topology needs). No distortion at all; its cones are its curved interior vertices (3D angle
+  /// sum not 2 pi), and its cut runs between faces that were not laid out side by side.
+  Unfolded,
+  /// The pipeline failed and the unfolding needed several patches not to overlap: each patch
+  /// its own chart, as above. The component counts as failed.
+  Patches,
+};
+
+/// "flow", "unfolded", "patches".
+const char* component_method_name(ComponentMethod method);
+
+/// One component of a mesh of several components (ParamResult::components).
+struct ComponentParam {
+  std::vector<int> vertices;  ///< input vertices of the component, ascending
+  std::vector<int> faces;     ///< input faces of the component, ascending
+  int euler_characteristic = 0, genus = 0, boundary_loops = 0;
+  ComponentMethod method = ComponentMethod::Flow;
+  bool parameterized = false;  ///< in one chart: Flow or Unfolded (false for Patches)
+  /// Why the pipeline failed (its message, or the exception it threw), also when the unfolding
+  /// then served, or why its layout gave way to the unfolding; empty when the flow served.
+  std::string message;
+  std::vector<Cone> cones;  ///< its cones, in vertices of ParamResult::mesh
+  Distortion distortion;    ///< of its own part of the atlas
+  /// Pairs of its faces that overlap in its own layout (find_uv_overlaps): a conformal layout
+  /// without flipped faces can still wind over itself (the arms of triple_vierbein, a surface
+  /// of many holes cut into one disk); 0 for Unfolded and Patches by construction. Such a layout
+  /// is cut into pieces that do not overlap (grown face by face across its edges), each its own
+  /// chart, so that the atlas never has two faces on the same texels.
+  int overlapping_face_pairs = 0;
+  double seam_length = 0;  ///< 3D length of its cut edges
+  /// Its layout was multiplied by this before packing, so that its layout area equals its 3D
+  /// area: every component then has the same mean texel density.
+  double area_scale = 1;
+  /// Its charts in ParamResult::packing.charts: one, unless Patches or its layout overlapped
+  /// itself (overlapping_face_pairs).
+  std::vector<int> charts;
+  std::vector<int> vertex_map;  ///< #V of param.mesh: the vertex of ParamResult::mesh
+  std::vector<int> face_map;    ///< #F of param.mesh: the face of ParamResult::mesh
+  /// Its vertices of ParamResult::cut_mesh start here: vertex i of its cut mesh (param.cut_mesh
+  /// when it has one chart) is cut_vertex_offset + i.
+  int cut_vertex_offset = 0;
+  double seconds = 0;
+  /// The component alone, in its own indices (param.mesh is the component, plus the vertices
+  /// edge splits added): the pipeline's result (Flow; Patches: the failed one, its mesh the
+  /// component's) or the unfolding's (Unfolded: converged, no flow; its cut has no segments).
+  ParamResult param;
+};
+
+/// Runs the pipeline: cones, connectivity modification, flow, cut, layout, atlas, distortion,
+/// uv in the unit square (aspect ratio kept).
+///
+/// Several components: each is parameterized on its own with the same options (user cones go to
+/// the components of their vertices; automatic cones are chosen per component). A component of
+/// one or two faces is unfolded; one whose pipeline fails (not converged, or InvalidInput,
+/// TopologyError, SolverError) is unfolded, in several patches if one would overlap itself, and
+/// the others go on. Each component's layout is scaled to its 3D area and the charts are
+/// packed into the unit square (pack_charts with options.packing). The result then holds: mesh
+/// (the input's vertices, then the vertices each component's edge splits added, component after
+/// component; the input's faces in their order, a component whose faces edge splits changed
+/// giving all of its faces at the place of its first), vertex_origin, added_vertex_parents,
+/// cones, cut (whole-mesh edges; segments and nodes from the Flow components only), cut_mesh,
+/// layout (uv: the packed atlas in layout units, uv = layout.uv * uv_scale up to rounding;
+/// transitions and segment transitions moved with the charts, of components in one chart; no
+/// lattice), atlas (moved likewise),
+/// distortion and seam_length of the whole atlas; flow gathers the components' flows (converged,
+/// max_error, flips, components with whole-mesh vertices, u, curvature, target_curvature; its
+/// topology, lengths, structure and flip list are per component, in components[c].param.flow);
+/// cone_selection is per component. converged is true when every component was parameterized
+/// (in one chart). A flow cancelled by its progress callback stops everything: the result then
+/// has no uv, converged false and the components done so far.
+/// \throw InvalidInput (bad cones; one component: also an inadmissible target or cone mode),
+///        TopologyError
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});
 
 }  // namespace ricci

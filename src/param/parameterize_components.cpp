@@ -1,0 +1,796 @@
+/// \file
+/// parameterize itself: a mesh of one component goes to the pipeline (parameterize.cpp); a mesh
+/// of several is parameterized component by component, and the charts packed into one atlas.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <deque>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+#include "parameterize_component.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/mesh/components.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/curvature.hpp"
+#include "ricci/metric/scheme.hpp"
+#include "ricci/param/parameterize.hpp"
+
+namespace ricci {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+/// An interior vertex whose 3D angle sum is within this of 2 pi is flat, not a cone, in an
+/// unfolded component: angle sums inside planar regions round to a few 1e-15.
+constexpr double kFlatCurvature = 1e-9;
+/// A face developed next to an already developed one lands within rounding of where that one
+/// put their shared vertex when the vertex between them is flat: closer than this (relative to
+/// the face's longest edge) it takes that position exactly and the two faces are glued.
+constexpr double kSnap = 1e-9;
+/// A component whose flow layout maps some face with sigma_max / sigma_min above this is
+/// unfolded instead when its own shape lays out in one chart. Conformal layouts stay near 1
+/// (1.1 to 2 on the shared meshes); tens to 1e5 come from tiny closed parts given the few cones
+/// their topology needs (the repaired dragon's needle tetrahedra).
+constexpr double kUnfoldAbove = 10;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+/// ParamResult::uv from the layout: the unit square, aspect ratio kept (as the pipeline does).
+void fit_unit_square(ParamResult& r) {
+  const Eigen::Vector2d lo = r.layout.uv.colwise().minCoeff().transpose();
+  const Eigen::Vector2d hi = r.layout.uv.colwise().maxCoeff().transpose();
+  const double extent = (hi - lo).maxCoeff();
+  r.uv_offset = lo;
+  r.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
+  r.uv = (r.layout.uv.rowwise() - lo.transpose()) * r.uv_scale;
+}
+
+/// A component developed in its own 3D shape, as patches: each patch grows breadth first from a
+/// seed face, every new face laid out across an edge of a face already in the patch (so with its
+/// exact 3D shape) unless it would overlap a face of the patch (exact test); faces left over
+/// seed further patches. One patch is an unfolding of the whole component: cut wherever its
+/// faces were not glued, which includes every curved vertex's wedge of faces unless it closes
+/// up, and no distortion at all.
+struct PatchLayout {
+  Triangles triangles;              ///< #F by 3: cut-mesh vertex of each corner
+  std::vector<int> vertex;          ///< per cut-mesh vertex: the mesh vertex it copies
+  Points layout;                    ///< per cut-mesh vertex
+  std::vector<int> face_patch;      ///< #F
+  std::vector<char> is_glued_edge;  ///< #E: its two faces are laid out side by side
+  int num_patches = 0;
+};
+
+PatchLayout develop_patches(const Mesh& mesh) {
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const int nf = t.num_faces;
+  PatchLayout out;
+  out.face_patch.assign(nf, -1);
+  std::vector<Eigen::Vector2d> corner(3 * nf);  // position of corner 3 f + k
+  std::vector<int> parent(3 * nf);              // union-find of corners glued together
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int c) {
+    while (parent[c] != c) c = parent[c] = parent[parent[c]];
+    return c;
+  };
+  auto unite = [&](int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  auto position = [&](int f, int k) -> Eigen::Vector3d {
+    return mesh.positions.row(t.triangles(f, k % 3)).transpose();
+  };
+  // Where the corner k of face f goes, given where corners k + 1 and k + 2 went: its offset from
+  // corner k + 1 along and across that edge, taken from the 3D triangle (no angle formula, so a
+  // needle face cannot produce NaN).
+  auto apex = [&](int f, int k, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    const Eigen::Vector3d e = position(f, k + 2) - position(f, k + 1);
+    const Eigen::Vector3d d = position(f, k) - position(f, k + 1);
+    const double l = e.norm();
+    const Eigen::Vector2d u = (to - from).normalized();
+    return Eigen::Vector2d(from + d.dot(e) / l * u +
+                           e.cross(d).norm() / l * Eigen::Vector2d(-u.y(), u.x()));
+  };
+  auto triangle = [&](int f) {
+    return std::array<Eigen::Vector2d, 3>{corner[3 * f], corner[3 * f + 1], corner[3 * f + 2]};
+  };
+  // The faces of the current patch by grid cell, cells twice the mean edge length.
+  double mean_length = 0;
+  for (int e = 0; e < t.num_edges; ++e) {
+    mean_length +=
+        (mesh.positions.row(t.edge_vertices(e, 0)) - mesh.positions.row(t.edge_vertices(e, 1)))
+            .norm();
+  }
+  const double cell = 2 * mean_length / std::max(1, t.num_edges);
+  std::unordered_map<long long, std::vector<int>> grid;
+  auto for_cells = [&](const std::array<Eigen::Vector2d, 3>& p, auto visit) {
+    const Eigen::Vector2d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]) / cell;
+    const Eigen::Vector2d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]) / cell;
+    for (auto i = static_cast<long long>(std::floor(lo.x())); i <= std::floor(hi.x()); ++i) {
+      for (auto j = static_cast<long long>(std::floor(lo.y())); j <= std::floor(hi.y()); ++j) {
+        visit((i << 32) ^ (j & 0xffffffffLL));
+      }
+    }
+  };
+  std::deque<int> frontier;  // halfedges of patch faces whose other face may join
+  auto add = [&](int f, int patch) {
+    out.face_patch[f] = patch;
+    for_cells(triangle(f), [&](long long key) { grid[key].push_back(f); });
+    for (int k = 0; k < 3; ++k) {
+      const int twin = t.halfedge_twin[3 * f + k];
+      if (twin >= 0 && out.face_patch[Topology::face_of(twin)] < 0) frontier.push_back(3 * f + k);
+    }
+  };
+  for (int seed = 0; seed < nf; ++seed) {
+    if (out.face_patch[seed] >= 0) continue;
+    const int patch = out.num_patches++;
+    grid.clear();
+    corner[3 * seed] = Eigen::Vector2d::Zero();
+    corner[3 * seed + 1] = Eigen::Vector2d((position(seed, 1) - position(seed, 0)).norm(), 0);
+    corner[3 * seed + 2] = apex(seed, 2, corner[3 * seed], corner[3 * seed + 1]);
+    add(seed, patch);
+    while (!frontier.empty()) {
+      const int h = frontier.front();
+      frontier.pop_front();
+      const int twin = t.halfedge_twin[h];
+      const int g = Topology::face_of(twin);
+      if (out.face_patch[g] >= 0) continue;
+      // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
+      // apex) lies on its left.
+      const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
+      const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
+      std::array<Eigen::Vector2d, 3> shape;
+      shape[kg] = apex(g, kg, corner[cq], corner[cp]);
+      shape[(kg + 1) % 3] = corner[cq];
+      shape[(kg + 2) % 3] = corner[cp];
+      // Across g's other two edges: a face of the patch that already holds the shared end at
+      // exactly this position and the apex within rounding (the vertex between them is flat)
+      // gives the apex its position, and g is glued to it too.
+      const double snap = kSnap * (corner[cq] - corner[cp]).norm();
+      std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};
+      for (int side = 1; side <= 2; ++side) {
+        const int other = t.halfedge_twin[3 * g + (kg + side) % 3];
+        if (other < 0) continue;
+        const int g2 = Topology::face_of(other), k2 = other % 3;
+        if (out.face_patch[g2] != patch) continue;
+        // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
+        // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
+        const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
+        const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
+        const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
+        if (corner[c_shared] != shape[shared]) continue;
+        if ((corner[c_apex] - shape[kg]).norm() > snap) continue;
+        shape[kg] = corner[c_apex];
+        glue[side - 1] = {c_apex, c_shared};
+      }
+      bool overlaps = false;
+      for_cells(shape, [&](long long key) {
+        if (overlaps) return;
+        const auto it = grid.find(key);
+        if (it == grid.end()) return;
+        for (int other : it->second) {
+          if (triangles_overlap(shape, triangle(other))) {
+            overlaps = true;
+            return;
+          }
+        }
+      });
+      if (overlaps) continue;  // g may still join from another side, or seed a patch
+      for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
+      unite(3 * g + (kg + 1) % 3, cq);
+      unite(3 * g + (kg + 2) % 3, cp);
+      for (int side = 1; side <= 2; ++side) {
+        if (glue[side - 1][0] < 0) continue;
+        // A snapped apex keeps its position only if the shared end also matched.
+        if (corner[3 * g + kg] != corner[glue[side - 1][0]]) continue;
+        unite(3 * g + kg, glue[side - 1][0]);
+        unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), glue[side - 1][1]);
+      }
+      add(g, patch);
+    }
+  }
+  // Cut-mesh vertices: one per class of glued corners, numbered in order of first corner.
+  std::vector<int> id(3 * nf, -1);
+  out.triangles.resize(nf, 3);
+  std::vector<Eigen::Vector2d> positions;
+  for (int c = 0; c < 3 * nf; ++c) {
+    int& v = id[find(c)];
+    if (v < 0) {
+      v = static_cast<int>(out.vertex.size());
+      out.vertex.push_back(t.triangles(c / 3, c % 3));
+      positions.push_back(corner[find(c)]);
+    }
+    out.triangles(c / 3, c % 3) = v;
+  }
+  out.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    out.layout.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
+  }
+  // An edge is glued when its two faces share both ends' copies.
+  out.is_glued_edge.assign(t.num_edges, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+    if (h0 < 0 || h1 < 0) continue;
+    auto copy = [&](int h, bool tail) {
+      const int f = Topology::face_of(h);
+      return out.triangles(f, (h % 3 + (tail ? 1 : 2)) % 3);
+    };
+    out.is_glued_edge[e] = copy(h0, true) == copy(h1, false) && copy(h0, false) == copy(h1, true);
+  }
+  return out;
+}
+
+/// The ParamResult of a component that unfolded into one patch (ComponentMethod::Unfolded).
+ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches) {
+  ParamResult r;
+  r.converged = true;
+  r.mesh = mesh;
+  r.vertex_origin.resize(mesh.num_vertices());
+  std::iota(r.vertex_origin.begin(), r.vertex_origin.end(), 0);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  CornerAngles angles;
+  corner_angles(t, lengths, angles);  // a needle face's NaN angles only hide a cone
+  const Eigen::VectorXd curvature = vertex_curvature(t, angles);
+  for (int v = 0; v < t.num_vertices; ++v) {
+    if (t.vertex_component[v] < 0 || t.is_boundary_vertex[v]) continue;
+    if (std::abs(curvature[v]) > kFlatCurvature) r.cones.push_back({v, curvature[v]});
+  }
+  r.cut.is_cut_edge.assign(t.num_edges, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (t.is_boundary_edge[e] || patches.is_glued_edge[e]) continue;
+    r.cut.is_cut_edge[e] = 1;
+    r.cut.length += lengths[e];
+  }
+  r.seam_length = r.cut.length;
+  r.cut_mesh.triangles = patches.triangles;
+  r.cut_mesh.to_original = patches.vertex;
+  r.cut_mesh.topology = build_topology(patches.triangles, static_cast<int>(patches.vertex.size()));
+  r.layout.uv = patches.layout;
+  r.distortion = measure_distortion(mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.layout.num_flipped_faces = r.distortion.flipped_faces;
+  fit_unit_square(r);
+  return r;
+}
+
+/// A layout cut into pieces in none of which two faces overlap: each piece grows breadth first
+/// from a seed face across the layout's shared edges, a face joining only when it overlaps no
+/// face of the piece (exact test). Returns the piece of each face; `count` pieces.
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count) {
+  const int nf = static_cast<int>(triangles.rows());
+  const Topology t = build_topology(triangles, static_cast<int>(uv.rows()));
+  std::vector<int> piece(nf, -1);
+  auto triangle = [&](int f) {
+    std::array<Eigen::Vector2d, 3> out;
+    for (int k = 0; k < 3; ++k) out[k] = uv.row(triangles(f, k)).transpose();
+    return out;
+  };
+  double mean = 0;
+  for (int f = 0; f < nf; ++f) {
+    const auto p = triangle(f);
+    mean += (p[0].cwiseMax(p[1]).cwiseMax(p[2]) - p[0].cwiseMin(p[1]).cwiseMin(p[2])).maxCoeff();
+  }
+  const double cell = std::max(2 * mean / std::max(1, nf), 1e-300);
+  std::unordered_map<long long, std::vector<int>> grid;
+  auto for_cells = [&](const std::array<Eigen::Vector2d, 3>& p, auto visit) {
+    const Eigen::Vector2d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]) / cell;
+    const Eigen::Vector2d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]) / cell;
+    for (auto i = static_cast<long long>(std::floor(lo.x())); i <= std::floor(hi.x()); ++i) {
+      for (auto j = static_cast<long long>(std::floor(lo.y())); j <= std::floor(hi.y()); ++j) {
+        visit((i << 32) ^ (j & 0xffffffffLL));
+      }
+    }
+  };
+  std::deque<int> frontier;
+  count = 0;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (piece[seed] >= 0) continue;
+    grid.clear();
+    frontier.assign(1, seed);
+    while (!frontier.empty()) {
+      const int f = frontier.front();
+      frontier.pop_front();
+      if (piece[f] >= 0) continue;
+      const auto shape = triangle(f);
+      bool overlaps = false;
+      for_cells(shape, [&](long long key) {
+        const auto it = grid.find(key);
+        if (overlaps || it == grid.end()) return;
+        for (int other : it->second) {
+          if (triangles_overlap(shape, triangle(other))) {
+            overlaps = true;
+            return;
+          }
+        }
+      });
+      if (overlaps) continue;  // it may still join from another side, or seed a piece
+      piece[f] = count;
+      for_cells(shape, [&](long long key) { grid[key].push_back(f); });
+      for (int k = 0; k < 3; ++k) {
+        const int twin = t.halfedge_twin[3 * f + k];
+        if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
+          frontier.push_back(Topology::face_of(twin));
+        }
+      }
+    }
+    ++count;
+  }
+  return piece;
+}
+
+/// One component on its way into the atlas.
+struct Piece {
+  ComponentParam info;
+  Triangles cut_triangles;      ///< #F of info.param.mesh by 3: its cut-mesh vertices
+  std::vector<int> cut_vertex;  ///< per cut-mesh vertex: vertex of info.param.mesh
+  Points layout;                ///< per cut-mesh vertex, scaled by info.area_scale
+  std::vector<int> face_chart;  ///< #F of info.param.mesh: its own chart (one chart: empty)
+  int num_charts = 1;
+  std::vector<char> cut_edges;  ///< Patches: #E of its mesh, the edges between patches' faces
+};
+
+/// The rigid motion z -> a z + b of a chart, seen after the chart moved by w = m z + s (m: the
+/// chart's rotation times its scale): w -> a w + (m b + (1 - a) s).
+std::complex<double> moved_translation(std::complex<double> a, std::complex<double> b,
+                                       std::complex<double> m, std::complex<double> s) {
+  return m * b + (1.0 - a) * s;
+}
+
+std::string describe(const ComponentParam& c, int index) {
+  return "component " + std::to_string(index) + " (" + std::to_string(c.faces.size()) +
+         " faces, genus " + std::to_string(c.genus) + ", " + std::to_string(c.boundary_loops) +
+         " boundary loops)";
+}
+
+ParamResult parameterize_components(const Mesh& input, const Topology& topology,
+                                    const ParamOptions& options) {
+  const auto start = Clock::now();
+  const int num_components = static_cast<int>(topology.components.size());
+  const int nv_in = input.num_vertices();
+
+  // User cones go to the component of their vertex, in its local numbering.
+  std::vector<std::vector<Cone>> user_cones(num_components);
+  if (options.cone_mode == ConeMode::User) {
+    std::vector<int> local(nv_in, -1);
+    for (const Component& c : topology.components) {
+      for (std::size_t i = 0; i < c.vertices.size(); ++i) {
+        local[c.vertices[i]] = static_cast<int>(i);
+      }
+    }
+    for (const Cone& cone : options.cones) {
+      if (cone.vertex < 0 || cone.vertex >= nv_in || topology.vertex_component[cone.vertex] < 0) {
+        throw InvalidInput("parameterize: cone vertex " + std::to_string(cone.vertex) +
+                           " is not a vertex of any face");
+      }
+      user_cones[topology.vertex_component[cone.vertex]].push_back(
+          {local[cone.vertex], cone.curvature});
+    }
+  }
+
+  // 1. Each component on its own: the pipeline, else its own shape, as one patch or several.
+  std::vector<Submesh> submeshes = split_components(input, topology);
+  std::vector<Piece> pieces(num_components);
+  for (int c = 0; c < num_components; ++c) {
+    const auto component_start = Clock::now();
+    const Component& component = topology.components[c];
+    const Mesh& sub = submeshes[c].mesh;
+    Piece& piece = pieces[c];
+    ComponentParam& info = piece.info;
+    info.vertices = component.vertices;
+    info.faces = component.faces;
+    info.euler_characteristic = component.euler_characteristic;
+    info.genus = component.genus;
+    info.boundary_loops = component.num_boundary_loops;
+    if (sub.num_faces() > 2) {
+      ParamOptions component_options = options;
+      component_options.cones = user_cones[c];
+      // Whichever flow the progress callback stops (cone settling included), stop here too.
+      bool cancelled = false;
+      if (options.flow.progress) {
+        component_options.flow.progress = [&](const IterationRecord& record) {
+          const bool go = options.flow.progress(record);
+          cancelled = cancelled || !go;
+          return go;
+        };
+      }
+      try {
+        info.param = parameterize_one_component(sub, component_options);
+        if (!info.param.converged) info.message = info.param.message;
+      } catch (const Error& e) {
+        info.param = ParamResult{};
+        info.message = e.what();
+      }
+      info.parameterized = info.param.converged;
+      if (cancelled) {
+        // The progress callback asked to stop: no other component is started, no atlas made.
+        ParamResult stopped;
+        stopped.mesh = input;
+        stopped.message =
+            "parameterize: cancelled in component " + std::to_string(c) + ": " + info.message;
+        for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
+        stopped.seconds = seconds_since(start);
+        return stopped;
+      }
+    }
+    const bool distorted =
+        info.parameterized && info.param.distortion.angle_distortion_max > kUnfoldAbove;
+    if (distorted) {
+      // The flow's layout is valid but far from conformal somewhere (the few cones a tiny
+      // closed part needs, on a needle-shaped tetrahedron): its own shape, if it lays out in one
+      // piece, has no distortion at all.
+      PatchLayout patches = develop_patches(sub);
+      if (patches.num_patches == 1) {
+        info.message = "the flow's layout distorts angles by up to " +
+                       std::to_string(info.param.distortion.angle_distortion_max) +
+                       " (sigma_max / sigma_min)";
+        info.method = ComponentMethod::Unfolded;
+        info.param = unfolded_result(sub, patches);
+      }
+    }
+    if (!info.parameterized) {
+      PatchLayout patches = develop_patches(sub);
+      if (patches.num_patches == 1) {
+        info.method = ComponentMethod::Unfolded;
+        info.parameterized = true;
+        info.param = unfolded_result(sub, patches);
+      } else {
+        info.method = ComponentMethod::Patches;
+        if (!info.message.empty()) info.message += "; ";
+        info.message += "its own shape needs " + std::to_string(patches.num_patches) +
+                        " patches not to overlap";
+        // The failed pipeline's result stays for its diagnostics, on the component itself.
+        info.param.mesh = sub;
+        info.param.vertex_origin.resize(sub.num_vertices());
+        std::iota(info.param.vertex_origin.begin(), info.param.vertex_origin.end(), 0);
+        info.param.added_vertex_parents.clear();
+        info.param.edge_splits = 0;
+        info.param.subdivided = false;
+        info.distortion = measure_distortion(sub, patches.triangles, patches.layout);
+        piece.cut_triangles = std::move(patches.triangles);
+        piece.cut_vertex = std::move(patches.vertex);
+        piece.layout = std::move(patches.layout);
+        piece.face_chart = std::move(patches.face_patch);
+        piece.num_charts = patches.num_patches;
+        piece.cut_edges.resize(patches.is_glued_edge.size());
+        const Topology t = build_topology(sub.triangles, sub.num_vertices());
+        for (int e = 0; e < t.num_edges; ++e) {
+          piece.cut_edges[e] = !t.is_boundary_edge[e] && !patches.is_glued_edge[e];
+        }
+      }
+    }
+    if (info.parameterized) {
+      const ParamResult& p = info.param;
+      piece.cut_triangles = p.cut_mesh.triangles;
+      piece.cut_vertex = p.cut_mesh.to_original;
+      info.area_scale = p.distortion.layout_area > 0
+                            ? std::sqrt(p.distortion.surface_area / p.distortion.layout_area)
+                            : 1.0;
+      piece.layout = p.layout.uv * info.area_scale;
+      info.distortion = p.distortion;
+      info.seam_length = p.seam_length;
+      info.overlapping_face_pairs =
+          find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
+      if (info.overlapping_face_pairs > 0) {
+        // The layout overlaps itself (a flat metric cut open into one disk can wind over
+        // itself): cut it into pieces that do not, each its own chart, the pieces' shared
+        // vertices copied.
+        int count = 0;
+        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count);
+        piece.num_charts = count;
+        // Corners stay together across the edges of the layout inside one piece; each class of
+        // corners is one vertex (a piece touching itself at a vertex gets a copy per fan).
+        const Topology t =
+            build_topology(piece.cut_triangles, static_cast<int>(piece.layout.rows()));
+        std::vector<int> parent(3 * t.num_faces);
+        std::iota(parent.begin(), parent.end(), 0);
+        auto find = [&](int x) {
+          while (parent[x] != x) x = parent[x] = parent[parent[x]];
+          return x;
+        };
+        for (int h = 0; h < 3 * t.num_faces; ++h) {
+          const int twin = t.halfedge_twin[h];
+          if (twin < h || piece.face_chart[h / 3] != piece.face_chart[twin / 3]) continue;
+          // h runs tail -> head in its face, the twin head -> tail: corner k + 1 is the tail.
+          for (const auto& [a, b] :
+               {std::pair{3 * (h / 3) + (h % 3 + 1) % 3, 3 * (twin / 3) + (twin % 3 + 2) % 3},
+                std::pair{3 * (h / 3) + (h % 3 + 2) % 3, 3 * (twin / 3) + (twin % 3 + 1) % 3}}) {
+            const int ra = find(a), rb = find(b);
+            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+          }
+        }
+        std::vector<int> id(3 * t.num_faces, -1);
+        std::vector<int> vertex;
+        std::vector<Eigen::RowVector2d> positions;
+        for (int corner = 0; corner < 3 * t.num_faces; ++corner) {
+          const int f = corner / 3, k = corner % 3, v = piece.cut_triangles(f, k);
+          int& copy = id[find(corner)];
+          if (copy < 0) {
+            copy = static_cast<int>(vertex.size());
+            vertex.push_back(piece.cut_vertex[v]);
+            positions.push_back(piece.layout.row(v));
+          }
+          piece.cut_triangles(f, k) = copy;
+        }
+        piece.cut_vertex = std::move(vertex);
+        piece.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+          piece.layout.row(static_cast<Eigen::Index>(v)) = positions[v];
+        }
+      }
+    }
+    info.seconds = seconds_since(component_start);
+  }
+
+  // 2. The whole mesh: the input's vertices, then each component's added ones; the input's
+  // faces in order, a component whose faces changed giving all of its faces at its first.
+  ParamResult result;
+  int num_vertices = nv_in;
+  for (Piece& piece : pieces) {
+    ComponentParam& info = piece.info;
+    const Mesh& m = info.param.mesh;
+    info.vertex_map.resize(m.num_vertices());
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      info.vertex_map[i] =
+          i < static_cast<int>(info.vertices.size()) ? info.vertices[i] : num_vertices++;
+    }
+  }
+  result.mesh.positions.resize(num_vertices, 3);
+  result.mesh.positions.topRows(nv_in) = input.positions;
+  result.vertex_origin.assign(num_vertices, -1);
+  std::iota(result.vertex_origin.begin(), result.vertex_origin.begin() + nv_in, 0);
+  for (const Piece& piece : pieces) {
+    const ComponentParam& info = piece.info;
+    const ParamResult& p = info.param;
+    for (int i = static_cast<int>(info.vertices.size()); i < p.mesh.num_vertices(); ++i) {
+      result.mesh.positions.row(info.vertex_map[i]) = p.mesh.positions.row(i);
+    }
+    for (const auto& [a, b] : p.added_vertex_parents) {
+      result.added_vertex_parents.push_back({info.vertex_map[a], info.vertex_map[b]});
+    }
+    result.edge_splits += p.edge_splits;
+    result.subdivided = result.subdivided || p.subdivided;
+  }
+  std::vector<int> local_face(input.num_faces());
+  for (const Component& c : topology.components) {
+    for (std::size_t i = 0; i < c.faces.size(); ++i) local_face[c.faces[i]] = static_cast<int>(i);
+  }
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(input.num_faces());
+  auto emit = [&](Piece& piece, int j) {
+    piece.info.face_map[j] = static_cast<int>(faces.size());
+    const Triangles& t = piece.info.param.mesh.triangles;
+    faces.push_back({piece.info.vertex_map[t(j, 0)], piece.info.vertex_map[t(j, 1)],
+                     piece.info.vertex_map[t(j, 2)]});
+  };
+  for (Piece& piece : pieces) piece.info.face_map.resize(piece.info.param.mesh.num_faces());
+  for (int f = 0; f < input.num_faces(); ++f) {
+    Piece& piece = pieces[topology.face_component[f]];
+    const bool unchanged =
+        piece.info.param.mesh.num_faces() == static_cast<int>(piece.info.faces.size());
+    if (unchanged) {
+      emit(piece, local_face[f]);
+    } else if (local_face[f] == 0) {
+      for (int j = 0; j < piece.info.param.mesh.num_faces(); ++j) emit(piece, j);
+    }
+  }
+  result.mesh.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k)
+      result.mesh.triangles(static_cast<Eigen::Index>(f), k) = faces[f][k];
+  }
+
+  // 3. The cut mesh and the layout before packing, component after component, and the charts:
+  // one per component, one per patch of a Patches component.
+  int num_cut_vertices = 0, num_charts = 0;
+  for (Piece& piece : pieces) {
+    piece.info.cut_vertex_offset = num_cut_vertices;
+    num_cut_vertices += static_cast<int>(piece.layout.rows());
+    for (int k = 0; k < piece.num_charts; ++k) piece.info.charts.push_back(num_charts++);
+  }
+  Points layout(num_cut_vertices, 2);
+  Triangles cut_triangles(result.mesh.num_faces(), 3);
+  std::vector<int> face_chart(result.mesh.num_faces());
+  result.cut_mesh.to_original.resize(num_cut_vertices);
+  for (Piece& piece : pieces) {
+    ComponentParam& info = piece.info;
+    const int offset = info.cut_vertex_offset;
+    layout.middleRows(offset, piece.layout.rows()) = piece.layout;
+    for (std::size_t i = 0; i < piece.cut_vertex.size(); ++i) {
+      result.cut_mesh.to_original[offset + i] = info.vertex_map[piece.cut_vertex[i]];
+    }
+    for (int j = 0; j < piece.cut_triangles.rows(); ++j) {
+      cut_triangles.row(info.face_map[j]) = piece.cut_triangles.row(j).array() + offset;
+      face_chart[info.face_map[j]] =
+          info.charts[piece.face_chart.empty() ? 0 : piece.face_chart[j]];
+    }
+  }
+
+  // 4. Packing.
+  result.packing = pack_charts(layout, cut_triangles, face_chart, options.packing);
+  result.uv = std::move(result.packing.uv);
+  result.packing.uv.resize(0, 2);
+  result.uv_scale = result.packing.scale;
+  result.uv_offset = Eigen::Vector2d::Zero();
+  result.layout.uv = result.uv / result.packing.scale;
+  result.cut_mesh.triangles = std::move(cut_triangles);
+  result.cut_mesh.topology = build_topology(result.cut_mesh.triangles, num_cut_vertices);
+  result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.uv);
+
+  // 5. The stages in whole-mesh indices: cut, cones, transitions, atlas, flow.
+  const Topology whole = build_topology(result.mesh.triangles, num_vertices);
+  result.cut.is_cut_edge.assign(whole.num_edges, 0);
+  result.flow.converged = true;
+  result.flow.u = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.curvature = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.target_curvature = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.target.description = "flat, per component";
+  int segment_offset = 0;
+  for (int c = 0; c < num_components; ++c) {
+    ComponentParam& info = pieces[c].info;
+    const ParamResult& p = info.param;
+    const Topology local = build_topology(p.mesh.triangles, p.mesh.num_vertices());
+    std::vector<int> edge_map(local.num_edges, -1);
+    for (int j = 0; j < local.num_faces; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        edge_map[local.halfedge_edge[3 * j + k]] = whole.halfedge_edge[3 * info.face_map[j] + k];
+      }
+    }
+    if (!info.parameterized) {
+      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+      for (int e = 0; e < local.num_edges; ++e) {
+        if (!pieces[c].cut_edges[e]) continue;
+        result.cut.is_cut_edge[edge_map[e]] = 1;
+        info.seam_length += lengths[e];
+      }
+      result.cut.length += info.seam_length;
+      result.seam_length += info.seam_length;
+      continue;
+    }
+    for (const Cone& cone : p.cones)
+      info.cones.push_back({info.vertex_map[cone.vertex], cone.curvature});
+    result.cones.insert(result.cones.end(), info.cones.begin(), info.cones.end());
+    for (int e = 0; e < local.num_edges; ++e) {
+      if (p.cut.is_cut_edge[e]) result.cut.is_cut_edge[edge_map[e]] = 1;
+    }
+    if (info.charts.size() > 1) {
+      // Split so as not to overlap itself: the edges between its pieces are seams too.
+      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+      const std::vector<int>& chart = pieces[c].face_chart;
+      for (int e = 0; e < local.num_edges; ++e) {
+        const int h0 = local.edge_halfedges(e, 0), h1 = local.edge_halfedges(e, 1);
+        if (h0 < 0 || h1 < 0 || p.cut.is_cut_edge[e]) continue;
+        if (chart[Topology::face_of(h0)] == chart[Topology::face_of(h1)]) continue;
+        result.cut.is_cut_edge[edge_map[e]] = 1;
+        info.seam_length += lengths[e];
+      }
+    }
+    for (int v : p.cut.nodes) result.cut.nodes.push_back(info.vertex_map[v]);
+    for (const std::vector<int>& segment : p.cut.segments) {
+      std::vector<int>& moved = result.cut.segments.emplace_back();
+      for (int v : segment) moved.push_back(info.vertex_map[v]);
+    }
+    result.cut.num_generators += p.cut.num_generators;
+    result.cut.length += p.cut.length;
+    result.seam_length += info.seam_length;
+
+    // The chart moved from the component's layout to the atlas's layout units: w = m z + s.
+    // (A layout split into pieces moves piece by piece: its transitions and atlas stay in
+    // components[c].param.)
+    const bool one_chart = info.charts.size() == 1;
+    const PackedChart& chart = result.packing.charts[info.charts.front()];
+    const std::complex<double> m = std::polar(info.area_scale, chart.rotation);
+    const std::complex<double> s =
+        std::complex<double>(chart.translation.x(), chart.translation.y()) / result.packing.scale;
+    auto move_transition = [&](SeamTransition t) {
+      t.edge = t.edge >= 0 ? edge_map[t.edge] : -1;
+      if (t.segment >= 0) t.segment += segment_offset;
+      t.translation = moved_translation(t.rotation, t.translation, m, s);
+      return t;
+    };
+    for (const SeamTransition& t :
+         one_chart ? p.layout.transitions : std::vector<SeamTransition>{}) {
+      result.layout.transitions.push_back(move_transition(t));
+    }
+    for (const SeamTransition& t :
+         one_chart ? p.layout.segment_transitions : std::vector<SeamTransition>{}) {
+      result.layout.segment_transitions.push_back(move_transition(t));
+    }
+    result.layout.max_length_relative_error =
+        std::max(result.layout.max_length_relative_error, p.layout.max_length_relative_error);
+    result.layout.num_flipped_faces += p.layout.num_flipped_faces;
+    result.layout.refined = result.layout.refined || p.layout.refined;
+    for (BoundaryChart bc : one_chart ? p.atlas.boundary_charts : std::vector<BoundaryChart>{}) {
+      bc.segment += segment_offset;
+      for (int& f : bc.faces) f = info.face_map[f];
+      for (Eigen::Index i = 0; i < bc.corner_uv.rows(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+          const std::complex<double> w =
+              m * std::complex<double>(bc.corner_uv(i, 2 * k), bc.corner_uv(i, 2 * k + 1)) + s;
+          bc.corner_uv(i, 2 * k) = w.real();
+          bc.corner_uv(i, 2 * k + 1) = w.imag();
+        }
+      }
+      bc.translation = moved_translation(bc.rotation, bc.translation, m, s);
+      result.atlas.boundary_charts.push_back(std::move(bc));
+    }
+    result.atlas.max_transition_error =
+        std::max(result.atlas.max_transition_error, p.atlas.max_transition_error);
+    segment_offset += static_cast<int>(p.cut.segments.size());
+
+    if (info.method != ComponentMethod::Flow) continue;
+    const ParamTimings& t = p.timings;
+    result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
+    result.timings.development += t.development, result.timings.layout += t.layout;
+    result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
+    const MeshFlowResult& flow = p.flow;
+    result.flow.converged = result.flow.converged && flow.converged;
+    result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
+    result.flow.flips += flow.flips;
+    result.flow.blocked_flips += flow.blocked_flips;
+    result.flow.setup_seconds += flow.setup_seconds;
+    result.flow.total_seconds += flow.total_seconds;
+    for (ComponentFlow cf : flow.components) {
+      for (int& v : cf.vertices) v = info.vertex_map[v];
+      result.flow.components.push_back(std::move(cf));
+    }
+    for (int i = 0; i < p.mesh.num_vertices(); ++i) {
+      result.flow.u[info.vertex_map[i]] = flow.u[i];
+      result.flow.curvature[info.vertex_map[i]] = flow.curvature[i];
+      result.flow.target_curvature[info.vertex_map[i]] = flow.target_curvature[i];
+    }
+  }
+  std::sort(result.layout.transitions.begin(), result.layout.transitions.end(),
+            [](const SeamTransition& a, const SeamTransition& b) { return a.edge < b.edge; });
+
+  // 6. Verdict.
+  int failed = 0;
+  for (int c = 0; c < num_components; ++c) {
+    const ComponentParam& info = pieces[c].info;
+    if (info.parameterized) continue;
+    if (failed < 5) {
+      result.message += (failed ? "; " : "") + describe(info, c) + ": " + info.message;
+    }
+    ++failed;
+  }
+  result.converged = failed == 0;
+  if (failed > 0) {
+    result.message =
+        std::to_string(failed) + " of " + std::to_string(num_components) +
+        " components failed (laid out as patches of their own shape): " + result.message +
+        (failed > 5 ? "; ..." : "");
+  }
+  result.components.reserve(num_components);
+  for (Piece& piece : pieces) result.components.push_back(std::move(piece.info));
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace
+
+const char* component_method_name(ComponentMethod method) {
+  switch (method) {
+    case ComponentMethod::Flow:
+      return "flow";
+    case ComponentMethod::Unfolded:
+      return "unfolded";
+    case ComponentMethod::Patches:
+      return "patches";
+  }
+  return "unknown";
+}
+
+ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
+  const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  if (topology.components.size() <= 1) return parameterize_one_component(mesh, options);
+  return parameterize_components(mesh, topology, options);
+}
+
+}  // namespace ricci
