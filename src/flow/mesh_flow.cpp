@@ -328,15 +328,21 @@ Development develop_input_faces(const Topology& input, const MeshFlowResult& flo
   // Doubled components' faces are developed already (their lengths are those of developed
   // corners, which may be collinear): give them their input lengths here, always a valid
   // triangle, and their developed shapes below.
-  Eigen::VectorXd lengths = flow.lengths;
-  for (std::size_t c = 0; c < flow.components.size(); ++c) {
-    if (!flow.components[c].doubled) continue;
-    for (int f : input.components[c].faces) {
-      for (int k = 0; k < 3; ++k)
-        lengths[input.face_edges(f, k)] = flow.input_lengths[input.face_edges(f, k)];
+  const bool with_doubled = std::any_of(flow.components.begin(), flow.components.end(),
+                                        [](const ComponentFlow& c) { return c.doubled; });
+  Eigen::VectorXd doubled_lengths;
+  if (with_doubled) {
+    doubled_lengths = flow.lengths;
+    for (std::size_t c = 0; c < flow.components.size(); ++c) {
+      if (!flow.components[c].doubled) continue;
+      for (int f : input.components[c].faces) {
+        for (int k = 0; k < 3; ++k)
+          doubled_lengths[input.face_edges(f, k)] = flow.input_lengths[input.face_edges(f, k)];
+      }
     }
   }
-  Development d = develop_input_faces(input, flow.flipped_edges, lengths);
+  Development d = develop_input_faces(input, flow.flipped_edges,
+                                      with_doubled ? doubled_lengths : flow.lengths);
   bool any_doubled = false;
   for (std::size_t c = 0; c < flow.components.size(); ++c) {
     const ComponentFlow& comp = flow.components[c];
@@ -382,8 +388,8 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
                          const MeshFlowOptions& options) {
   const auto start = Clock::now();
   MeshFlowResult result;
-  result.topology = topology;
-  const Topology& whole = result.topology;
+  // result.topology is set at the end: the final triangulation, or a copy of this one.
+  const Topology& whole = topology;
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);
   const ConformalStructure& structure = result.structure.structure;
@@ -492,7 +498,11 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
   }
-  if (flipped) result.topology = std::move(*flipped);
+  if (flipped) {
+    result.topology = std::move(*flipped);
+  } else {
+    result.topology = topology;
+  }
   result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

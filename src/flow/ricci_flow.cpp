@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -10,6 +11,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/curvature.hpp"
@@ -96,12 +98,13 @@ const char* flow_status_name(FlowStatus status) {
 }
 
 struct RicciFlow::State {
-  // With flips the state owns a copy of the topology, which the flips change; `topology` refers
-  // to that copy, or to the caller's topology without flips.
+  // The caller's topology is never changed: the first flip the flow needs makes the state's own
+  // copy, which the flips change. `topology` points at that copy, or at the caller's topology
+  // while no flip was needed (a mesh that is Delaunay throughout is never copied).
   const bool flips;
   const bool hyperbolic;  // hyperbolic background: no gauge, a diagonal term in the Hessian
   std::optional<Topology> owned_topology;
-  const Topology& topology;
+  const Topology* topology;
   ConformalStructure structure;
   Target target;
   FlowOptions options;
@@ -130,8 +133,10 @@ struct RicciFlow::State {
   int pinned_vertex = -1;  // gauge of a closed component
   double gauge_mean = 0;   // mean of u held on a closed component
 
-  Eigen::SparseMatrix<double> H;   // reduced Hessian, both triangles
-  std::vector<int> edge_slots;     // #E x 4: (ij, ji, ii, jj) value indices or -1
+  Eigen::SparseMatrix<double> H;  // reduced Hessian, both triangles
+  // Per value of H, the edge terms it sums, in order (slot_terms_start: #nnz + 1 offsets into
+  // slot_terms; a term is 2 e + 1 for + w_e, 2 e for - w_e).
+  std::vector<int> slot_terms_start, slot_terms;
   std::vector<int> diagonal_slot;  // per row
   SparseCholesky cholesky;
   Eigen::VectorXd halfedge_w, edge_w;
@@ -149,22 +154,38 @@ struct RicciFlow::State {
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
       : flips(uses_edge_flips(s, o)),
         hyperbolic(s.geometry == Geometry::Hyperbolic),
-        owned_topology(flips ? std::optional<Topology>(t) : std::nullopt),
-        topology(flips ? *owned_topology : t),
+        topology(&t),
         structure(s),
         target(tg),
         options(o),
         start(Clock::now()),
         cholesky(o.use_cholmod) {}
 
+  /// The topology the flips may change: the state's own copy, made at the first call.
+  Topology& own_topology() {
+    if (!owned_topology) {
+      owned_topology = *topology;
+      topology = &*owned_topology;
+    }
+    return *owned_topology;
+  }
+
+  /// Flips the current triangulation to the Delaunay one at u (lengths l, updated), on the
+  /// state's own copy of the topology, which is made only when some edge fails the test.
+  DelaunayFlipResult flip_current_to_delaunay(const Eigen::VectorXd& at, Eigen::VectorXd& l,
+                                              const DelaunayFlipOptions& o) {
+    if (count_non_delaunay_edges(*topology, l, o.tolerance, structure.geometry) == 0) return {};
+    return flip_to_delaunay(own_topology(), structure, at, l, o);
+  }
+
   /// Lengths, angles and curvature of the current triangulation at u = at (no flips).
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
-    if (edge_lengths(topology, structure, at, l) > 0) return Evaluation::BadLength;
-    if (corner_angles(topology, l, a, structure.geometry) >= 0) {
+    if (edge_lengths(*topology, structure, at, l) > 0) return Evaluation::BadLength;
+    if (corner_angles(*topology, l, a, structure.geometry) >= 0) {
       return Evaluation::TriangleInequality;
     }
-    vertex_curvature(topology, a, k);
+    vertex_curvature(*topology, a, k);
     return Evaluation::Valid;
   }
 
@@ -174,13 +195,13 @@ struct RicciFlow::State {
     trial_flipped = false;
     trial_flips = trial_blocked = 0;
     if (!flips) return evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
-    if (edge_lengths(topology, structure, trial_u, trial_lengths) > 0) {
+    if (edge_lengths(*topology, structure, trial_u, trial_lengths) > 0) {
       return Evaluation::BadLength;
     }
-    const Topology* t = &topology;
-    if (count_non_delaunay_edges(topology, trial_lengths, flip_options().tolerance,
+    const Topology* t = topology;
+    if (count_non_delaunay_edges(*topology, trial_lengths, flip_options().tolerance,
                                  structure.geometry) > blocked_flips) {
-      trial_topology = topology;
+      trial_topology = *topology;
       trial_structure = structure;
       const DelaunayFlipResult r = flip_to_delaunay(*trial_topology, trial_structure, trial_u,
                                                     trial_lengths, flip_options());
@@ -207,15 +228,23 @@ struct RicciFlow::State {
   /// Makes the trial triangulation the current one: a new sparsity pattern, analysed afresh.
   void accept_trial_flips() {
     if (!trial_flipped) return;
-    std::swap(*owned_topology, *trial_topology);
+    if (owned_topology) {
+      std::swap(*owned_topology, *trial_topology);
+    } else {
+      owned_topology = std::move(*trial_topology);
+      topology = &*owned_topology;
+      trial_topology.reset();
+    }
     structure.eta.swap(trial_structure.eta);
     total_flips += trial_flips;
     flipped_edges.insert(flipped_edges.end(), trial_flipped_edges.begin(),
                          trial_flipped_edges.end());
     blocked_flips = trial_blocked;
+    finish_analysis();
     build_system();
     cholesky = SparseCholesky(options.use_cholmod);
     factor_matches_pattern = false;
+    start_analysis();
   }
 
   /// max and sum of squares of |K-bar - K| over the vertices with a target.
@@ -223,8 +252,8 @@ struct RicciFlow::State {
     max_error = 0;
     sum_sq = 0;
     count = 0;
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (target.fixed[v] || topology.vertex_component[v] < 0) continue;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (target.fixed[v] || topology->vertex_component[v] < 0) continue;
       const double d = target.curvature[v] - k[v];
       max_error = std::max(max_error, std::abs(d));
       sum_sq += d * d;
@@ -274,20 +303,20 @@ struct RicciFlow::State {
   double error_floor() const {
     // The weights of the last assembly (or of the gradient flow's step size): one step stale
     // at most, which an estimate with a factor of room tolerates.
-    if (edge_w.size() != topology.num_edges) return 0.0;
+    if (edge_w.size() != topology->num_edges) return 0.0;
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    std::vector<double> weight(topology.num_vertices, 0.0);
-    for (int e = 0; e < topology.num_edges; ++e) {
-      const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+    std::vector<double> weight(topology->num_vertices, 0.0);
+    for (int e = 0; e < topology->num_edges; ++e) {
+      const int i = topology->edge_vertices(e, 0), j = topology->edge_vertices(e, 1);
       const double w = std::abs(edge_w[e]) * (1 + std::max(std::abs(u[i]), std::abs(u[j])));
       weight[i] += w;
       weight[j] += w;
     }
     double worst = 0;
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (target.fixed[v] || topology.vertex_component[v] < 0) continue;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (target.fixed[v] || topology->vertex_component[v] < 0) continue;
       const double floor =
-          4 * eps * (2 * std::numbers::pi * topology.vertex_degree[v] + 2 * weight[v]);
+          4 * eps * (2 * std::numbers::pi * topology->vertex_degree[v] + 2 * weight[v]);
       worst = std::max(worst, floor);
     }
     return worst;
@@ -320,33 +349,68 @@ struct RicciFlow::State {
 
   void build_system() {
     const auto t0 = Clock::now();
-    const int nv = topology.num_vertices;
+    const int nv = topology->num_vertices;
     row_of_vertex.assign(nv, -1);
     vertex_of_row.clear();
     // The hyperbolic energy is strictly convex: no gauge, every vertex with a target is free.
     closed = !hyperbolic && !target.has_fixed_vertices();
     for (int v = 0; v < nv; ++v) {
-      if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
+      if (topology->vertex_component[v] < 0 || target.fixed[v]) continue;
       if (closed && pinned_vertex < 0) pinned_vertex = v;  // the gauge: u of one vertex stays put
       if (v == pinned_vertex) continue;                    // during the solve
       row_of_vertex[v] = static_cast<int>(vertex_of_row.size());
       vertex_of_row.push_back(v);
     }
     const int n = static_cast<int>(vertex_of_row.size());
-    std::vector<Eigen::Triplet<double>> pattern;
-    pattern.reserve(n + 2 * topology.num_edges);
-    for (int r = 0; r < n; ++r) pattern.emplace_back(r, r, 0.0);
-    for (int e = 0; e < topology.num_edges; ++e) {
-      const int ri = row_of_vertex[topology.edge_vertices(e, 0)];
-      const int rj = row_of_vertex[topology.edge_vertices(e, 1)];
-      if (ri >= 0 && rj >= 0) {
-        pattern.emplace_back(ri, rj, 0.0);
-        pattern.emplace_back(rj, ri, 0.0);
+    const int ne = topology->num_edges;
+    // The pattern in compressed columns, built directly: per column (free vertex) its diagonal
+    // and its free neighbours, sorted, double edges of a Delta-complex merged, as
+    // setFromTriplets would make it.
+    std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0);
+    for (int r = 0; r < n; ++r) outer[r + 1] = 1;
+    for (int e = 0; e < ne; ++e) {
+      const int ri = row_of_vertex[topology->edge_vertices(e, 0)];
+      const int rj = row_of_vertex[topology->edge_vertices(e, 1)];
+      if (ri >= 0 && rj >= 0 && ri != rj) {
+        ++outer[ri + 1];
+        ++outer[rj + 1];
       }
     }
+    for (int r = 0; r < n; ++r) outer[r + 1] += outer[r];
+    std::vector<int> inner(static_cast<std::size_t>(outer[n]));
+    {
+      std::vector<int> fill(outer.begin(), outer.end() - 1);
+      for (int r = 0; r < n; ++r) inner[fill[r]++] = r;
+      for (int e = 0; e < ne; ++e) {
+        const int ri = row_of_vertex[topology->edge_vertices(e, 0)];
+        const int rj = row_of_vertex[topology->edge_vertices(e, 1)];
+        if (ri >= 0 && rj >= 0 && ri != rj) {
+          inner[fill[ri]++] = rj;
+          inner[fill[rj]++] = ri;
+        }
+      }
+    }
+    std::vector<int> column_size(static_cast<std::size_t>(n));
+    parallel::for_each(n, [&](std::int64_t r) {
+      int* begin = inner.data() + outer[r];
+      int* end = inner.data() + outer[r + 1];
+      std::sort(begin, end);
+      column_size[r] = static_cast<int>(std::unique(begin, end) - begin);
+    });
     H.resize(n, n);
-    H.setFromTriplets(pattern.begin(), pattern.end());
-    H.makeCompressed();
+    std::int64_t nnz = 0;
+    for (int r = 0; r < n; ++r) nnz += column_size[r];
+    H.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+    {
+      int* outer_ptr = H.outerIndexPtr();
+      int* inner_ptr = H.innerIndexPtr();
+      outer_ptr[0] = 0;
+      for (int r = 0; r < n; ++r) {
+        std::copy_n(inner.data() + outer[r], column_size[r], inner_ptr + outer_ptr[r]);
+        outer_ptr[r + 1] = outer_ptr[r] + column_size[r];
+      }
+      std::fill_n(H.valuePtr(), nnz, 0.0);
+    }
     auto slot = [&](int r, int c) -> int {
       if (r < 0 || c < 0) return -1;
       const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[c];
@@ -355,46 +419,91 @@ struct RicciFlow::State {
     };
     diagonal_slot.resize(n);
     for (int r = 0; r < n; ++r) diagonal_slot[r] = slot(r, r);
-    edge_slots.assign(4 * static_cast<std::size_t>(topology.num_edges), -1);
-    for (int e = 0; e < topology.num_edges; ++e) {
-      const int ri = row_of_vertex[topology.edge_vertices(e, 0)];
-      const int rj = row_of_vertex[topology.edge_vertices(e, 1)];
+    // What each matrix entry sums, in the order of a sequential pass over the edges (-w into the
+    // two off-diagonal entries ij and ji, +w into the diagonal entries ii and jj): assembly then
+    // fills the entries in parallel with exactly the sequential pass's sums.
+    std::vector<int> edge_slots(4 * static_cast<std::size_t>(ne));
+    parallel::for_each(ne, [&](std::int64_t e) {
+      const int ri = row_of_vertex[topology->edge_vertices(e, 0)];
+      const int rj = row_of_vertex[topology->edge_vertices(e, 1)];
       edge_slots[4 * e + 0] = slot(ri, rj);
       edge_slots[4 * e + 1] = slot(rj, ri);
       edge_slots[4 * e + 2] = ri >= 0 ? diagonal_slot[ri] : -1;
       edge_slots[4 * e + 3] = rj >= 0 ? diagonal_slot[rj] : -1;
+    });
+    slot_terms_start.assign(static_cast<std::size_t>(nnz) + 1, 0);
+    for (const int x : edge_slots) {
+      if (x >= 0) ++slot_terms_start[x + 1];
+    }
+    for (std::int64_t x = 0; x < nnz; ++x) slot_terms_start[x + 1] += slot_terms_start[x];
+    slot_terms.resize(static_cast<std::size_t>(slot_terms_start[nnz]));
+    {
+      std::vector<int> fill(slot_terms_start.begin(), slot_terms_start.end() - 1);
+      for (std::size_t i = 0; i < edge_slots.size(); ++i) {
+        const int x = edge_slots[i];
+        // term: 2 e + 1 adds w_e, 2 e subtracts it
+        if (x >= 0) slot_terms[fill[x]++] = 2 * static_cast<int>(i / 4) + (i % 4 >= 2 ? 1 : 0);
+      }
     }
     timings.setup += seconds_since(t0);
   }
 
+  /// Starts the symbolic analysis of H's new pattern beside this thread (Newton only): it needs
+  /// nothing but the pattern, and runs while the first evaluation and the Hessian's weights are
+  /// computed. H and the Cholesky object are left alone until finish_analysis().
+  void start_analysis() {
+    finish_analysis();
+    if (options.solver != FlowSolver::Newton) return;
+    pending_analysis = parallel::run_beside([this]() -> double {
+      const auto t0 = Clock::now();
+      cholesky.analyze(H);
+      return seconds_since(t0);
+    });
+  }
+
+  /// Waits for an analysis started by start_analysis and books it (rethrowing its exception);
+  /// keep = false: one whose result is thrown away, failed or not.
+  void finish_analysis(bool keep = true) {
+    if (!pending_analysis.valid()) return;
+    std::future<double> pending = std::move(pending_analysis);
+    if (!keep) {
+      pending.wait();
+      return;
+    }
+    timings.analysis += pending.get();
+    ++analyses;
+  }
+
   void compute_edge_weights() {
     if (hyperbolic) {
-      hyperbolic_hessian_terms(topology, structure, u, lengths, angles, halfedge_w,
+      hyperbolic_hessian_terms(*topology, structure, u, lengths, angles, halfedge_w,
                                corner_diagonal);
-      vertex_diagonal.setZero(topology.num_vertices);
-      for (int f = 0; f < topology.num_faces; ++f) {
+      vertex_diagonal.setZero(topology->num_vertices);
+      for (int f = 0; f < topology->num_faces; ++f) {
         for (int k = 0; k < 3; ++k)
-          vertex_diagonal[topology.triangles(f, k)] += corner_diagonal[3 * f + k];
+          vertex_diagonal[topology->triangles(f, k)] += corner_diagonal[3 * f + k];
       }
     } else {
-      halfedge_weights(topology, structure, u, lengths, angles, halfedge_w);
+      halfedge_weights(*topology, structure, u, lengths, angles, halfedge_w);
     }
-    edge_weights(topology, halfedge_w, edge_w);
+    edge_weights(*topology, halfedge_w, edge_w);
   }
 
   void assemble() {
     const auto t0 = Clock::now();
     compute_edge_weights();
+    // The symbolic analysis reads H: wait for it before writing the values.
+    finish_analysis();
     double* values = H.valuePtr();
-    std::fill(values, values + H.nonZeros(), 0.0);
-    for (int e = 0; e < topology.num_edges; ++e) {
-      const double w = edge_w[e];
-      const int* s = &edge_slots[4 * e];
-      if (s[0] >= 0) values[s[0]] -= w;
-      if (s[1] >= 0) values[s[1]] -= w;
-      if (s[2] >= 0) values[s[2]] += w;
-      if (s[3] >= 0) values[s[3]] += w;
-    }
+    parallel::for_each(H.nonZeros(), [&](std::int64_t x) {
+      double sum = 0.0;
+      for (int i = slot_terms_start[x]; i < slot_terms_start[x + 1]; ++i) {
+        const int term = slot_terms[i];
+        const double w = edge_w[term >> 1];
+        sum = (term & 1) ? sum + w : sum - w;
+      }
+      values[x] = sum;
+    });
     if (hyperbolic) {
       for (std::size_t r = 0; r < vertex_of_row.size(); ++r) {
         values[diagonal_slot[r]] += vertex_diagonal[vertex_of_row[r]];
@@ -407,14 +516,14 @@ struct RicciFlow::State {
     if (!closed) return;
     double mean = 0;
     int count = 0;
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (topology.vertex_component[v] < 0) continue;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (topology->vertex_component[v] < 0) continue;
       mean += u[v];
       ++count;
     }
     const double shift = gauge_mean - mean / std::max(count, 1);
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (topology.vertex_component[v] >= 0) u[v] += shift;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (topology->vertex_component[v] >= 0) u[v] += shift;
     }
     lengths *= std::exp(shift);  // every scheme's lengths scale with a common factor on gamma
   }
@@ -427,8 +536,8 @@ struct RicciFlow::State {
     if (!closed) return 0.0;
     double sum = 0;
     int count = 0;
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (topology.vertex_component[v] < 0) continue;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (topology->vertex_component[v] < 0) continue;
       sum += target.curvature[v] - curvature[v];
       ++count;
     }
@@ -517,16 +626,16 @@ struct RicciFlow::State {
       throw SolverError("ricci_flow: the Newton system gave a non-finite step at iteration " +
                         std::to_string(iteration + 1));
     }
-    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology.num_vertices);
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology->num_vertices);
     for (int r = 0; r < n; ++r) delta[vertex_of_row[r]] = delta_rows[r];
     line_search(delta, 1.0);
   }
 
   void gradient_step() {
     const double drift = gauss_bonnet_drift();
-    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology.num_vertices);
-    for (int v = 0; v < topology.num_vertices; ++v) {
-      if (topology.vertex_component[v] < 0 || target.fixed[v]) continue;
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology->num_vertices);
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (topology->vertex_component[v] < 0 || target.fixed[v]) continue;
       delta[v] = target.curvature[v] - curvature[v] - drift;
     }
     line_search(delta, gradient_dt);
@@ -602,7 +711,65 @@ struct RicciFlow::State {
     record(alpha, backtracks, triangle_failures + length_failures, flipped);
   }
 
+  /// The result so far; release: the flow's last use (ricci_flow), which moves the arrays and
+  /// the flipped topology out instead of copying them.
+  FlowResult make_result(bool release) {
+    FlowResult r;
+    r.status = status;
+    r.converged = finished && status == FlowStatus::Converged;
+    r.message = finished ? message : "running";
+    r.error_floor = error_floor();
+    if (hyperbolic) {
+      r.total_area = hyperbolic_total_area(angles);
+      r.gauss_bonnet_relative_error =
+          hyperbolic_gauss_bonnet_relative_error(*topology, curvature, r.total_area);
+    } else {
+      r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(*topology, curvature);
+    }
+    r.target_curvature = target.curvature;
+    for (int v = 0; v < topology->num_vertices; ++v) {
+      if (target.fixed[v]) r.target_curvature[v] = curvature[v];
+    }
+    r.triangles = topology->triangles;
+    r.flips = total_flips;
+    r.isometric_flips = isometric_flips;
+    r.blocked_flips = blocked_flips;
+    r.iterations = iteration;
+    r.max_error = history.back().max_error;
+    r.timings = timings;
+    r.timings.total = seconds_since(start);
+    r.analyses = analyses;
+    r.factorizations = factorizations;
+    r.cg_iterations = cg_iterations;
+    r.linear_solver = options.solver == FlowSolver::Newton ? cholesky.backend() : "none";
+    if (release) {
+      r.u = std::move(u);
+      r.curvature = std::move(curvature);
+      r.lengths = std::move(lengths);
+      r.flipped_edges = std::move(flipped_edges);
+      r.eta = std::move(structure.eta);
+      r.history = std::move(history);
+      // Flips are made on the state's own copy only: it exists whenever total_flips > 0.
+      if (total_flips > 0) {
+        r.intrinsic_topology = std::make_shared<const Topology>(std::move(own_topology()));
+      }
+    } else {
+      r.u = u;
+      r.curvature = curvature;
+      r.lengths = lengths;
+      r.flipped_edges = flipped_edges;
+      r.eta = structure.eta;
+      r.history = history;
+      if (total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(*topology);
+    }
+    return r;
+  }
+
   int blocked_steps = 0;  // consecutive iterations whose step triangles cut below 1e-6
+
+  // The symbolic analysis running beside the flow (start_analysis); last, so that it is
+  // destroyed, which waits for the analysis, before H and the Cholesky object it reads.
+  std::future<double> pending_analysis;
 };
 
 RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structure,
@@ -632,11 +799,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
     // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
     // distortion on the input faces went from 1.029 to 1.068.
-    if (edge_lengths(s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
+    if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
-      const DelaunayFlipResult r = flip_to_delaunay(*s.owned_topology, s.structure,
-                                                    s.structure.initial_u, s.lengths, isometric);
+      const DelaunayFlipResult r =
+          s.flip_current_to_delaunay(s.structure.initial_u, s.lengths, isometric);
       s.total_flips += r.flips;
       s.isometric_flips = r.flips;
       s.flipped_edges = r.flipped_edges;
@@ -652,41 +819,26 @@ RicciFlow::~RicciFlow() = default;
 
 void RicciFlow::set_u(const Eigen::VectorXd& u) {
   State& s = *state_;
-  if (u.size() != s.topology.num_vertices || !u.allFinite()) {
-    throw InvalidInput("RicciFlow::set_u: expected " + std::to_string(s.topology.num_vertices) +
+  if (u.size() != s.topology->num_vertices || !u.allFinite()) {
+    throw InvalidInput("RicciFlow::set_u: expected " + std::to_string(s.topology->num_vertices) +
                        " finite log radii");
   }
+  s.finish_analysis(/*keep=*/false);  // an analysis of the pattern this call replaces
   s.u = u;
   int initial_flips = 0;
   if (s.flips) {
     // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
     // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
-    if (edge_lengths(s.topology, s.structure, s.u, s.lengths) == 0) {
-      const DelaunayFlipResult r =
-          flip_to_delaunay(*s.owned_topology, s.structure, s.u, s.lengths, s.flip_options());
+    if (edge_lengths(*s.topology, s.structure, s.u, s.lengths) == 0) {
+      const DelaunayFlipResult r = s.flip_current_to_delaunay(s.u, s.lengths, s.flip_options());
       initial_flips = r.flips;
       s.total_flips += r.flips;
       s.flipped_edges.insert(s.flipped_edges.end(), r.flipped_edges.begin(), r.flipped_edges.end());
       s.blocked_flips = r.blocked;
     }
   }
-  const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
-  if (ev == Evaluation::BadLength) {
-    throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
-  }
-  if (ev == Evaluation::TriangleInequality) {
-    const int f = corner_angles(s.topology, s.lengths, s.angles, s.structure.geometry);
-    throw InvalidInput("RicciFlow: face " + std::to_string(f) +
-                       " of the initial metric breaks a triangle inequality");
-  }
-  s.gauge_mean = 0;
-  int count = 0;
-  for (int v = 0; v < s.topology.num_vertices; ++v) {
-    if (s.topology.vertex_component[v] < 0) continue;
-    s.gauge_mean += s.u[v];
-    ++count;
-  }
-  s.gauge_mean /= std::max(count, 1);
+  // The triangulation is final for this u: its system's pattern, whose symbolic analysis runs
+  // beside the evaluation below.
   s.iteration = 0;
   s.history.clear();
   s.finished = false;
@@ -694,16 +846,34 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.build_system();
   s.cholesky = SparseCholesky(s.options.use_cholmod);
   s.factor_matches_pattern = false;
+  s.start_analysis();
+  const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
+  if (ev == Evaluation::BadLength) {
+    throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
+  }
+  if (ev == Evaluation::TriangleInequality) {
+    const int f = corner_angles(*s.topology, s.lengths, s.angles, s.structure.geometry);
+    throw InvalidInput("RicciFlow: face " + std::to_string(f) +
+                       " of the initial metric breaks a triangle inequality");
+  }
+  s.gauge_mean = 0;
+  int count = 0;
+  for (int v = 0; v < s.topology->num_vertices; ++v) {
+    if (s.topology->vertex_component[v] < 0) continue;
+    s.gauge_mean += s.u[v];
+    ++count;
+  }
+  s.gauge_mean /= std::max(count, 1);
   if (s.options.solver == FlowSolver::Gradient) {
     s.gradient_dt = s.options.gradient_step;
     if (s.gradient_dt <= 0) {
       // Explicit Euler on du/dt = K-bar - K is stable for dt < 2 / lambda_max(L) and
       // lambda_max <= 2 max L_ii (Gershgorin): dt = 1 / max L_ii is safe.
       s.compute_edge_weights();
-      Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(s.topology.num_vertices);
-      for (int e = 0; e < s.topology.num_edges; ++e) {
-        diagonal[s.topology.edge_vertices(e, 0)] += std::abs(s.edge_w[e]);
-        diagonal[s.topology.edge_vertices(e, 1)] += std::abs(s.edge_w[e]);
+      Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(s.topology->num_vertices);
+      for (int e = 0; e < s.topology->num_edges; ++e) {
+        diagonal[s.topology->edge_vertices(e, 0)] += std::abs(s.edge_w[e]);
+        diagonal[s.topology->edge_vertices(e, 1)] += std::abs(s.edge_w[e]);
       }
       if (s.hyperbolic) diagonal += s.vertex_diagonal.cwiseAbs();
       const double top = diagonal.maxCoeff();
@@ -739,43 +909,11 @@ double RicciFlow::max_error() const {
 }
 
 FlowResult RicciFlow::result() const {
-  const State& s = *state_;
-  FlowResult r;
-  r.status = s.status;
-  r.converged = s.finished && s.status == FlowStatus::Converged;
-  r.message = s.finished ? s.message : "running";
-  r.u = s.u;
-  r.curvature = s.curvature;
-  r.target_curvature = s.target.curvature;
-  for (int v = 0; v < s.topology.num_vertices; ++v) {
-    if (s.target.fixed[v]) r.target_curvature[v] = s.curvature[v];
-  }
-  r.lengths = s.lengths;
-  r.triangles = s.topology.triangles;
-  r.flips = s.total_flips;
-  r.flipped_edges = s.flipped_edges;
-  r.eta = s.structure.eta;
-  r.isometric_flips = s.isometric_flips;
-  r.error_floor = s.error_floor();
-  r.blocked_flips = s.blocked_flips;
-  if (s.total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(s.topology);
-  r.iterations = s.iteration;
-  r.max_error = s.history.back().max_error;
-  r.history = s.history;
-  r.timings = s.timings;
-  r.timings.total = seconds_since(s.start);
-  r.analyses = s.analyses;
-  r.factorizations = s.factorizations;
-  r.cg_iterations = s.cg_iterations;
-  r.linear_solver = s.options.solver == FlowSolver::Newton ? s.cholesky.backend() : "none";
-  if (s.hyperbolic) {
-    r.total_area = hyperbolic_total_area(s.angles);
-    r.gauss_bonnet_relative_error =
-        hyperbolic_gauss_bonnet_relative_error(s.topology, s.curvature, r.total_area);
-  } else {
-    r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(s.topology, s.curvature);
-  }
-  return r;
+  return state_->make_result(/*release=*/false);
+}
+
+FlowResult RicciFlow::release_result() {
+  return state_->make_result(/*release=*/true);
 }
 
 FlowResult ricci_flow(const Topology& topology, const ConformalStructure& structure,
@@ -783,7 +921,7 @@ FlowResult ricci_flow(const Topology& topology, const ConformalStructure& struct
   RicciFlow flow(topology, structure, target, options);
   while (flow.step()) {
   }
-  return flow.result();
+  return flow.release_result();
 }
 
 }  // namespace ricci

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/hyperbolic.hpp"
@@ -191,6 +192,12 @@ double margin_of(const Eigen::VectorXd& l, int e, const Quad& q, Geometry geomet
              : delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]);
 }
 
+/// An interior edge whose Delaunay margin is below -tolerance.
+bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double tolerance,
+                     Geometry geometry) {
+  return t.edge_halfedges(e, 1) >= 0 && margin_of(l, e, quad_of(t, e), geometry) < -tolerance;
+}
+
 }  // namespace
 
 double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
@@ -207,12 +214,9 @@ double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::Vec
 
 int count_non_delaunay_edges(const Topology& t, const Eigen::VectorXd& l, double tolerance,
                              Geometry geometry) {
-  int count = 0;
-  for (int e = 0; e < t.num_edges; ++e) {
-    if (t.edge_halfedges(e, 1) < 0) continue;
-    if (margin_of(l, e, quad_of(t, e), geometry) < -tolerance) ++count;
-  }
-  return count;
+  return static_cast<int>(parallel::count_if(t.num_edges, [&](std::int64_t e) {
+    return is_non_delaunay(t, l, static_cast<int>(e), tolerance, geometry);
+  }));
 }
 
 DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
@@ -227,6 +231,17 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
   const Geometry geometry = structure.geometry;
   DelaunayFlipResult result;
   const int max_flips = options.max_flips > 0 ? options.max_flips : 50 * t.num_edges;
+  // Which edges fail the test at the start, in parallel. An edge whose quad no flip has touched
+  // since (`touched`: the flipped edge and the four sides of its quad) fails exactly when it
+  // failed then, so the sequential pass below tests only those; it makes the same flips in the
+  // same order as testing every edge would. Without a failing edge there is nothing to do.
+  std::vector<char> failing(static_cast<std::size_t>(t.num_edges), 0);
+  const std::int64_t initially_failing = parallel::count_if(t.num_edges, [&](std::int64_t e) {
+    failing[e] = is_non_delaunay(t, l, static_cast<int>(e), options.tolerance, geometry);
+    return failing[e] != 0;
+  });
+  if (initially_failing == 0) return result;
+  std::vector<char> touched(static_cast<std::size_t>(t.num_edges), 0);
   // A stack of edges to check, lowest index on top; an edge re-enters when a flip changes its
   // quad.
   std::vector<int> stack;
@@ -240,6 +255,7 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     const int e = stack.back();
     stack.pop_back();
     queued[e] = 0;
+    if (!touched[e] && !failing[e]) continue;
     const Quad q = quad_of(t, e);
     if (!(margin_of(l, e, q, geometry) < -options.tolerance)) continue;
     if (!can_flip_edge(t, e, options.keep_simplicial)) {
@@ -268,6 +284,8 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     }
     ++result.flips;
     result.flipped_edges.push_back(e);
+    touched[e] = 1;
+    for (int side : {q.ca, q.cb, q.da, q.db}) touched[side] = 1;
     for (int side : {q.ca, q.cb, q.da, q.db}) {
       if (!queued[side] && t.edge_halfedges(side, 1) >= 0) {
         stack.push_back(side);

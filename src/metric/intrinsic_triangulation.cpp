@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <string>
 
+#include "../mesh/parallel.hpp"
+#include "triangle_terms.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
@@ -95,24 +99,44 @@ Topology replay_flips(const Topology& input, const std::vector<int>& flipped_edg
 }
 
 FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::VectorXd& lengths) {
-  CornerAngles angles;
-  const int bad = corner_angles(topology, lengths, angles);
-  if (bad >= 0) {
-    throw InvalidInput("face_shapes_from_lengths: face " + std::to_string(bad) +
-                       " breaks a triangle inequality");
-  }
-  FaceShapes shapes(static_cast<std::size_t>(topology.num_faces));
-  for (int f = 0; f < topology.num_faces; ++f) {
-    shapes[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]},
-                 std::polar(lengths[topology.face_edges(f, 1)], angles(f, 0))};
+  // Only the angle at corner 0 places a face: computed alone, as corner_angles computes it
+  // (the half-angle formula on Kahan's terms), in parallel over the faces.
+  const int nf = topology.num_faces;
+  FaceShapes shapes(static_cast<std::size_t>(nf));
+  const int chunks = parallel::num_chunks(nf, parallel::kDefaultMinChunk / 4);
+  std::vector<int> first_bad(static_cast<std::size_t>(chunks), -1);
+  parallel::run_chunks(nf, chunks, [&](std::int64_t begin, std::int64_t end, int chunk) {
+    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
+      const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
+                           lengths[topology.face_edges(f, 2)]};
+      double two_s, d[3];
+      if (!triangle_terms::half_perimeter_terms(l, two_s, d)) {
+        if (first_bad[chunk] < 0) first_bad[chunk] = f;
+        continue;
+      }
+      const double angle0 = 2 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
+      shapes[f] = {Complex{0}, Complex{l[2]}, std::polar(l[1], angle0)};
+    }
+  });
+  for (const int bad : first_bad) {
+    if (bad >= 0) {
+      throw InvalidInput("face_shapes_from_lengths: face " + std::to_string(bad) +
+                         " breaks a triangle inequality");
+    }
   }
   return shapes;
 }
 
 Development develop_input_faces(const Topology& input, const std::vector<int>& flipped_edges,
                                 const Eigen::VectorXd& final_lengths) {
-  Topology t = input;
-  const std::vector<FlipRecord> records = replay(t, flipped_edges);
+  // The final triangulation: the input's own when nothing was flipped (no copy needed).
+  std::optional<Topology> flipped;
+  std::vector<FlipRecord> records;
+  if (!flipped_edges.empty()) {
+    flipped = input;
+    records = replay(*flipped, flipped_edges);
+  }
+  const Topology& t = flipped ? *flipped : input;
   if (final_lengths.size() != t.num_edges) {
     throw InvalidInput("develop_input_faces: " + std::to_string(final_lengths.size()) +
                        " lengths for " + std::to_string(t.num_edges) + " edges");
@@ -141,25 +165,30 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
     const auto& p = shapes[h / 3];
     return std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   };
-  for (int e = 0; e < input.num_edges; ++e) {
-    const double la = side(input.edge_halfedges(e, 0));
-    d.lengths[e] = la;
-    if (input.edge_halfedges(e, 1) >= 0) {
-      const double lb = side(input.edge_halfedges(e, 1));
-      d.max_length_mismatch = std::max(d.max_length_mismatch, std::abs(la - lb) / std::max(la, lb));
-    }
-  }
-  for (int f = 0; f < input.num_faces; ++f) {
+  // In parallel: the largest mismatch (a maximum: the same however the edges are split) and
+  // the counts.
+  d.max_length_mismatch = parallel::max_of(
+      input.num_edges,
+      [&](std::int64_t e) {
+        const double la = side(input.edge_halfedges(e, 0));
+        d.lengths[e] = la;
+        if (input.edge_halfedges(e, 1) < 0) return 0.0;
+        const double lb = side(input.edge_halfedges(e, 1));
+        return std::abs(la - lb) / std::max(la, lb);
+      },
+      0.0);
+  // 1 for a degenerate face, 2 for a flipped one.
+  auto kind = [&](std::int64_t f) {
     const auto& p = shapes[f];
     const double area = cross(p[1] - p[0], p[2] - p[0]);
     const double scale =
         std::max({std::norm(p[1] - p[0]), std::norm(p[2] - p[1]), std::norm(p[0] - p[2])});
-    if (std::abs(area) <= 1e-14 * scale) {
-      ++d.degenerate_faces;
-    } else if (area < 0) {
-      ++d.flipped_faces;
-    }
-  }
+    return std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
+  };
+  d.degenerate_faces = static_cast<int>(
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 1; }));
+  d.flipped_faces = static_cast<int>(
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 2; }));
   return d;
 }
 

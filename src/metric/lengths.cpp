@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
@@ -14,22 +15,24 @@ int edge_lengths(const Topology& topology, const ConformalStructure& structure,
   }
   const int ne = topology.num_edges;
   lengths.resize(ne);
-  int invalid = 0;
-  for (int e = 0; e < ne; ++e) {
+  // e^u once per vertex (the same values an evaluation per edge end would give).
+  Eigen::VectorXd gamma(u.size());
+  parallel::for_each(u.size(), [&](std::int64_t v) { gamma[v] = std::exp(u[v]); });
+  const std::int64_t invalid = parallel::count_if(ne, [&](std::int64_t e) {
     const int i = topology.edge_vertices(e, 0);
     const int j = topology.edge_vertices(e, 1);
-    const double gi = std::exp(u[i]);
-    const double gj = std::exp(u[j]);
+    const double gi = gamma[i];
+    const double gj = gamma[j];
     const double squared = structure.epsilon[i] * gi * gi + structure.epsilon[j] * gj * gj +
                            2.0 * structure.eta[e] * gi * gj;
     if (squared > 0 && std::isfinite(squared)) {
       lengths[e] = std::sqrt(squared);
-    } else {
-      lengths[e] = std::numeric_limits<double>::quiet_NaN();
-      ++invalid;
+      return false;
     }
-  }
-  return invalid;
+    lengths[e] = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  });
+  return static_cast<int>(invalid);
 }
 
 }  // namespace ricci

@@ -1,6 +1,7 @@
 #include "ricci/param/cut_graph.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
@@ -538,10 +540,43 @@ CutGraph cut_graph(const Topology& topology, const Eigen::VectorXd& lengths,
   return cut;
 }
 
+namespace {
+
+/// Whether build_topology(topology.triangles) would number the edges as `topology` does: edges
+/// in increasing (smaller, larger) vertex order, each with its smaller halfedge first. It then
+/// gives a copy of `topology` (the rest follows from the same triangles and twins).
+bool edges_as_built(const Topology& topology) {
+  const int ne = topology.num_edges;
+  const std::int64_t out_of_order = parallel::count_if(ne, [&](std::int64_t e) {
+    const int h0 = topology.edge_halfedges(e, 0), h1 = topology.edge_halfedges(e, 1);
+    if (h1 >= 0 && h1 < h0) return true;
+    if (topology.edge_vertices(e, 0) >= topology.edge_vertices(e, 1)) return true;
+    if (e == 0) return false;
+    const int a0 = topology.edge_vertices(e - 1, 0), a1 = topology.edge_vertices(e - 1, 1);
+    const int b0 = topology.edge_vertices(e, 0), b1 = topology.edge_vertices(e, 1);
+    return !(a0 < b0 || (a0 == b0 && a1 < b1));
+  });
+  return out_of_order == 0;
+}
+
+}  // namespace
+
 CutMesh slice(const Topology& topology, const CutGraph& cut) {
   if (static_cast<int>(cut.is_cut_edge.size()) != topology.num_edges)
     throw InvalidInput("slice: cut has " + std::to_string(cut.is_cut_edge.size()) +
                        " edge flags for " + std::to_string(topology.num_edges) + " edges");
+  // Without cut edges every vertex keeps one copy (a manifold vertex's corners form one fan),
+  // and the cut mesh is the mesh: its connectivity is a copy, when the mesh's edges are numbered
+  // as build_topology numbers them.
+  if (std::none_of(cut.is_cut_edge.begin(), cut.is_cut_edge.end(), [](char c) { return c != 0; }) &&
+      edges_as_built(topology)) {
+    CutMesh out;
+    out.triangles = topology.triangles;
+    out.to_original.resize(topology.num_vertices);
+    std::iota(out.to_original.begin(), out.to_original.end(), 0);
+    out.topology = topology;
+    return out;
+  }
   // Corners around a vertex that meet across an interior edge not on the cut share a copy:
   // union-find over corners, the smallest corner of each class its root.
   const int nc = 3 * topology.num_faces;

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
@@ -76,7 +78,14 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
             std::to_string(num_faces) + " faces");
   }
   const Eigen::Index num_vertices = mesh.positions.rows(), num_uv = uv.rows();
-  for (int f = 0; f < num_faces; ++f) {
+  const std::int64_t bad_faces = parallel::count_if(num_faces, [&](std::int64_t f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.triangles(f, c), t = uv_triangles(f, c);
+      if (v < 0 || v >= num_vertices || t < 0 || t >= num_uv) return true;
+    }
+    return false;
+  });
+  for (int f = 0; f < num_faces && bad_faces > 0; ++f) {
     for (int c = 0; c < 3; ++c) {
       const int v = mesh.triangles(f, c), t = uv_triangles(f, c);
       if (v < 0 || v >= num_vertices) {
@@ -90,17 +99,25 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
     }
   }
 
+  // The per-face measures in parallel; the sums below stay sequential (their rounding depends
+  // on the order).
   std::vector<FaceMeasure> faces(static_cast<std::size_t>(num_faces));
+  parallel::for_each(
+      num_faces,
+      [&](std::int64_t f) {
+        Eigen::Vector3d p[3];
+        Eigen::Vector2d q[3];
+        for (int c = 0; c < 3; ++c) {
+          p[c] = mesh.positions.row(mesh.triangles(f, c)).transpose();
+          q[c] = uv.row(uv_triangles(f, c)).transpose();
+        }
+        faces[static_cast<std::size_t>(f)] = measure_face(p, q);
+      },
+      parallel::kDefaultMinChunk / 4);
   Distortion d;
   double twice_surface = 0, twice_layout = 0;
   for (int f = 0; f < num_faces; ++f) {
-    Eigen::Vector3d p[3];
-    Eigen::Vector2d q[3];
-    for (int c = 0; c < 3; ++c) {
-      p[c] = mesh.positions.row(mesh.triangles(f, c)).transpose();
-      q[c] = uv.row(uv_triangles(f, c)).transpose();
-    }
-    const FaceMeasure m = measure_face(p, q);
+    const FaceMeasure& m = faces[static_cast<std::size_t>(f)];
     if (!(std::isfinite(m.twice_area) && m.twice_area > 0)) {
       invalid("face " + std::to_string(f) + " has " +
               (std::isfinite(m.twice_area) ? "zero" : "non-finite") + " area in R^3");
@@ -112,16 +129,27 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
     } else if (m.twice_layout_area < 0) {
       ++d.flipped_faces;
     }
-    faces[static_cast<std::size_t>(f)] = m;
   }
   d.surface_area = twice_surface / 2;
   d.layout_area = twice_layout / 2;
 
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  // log(layout share / area share) of each face the sums below take the logarithm of (NaN for
+  // the others), in parallel: the logarithms are the costly part of those sums.
+  std::vector<double> log_ratios(faces.size(), nan);
+  parallel::for_each(num_faces, [&](std::int64_t f) {
+    const FaceMeasure& m = faces[static_cast<std::size_t>(f)];
+    if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0)) return;
+    const double layout = m.twice_layout_area / twice_layout;
+    if (layout < 0) return;
+    const double area = m.twice_area / twice_surface;
+    log_ratios[static_cast<std::size_t>(f)] = std::log(layout / area);
+  });
   double energy = 0;
   double log_weight = 0, log_sum = 0, angle_weight = 0, angle_sum = 0;
   double log_min = std::numeric_limits<double>::infinity(), log_max = -log_min, angle_max = 0;
-  for (const FaceMeasure& m : faces) {
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const FaceMeasure& m = faces[f];
     const double area = m.twice_area / twice_surface;
     const bool usable = std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0;
     // twice_layout > 0 whenever a face is usable.
@@ -133,7 +161,7 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
     angle_sum += area * m.angle_distortion;
     angle_max = std::max(angle_max, m.angle_distortion);
     if (layout < 0) continue;
-    const double log_ratio = std::log(ratio);
+    const double log_ratio = log_ratios[f];  // std::log(ratio)
     log_weight += area;
     log_sum += area * log_ratio;
     log_min = std::min(log_min, log_ratio);
@@ -144,10 +172,11 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
   if (log_weight > 0) {
     const double mean = log_sum / log_weight;
     double squares = 0;
-    for (const FaceMeasure& m : faces) {
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const FaceMeasure& m = faces[f];
       if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area > 0)) continue;
       const double area = m.twice_area / twice_surface;
-      const double deviation = std::log((m.twice_layout_area / twice_layout) / area) - mean;
+      const double deviation = log_ratios[f] - mean;
       squares += area * deviation * deviation;
     }
     d.log_area_min = log_min;

@@ -14,6 +14,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "../mesh/parallel.hpp"
 #include "layout_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
@@ -128,19 +129,23 @@ std::vector<Complex> reduced_lattice(const std::vector<Complex>& translations) {
   return {b1, b2};
 }
 
-/// Largest | |p_i - p_j| - l_ij | / l_ij over the edges of every face.
+/// Largest | |p_i - p_j| - l_ij | / l_ij over the edges of every face (in parallel: a maximum
+/// is the same however the faces are split).
 double length_error(const Topology& topology, const Topology& cut_topology,
                     const Eigen::VectorXd& lengths, const std::vector<Complex>& uv) {
-  double worst = 0;
-  for (int f = 0; f < cut_topology.num_faces; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const double l = lengths[topology.face_edges(f, k)];
-      const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
-                                uv[cut_topology.triangles(f, (k + 2) % 3)]);
-      worst = std::max(worst, std::abs(d - l) / l);
-    }
-  }
-  return worst;
+  return parallel::max_of(
+      cut_topology.num_faces,
+      [&](std::int64_t f) {
+        double worst = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double l = lengths[topology.face_edges(f, k)];
+          const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
+                                    uv[cut_topology.triangles(f, (k + 2) % 3)]);
+          worst = std::max(worst, std::abs(d - l) / l);
+        }
+        return worst;
+      },
+      0.0);
 }
 
 /// Each face's rotation into the layout, propagated from the root faces across uncut edges
@@ -256,12 +261,28 @@ void refine_least_squares(const Topology& cut_topology,
   }
 }
 
-/// The layout proper, from each edge's length and each corner's signed angle (angle(f, k) turns
-/// the direction from corner k to corner k + 1 into the direction to corner k + 2; negative on a
-/// face whose shape is reversed).
-Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengths,
-                          const CornerAngles& angles, const CutGraph& cut, const CutMesh& cut_mesh,
-                          const LayoutOptions& options) {
+/// Each face's triangle in the metric, corner 0 at 0 and corner 1 on the positive real axis:
+/// from the lengths of its sides 1 and 2 and the signed angle at its corner 0, angle0(f) (it
+/// turns the direction to corner 1 into the direction to corner 2; negative on a face whose
+/// shape is reversed). In parallel over the faces.
+template <class Angle0>
+std::vector<std::array<Complex, 3>> face_triangles(const Topology& topology,
+                                                   const Eigen::VectorXd& lengths, Angle0 angle0) {
+  std::vector<std::array<Complex, 3>> q(static_cast<std::size_t>(topology.num_faces));
+  parallel::for_each(
+      topology.num_faces,
+      [&](std::int64_t f) {
+        q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]},
+                std::polar(lengths[topology.face_edges(f, 1)], angle0(f))};
+      },
+      parallel::kDefaultMinChunk / 4);
+  return q;
+}
+
+/// The layout proper, from each edge's length and each face's triangle (face_triangles).
+Layout layout_from_triangles(const Topology& topology, const Eigen::VectorXd& lengths,
+                             const std::vector<std::array<Complex, 3>>& q, const CutGraph& cut,
+                             const CutMesh& cut_mesh, const LayoutOptions& options) {
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
@@ -278,11 +299,6 @@ Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengt
   // placing each vertex from the direction p_j - p_i went wrong (errors multiplied by l_ik / l_ij
   // per step: 1.8e-8 relative on a 1M-face disk, 1e-5 on igea's 1-degree needles in a
   // vertex-scaling metric; this gives 1e-10 and below at the cost of one pass).
-  std::vector<std::array<Complex, 3>> q(nf);
-  for (int f = 0; f < nf; ++f) {
-    q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]},
-            std::polar(lengths[topology.face_edges(f, 1)], angles(f, 0))};
-  }
   const std::vector<Complex> rotation = propagated_rotations(cut_topology, q, roots);
   std::vector<Complex> uv(ncv, Complex{0});
   {
@@ -321,32 +337,23 @@ Layout layout_from_angles(const Topology& topology, const Eigen::VectorXd& lengt
     }
   }
 
-  if (options.refine_above >= 0 &&
-      length_error(topology, cut_topology, lengths, uv) > options.refine_above) {
+  layout.max_length_relative_error = length_error(topology, cut_topology, lengths, uv);
+  if (options.refine_above >= 0 && layout.max_length_relative_error > options.refine_above) {
     refine_least_squares(cut_topology, q, rotation, options.refine_iterations, uv);
     layout.refined = true;
+    layout.max_length_relative_error = length_error(topology, cut_topology, lengths, uv);
   }
 
   layout.uv.resize(ncv, 2);
-  for (int v = 0; v < ncv; ++v) {
+  parallel::for_each(ncv, [&](std::int64_t v) {
     layout.uv(v, 0) = uv[v].real();
     layout.uv(v, 1) = uv[v].imag();
-  }
-
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const double l = lengths[topology.face_edges(f, k)];
-      const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
-                                uv[cut_topology.triangles(f, (k + 2) % 3)]);
-      layout.max_length_relative_error =
-          std::max(layout.max_length_relative_error, std::abs(d - l) / l);
-    }
+  });
+  layout.num_flipped_faces = static_cast<int>(parallel::count_if(nf, [&](std::int64_t f) {
     const Complex p0 = uv[cut_topology.triangles(f, 0)];
-    if (!(cross(uv[cut_topology.triangles(f, 1)] - p0, uv[cut_topology.triangles(f, 2)] - p0) >
-          0)) {
-      ++layout.num_flipped_faces;
-    }
-  }
+    return !(cross(uv[cut_topology.triangles(f, 1)] - p0, uv[cut_topology.triangles(f, 2)] - p0) >
+             0);
+  }));
 
   if (cut.is_cut_edge.empty()) return layout;
 
@@ -427,7 +434,8 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
             std::to_string(lengths[topology.face_edges(bad, 2)]) + " break a triangle inequality",
         bad));
   }
-  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
+  const auto q = face_triangles(topology, lengths, [&](std::int64_t f) { return angles(f, 0); });
+  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
 }
 
 Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
@@ -438,20 +446,18 @@ Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const Cut
   }
   // Each edge's length as its first face sees it (its other face agrees up to rounding).
   Eigen::VectorXd lengths(topology.num_edges);
-  for (int e = 0; e < topology.num_edges; ++e) {
+  parallel::for_each(topology.num_edges, [&](std::int64_t e) {
     const int h = topology.edge_halfedges(e, 0);
     const auto& p = shapes[h / 3];
     lengths[e] = std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
-  }
+  });
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
-  CornerAngles angles(topology.num_faces, 3);
-  for (int f = 0; f < topology.num_faces; ++f) {
+  // Each face's signed angle at corner 0 from its shape (only that one places the face).
+  const auto q = face_triangles(topology, lengths, [&](std::int64_t f) {
     const auto& p = shapes[f];
-    for (int k = 0; k < 3; ++k) {
-      angles(f, k) = std::arg((p[(k + 2) % 3] - p[k]) / (p[(k + 1) % 3] - p[k]));
-    }
-  }
-  return layout_from_angles(topology, lengths, angles, cut, cut_mesh, options);
+    return std::arg((p[2] - p[0]) / (p[1] - p[0]));
+  });
+  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
 }
 
 }  // namespace ricci

@@ -1,9 +1,12 @@
 #include "ricci/param/parameterize.hpp"
 
 #include "parameterize_component.hpp"
+#include "../mesh/parallel.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
+#include <future>
+#include <utility>
 #include <cmath>
 #include <numbers>
 
@@ -54,6 +57,12 @@ const char* cone_mode_name(ConeMode mode) {
 }
 
 ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
+  return parameterize_one_component(input, options,
+                                    build_topology(input.triangles, input.num_vertices()));
+}
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
+                                       Topology t0) {
   const auto start = Clock::now();
   ParamResult result;
   // Wall time since the previous lap, added to a phase of result.timings.
@@ -63,7 +72,6 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     phase += std::chrono::duration<double>(now - last).count();
     last = now;
   };
-  Topology t0 = build_topology(input.triangles, input.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
                        " connected components");
@@ -157,6 +165,30 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   if (result.edge_splits > 0)
     t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
 
+  // 4 (ahead). The cut graph through the cones and the slicing need only the connectivity and
+  // the 3D lengths: when the flow cannot change the connectivity (no subdivision possible) they
+  // run beside it, on a core the flow's factorisation leaves idle.
+  struct CutStage {
+    Eigen::VectorXd lengths_3d;
+    CutGraph cut;
+    CutMesh cut_mesh;
+    double seconds = 0;
+  };
+  auto cut_stage = [&input = std::as_const(result.mesh), &cones](const Topology& topology) {
+    const auto t = Clock::now();
+    CutStage stage;
+    stage.lengths_3d = input_edge_lengths(input, topology);
+    CutGraphOptions cut_options;
+    for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
+    stage.cut = cut_graph(topology, stage.lengths_3d, cut_options);
+    stage.cut_mesh = slice(topology, stage.cut);
+    stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+    return stage;
+  };
+  const bool may_subdivide = options.modify_connectivity && !flips && !cones.empty();
+  std::future<CutStage> cut_ahead;
+  if (!may_subdivide) cut_ahead = parallel::run_beside([&] { return cut_stage(t0); });
+
   // 3. Ricci flow to the flat metric with these cones.
   MeshFlowOptions flow_options;
   flow_options.structure = options.structure;
@@ -187,6 +219,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   }
   lap(result.timings.flow);
   if (!result.converged) {
+    // The cut stage beside the flow reads result.mesh: wait for it (and drop it) first.
+    if (cut_ahead.valid()) cut_ahead.wait();
     result.message = result.flow.components.front().flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
@@ -197,12 +231,13 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   // face is developed in it (its corners at their exact images), so the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
   const Topology& topology = t0;
-  const Eigen::VectorXd lengths_3d = input_edge_lengths(result.mesh, topology);
-  CutGraphOptions cut_options;
-  for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
-  result.cut = cut_graph(topology, lengths_3d, cut_options);
-  result.cut_mesh = slice(topology, result.cut);
-  lap(result.timings.cut);
+  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(topology);
+  const Eigen::VectorXd& lengths_3d = cut.lengths_3d;
+  result.cut = std::move(cut.cut);
+  result.cut_mesh = std::move(cut.cut_mesh);
+  // The stage's own time (run beside the flow it took no time of the pipeline's own).
+  result.timings.cut += cut.seconds;
+  last = Clock::now();
   const Development development = develop_input_faces(topology, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
   lap(result.timings.development);

@@ -11,4 +11,8 @@ namespace ricci {
 /// \throw InvalidInput (bad cones, inadmissible target, not exactly one component), TopologyError
 ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options);
 
+/// The same with the mesh's connectivity at hand. \pre topology = build_topology(input)
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
+                                       Topology topology);
+
 }  // namespace ricci

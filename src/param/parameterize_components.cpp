@@ -788,8 +788,10 @@ const char* component_method_name(ComponentMethod method) {
 }
 
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
-  const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
-  if (topology.components.size() <= 1) return parameterize_one_component(mesh, options);
+  Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  if (topology.components.size() <= 1) {
+    return parameterize_one_component(mesh, options, std::move(topology));
+  }
   return parameterize_components(mesh, topology, options);
 }
 

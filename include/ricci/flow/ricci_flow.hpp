@@ -180,6 +180,12 @@ class RicciFlow {
   FlowResult result() const;
 
  private:
+  /// result() as the flow's last use: its arrays and flipped topology are moved out, not copied
+  /// (ricci_flow calls it; the flow must not be used afterwards).
+  FlowResult release_result();
+  friend FlowResult ricci_flow(const Topology& topology, const ConformalStructure& structure,
+                               const Target& target, const FlowOptions& options);
+
   struct State;
   std::unique_ptr<State> state_;
 };
