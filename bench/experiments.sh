@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Reproduces the tutorial's parameterization experiments (its figures 8-22) on the real meshes
-# of ../shared/meshes that resemble its models, and writes the table of docs/experiments.md.
+# of ../shared/meshes that resemble its models, and writes the table of docs/experiments.md: each
+# experiment with the tutorial's Thurston packing and with ricci's default (vertex scaling with
+# intrinsic Delaunay flips, on the input's own faces).
 #   bench/experiments.sh [RICCI] [SHARED_MESHES] [OUT_DIR]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -26,29 +28,36 @@ experiments=(
 
 table="$out/table.md"
 {
-  echo "| model (ours) | faces | topology | cones (curvature / pi) | area distortion (eq. 9) | angle distortion mean / max | flipped | seconds | the tutorial's model | its area distortion |"
-  echo "|---|---|---|---|---|---|---|---|---|---|"
+  echo "| model (ours) | scheme | faces | topology | cones (curvature / pi) | area distortion (eq. 9) | angle distortion mean / max | flipped | seconds | the tutorial's model | its area distortion |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$table"
 for row in "${experiments[@]}"; do
   IFS='|' read -r name mesh opts theirs their_value <<< "$row"
   [ -f "$meshes/$mesh" ] || { echo "experiments: skipping $mesh (missing)" >&2; continue; }
+  schemes="thurston vertex-scaling"
+  [[ "$opts" == *--scheme* ]] && schemes="given"  # the row names its own scheme
+  for scheme in $schemes; do
+  run="$name-$scheme"
+  scheme_option=(--scheme "$scheme")
+  [ "$scheme" = given ] && scheme_option=()
   # shellcheck disable=SC2086
-  if ! "$ricci" param "$meshes/$mesh" $opts -o "$out/$name.obj" --report "$out/$name.json" > "$out/$name.log" 2>&1; then
-    echo "experiments: $name did not finish: $(tail -1 "$out/$name.log")" >&2
+  if ! "$ricci" param "$meshes/$mesh" $opts "${scheme_option[@]}" -o "$out/$run.obj" --report "$out/$run.json" > "$out/$run.log" 2>&1; then
+    echo "experiments: $run did not finish: $(tail -1 "$out/$run.log")" >&2
   fi
-  /usr/bin/python3 - "$out/$name.json" "$mesh" "$opts" "$theirs" "$their_value" >> "$table" <<'PY'
+  /usr/bin/python3 - "$out/$run.json" "$mesh" "$opts" "$theirs" "$their_value" "$scheme" >> "$table" <<'PY'
 import json, sys
-path, mesh, opts, theirs, their_value = sys.argv[1:]
+path, mesh, opts, theirs, their_value, scheme = sys.argv[1:]
+scheme = {"vertex-scaling": "vertex-scaling (default)", "thurston": "thurston (tutorial)"}.get(scheme, "as given")
 try:
     r = json.load(open(path))
 except (OSError, ValueError):
-    print(f"| {mesh} `{opts}` | | | | failed | | | | {theirs} | {their_value} |")
+    print(f"| {mesh} `{opts}` | {scheme} | | | | failed | | | | {theirs} | {their_value} |")
     sys.exit(0)
 flow = r["flow"]
 comp = flow["components"][0]
 topo = f"genus {comp['genus']}, {comp['boundary_loops']} boundary loops"
 if not r["converged"]:
-    print(f"| {mesh} `{opts}` | {flow['faces']} | {topo} | | not converged: {r['message'][:60]} | | | {r['seconds']:.2f} | {theirs} | {their_value} |")
+    print(f"| {mesh} `{opts}` | {scheme} | {flow['faces']} | {topo} | | not converged: {r['message'][:60]} | | | {r['seconds']:.2f} | {theirs} | {their_value} |")
     sys.exit(0)
 d = r["distortion"]
 cones = ", ".join(f"{c['curvature_over_pi']:.2f}" for c in r["cones"]) or "none"
@@ -56,9 +65,10 @@ if len(r["cones"]) > 8:
     cones = f"{len(r['cones'])} cones"
 splits = r["modification"]["edge_splits"]
 faces = f"{flow['faces']}" + (f" ({splits} splits)" if splits else "")
-print(f"| {mesh} `{opts}` | {faces} | {topo} | {cones} | {d['area_distortion_energy']:.4f} | "
+print(f"| {mesh} `{opts}` | {scheme} | {faces} | {topo} | {cones} | {d['area_distortion_energy']:.4f} | "
       f"{d['angle_distortion_mean']:.3f} / {d['angle_distortion_max']:.2f} | {d['flipped_faces']} | "
       f"{r['seconds']:.2f} | {theirs} | {their_value} |")
 PY
+  done
 done
 cat "$table"

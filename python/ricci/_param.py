@@ -8,7 +8,7 @@ import numpy as np
 from . import _arrays, _ricci
 from ._flow import cone_list, set_fields, set_structure_and_solver
 
-_CONE_MODES = ("auto", "none", "one")
+_CONE_MODES = ("needed", "auto", "none", "one")
 
 
 def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scale=None,
@@ -27,7 +27,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
 
     V: (n, 3) float positions; F: (m, 3) integer counter-clockwise triangles.
 
-    cones: ``"auto"`` (greedy selection until max_log_scale holds, the default), an int (that
+    cones: ``"needed"`` (the default: none where the topology allows, automatic on closed
+      surfaces of genus 0 or >= 2), ``"auto"`` (automatic until max_log_scale holds), an int (that
       many automatic cones), ``"none"`` (a torus, or a surface with boundary), ``"one"`` (all
       of 2 pi chi at one vertex, genus >= 2), or user cones: ``[(vertex, curvature), ...]``,
       ``{vertex: curvature}`` or ``"V:K,V:K"`` (input vertex indices, radians or ``"pi/2"``).

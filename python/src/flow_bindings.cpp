@@ -247,6 +247,10 @@ void bind_flow(py::module_& m) {
       .readonly("blocked_flips", &FlowResult::blocked_flips, "non-Delaunay edges left")
       .readonly("iterations", &FlowResult::iterations, "")
       .readonly("max_error", &FlowResult::max_error, "final max |K-bar - K|")
+      .readonly("error_floor", &FlowResult::error_floor,
+                "the smallest max error double arithmetic resolves at the final metric")
+      .readonly("flipped_edges", &FlowResult::flipped_edges,
+                "every accepted flip in order (edge indices of the input topology)")
       .readonly("history", &FlowResult::history, "IterationRecord list, initial state first")
       .readonly("timings", &FlowResult::timings, "FlowTimings")
       .readonly("analyses", &FlowResult::analyses, "")
@@ -271,7 +275,12 @@ void bind_flow(py::module_& m) {
       .readonly("euler_characteristic", &ComponentFlow::euler_characteristic, "")
       .readonly("genus", &ComponentFlow::genus, "")
       .readonly("boundary_loops", &ComponentFlow::boundary_loops, "")
-      .readonly("flow", &ComponentFlow::flow, "FlowResult in component-local indices")
+      .readonly("flow", &ComponentFlow::flow,
+                "FlowResult in component-local indices (the doubled surface's when doubled)")
+      .readonly("doubled", &ComponentFlow::doubled,
+                "flowed again glued to its mirror image (boundary triangles blocked the flow)")
+      .readonly("first_attempt_message", &ComponentFlow::first_attempt_message,
+                "why the flow on the component itself failed (doubled only)")
       .repr();
 
   StructBinding<MeshFlowResult>(m, "MeshFlowResult", "What flow_mesh returns.")

@@ -11,7 +11,8 @@ namespace ricci::python {
 
 void bind_param(py::module_& m) {
   py::enum_<ConeMode> cone_mode(m, "ConeMode", "Where the cones come from.");
-  cone_mode.value("None_", ConeMode::None)
+  cone_mode.value("Needed", ConeMode::Needed)
+      .value("None_", ConeMode::None)
       .value("User", ConeMode::User)
       .value("Auto", ConeMode::Auto)
       .value("OneCone", ConeMode::OneCone);
@@ -19,12 +20,29 @@ void bind_param(py::module_& m) {
                 py::arg("name"));
   m.def("cone_mode_name", &cone_mode_name, py::arg("mode"));
 
+  StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")
+      .readonly("cones", &ParamTimings::cones, "")
+      .readonly("flow", &ParamTimings::flow, "")
+      .readonly("cut", &ParamTimings::cut, "")
+      .readonly("development", &ParamTimings::development, "")
+      .readonly("layout", &ParamTimings::layout, "")
+      .readonly("atlas", &ParamTimings::atlas, "")
+      .readonly("distortion", &ParamTimings::distortion, "")
+      .repr();
+
   StructBinding<ConeSelectionOptions>(m, "ConeSelectionOptions", "Options of select_cones.")
       .field("count", &ConeSelectionOptions::count,
              "place exactly this many cones; 0: as many as max_log_scale needs")
       .field("max_log_scale", &ConeSelectionOptions::max_log_scale,
              "add cones until max |u - mean u| of the linearised flat metric is at most this")
-      .field("max_cones", &ConeSelectionOptions::max_cones, "never more than this many")
+      .field("max_cones", &ConeSelectionOptions::max_cones,
+             "never more than this many; 0: 64, or 6 |chi| at high genus")
+      .field("max_face_angle", &ConeSelectionOptions::max_face_angle,
+             "largest average uv corner angle a cone may ask of its faces (radians)")
+      .field("max_corner_angle", &ConeSelectionOptions::max_corner_angle,
+             "largest uv corner angle at a cone, estimated from the input's (radians)")
+      .field("max_curvature", &ConeSelectionOptions::max_curvature,
+             "largest curvature of a cone (radians)")
       .field("try_first_cone_candidates", &ConeSelectionOptions::try_first_cone_candidates,
              "well-spread candidates tried for the first cone of a closed surface")
       .enum_field("boundary", &ConeSelectionOptions::boundary, &parse_boundary_mode,
@@ -38,7 +56,11 @@ void bind_param(py::module_& m) {
       .readonly("vertices", &ConeSelection::vertices, "cone vertices in the order chosen")
       .readonly("max_log_scale", &ConeSelection::max_log_scale, "after each addition")
       .readonly("linear_curvature", &ConeSelection::linear_curvature,
-                "curvature of each cone in the linearised solution")
+                "curvature of each cone: the bounded least-squares minimiser of the log-scale "
+                "spread")
+      .readonly("log_scale_rms", &ConeSelection::log_scale_rms, "at the end")
+      .readonly("within_bounds", &ConeSelection::within_bounds,
+                "every cone within what its faces can draw")
       .repr();
 
   StructBinding<ChartPackingOptions>(m, "ChartPackingOptions", "Options of pack_charts.")
@@ -224,6 +246,9 @@ void bind_param(py::module_& m) {
       .readonly("layout", &ParamResult::layout, "Layout")
       .readonly("atlas", &ParamResult::atlas, "AffineAtlas")
       .readonly("seconds", &ParamResult::seconds, "")
+      .readonly("timings", &ParamResult::timings, "ParamTimings: seconds per stage")
+      .readonly("development_length_mismatch", &ParamResult::development_length_mismatch,
+                "how well the input faces developed in the flat metric agree on their edges")
       .readonly("components", &ParamResult::components,
                 "several components: a ComponentParam per component (empty for one)")
       .readonly("packing", &ParamResult::packing, "several components: ChartPacking")

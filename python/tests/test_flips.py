@@ -53,3 +53,27 @@ def test_parameterize_with_flips_keeps_the_input_faces(sphere):
     np.testing.assert_array_equal(result.triangles, F)
     np.testing.assert_array_equal(result.vertices, V)
     assert result.distortion.flipped_faces == 0
+
+def test_defaults_are_vertex_scaling_on_the_input_faces_with_the_natural_target():
+    # A closed sphere with the default target (uniform there, flat needs cones) and the default
+    # parameterization (cones where the topology needs them): every face of the input, no fold.
+    V, F = ricci.generate.icosphere(3)
+    flow = ricci.flow(V, F)
+    assert flow.converged, flow.message
+    assert "uniform" in flow.target.description
+    assert flow.components[0].flow.error_floor > 0
+    p = ricci.parameterize(V, F)
+    assert p.converged, p.message
+    np.testing.assert_array_equal(p.triangles, F)
+    assert p.flow.structure.structure.scheme == ricci.Scheme.VertexScaling
+    assert len(p.cones) >= 3 and p.cone_selection.within_bounds
+    assert p.distortion.flipped_faces == 0
+    assert p.timings.flow > 0 and p.development_length_mismatch < 1e-12
+
+
+def test_a_tolerance_below_the_floor_ends_converged_at_the_floor(sphere):
+    V, F = sphere
+    r = ricci.flow(V, F, target="uniform", tolerance=1e-17)
+    assert r.converged
+    assert "floating-point floor" in r.components[0].flow.message
+    assert r.max_error <= r.components[0].flow.error_floor

@@ -71,6 +71,64 @@ void grow_rings(const std::vector<std::vector<int>>& neighbours, int source, int
   }
 }
 
+/// grow_rings, but a ring is only taken while the area the source's rings cover (area: per
+/// vertex, normalised to a total of 1) stays within max_area: on a CAD mesh one ring of a fan
+/// centre covers a whole face of the part, and three rings the whole part.
+void grow_rings_within(const std::vector<std::vector<int>>& neighbours, int source, int max_rings,
+                       const Eigen::VectorXd& area, double max_area, std::vector<int>& hops) {
+  std::vector<int> frontier = {source};
+  hops[source] = 0;
+  double covered = area[source];
+  for (int r = 1; r <= max_rings && !frontier.empty(); ++r) {
+    std::vector<int> next;
+    std::vector<int> before;  // their hops before this ring, to undo it
+    double added = 0;
+    for (int a : frontier) {
+      for (int b : neighbours[a]) {
+        if (hops[b] > r) {
+          before.push_back(hops[b]);
+          hops[b] = r;
+          next.push_back(b);
+          added += area[b];
+        }
+      }
+    }
+    if (covered + added > max_area) {
+      for (std::size_t i = next.size(); i-- > 0;) hops[next[i]] = before[i];
+      return;
+    }
+    covered += added;
+    frontier = std::move(next);
+  }
+}
+
+/// Rings around a cone left out of the measure and of the candidates for the next cone.
+constexpr int kSeparationRings = 3;
+/// At most this fraction of the area around each cone is left out (see grow_rings_within).
+constexpr double kRingArea = 0.02;
+
+/// A third of the 3D area of the faces around each vertex, normalised to a total of 1.
+Eigen::VectorXd vertex_areas(const Mesh& mesh, const Topology& t) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(t.num_vertices);
+  for (int f = 0; f < t.num_faces; ++f) {
+    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
+    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
+    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
+    const double third = (b - a).cross(c - a).norm() / 6;
+    for (int k = 0; k < 3; ++k) area[t.triangles(f, k)] += third;
+  }
+  return area / area.sum();
+}
+
+std::vector<std::vector<int>> vertex_neighbours(const Topology& t) {
+  std::vector<std::vector<int>> neighbours(t.num_vertices);
+  for (int e = 0; e < t.num_edges; ++e) {
+    neighbours[t.edge_vertices(e, 0)].push_back(t.edge_vertices(e, 1));
+    neighbours[t.edge_vertices(e, 1)].push_back(t.edge_vertices(e, 0));
+  }
+  return neighbours;
+}
+
 }  // namespace
 
 namespace {
@@ -221,15 +279,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   }
 
   // Area weights: a third of the 3D area of the faces around each vertex, normalised.
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(nv);
-  for (int f = 0; f < t.num_faces; ++f) {
-    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
-    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
-    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
-    const double third = (b - a).cross(c - a).norm() / 6;
-    for (int k = 0; k < 3; ++k) area[t.triangles(f, k)] += third;
-  }
-  area /= area.sum();
+  const Eigen::VectorXd area = vertex_areas(mesh, t);
   // P x = a (x - mean_a x): J = u^T P u.
   auto spread = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
     const double mean = area.dot(x);
@@ -283,16 +333,12 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   };
   const double upper = options.max_curvature;
 
-  std::vector<std::vector<int>> neighbours(nv);
-  for (int e = 0; e < t.num_edges; ++e) {
-    neighbours[t.edge_vertices(e, 0)].push_back(t.edge_vertices(e, 1));
-    neighbours[t.edge_vertices(e, 1)].push_back(t.edge_vertices(e, 0));
-  }
+  const std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
   // A cone of curvature k makes u behave like -(k / 2 pi) log r next to it: the cone itself,
   // not distortion more cones could remove. Vertices within `separation` rings of a cone are
   // left out of the measure and of the candidates (else cones pile up next to each other).
-  int separation = 3;
-  std::vector<int> ring(nv, separation + 1);
+  int separation = kSeparationRings;
+  std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
 
   ConeSelection result;
   std::vector<int>& S = result.vertices;
@@ -311,11 +357,11 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     r.conservativeResize(m + 1);
     for (int i = 0; i <= m; ++i) M(i, m) = M(m, i) = h[S[i]];
     r[m] = g.dot(Pu0);
-    grow_rings(neighbours, v, separation, ring);
+    grow_rings_within(neighbours, v, separation, area, kRingArea, ring);
   };
   auto reset_rings = [&]() {
-    std::fill(ring.begin(), ring.end(), separation + 1);
-    for (int v : S) grow_rings(neighbours, v, separation, ring);
+    std::fill(ring.begin(), ring.end(), std::numeric_limits<int>::max() / 2);
+    for (int v : S) grow_rings_within(neighbours, v, separation, area, kRingArea, ring);
   };
 
   int max_cones = options.max_cones;
@@ -423,6 +469,28 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   }
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;
+}
+
+double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& u,
+                        const std::vector<int>& cones) {
+  const int nv = t.num_vertices;
+  const Eigen::VectorXd area = vertex_areas(mesh, t);
+  std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
+  std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
+  for (int c : cones) grow_rings_within(neighbours, c, kSeparationRings, area, kRingArea, ring);
+  double mean = 0, weight = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (t.vertex_component[v] < 0) continue;
+    mean += area[v] * u[v];
+    weight += area[v];
+  }
+  mean /= std::max(weight, 1e-300);
+  double largest = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (t.vertex_component[v] < 0 || ring[v] <= kSeparationRings) continue;
+    largest = std::max(largest, std::abs(u[v] - mean));
+  }
+  return largest;
 }
 
 std::vector<Cone> quantize_cones(const std::vector<Cone>& cones, double total) {

@@ -151,16 +151,24 @@ double length_error(const Topology& topology, const Topology& cut_topology,
 /// Each face's rotation into the layout, propagated from the root faces across uncut edges
 /// (breadth first): the face across an edge is turned so that its copy of the edge points the way
 /// the first face's does. Unit complex numbers compose with an error that adds up (about one ulp
-/// of angle per step), where positions placed vertex by vertex multiply it through needles.
-std::vector<Complex> propagated_rotations(const Topology& cut_topology,
+/// of angle per step), where positions placed vertex by vertex multiply it through needles. In
+/// the same pass every vertex is placed once, by the first face that reaches it, from the two
+/// corners it shares with the face it was reached from: the average of
+/// p_i + R (q_k - q_i) and p_j + R (q_k - q_j). Returns the rotations.
+std::vector<Complex> lay_out_by_rotations(const Topology& cut_topology,
                                           const std::vector<std::array<Complex, 3>>& q,
-                                          const std::vector<int>& roots) {
+                                          const std::vector<int>& roots, std::vector<Complex>& uv) {
   const int nf = cut_topology.num_faces;
   std::vector<Complex> rotation(nf, Complex{0});
+  std::vector<char> placed(uv.size(), 0);
   std::vector<int> queue;
   queue.reserve(nf);
   for (int root : roots) {
     rotation[root] = 1;
+    for (int k = 0; k < 3; ++k) {
+      uv[cut_topology.triangles(root, k)] = q[root][k];
+      placed[cut_topology.triangles(root, k)] = 1;
+    }
     queue.push_back(root);
   }
   for (std::size_t next = 0; next < queue.size(); ++next) {
@@ -178,6 +186,16 @@ std::vector<Complex> propagated_rotations(const Topology& cut_topology,
       rotation[g] =
           std::isfinite(std::abs(turn)) && std::abs(turn) > 0 ? turn / std::abs(turn) : rotation[f];
       queue.push_back(g);
+      // The twin lies opposite corner kg of g; its ends, corners kg + 1 and kg + 2, are f's.
+      const int vk = cut_topology.triangles(g, kg);
+      if (placed[vk]) continue;
+      const int ki = (kg + 1) % 3, kj = (kg + 2) % 3;
+      const Complex from_i =
+          uv[cut_topology.triangles(g, ki)] + rotation[g] * (q[g][kg] - q[g][ki]);
+      const Complex from_j =
+          uv[cut_topology.triangles(g, kj)] + rotation[g] * (q[g][kg] - q[g][kj]);
+      uv[vk] = 0.5 * (from_i + from_j);
+      placed[vk] = 1;
     }
   }
   return rotation;
@@ -185,7 +203,7 @@ std::vector<Complex> propagated_rotations(const Topology& cut_topology,
 
 /// Global least-squares layout: positions p minimising the sum over faces and their edges
 /// (a, b) of |p_b - p_a - R_f (q_b - q_a)|^2, with q_f the face's triangle in the metric and R_f
-/// its rotation: first the propagated rotations (propagated_rotations), then, for further
+/// its rotation: first the propagated rotations (lay_out_by_rotations), then, for further
 /// iterations, each face's best rotation onto the current layout. The vertex-by-vertex layout
 /// multiplies rounding errors through needles (igea's 1-degree triangles in a vertex-scaling
 /// metric: relative length errors up to 1e-5); this one solves one Poisson-like system and
@@ -292,50 +310,15 @@ Layout layout_from_triangles(const Topology& topology, const Eigen::VectorXd& le
 
   // Each face's triangle in the metric, corner 0 at 0 and corner 1 on the positive real axis,
   // and its rotation into the layout, propagated face to face across uncut edges from the roots
-  // (propagated_rotations): rotation errors add up, about one ulp of angle per step. Vertices are
+  // (lay_out_by_rotations): rotation errors add up, about one ulp of angle per step. Vertices are
   // then placed breadth first over the same faces, each new corner from the two it shares with
   // the face it was reached from, by that face's own rotated triangle: positions take no
   // direction from other positions, so rounding is not magnified through needles, which is how
   // placing each vertex from the direction p_j - p_i went wrong (errors multiplied by l_ik / l_ij
   // per step: 1.8e-8 relative on a 1M-face disk, 1e-5 on igea's 1-degree needles in a
   // vertex-scaling metric; this gives 1e-10 and below at the cost of one pass).
-  const std::vector<Complex> rotation = propagated_rotations(cut_topology, q, roots);
   std::vector<Complex> uv(ncv, Complex{0});
-  {
-    std::vector<char> placed(ncv, 0), visited(nf, 0);
-    std::vector<int> queue;
-    queue.reserve(nf);
-    for (int root : roots) {
-      for (int k = 0; k < 3; ++k) {
-        uv[cut_topology.triangles(root, k)] = rotation[root] * q[root][k];
-        placed[cut_topology.triangles(root, k)] = 1;
-      }
-      visited[root] = 1;
-      queue.push_back(root);
-    }
-    for (std::size_t next = 0; next < queue.size(); ++next) {
-      const int f = queue[next];
-      for (int k = 0; k < 3; ++k) {
-        const int twin = cut_topology.halfedge_twin[3 * f + k];
-        if (twin < 0) continue;
-        const int g = twin / 3, kg = twin % 3;
-        if (visited[g]) continue;
-        visited[g] = 1;
-        queue.push_back(g);
-        // The twin lies opposite corner kg of g; its ends i, j are corners kg + 1, kg + 2,
-        // placed with f.
-        const int vk = cut_topology.triangles(g, kg);
-        if (placed[vk]) continue;
-        const int ki = (kg + 1) % 3, kj = (kg + 2) % 3;
-        const Complex from_i =
-            uv[cut_topology.triangles(g, ki)] + rotation[g] * (q[g][kg] - q[g][ki]);
-        const Complex from_j =
-            uv[cut_topology.triangles(g, kj)] + rotation[g] * (q[g][kg] - q[g][kj]);
-        uv[vk] = 0.5 * (from_i + from_j);
-        placed[vk] = 1;
-      }
-    }
-  }
+  const std::vector<Complex> rotation = lay_out_by_rotations(cut_topology, q, roots, uv);
 
   layout.max_length_relative_error = length_error(topology, cut_topology, lengths, uv);
   if (options.refine_above >= 0 && layout.max_length_relative_error > options.refine_above) {

@@ -14,48 +14,12 @@
 #include "ricci/metric/edge_overlay.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "support/hard_meshes.hpp"
 
 namespace ricci {
 namespace {
 
 using Complex = std::complex<double>;
-
-/// A CAD-style strip: two fans from opposite corners of a 1 by `width` rectangle, slightly bent.
-Mesh cad_strip(int n, double width) {
-  Mesh mesh;
-  mesh.positions.resize(2 * (n + 1), 3);
-  mesh.triangles.resize(2 * n, 3);
-  for (int i = 0; i <= n; ++i) {
-    const double x = static_cast<double>(i) / n, z = 0.02 * std::sin(3.0 * x);
-    mesh.positions.row(i) << x, 0, z;
-    mesh.positions.row(n + 1 + i) << x, width, z;
-  }
-  for (int i = 0; i < n; ++i) {
-    mesh.triangles.row(i) << n + 1, i, i + 1;
-    mesh.triangles.row(n + i) << n, n + 2 + i, n + 1 + i;
-  }
-  return mesh;
-}
-
-/// An icosphere with every face split 1-to-3 at a point near one corner: valence-3 needles.
-Mesh split_near_corners(int subdivisions, double weight) {
-  const Mesh sphere = make_icosphere(subdivisions);
-  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
-  Mesh mesh;
-  mesh.positions.resize(nv + nf, 3);
-  mesh.positions.topRows(nv) = sphere.positions;
-  mesh.triangles.resize(3 * nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    const int a = sphere.triangles(f, 0), b = sphere.triangles(f, 1), c = sphere.triangles(f, 2);
-    mesh.positions.row(nv + f) =
-        1.01 * ((1 - 2 * weight) * sphere.positions.row(a) +
-                weight * (sphere.positions.row(b) + sphere.positions.row(c)));
-    mesh.triangles.row(3 * f) << a, b, nv + f;
-    mesh.triangles.row(3 * f + 1) << b, c, nv + f;
-    mesh.triangles.row(3 * f + 2) << c, a, nv + f;
-  }
-  return mesh;
-}
 
 struct Tracked {
   Topology input, host;
@@ -162,19 +126,19 @@ void expect_straight_lines(const Tracked& r) {
 }
 
 TEST(EdgeOverlay, InputEdgesOverTheDelaunayTriangulationOfACadFanAreStraight) {
-  const Tracked r = track(cad_strip(40, 0.01));
+  const Tracked r = track(testing::cad_strip(40, 0.01));
   EXPECT_GT(r.flips.size(), 40u);
   expect_straight_lines(r);
 }
 
 TEST(EdgeOverlay, InputEdgesOverTheDelaunayTriangulationOfAValence3SphereAreStraight) {
-  const Tracked r = track(split_near_corners(1, 0.05));
+  const Tracked r = track(testing::icosphere_split_near_corners(1, 0.05));
   EXPECT_GT(r.flips.size(), 20u);
   expect_straight_lines(r);
 }
 
 TEST(EdgeOverlay, NormalCoordinatesCountTheCrossings) {
-  const Tracked r = track(cad_strip(20, 0.02));
+  const Tracked r = track(testing::cad_strip(20, 0.02));
   long total = 0;
   for (int e = 0; e < r.host.num_edges; ++e) {
     const int n = r.overlay.normal_coordinate(e);
@@ -190,7 +154,7 @@ TEST(EdgeOverlay, NormalCoordinatesCountTheCrossings) {
 }
 
 TEST(EdgeOverlay, TransposingTwiceGivesTheOverlayBack) {
-  const Tracked r = track(split_near_corners(1, 0.1));
+  const Tracked r = track(testing::icosphere_split_near_corners(1, 0.1));
   const std::vector<CurvePath> paths = trace_curves(r.host, r.overlay);
   const EdgeOverlay t = transpose_overlay(r.host, r.overlay, paths, r.input);
   // The host's edges as curves over the input are straight there too; trace them.

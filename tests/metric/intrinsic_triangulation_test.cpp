@@ -17,6 +17,7 @@
 #include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "support/hard_meshes.hpp"
 
 namespace ricci {
 namespace {
@@ -43,47 +44,6 @@ Flipped flip_isometrically(const Mesh& mesh) {
   return f;
 }
 
-/// A CAD-style strip: `n` segments along each long side of a 1 by `width` rectangle (slightly
-/// bent), triangulated as two fans from opposite corners, as CAD tessellators do. Its triangles
-/// have angles down to about width / n radians at the fan centres and are far from Delaunay.
-Mesh cad_strip(int n, double width) {
-  Mesh mesh;
-  mesh.positions.resize(2 * (n + 1), 3);
-  mesh.triangles.resize(2 * n, 3);
-  for (int i = 0; i <= n; ++i) {
-    const double x = static_cast<double>(i) / n, z = 0.02 * std::sin(3.0 * x);
-    mesh.positions.row(i) << x, 0, z;              // bottom B_i
-    mesh.positions.row(n + 1 + i) << x, width, z;  // top T_i
-  }
-  const int t0 = n + 1, bn = n;
-  for (int i = 0; i < n; ++i) {
-    mesh.triangles.row(i) << t0, i, i + 1;                  // fan from T_0 over the bottom
-    mesh.triangles.row(n + i) << bn, n + 2 + i, n + 1 + i;  // fan from B_n over the top
-  }
-  return mesh;
-}
-
-/// A closed mesh with valence-3 vertices and needles: an icosphere whose faces are split 1-to-3
-/// at points near one of their corners.
-Mesh split_near_corners(int subdivisions, double weight) {
-  const Mesh sphere = make_icosphere(subdivisions);
-  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
-  Mesh mesh;
-  mesh.positions.resize(nv + nf, 3);
-  mesh.positions.topRows(nv) = sphere.positions;
-  mesh.triangles.resize(3 * nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    const int a = sphere.triangles(f, 0), b = sphere.triangles(f, 1), c = sphere.triangles(f, 2);
-    const Eigen::RowVector3d p = (1 - 2 * weight) * sphere.positions.row(a) +
-                                 weight * (sphere.positions.row(b) + sphere.positions.row(c));
-    mesh.positions.row(nv + f) = p * 1.01;  // a little outside: a valence-3 bump
-    mesh.triangles.row(3 * f) << a, b, nv + f;
-    mesh.triangles.row(3 * f + 1) << b, c, nv + f;
-    mesh.triangles.row(3 * f + 2) << c, a, nv + f;
-  }
-  return mesh;
-}
-
 void expect_input_faces_recovered(const Mesh& mesh) {
   const Flipped f = flip_isometrically(mesh);
   ASSERT_GT(f.flips.flips, 0);
@@ -108,13 +68,13 @@ void expect_input_faces_recovered(const Mesh& mesh) {
 }
 
 TEST(IntrinsicTriangulation, UndoingIsometricFlipsRecoversTheInputFacesOfAValence3Sphere) {
-  expect_input_faces_recovered(split_near_corners(2, 0.05));
+  expect_input_faces_recovered(testing::icosphere_split_near_corners(2, 0.05));
 }
 
 TEST(IntrinsicTriangulation, UndoingIsometricFlipsRecoversACadFan) {
   // Angles down to 0.006 degrees: the intrinsic Delaunay triangulation is the strip's zig-zag,
   // many flips away from the fans.
-  const Mesh strip = cad_strip(100, 0.01);
+  const Mesh strip = testing::cad_strip(100, 0.01);
   expect_input_faces_recovered(strip);
   EXPECT_GT(flip_isometrically(strip).flips.flips, 100);
 }
@@ -201,15 +161,15 @@ void expect_hyperbolic_input_faces_recovered(const Mesh& mesh, int min_flips) {
 }
 
 TEST(IntrinsicTriangulation, UndoingHyperbolicIsometricFlipsRecoversTheInputFaces) {
-  expect_hyperbolic_input_faces_recovered(split_near_corners(2, 0.05), 100);
-  expect_hyperbolic_input_faces_recovered(cad_strip(100, 0.01), 100);
+  expect_hyperbolic_input_faces_recovered(testing::icosphere_split_near_corners(2, 0.05), 100);
+  expect_hyperbolic_input_faces_recovered(testing::cad_strip(100, 0.01), 100);
 }
 
 TEST(IntrinsicTriangulation, HyperbolicDevelopmentAfterPtolemyFlipsKeepsTheVertexAngles) {
   // Ptolemy flips at smooth scale factors change the metric; the input faces developed in the
   // final one tile the same surface: around every vertex their angles add up to the final
   // triangulation's angle sum, and their areas to its area.
-  const Mesh mesh = split_near_corners(2, 0.1);
+  const Mesh mesh = testing::icosphere_split_near_corners(2, 0.1);
   const Topology input = build_topology(mesh.triangles, mesh.num_vertices());
   Topology t = input;
   ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);

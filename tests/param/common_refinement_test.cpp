@@ -23,6 +23,7 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
+#include "support/hard_meshes.hpp"
 #include "support/shared_meshes.hpp"
 
 namespace ricci {
@@ -39,43 +40,6 @@ ParamResult param_vertex_scaling(const Mesh& mesh, std::vector<Cone> cones,
   options.cones = std::move(cones);
   options.flow.tolerance = tolerance;
   return parameterize(mesh, options);
-}
-
-/// A CAD-style strip: two fans from opposite corners of a 1 by `width` rectangle, slightly bent.
-Mesh cad_strip(int n, double width) {
-  Mesh mesh;
-  mesh.positions.resize(2 * (n + 1), 3);
-  mesh.triangles.resize(2 * n, 3);
-  for (int i = 0; i <= n; ++i) {
-    const double x = static_cast<double>(i) / n, z = 0.02 * std::sin(3.0 * x);
-    mesh.positions.row(i) << x, 0, z;
-    mesh.positions.row(n + 1 + i) << x, width, z;
-  }
-  for (int i = 0; i < n; ++i) {
-    mesh.triangles.row(i) << n + 1, i, i + 1;
-    mesh.triangles.row(n + i) << n, n + 2 + i, n + 1 + i;
-  }
-  return mesh;
-}
-
-/// An icosphere with every face split 1-to-3 at a point near one corner: valence-3 needles.
-Mesh split_near_corners(int subdivisions, double weight) {
-  const Mesh sphere = make_icosphere(subdivisions);
-  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
-  Mesh mesh;
-  mesh.positions.resize(nv + nf, 3);
-  mesh.positions.topRows(nv) = sphere.positions;
-  mesh.triangles.resize(3 * nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    const int a = sphere.triangles(f, 0), b = sphere.triangles(f, 1), c = sphere.triangles(f, 2);
-    mesh.positions.row(nv + f) =
-        1.01 * ((1 - 2 * weight) * sphere.positions.row(a) +
-                weight * (sphere.positions.row(b) + sphere.positions.row(c)));
-    mesh.triangles.row(3 * f) << a, b, nv + f;
-    mesh.triangles.row(3 * f + 1) << b, c, nv + f;
-    mesh.triangles.row(3 * f + 2) << c, a, nv + f;
-  }
-  return mesh;
 }
 
 Complex at(const std::array<Complex, 3>& shape, const Eigen::Vector3d& b) {
@@ -273,7 +237,7 @@ TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMin
 }
 
 TEST(CommonRefinement, ValenceThreeSphereWithStrongConesFlipsBothWays) {
-  const Mesh mesh = split_near_corners(1, 0.05);
+  const Mesh mesh = testing::icosphere_split_near_corners(1, 0.05);
   const ParamResult p = param_vertex_scaling(mesh, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);
@@ -300,7 +264,7 @@ TEST(CommonRefinement, IcosphereWithNegativeConesFlipsDuringTheFlow) {
 }
 
 TEST(CommonRefinement, CadFanWithFreeBoundaryIsCutAlongItsDelaunayTriangulation) {
-  const Mesh strip = cad_strip(40, 0.01);
+  const Mesh strip = testing::cad_strip(40, 0.01);
   const ParamResult p = param_vertex_scaling(strip, {});
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);

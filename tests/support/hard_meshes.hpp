@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
 
@@ -146,6 +147,46 @@ inline Mesh jitter_tangentially(const Mesh& mesh, double amount, unsigned seed) 
     out.positions.row(v) += (r * (std::cos(phi) * t1 + std::sin(phi) * t2)).transpose();
   }
   return out;
+}
+
+/// A CAD-style strip: `n` segments along each long side of a 1 by `width` rectangle (slightly
+/// bent), triangulated as two fans from opposite corners, as CAD tessellators do. Its triangles
+/// have angles down to about width / n radians at the fan centres and are far from Delaunay.
+inline Mesh cad_strip(int n, double width) {
+  Mesh mesh;
+  mesh.positions.resize(2 * (n + 1), 3);
+  mesh.triangles.resize(2 * n, 3);
+  for (int i = 0; i <= n; ++i) {
+    const double x = static_cast<double>(i) / n, z = 0.02 * std::sin(3.0 * x);
+    mesh.positions.row(i) << x, 0, z;              // bottom B_i
+    mesh.positions.row(n + 1 + i) << x, width, z;  // top T_i
+  }
+  for (int i = 0; i < n; ++i) {
+    mesh.triangles.row(i) << n + 1, i, i + 1;              // fan from T_0 over the bottom
+    mesh.triangles.row(n + i) << n, n + 2 + i, n + 1 + i;  // fan from B_n over the top
+  }
+  return mesh;
+}
+
+/// An icosphere with every face split 1-to-3 at a point near its first corner (barycentric
+/// weights 1 - 2 weight, weight, weight), lifted 1 % off the sphere: valence-3 vertices, needles.
+inline Mesh icosphere_split_near_corners(int subdivisions, double weight) {
+  const Mesh sphere = make_icosphere(subdivisions);
+  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
+  Mesh mesh;
+  mesh.positions.resize(nv + nf, 3);
+  mesh.positions.topRows(nv) = sphere.positions;
+  mesh.triangles.resize(3 * nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    const int a = sphere.triangles(f, 0), b = sphere.triangles(f, 1), c = sphere.triangles(f, 2);
+    mesh.positions.row(nv + f) =
+        1.01 * ((1 - 2 * weight) * sphere.positions.row(a) +
+                weight * (sphere.positions.row(b) + sphere.positions.row(c)));
+    mesh.triangles.row(3 * f) << a, b, nv + f;
+    mesh.triangles.row(3 * f + 1) << b, c, nv + f;
+    mesh.triangles.row(3 * f + 2) << c, a, nv + f;
+  }
+  return mesh;
 }
 
 }  // namespace ricci::testing

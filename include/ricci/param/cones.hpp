@@ -73,6 +73,13 @@ struct ConeSelection {
 /// \throw InvalidInput when options are out of range
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options = {});
 
+/// max |u - mean u| (area-weighted mean) of log scale factors u of the mesh's vertices, leaving
+/// out the cones and the rings around them that select_cones leaves out (up to 3 rings, at most
+/// 2 % of the area each): the measure `max_log_scale` bounds, for a nonlinear flow's u.
+/// \param u #V log scale factors; cones: vertex indices
+double log_scale_spread(const Mesh& mesh, const Topology& topology, const Eigen::VectorXd& u,
+                        const std::vector<int>& cones);
+
 /// Rounds cone curvatures to multiples of pi/2 keeping their sum (which must itself be a
 /// multiple of pi/2, as 2 pi chi minus a boundary total is for the flat targets): the cones with
 /// the largest rounding remainders are rounded the other way until the sum matches. Cones whose
