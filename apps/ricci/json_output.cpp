@@ -263,6 +263,8 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   }
   j["cones"] = cones;
   j["cone_selection_max_log_scale"] = r.cone_selection.max_log_scale;
+  j["log_scale_spread"] = r.log_scale_spread;
+  j["cone_rounds"] = r.cone_rounds;
   j["modification"] = {{"edge_splits", r.edge_splits},
                        {"subdivided", r.subdivided},
                        {"added_vertices", r.added_vertex_parents.size()},

@@ -51,7 +51,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     Returns a ``ParamResult``: converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
     indices into uv per corner, vertices (n', 3) and triangles (m', 3) of the mesh parameterized
     (after edge splits; input vertices first), vertex_origin, cones, distortion (with
-    flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length, and
+    flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length,
+    log_scale_spread and cone_rounds (automatic cones), and
     the stages: flow, cut, cut_mesh, layout, atlas, cone_selection. When the flow does not
     converge, converged is False and message says why (nothing is raised). Several components:
     the same fields cover the whole mesh, components lists a ``ComponentParam`` per component

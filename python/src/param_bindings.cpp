@@ -229,7 +229,11 @@ void bind_param(py::module_& m) {
       .readonly("edge_splits", &ParamResult::edge_splits, "")
       .readonly("subdivided", &ParamResult::subdivided, "the mesh was subdivided once")
       .readonly("cones", &ParamResult::cones, "final Cone list (output vertex indices)")
-      .readonly("cone_selection", &ParamResult::cone_selection, "ConeSelection")
+      .readonly("cone_selection", &ParamResult::cone_selection, "ConeSelection (last round)")
+      .readonly("log_scale_spread", &ParamResult::log_scale_spread,
+                "automatic cones: max |u - mean u| of the flat metric away from the cones")
+      .readonly("cone_rounds", &ParamResult::cone_rounds,
+                "automatic cones: times they were chosen again, with more of them")
       .computed(
           "layout_error", [](const ParamResult& r) { return r.layout.max_length_relative_error; },
           "layout.max_length_relative_error")

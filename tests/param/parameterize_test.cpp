@@ -7,6 +7,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
+#include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "support/shared_meshes.hpp"
 
@@ -99,6 +100,31 @@ TEST(Parameterize, SphereWithAutomaticQuantizedCones) {
   }
   EXPECT_NEAR(total, 4 * kPi, 1e-12);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
+}
+
+// The selection's linear model met its bound on this CAD cylinder with three cones of 1.5 pi,
+// whose flat metric scales areas by up to e^4 (area distortion energy 4.5): the flow's own u
+// asks for more cones, and the rounds add them until the spread is within 1.25 times the bound.
+TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBound) {
+  const Mesh cylinder = make_cad_cylinder(360);
+  ParamOptions options;  // defaults: cones as needed (automatic on a sphere)
+  const ParamResult r = parameterize(cylinder, options);
+  expect_good(r, "CAD cylinder");
+  EXPECT_GE(r.cone_rounds, 1);
+  EXPECT_GT(r.cones.size(), 3u);
+  EXPECT_LE(r.log_scale_spread, 1.25 * options.auto_cones.max_log_scale);
+  EXPECT_EQ(r.distortion.flipped_faces, 0);
+  EXPECT_LT(r.distortion.area_distortion_energy, 0.5);
+
+  // Without the rounds (exactly as many cones as the first selection made) it is much worse.
+  ParamOptions first = options;
+  first.cone_mode = ConeMode::Auto;
+  first.auto_cones.count = 3;
+  const ParamResult three = parameterize(cylinder, first);
+  ASSERT_TRUE(three.converged);
+  EXPECT_EQ(three.cone_rounds, 0);
+  EXPECT_GT(three.distortion.area_distortion_energy,
+            4 * r.distortion.area_distortion_energy);
 }
 
 TEST(Parameterize, UserConesOnASphere) {

@@ -93,7 +93,14 @@ struct ParamResult {
   /// was subdivided once (every edge split at its midpoint) and the flow run again.
   bool subdivided = false;
   std::vector<Cone> cones;       ///< final cones (output vertex indices) and curvatures
-  ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history
+  ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history (last round)
+  /// Automatic cones with flips: max |u - mean u| of the flat metric's own log scale, away from
+  /// the cones (log_scale_spread); 0 when not measured.
+  double log_scale_spread = 0;
+  /// Automatic cones: how many times they were chosen again, with more of them, because the
+  /// flat metric's spread exceeded 1.25 max_log_scale (the linearised model underestimates
+  /// strong cones); each round's flow is counted in timings.flow.
+  int cone_rounds = 0;
   MeshFlowResult flow;           ///< the Ricci flow to the flat metric
   /// With flips: how well the development of the input faces in the intrinsic metric closes up
   /// (largest relative difference of an input edge's length seen from its two faces).
