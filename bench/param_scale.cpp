@@ -9,8 +9,11 @@
 // or caches: the child generates the mesh, resets its peak resident set size (/proc/self/
 // clear_refs), then runs either parameterize (the parameterisation's peak memory is the child's
 // VmHWM afterwards: the input mesh and the process image are included, nothing else) or the
-// baseline (Laplacian assembled outside the clock; analyse + factorise timed). Param and baseline
-// runs alternate, `--runs` times each, and the table shows medians (this machine is noisy).
+// baseline (Laplacian assembled outside the clock; analyse + factorise timed). Two baselines:
+// ricci's SparseCholesky (OpenBLAS pinned to one thread, as in the flow, for results independent
+// of the thread count) and CHOLMOD called directly with its defaults (BLAS on every thread the
+// process has): the ratio to the second is the one a user comparing with a bare solve sees.
+// Param and baseline runs alternate, `--runs` times each, and the table shows medians.
 //
 //   build/bench/ricci_param_scale                       # every case, 3 runs each
 //   build/bench/ricci_param_scale --runs 5 --cases disk1m
@@ -27,6 +30,10 @@
 #include <functional>
 #include <string>
 #include <vector>
+
+#ifdef RICCI_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/mesh/generate.hpp"
@@ -129,7 +136,10 @@ ParamRun run_param(const Case& c) {
   return run;
 }
 
-BaselineRun run_baseline(const Case& c) {
+/// direct: CHOLMOD through Eigen's wrapper with its defaults, BLAS threads as the process has
+/// them; else ricci's SparseCholesky, which pins OpenBLAS to one thread for results that do not
+/// depend on the thread count (the flow's own factorisations run that way).
+BaselineRun run_baseline(const Case& c, bool direct) {
   const ricci::Mesh mesh = c.make();
   // The cotangent Laplacian of the input (positive semi-definite on any mesh: the P1 stiffness
   // matrix), made definite by a large diagonal penalty on the boundary (or on vertex 0 of a
@@ -154,12 +164,23 @@ BaselineRun run_baseline(const Case& c) {
   L.makeCompressed();
   reset_peak_memory();
   BaselineRun run;
-  ricci::SparseCholesky cholesky;
-  const auto t0 = Clock::now();
-  cholesky.analyze(L);
-  run.analyse = seconds_since(t0);
-  cholesky.factorize(L);
-  run.seconds = seconds_since(t0);
+  if (direct) {
+#ifdef RICCI_HAVE_CHOLMOD
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
+    const auto t0 = Clock::now();
+    cholesky.analyzePattern(L);
+    run.analyse = seconds_since(t0);
+    cholesky.factorize(L);
+    run.seconds = seconds_since(t0);
+#endif
+  } else {
+    ricci::SparseCholesky cholesky;
+    const auto t0 = Clock::now();
+    cholesky.analyze(L);
+    run.analyse = seconds_since(t0);
+    cholesky.factorize(L);
+    run.seconds = seconds_since(t0);
+  }
   run.peak_mb = status_mb("VmHWM:");
   return run;
 }
@@ -249,14 +270,17 @@ int main(int argc, char** argv) {
   struct Row {
     Case c;
     std::vector<ParamRun> param;
-    std::vector<BaselineRun> baseline;
+    std::vector<BaselineRun> baseline, direct;
   };
   std::vector<Row> rows;
   for (const Case& c : cases) {
-    Row row{c, {}, {}};
+    Row row{c, {}, {}, {}};
     for (int i = 0; i < runs; ++i) {
       row.param.push_back(in_child<ParamRun>([&] { return run_param(c); }));
-      row.baseline.push_back(in_child<BaselineRun>([&] { return run_baseline(c); }));
+      row.baseline.push_back(in_child<BaselineRun>([&] { return run_baseline(c, false); }));
+#ifdef RICCI_HAVE_CHOLMOD
+      row.direct.push_back(in_child<BaselineRun>([&] { return run_baseline(c, true); }));
+#endif
       const ParamRun& p = row.param.back();
       std::fprintf(stderr,
                    "%s run %d: param %.3f s (%s, flow error %.1e, length error %.1e, %g flipped) "
@@ -268,20 +292,23 @@ int main(int argc, char** argv) {
     rows.push_back(std::move(row));
   }
 
-  std::printf("Medians of %d runs (param and baseline alternating, each in a fresh forked child; "
-              "peak = the child's VmHWM from just before parameterize, input mesh included).\n\n",
+  std::printf("Medians of %d runs (param and baselines alternating, each in a fresh forked child; "
+              "peak = the child's VmHWM from just before parameterize, input mesh included; "
+              "baseline: SparseCholesky, BLAS on one thread as in the flow; direct: CHOLMOD's "
+              "defaults, BLAS on every thread).\n\n",
               runs);
   std::printf(
-      "| case | faces | param s | baseline s | ratio | param peak MB | cones | flow | cut | "
-      "development | layout | atlas | distortion |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "| case | faces | param s | baseline s | ratio | CHOLMOD direct s | ratio to direct | "
+      "param peak MB | cones | flow | cut | development | layout | atlas | distortion |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const Row& r : rows) {
     const double p = median_of(r.param, &ParamRun::seconds);
     const double b = median_of(r.baseline, &BaselineRun::seconds);
+    const double d = r.direct.empty() ? 0.0 : median_of(r.direct, &BaselineRun::seconds);
     std::printf(
-        "| %s | %.0f | %.3f | %.3f | %.2f | %.0f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | "
-        "%.3f |\n",
-        r.c.name.c_str(), r.param.front().faces, p, b, p / b,
+        "| %s | %.0f | %.3f | %.3f | %.2f | %.3f | %.2f | %.0f | %.3f | %.3f | %.3f | %.3f | "
+        "%.3f | %.3f | %.3f |\n",
+        r.c.name.c_str(), r.param.front().faces, p, b, p / b, d, d > 0 ? p / d : 0.0,
         median_of(r.param, &ParamRun::peak_mb), median_of(r.param, &ParamRun::cones),
         median_of(r.param, &ParamRun::flow), median_of(r.param, &ParamRun::cut),
         median_of(r.param, &ParamRun::development), median_of(r.param, &ParamRun::layout),

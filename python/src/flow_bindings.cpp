@@ -188,6 +188,8 @@ void bind_flow(py::module_& m) {
       .readonly("triangle_failures", &IterationRecord::triangle_failures,
                 "trial steps rejected for breaking a triangle inequality")
       .readonly("flips", &IterationRecord::flips, "edges flipped by the accepted step")
+      .readonly("chord", &IterationRecord::chord,
+                "a chord step: the previous factorisation, as it was")
       .readonly("seconds", &IterationRecord::seconds, "wall time since the solve started")
       .repr();
 
@@ -212,6 +214,8 @@ void bind_flow(py::module_& m) {
       .field("reuse_factorization_cg_iterations", &FlowOptions::reuse_factorization_cg_iterations,
              "refactorise when conjugate gradients preconditioned by the last factor need more "
              "than this many iterations; 0 refactorises every step")
+      .field("chord_error", &FlowOptions::chord_error,
+             "Newton: reuse the last factorisation as it is (chord steps) below this error")
       .property(
           "progress", [](const FlowOptions& o) { return progress_callable(o.progress); },
           [](FlowOptions& o, const py::object& f) { o.progress = make_progress(f); },
@@ -256,6 +260,8 @@ void bind_flow(py::module_& m) {
       .readonly("analyses", &FlowResult::analyses, "")
       .readonly("factorizations", &FlowResult::factorizations, "")
       .readonly("cg_iterations", &FlowResult::cg_iterations, "")
+      .readonly("chord_steps", &FlowResult::chord_steps,
+                "Newton steps made with the previous factorisation as it was")
       .readonly("linear_solver", &FlowResult::linear_solver, "Cholesky backend (Newton)")
       .readonly("gauss_bonnet_relative_error", &FlowResult::gauss_bonnet_relative_error, "")
       .readonly("total_area", &FlowResult::total_area, "hyperbolic: area of the final metric")

@@ -188,7 +188,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     CutMesh cut_mesh;
     double seconds = 0;
   };
-  auto cut_stage = [&input = std::as_const(result.mesh), &cones](const Topology& topology) {
+  // (The cones are copied: the rounds of step 3b may choose others while this runs.)
+  auto cut_stage = [&input = std::as_const(result.mesh)](const Topology& topology,
+                                                         std::vector<Cone> cones) {
     const auto t = Clock::now();
     CutStage stage;
     stage.lengths_3d = input_edge_lengths(input, topology);
@@ -201,7 +203,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   };
   const bool may_subdivide = options.modify_connectivity && !flips && !cones.empty();
   std::future<CutStage> cut_ahead;
-  if (!may_subdivide) cut_ahead = parallel::run_beside([&] { return cut_stage(t0); });
+  if (!may_subdivide) cut_ahead = parallel::run_beside([&, cones] { return cut_stage(t0, cones); });
 
   // 3. Ricci flow to the flat metric with these cones.
   MeshFlowOptions flow_options;
@@ -263,6 +265,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
         break;
       }
       cones = std::move(more);
+      // The cut made beside the first flow runs through the old cones: cut again.
+      if (cut_ahead.valid()) cut_ahead.wait();
+      cut_ahead = {};
       result.cones = cones;
       result.flow = std::move(flow);
       result.log_scale_spread = spread;
@@ -282,7 +287,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   // face is developed in it (its corners at their exact images), so the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
   const Topology& topology = t0;
-  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(topology);
+  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(topology, cones);
   const Eigen::VectorXd& lengths_3d = cut.lengths_3d;
   result.cut = std::move(cut.cut);
   result.cut_mesh = std::move(cut.cut_mesh);

@@ -49,6 +49,7 @@ struct IterationRecord {
   int triangle_failures = 0;  ///< trial steps rejected: a triangle inequality broke or a
                               ///< length became non-positive or overflowed
   int flips = 0;              ///< edges flipped by the accepted step (EdgeFlips::Delaunay)
+  bool chord = false;         ///< a chord step: the previous factorisation, as it was
   double seconds = 0;         ///< wall time since the solve started
 };
 
@@ -70,8 +71,9 @@ struct FlowOptions {
   /// and refactorise only when that needs more than this many iterations; 0 refactorises at
   /// every Newton step.
   int reuse_factorization_cg_iterations = 25;
-  /// Newton: once max |K-bar - K| is at most this, steps reuse the last factorisation as it is
-  /// (chord steps: no assembly, one solve) while each cuts the error at least tenfold; 0: never.
+  /// Newton: once max |K-bar - K| is at most this, and the last step (which factorised) cut it
+  /// at least a thousandfold, the next steps reuse that factorisation as it is (chord steps: no
+  /// assembly, one solve) while each cuts the error at least tenfold; 0: never.
   double chord_error = 1e-8;
   /// Intrinsic Delaunay flips, in the Euclidean and in the hyperbolic background. With them
   /// vertex scaling reaches every target that satisfies Gauss-Bonnet (and K < 2 pi inside): no
