@@ -190,12 +190,12 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   };
   // (The cones are copied: the rounds of step 3b may choose others while this runs.)
   auto cut_stage = [&input = std::as_const(result.mesh)](const Topology& topology,
-                                                         std::vector<Cone> cones) {
+                                                         std::vector<Cone> through) {
     const auto t = Clock::now();
     CutStage stage;
     stage.lengths_3d = input_edge_lengths(input, topology);
     CutGraphOptions cut_options;
-    for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
+    for (const Cone& c : through) cut_options.cones.push_back(c.vertex);
     stage.cut = cut_graph(topology, stage.lengths_3d, cut_options);
     stage.cut_mesh = slice(topology, stage.cut);
     stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
