@@ -74,8 +74,9 @@ struct ConeSelection {
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options = {});
 
 /// max |u - mean u| (area-weighted mean) of log scale factors u of the mesh's vertices, leaving
-/// out the cones and the rings around them that select_cones leaves out (up to 3 rings, at most
-/// 2 % of the area each): the measure `max_log_scale` bounds, for a nonlinear flow's u.
+/// out the cones and up to 3 rings around each (at most 2 % of the area per cone, where
+/// select_cones leaves out 3 whole rings): the measure `max_log_scale` bounds, for a nonlinear
+/// flow's u.
 /// \param u #V log scale factors; cones: vertex indices
 double log_scale_spread(const Mesh& mesh, const Topology& topology, const Eigen::VectorXd& u,
                         const std::vector<int>& cones);
