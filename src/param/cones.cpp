@@ -416,6 +416,14 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   }
 
   Eigen::VectorXd k;
+  // The last cone set whose curvatures met their bounds: when automatic selection ends out of
+  // bounds (the cap, or cones so close together on a needle mesh that the bounded problem had
+  // no solution and its unbounded fallback gave curvatures of +-36), it returns that one.
+  struct Good {
+    int m = 0;
+    Eigen::VectorXd k;
+    double rms = 0;
+  } last_good;
   for (;;) {
     const int m = static_cast<int>(S.size());
     double lambda = 0;
@@ -441,6 +449,9 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     }
     result.max_log_scale.push_back(largest);
     result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(Pu)));
+    if (result.within_bounds && m > 0) {
+      last_good = {m, k, result.log_scale_rms};
+    }
     const bool done =
         wanted >= 0 ? m >= wanted
                     : (largest <= options.max_log_scale && result.within_bounds) || m >= max_cones;
@@ -462,13 +473,29 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
       continue;
     }
     std::sort(order.begin(), order.end());
+    // On a closed surface the cones' curvatures sum to 2 pi chi, so their lower bounds must not
+    // exceed it: a vertex with a corner near pi (a CAD sliver) must take a strong positive cone,
+    // and a few of them made the bounds infeasible (unbounded curvatures of 3 pi on a needle
+    // cylinder). Candidates with a positive lower bound are skipped once they would.
+    double lower_sum = 0;
+    for (int c : S) lower_sum += lower_bound(c);
     int added = 0;
     for (const auto& [gain, v] : order) {
       if (added >= std::min(batch, room)) break;
       if (ring[v] <= separation) continue;  // next to a cone added in this batch
+      const double lo_v = lower_bound(v);
+      if (closed && lo_v > 0 && lower_sum + lo_v > total + 1e-9) continue;
       add_cone(v);
+      lower_sum += lo_v;
       ++added;
     }
+    if (added == 0) break;  // no candidate keeps the bounds feasible
+  }
+  if (!result.within_bounds && wanted < 0 && last_good.m > 0) {
+    S.resize(static_cast<std::size_t>(last_good.m));
+    k = last_good.k;
+    result.log_scale_rms = last_good.rms;
+    result.within_bounds = true;
   }
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;

@@ -144,6 +144,18 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     }
     case ConeMode::Auto:
       cones = select_auto(options.auto_cones.count);
+      for (const Cone& c : cones) {
+        // A fixed count too small for the curvature (two cones on a sphere): the least-squares
+        // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
+        if (!result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
+          throw InvalidInput("parameterize: " + std::to_string(cones.size()) +
+                             " automatic cones cannot carry the curvature within their bounds "
+                             "(vertex " + std::to_string(c.vertex) + " would need " +
+                             std::to_string(c.curvature) +
+                             ", a cone angle below 0); ask for more cones, or let the count be "
+                             "chosen automatically");
+        }
+      }
       break;
   }
   lap(result.timings.cones);
@@ -247,13 +259,22 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       const int n = static_cast<int>(cones.size());
       ConeSelection previous = result.cone_selection;
       std::vector<Cone> more = select_auto(std::max(n + 2, (3 * n + 1) / 2));
-      if (static_cast<int>(more.size()) <= n) {  // the cap on the number of cones
+      // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such
+      // cone set is drawable. Either way the first one stays.
+      if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
         result.cone_selection = std::move(previous);
         break;
       }
       quantize(more);
       flow_options.target.cones = more;
-      MeshFlowResult flow = flow_mesh(result.mesh, t0, flow_options);
+      MeshFlowResult flow;
+      try {
+        flow = flow_mesh(result.mesh, t0, flow_options);
+      } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
+        result.cone_selection = std::move(previous);
+        flow_options.target.cones = cones;
+        break;
+      }
       vertices.clear();
       for (const Cone& c : more) vertices.push_back(c.vertex);
       const double spread =

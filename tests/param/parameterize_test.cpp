@@ -127,6 +127,35 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
             4 * r.distortion.area_distortion_energy);
 }
 
+// A CAD cylinder with 0.1-degree needles: cones picked next to each other made the bounded
+// least-squares problem infeasible, and its unbounded fallback asked curvatures of +-36 (the flow
+// then refused a cone angle below 0). The selection now returns the last cone set within its
+// bounds, and skips candidates whose positive lower bounds the curvature total cannot pay.
+TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
+  const Mesh needles = pull_vertices_to_neighbours(make_cad_cylinder(360), 0.998, 1, 2);
+  const ParamResult r = parameterize(needles, ParamOptions{});
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_TRUE(r.cone_selection.within_bounds);
+  double total = 0;
+  for (const Cone& c : r.cones) {
+    EXPECT_LT(c.curvature, 2 * kPi);
+    total += c.curvature;
+  }
+  EXPECT_NEAR(total, 4 * kPi, 1e-9);
+  EXPECT_LE(r.layout.max_length_relative_error, 1e-6);
+
+  // Two cones cannot carry 4 pi (each at most 1.5 pi): a clear refusal, not the flow's.
+  ParamOptions two;
+  two.cone_mode = ConeMode::Auto;
+  two.auto_cones.count = 2;
+  try {
+    (void)parameterize(needles, two);
+    FAIL() << "two cones on a sphere were accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("ask for more cones"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Parameterize, UserConesOnASphere) {
   ParamOptions options;
   options.cone_mode = ConeMode::User;

@@ -63,8 +63,11 @@ struct ConeSelection {
   /// they sum to 2 pi chi; with a boundary the boundary takes the rest.
   std::vector<double> linear_curvature;
   double log_scale_rms = 0;  ///< sqrt(J / total area) at the end
-  /// Whether every cone's curvature lies within its bounds (false when the cap on the number of
-  /// cones stopped the selection first).
+  /// Whether every cone's curvature lies within its bounds. Automatic count: when the selection
+  /// ends out of bounds (the cap on the number of cones, or an infeasible bounded problem), the
+  /// last cone set that met them is returned (`vertices` cut back to it; `max_log_scale` keeps
+  /// the whole history); false only when none did. A fixed count: false when no curvatures of
+  /// that many cones meet the bounds (the least-squares curvatures are returned as they are).
   bool within_bounds = true;
 };
 
