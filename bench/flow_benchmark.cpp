@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 
+#include "bench_support.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
@@ -24,32 +25,10 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-/// Resets the kernel's peak resident set size of this process (Linux >= 4.0).
-void reset_peak_memory() {
-  std::ofstream clear("/proc/self/clear_refs");
-  clear << "5";
-}
-
-/// Peak resident set size of this process since the last reset, in MB.
-double peak_memory_mb() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kb = 0;
-      status >> kb;
-      return kb / 1024.0;
-    }
-    std::getline(status, key);
-  }
-  return -1;
-}
+using ricci::bench::Clock;
+using ricci::bench::peak_memory_mb;
+using ricci::bench::reset_peak_memory;
+using ricci::bench::seconds_since;
 
 void BM_FlatTorusNewton(benchmark::State& state) {
   const int major = static_cast<int>(state.range(0));

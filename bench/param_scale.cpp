@@ -35,6 +35,7 @@
 #include <Eigen/CholmodSupport>
 #endif
 
+#include "bench_support.hpp"
 #include "ricci/flow/cholesky.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/topology.hpp"
@@ -46,30 +47,10 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-void reset_peak_memory() {
-  std::ofstream clear("/proc/self/clear_refs");
-  clear << "5";
-}
-
-double status_mb(const char* field) {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == field) {
-      double kb = 0;
-      status >> kb;
-      return kb / 1024.0;
-    }
-    std::getline(status, key);
-  }
-  return -1;
-}
+using ricci::bench::Clock;
+using ricci::bench::peak_memory_mb;
+using ricci::bench::reset_peak_memory;
+using ricci::bench::seconds_since;
 
 struct Case {
   std::string name;
@@ -108,7 +89,7 @@ ParamRun run_param(const Case& c) {
   const ricci::ParamResult r = ricci::parameterize(mesh, ricci::ParamOptions{});
   ParamRun run;
   run.seconds = seconds_since(t0);
-  run.peak_mb = status_mb("VmHWM:");
+  run.peak_mb = peak_memory_mb();
   run.faces = mesh.num_faces();
   run.converged = r.converged;
   run.cones = r.timings.cones;
@@ -181,7 +162,7 @@ BaselineRun run_baseline(const Case& c, bool direct) {
     cholesky.factorize(L);
     run.seconds = seconds_since(t0);
   }
-  run.peak_mb = status_mb("VmHWM:");
+  run.peak_mb = peak_memory_mb();
   return run;
 }
 
