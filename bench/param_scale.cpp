@@ -273,11 +273,12 @@ int main(int argc, char** argv) {
     rows.push_back(std::move(row));
   }
 
-  std::printf("Medians of %d runs (param and baselines alternating, each in a fresh forked child; "
-              "peak = the child's VmHWM from just before parameterize, input mesh included; "
-              "baseline: SparseCholesky, BLAS on one thread as in the flow; direct: CHOLMOD's "
-              "defaults, BLAS on every thread).\n\n",
-              runs);
+  std::printf(
+      "Medians of %d runs (param and baselines alternating, each in a fresh forked child; "
+      "peak = the child's VmHWM from just before parameterize, input mesh included; "
+      "baseline: SparseCholesky, BLAS on one thread as in the flow; direct: CHOLMOD's "
+      "defaults, BLAS on every thread).\n\n",
+      runs);
   std::printf(
       "| case | faces | param s | baseline s | ratio | CHOLMOD direct s | ratio to direct | "
       "param peak MB | cones | flow | cut | development | layout | atlas | distortion |\n");
@@ -295,8 +296,9 @@ int main(int argc, char** argv) {
         median_of(r.param, &ParamRun::development), median_of(r.param, &ParamRun::layout),
         median_of(r.param, &ParamRun::atlas), median_of(r.param, &ParamRun::distortion));
   }
-  std::printf("\nInside the flow stage (medians, seconds; 'outside' = flow stage minus the "
-              "RicciFlow totals: structure, target, checks, gathering):\n\n");
+  std::printf(
+      "\nInside the flow stage (medians, seconds; 'outside' = flow stage minus the "
+      "RicciFlow totals: structure, target, checks, gathering):\n\n");
   std::printf(
       "| case | cones | iterations | setup | assembly | analysis | factorisation | solve | "
       "line search | RicciFlow total | outside | baseline analyse |\n");

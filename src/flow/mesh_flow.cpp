@@ -341,8 +341,8 @@ Development develop_input_faces(const Topology& input, const MeshFlowResult& flo
       }
     }
   }
-  Development d = develop_input_faces(input, flow.flipped_edges,
-                                      with_doubled ? doubled_lengths : flow.lengths);
+  Development d =
+      develop_input_faces(input, flow.flipped_edges, with_doubled ? doubled_lengths : flow.lengths);
   bool any_doubled = false;
   for (std::size_t c = 0; c < flow.components.size(); ++c) {
     const ComponentFlow& comp = flow.components[c];

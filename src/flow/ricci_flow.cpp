@@ -581,8 +581,7 @@ struct RicciFlow::State {
     // error tenfold or the next iteration is a full one.
     const std::size_t h = history.size();
     if (options.chord_error > 0 && factor_matches_pattern && chord_allowed &&
-        factored_at == iteration - 1 && h >= 2 &&
-        history[h - 1].max_error <= options.chord_error &&
+        factored_at == iteration - 1 && h >= 2 && history[h - 1].max_error <= options.chord_error &&
         history[h - 1].max_error <= 1e-3 * history[h - 2].max_error) {
       const double drift = gauss_bonnet_drift();
       Eigen::VectorXd rhs(n);
@@ -800,7 +799,7 @@ struct RicciFlow::State {
     return r;
   }
 
-  int blocked_steps = 0;  // consecutive iterations whose step triangles cut below 1e-6
+  int blocked_steps = 0;      // consecutive iterations whose step triangles cut below 1e-6
   bool chord_allowed = true;  // the last chord step cut the error tenfold (or none was made)
   bool chord_step = false;    // the step being taken is one
   int factored_at = -1;       // iteration whose Newton step factorised the Hessian in hand

@@ -7,10 +7,10 @@
 #include <string>
 
 #include "../mesh/parallel.hpp"
-#include "triangle_terms.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
+#include "triangle_terms.hpp"
 
 namespace ricci {
 namespace {

@@ -1,8 +1,8 @@
 #include "ricci/param/cut_graph.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <numeric>

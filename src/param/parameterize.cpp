@@ -1,15 +1,15 @@
 #include "ricci/param/parameterize.hpp"
 
-#include "parameterize_component.hpp"
 #include "../mesh/parallel.hpp"
+#include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
-#include <future>
-#include <utility>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/split.hpp"
@@ -150,7 +150,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
         if (!result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
           throw InvalidInput("parameterize: " + std::to_string(cones.size()) +
                              " automatic cones cannot carry the curvature within their bounds "
-                             "(vertex " + std::to_string(c.vertex) + " would need " +
+                             "(vertex " +
+                             std::to_string(c.vertex) + " would need " +
                              std::to_string(c.curvature) +
                              ", a cone angle below 0); ask for more cones, or let the count be "
                              "chosen automatically");

@@ -22,8 +22,8 @@ inline void expect_quadratic_convergence(const FlowResult& r, double c = 10.0, d
     if (before > from || after < floor || r.history[k].step_length != 1.0) continue;
     if (r.history[k].chord) {
       // A chord step (the previous factorisation, as it was) converges linearly, fast.
-      EXPECT_LE(after, 0.1 * before) << "chord iteration " << k << ": " << before << " -> "
-                                     << after;
+      EXPECT_LE(after, 0.1 * before)
+          << "chord iteration " << k << ": " << before << " -> " << after;
       continue;
     }
     EXPECT_LE(after, c * before * before) << "iteration " << k << ": " << before << " -> " << after;

@@ -123,8 +123,7 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
   const ParamResult three = parameterize(cylinder, first);
   ASSERT_TRUE(three.converged);
   EXPECT_EQ(three.cone_rounds, 0);
-  EXPECT_GT(three.distortion.area_distortion_energy,
-            4 * r.distortion.area_distortion_energy);
+  EXPECT_GT(three.distortion.area_distortion_energy, 4 * r.distortion.area_distortion_energy);
 }
 
 // A CAD cylinder with 0.1-degree needles: cones picked next to each other made the bounded

@@ -154,7 +154,7 @@ struct FlowResult {
   std::vector<IterationRecord> history;  ///< iteration 0 (initial) to the last
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;
-  int chord_steps = 0;  ///< Newton steps made with the previous factorisation as it was
+  int chord_steps = 0;        ///< Newton steps made with the previous factorisation as it was
   std::string linear_solver;  ///< backend of the Cholesky factorisation (Newton)
   /// Of the final curvature: |sum K - 2 pi chi| (Euclidean) or |sum K - area - 2 pi chi|
   /// (hyperbolic) relative to max(1, 2 pi #V).

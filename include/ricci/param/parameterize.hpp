@@ -101,7 +101,7 @@ struct ParamResult {
   /// flat metric's spread exceeded 1.25 max_log_scale (the linearised model underestimates
   /// strong cones); each round's flow is counted in timings.flow.
   int cone_rounds = 0;
-  MeshFlowResult flow;           ///< the Ricci flow to the flat metric
+  MeshFlowResult flow;  ///< the Ricci flow to the flat metric
   /// With flips: how well the development of the input faces in the intrinsic metric closes up
   /// (largest relative difference of an input edge's length seen from its two faces).
   double development_length_mismatch = 0;
