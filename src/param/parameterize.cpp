@@ -1,15 +1,16 @@
 #include "ricci/param/parameterize.hpp"
 
-#include "parameterize_component.hpp"
+#include "../flow/mesh_flow_internal.hpp"
 #include "../mesh/parallel.hpp"
+#include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
 #include <chrono>
-#include <future>
-#include <utility>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/split.hpp"
@@ -150,7 +151,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
         if (!result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
           throw InvalidInput("parameterize: " + std::to_string(cones.size()) +
                              " automatic cones cannot carry the curvature within their bounds "
-                             "(vertex " + std::to_string(c.vertex) + " would need " +
+                             "(vertex " +
+                             std::to_string(c.vertex) + " would need " +
                              std::to_string(c.curvature) +
                              ", a cone angle below 0); ask for more cones, or let the count be "
                              "chosen automatically");
@@ -224,7 +226,16 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  result.flow = flow_mesh(result.mesh, t0, flow_options);
+  // The flows leave MeshFlowResult::topology to us when they keep t0's triangulation: t0 is
+  // moved there at the end, once the stages below are done with it (no copy of the topology).
+  bool flow_kept_t0 = false;
+  auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
+    return mesh_flow_internal::flow_mesh_keeping_topology(result.mesh, t0, o, kept);
+  };
+  auto give_t0_to_flow = [&] {
+    if (flow_kept_t0) result.flow.topology = std::move(t0);
+  };
+  result.flow = run_flow(flow_options, flow_kept_t0);
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
   if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
@@ -242,7 +253,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     result.edge_splits += result.mesh.num_vertices() - before;
     result.subdivided = true;
     t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-    result.flow = flow_mesh(result.mesh, t0, flow_options);
+    result.flow = run_flow(flow_options, flow_kept_t0);
     result.converged = result.flow.converged;
   }
   // 3b. The selection's model is the flow linearised at the input metric, which holds while u
@@ -268,8 +279,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       quantize(more);
       flow_options.target.cones = more;
       MeshFlowResult flow;
+      bool kept = false;
       try {
-        flow = flow_mesh(result.mesh, t0, flow_options);
+        flow = run_flow(flow_options, kept);
       } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
         result.cone_selection = std::move(previous);
         flow_options.target.cones = cones;
@@ -291,6 +303,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       cut_ahead = {};
       result.cones = cones;
       result.flow = std::move(flow);
+      flow_kept_t0 = kept;
       result.log_scale_spread = spread;
     }
   }
@@ -298,6 +311,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   if (!result.converged) {
     // The cut stage beside the flow reads result.mesh: wait for it (and drop it) first.
     if (cut_ahead.valid()) cut_ahead.wait();
+    give_t0_to_flow();
     result.message = result.flow.components.front().flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
@@ -327,6 +341,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }
+  give_t0_to_flow();  // (topology is t0: not read after this)
 
   // Texture coordinates in the unit square, aspect ratio kept.
   const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
