@@ -123,8 +123,12 @@ struct RicciFlow::State {
   int trial_flips = 0, trial_blocked = 0;
   std::vector<int> trial_flipped_edges;
   int total_flips = 0, blocked_flips = 0;
-  std::vector<int> flipped_edges;       // accepted flips in order (FlowResult::flipped_edges)
-  int isometric_flips = 0;              // the first ones, made isometrically at the input metric
+  std::vector<int> flipped_edges;  // accepted flips in order (FlowResult::flipped_edges)
+  int isometric_flips = 0;         // the first ones, made isometrically at the input metric
+  // Set by the constructor when `lengths` hold the initial metric's, all valid, and no edge
+  // failed the Delaunay test: its own call of set_u(initial u) then neither recomputes nor tests
+  // them again (the same computation would give the same values).
+  bool initial_lengths_delaunay = false;
   bool factor_matches_pattern = false;  // the Cholesky factor belongs to H's current pattern
 
   std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
@@ -182,6 +186,11 @@ struct RicciFlow::State {
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
     if (edge_lengths(*topology, structure, at, l) > 0) return Evaluation::BadLength;
+    return evaluate_angles(l, a, k);
+  }
+
+  /// The same from lengths l in hand (valid ones).
+  Evaluation evaluate_angles(const Eigen::VectorXd& l, CornerAngles& a, Eigen::VectorXd& k) const {
     if (corner_angles(*topology, l, a, structure.geometry) >= 0) {
       return Evaluation::TriangleInequality;
     }
@@ -581,8 +590,7 @@ struct RicciFlow::State {
     // error tenfold or the next iteration is a full one.
     const std::size_t h = history.size();
     if (options.chord_error > 0 && factor_matches_pattern && chord_allowed &&
-        factored_at == iteration - 1 && h >= 2 &&
-        history[h - 1].max_error <= options.chord_error &&
+        factored_at == iteration - 1 && h >= 2 && history[h - 1].max_error <= options.chord_error &&
         history[h - 1].max_error <= 1e-3 * history[h - 2].max_error) {
       const double drift = gauss_bonnet_drift();
       Eigen::VectorXd rhs(n);
@@ -800,7 +808,7 @@ struct RicciFlow::State {
     return r;
   }
 
-  int blocked_steps = 0;  // consecutive iterations whose step triangles cut below 1e-6
+  int blocked_steps = 0;      // consecutive iterations whose step triangles cut below 1e-6
   bool chord_allowed = true;  // the last chord step cut the error tenfold (or none was made)
   bool chord_step = false;    // the step being taken is one
   int factored_at = -1;       // iteration whose Newton step factorised the Hessian in hand
@@ -841,11 +849,16 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
-      const DelaunayFlipResult r =
-          s.flip_current_to_delaunay(s.structure.initial_u, s.lengths, isometric);
-      s.total_flips += r.flips;
-      s.isometric_flips = r.flips;
-      s.flipped_edges = r.flipped_edges;
+      if (count_non_delaunay_edges(*s.topology, s.lengths, isometric.tolerance,
+                                   s.structure.geometry) == 0) {
+        s.initial_lengths_delaunay = true;
+      } else {
+        const DelaunayFlipResult r = flip_to_delaunay(s.own_topology(), s.structure,
+                                                      s.structure.initial_u, s.lengths, isometric);
+        s.total_flips += r.flips;
+        s.isometric_flips = r.flips;
+        s.flipped_edges = r.flipped_edges;
+      }
     }
   }
   if (s.options.max_iterations <= 0) {
@@ -863,9 +876,14 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
                        " finite log radii");
   }
   s.finish_analysis(/*keep=*/false);  // an analysis of the pattern this call replaces
+  // Only the constructor's own call (u is the initial u) finds the lengths in hand.
+  const bool lengths_in_hand = s.initial_lengths_delaunay;
+  s.initial_lengths_delaunay = false;
   s.u = u;
   int initial_flips = 0;
-  if (s.flips) {
+  if (s.flips && lengths_in_hand) {
+    s.blocked_flips = 0;  // no edge failed the test
+  } else if (s.flips) {
     // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
     // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
     if (edge_lengths(*s.topology, s.structure, s.u, s.lengths) == 0) {
@@ -886,7 +904,8 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.cholesky = SparseCholesky(s.options.use_cholmod);
   s.factor_matches_pattern = false;
   s.start_analysis();
-  const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
+  const Evaluation ev = lengths_in_hand ? s.evaluate_angles(s.lengths, s.angles, s.curvature)
+                                        : s.evaluate(s.u, s.lengths, s.angles, s.curvature);
   if (ev == Evaluation::BadLength) {
     throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
   }
