@@ -7,10 +7,10 @@
 #include <string>
 
 #include "../mesh/parallel.hpp"
-#include "triangle_terms.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
+#include "triangle_terms.hpp"
 
 namespace ricci {
 namespace {
@@ -99,8 +99,9 @@ Topology replay_flips(const Topology& input, const std::vector<int>& flipped_edg
 }
 
 FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::VectorXd& lengths) {
-  // Only the angle at corner 0 places a face: computed alone, as corner_angles computes it
-  // (the half-angle formula on Kahan's terms), in parallel over the faces.
+  // Only the angle at corner 0 places a face: its cosine and sine from the half-angle formula on
+  // Kahan's terms (corner_angles takes the angle from the same tangent), in parallel over the
+  // faces.
   const int nf = topology.num_faces;
   FaceShapes shapes(static_cast<std::size_t>(nf));
   const int chunks = parallel::num_chunks(nf, parallel::kDefaultMinChunk / 4);
@@ -114,8 +115,11 @@ FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::Vecto
         if (first_bad[chunk] < 0) first_bad[chunk] = f;
         continue;
       }
-      const double angle0 = 2 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
-      shapes[f] = {Complex{0}, Complex{l[2]}, std::polar(l[1], angle0)};
+      // With t = tan(theta_0 / 2) = sqrt(b / a), a = 2 s d_0 and b = d_1 d_2: cos theta_0 =
+      // (a - b) / (a + b) and sin theta_0 = 2 sqrt(a b) / (a + b), no trigonometric call.
+      const double a = two_s * d[0], b = d[1] * d[2];
+      const double cos0 = (a - b) / (a + b), sin0 = 2 * std::sqrt(a) * std::sqrt(b) / (a + b);
+      shapes[f] = {Complex{0}, Complex{l[2]}, Complex{l[1] * cos0, l[1] * sin0}};
     }
   });
   for (const int bad : first_bad) {

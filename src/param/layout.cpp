@@ -435,11 +435,23 @@ Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const Cut
     lengths[e] = std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   });
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
-  // Each face's signed angle at corner 0 from its shape (only that one places the face).
-  const auto q = face_triangles(topology, lengths, [&](std::int64_t f) {
-    const auto& p = shapes[f];
-    return std::arg((p[2] - p[0]) / (p[1] - p[0]));
-  });
+  // Each face's turn at corner 0 from its shape (only that one places the face): the unit
+  // complex number z / |z| for z = (p2 - p0) / (p1 - p0), its angle's cosine and sine without
+  // a trigonometric call (a degenerate shape: from the angle, as std::arg gives it).
+  std::vector<std::array<Complex, 3>> q(static_cast<std::size_t>(topology.num_faces));
+  parallel::for_each(
+      topology.num_faces,
+      [&](std::int64_t f) {
+        const auto& p = shapes[f];
+        const Complex z = (p[2] - p[0]) / (p[1] - p[0]);
+        const double r = std::abs(z);
+        const double l1 = lengths[topology.face_edges(f, 1)];
+        const Complex corner2 = r > 0 && std::isfinite(r)
+                                    ? Complex{l1 * (z.real() / r), l1 * (z.imag() / r)}
+                                    : std::polar(l1, std::arg(z));
+        q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]}, corner2};
+      },
+      parallel::kDefaultMinChunk / 4);
   return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
 }
 
