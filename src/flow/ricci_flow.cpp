@@ -250,10 +250,11 @@ struct RicciFlow::State {
                          trial_flipped_edges.end());
     blocked_flips = trial_blocked;
     finish_analysis();
-    build_system();
+    build_pattern();
     cholesky = SparseCholesky(options.use_cholmod);
     factor_matches_pattern = false;
     start_analysis();
+    build_slots();
   }
 
   /// max and sum of squares of |K-bar - K| over the vertices with a target.
@@ -357,7 +358,8 @@ struct RicciFlow::State {
     message = why;
   }
 
-  void build_system() {
+  /// The reduced system's rows and H's sparsity pattern (values zero).
+  void build_pattern() {
     const auto t0 = Clock::now();
     const int nv = topology->num_vertices;
     row_of_vertex.assign(nv, -1);
@@ -421,6 +423,17 @@ struct RicciFlow::State {
       }
       std::fill_n(H.valuePtr(), nnz, 0.0);
     }
+    timings.setup += seconds_since(t0);
+  }
+
+  /// What each value of H sums (slot_terms), from H's pattern: built while the symbolic
+  /// analysis of that pattern runs (build_pattern, start_analysis, build_slots), both only
+  /// reading it.
+  void build_slots() {
+    const auto t0 = Clock::now();
+    const int n = static_cast<int>(vertex_of_row.size());
+    const int ne = topology->num_edges;
+    const std::int64_t nnz = H.nonZeros();
     auto slot = [&](int r, int c) -> int {
       if (r < 0 || c < 0) return -1;
       const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[c];
@@ -900,10 +913,11 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.history.clear();
   s.finished = false;
   s.pinned_vertex = -1;
-  s.build_system();
+  s.build_pattern();
   s.cholesky = SparseCholesky(s.options.use_cholmod);
   s.factor_matches_pattern = false;
   s.start_analysis();
+  s.build_slots();
   const Evaluation ev = lengths_in_hand ? s.evaluate_angles(s.lengths, s.angles, s.curvature)
                                         : s.evaluate(s.u, s.lengths, s.angles, s.curvature);
   if (ev == Evaluation::BadLength) {
