@@ -181,10 +181,12 @@ std::vector<Complex> lay_out_by_rotations(const Topology& cut_topology,
       // Halfedge 3f + k runs from corner k + 1 to corner k + 2 of f; its twin the other way.
       const Complex in_f = q[f][(k + 2) % 3] - q[f][(k + 1) % 3];
       const Complex in_g = q[g][(kg + 1) % 3] - q[g][(kg + 2) % 3];
-      const Complex turn = rotation[f] * in_f / in_g;
+      // rotation[f] in_f / in_g up to the positive factor |in_g|^2, which the normalisation
+      // drops: a multiplication by the conjugate instead of a complex division.
+      const Complex turn = rotation[f] * (in_f * std::conj(in_g));
+      const double size = std::abs(turn);
       // A zero-length edge leaves the turn undetermined: keep the neighbour's.
-      rotation[g] =
-          std::isfinite(std::abs(turn)) && std::abs(turn) > 0 ? turn / std::abs(turn) : rotation[f];
+      rotation[g] = std::isfinite(size) && size > 0 ? turn / size : rotation[f];
       queue.push_back(g);
       // The twin lies opposite corner kg of g; its ends, corners kg + 1 and kg + 2, are f's.
       const int vk = cut_topology.triangles(g, kg);
