@@ -302,13 +302,19 @@ std::vector<std::array<Complex, 3>> face_triangles(const Topology& topology,
 /// The layout proper, from each edge's length and each face's triangle (face_triangles).
 Layout layout_from_triangles(const Topology& topology, const Eigen::VectorXd& lengths,
                              const std::vector<std::array<Complex, 3>>& q, const CutGraph& cut,
-                             const CutMesh& cut_mesh, const LayoutOptions& options) {
+                             const CutMesh& cut_mesh, const LayoutOptions& options,
+                             const layout_support::Roots* ahead = nullptr) {
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
   Layout layout;
-  const std::vector<int> roots =
-      layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
+  std::vector<int> own_roots;
+  if (ahead) {
+    layout.root_face = ahead->first;
+  } else {
+    own_roots = layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
+  }
+  const std::vector<int>& roots = ahead ? ahead->faces : own_roots;
 
   // Each face's triangle in the metric, corner 0 at 0 and corner 1 on the positive real axis,
   // and its rotation into the layout, propagated face to face across uncut edges from the roots
@@ -423,8 +429,11 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
 }
 
-Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
-                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+namespace {
+
+Layout layout_flat_from_shapes(const Topology& topology, const FaceShapes& shapes,
+                               const CutGraph& cut, const CutMesh& cut_mesh,
+                               const LayoutOptions& options, const layout_support::Roots* ahead) {
   if (shapes.size() != static_cast<std::size_t>(topology.num_faces)) {
     throw InvalidInput("layout_flat: " + std::to_string(shapes.size()) + " face shapes for " +
                        std::to_string(topology.num_faces) + " faces");
@@ -454,7 +463,20 @@ Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const Cut
         q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]}, corner2};
       },
       parallel::kDefaultMinChunk / 4);
-  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
+  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options, ahead);
+}
+
+}  // namespace
+
+Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+  return layout_flat_from_shapes(topology, shapes, cut, cut_mesh, options, nullptr);
+}
+
+Layout layout_support::layout_flat_with_roots(const Topology& topology, const FaceShapes& shapes,
+                                              const CutGraph& cut, const CutMesh& cut_mesh,
+                                              const LayoutOptions& options, const Roots& roots) {
+  return layout_flat_from_shapes(topology, shapes, cut, cut_mesh, options, &roots);
 }
 
 }  // namespace ricci

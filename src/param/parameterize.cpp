@@ -2,6 +2,7 @@
 
 #include "../flow/mesh_flow_internal.hpp"
 #include "../mesh/parallel.hpp"
+#include "layout_support.hpp"
 #include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
@@ -200,6 +201,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     Eigen::VectorXd lengths_3d;
     CutGraph cut;
     CutMesh cut_mesh;
+    layout_support::Roots roots;  // of the layout (default options), chosen ahead
     double seconds = 0;
   };
   // (The cones are copied: the rounds of step 3b may choose others while this runs.)
@@ -212,6 +214,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     for (const Cone& c : through) cut_options.cones.push_back(c.vertex);
     stage.cut = cut_graph(topology, stage.lengths_3d, cut_options);
     stage.cut_mesh = slice(topology, stage.cut);
+    stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology,
+                                                   LayoutOptions{}.root_face, stage.roots.first);
     stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
     return stage;
   };
@@ -332,7 +336,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   const Development development = develop_input_faces(topology, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
   lap(result.timings.development);
-  result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
+  result.layout = layout_support::layout_flat_with_roots(
+      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
   lap(result.timings.layout);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   lap(result.timings.atlas);
