@@ -34,7 +34,13 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
   t.num_faces = nf;
   t.triangles = triangles;
 
-  for (int f = 0; f < nf; ++f) {
+  // Checked in parallel (an exact count); the sequential pass below names the first bad face.
+  const std::int64_t bad_faces = parallel::count_if(nf, [&](std::int64_t f) {
+    const int a = triangles(f, 0), b = triangles(f, 1), c = triangles(f, 2);
+    return a < 0 || a >= num_vertices || b < 0 || b >= num_vertices || c < 0 || c >= num_vertices ||
+           a == b || b == c || a == c;
+  });
+  for (int f = 0; f < nf && bad_faces > 0; ++f) {
     for (int k = 0; k < 3; ++k) {
       const int v = triangles(f, k);
       if (v < 0 || v >= num_vertices) {
