@@ -418,12 +418,17 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const Mesh& mesh,
   check_admissible(whole, structure, result.target, admissibility);
   result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  result.u = structure.initial_u;
-  result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
-  result.target_curvature = result.target.curvature;
-  result.lengths = lbar;
+  // Starting values, which the components' flows overwrite (a mesh of one component: every
+  // one of them, so no copy is made).
+  auto start_values = [&] {
+    result.u = structure.initial_u;
+    result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
+    result.target_curvature = result.target.curvature;
+    result.lengths = lbar;
+    result.eta = structure.eta;
+  };
+  if (whole.components.size() != 1) start_values();
   result.input_lengths = lbar;
-  result.eta = structure.eta;
   result.converged = true;
 
   // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
@@ -440,6 +445,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const Mesh& mesh,
         flow_doubled(whole, structure, result.target, options.flow, out);
       }
       if (out.doubled) {
+        start_values();
         gather_doubled(out, whole, std::vector<int>(), std::vector<int>(), result);
       } else {
         result.u = out.flow.u;
