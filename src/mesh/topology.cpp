@@ -59,17 +59,29 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
   // each small bucket by the larger end. Edges come out ordered by (smaller, larger) vertex.
   const int nh = 3 * nf;
   std::vector<int> bucket_start(num_vertices + 1, 0);
-  for (int h = 0; h < nh; ++h) ++bucket_start[std::min(t.tail(h), t.head(h)) + 1];
+  // Halfedge 3 f + k runs from corner k + 1 to corner k + 2: face by face, the three halfedges
+  // join (v1, v2), (v2, v0), (v0, v1).
+  for (int f = 0; f < nf; ++f) {
+    const int v0 = triangles(f, 0), v1 = triangles(f, 1), v2 = triangles(f, 2);
+    ++bucket_start[std::min(v1, v2) + 1];
+    ++bucket_start[std::min(v2, v0) + 1];
+    ++bucket_start[std::min(v0, v1) + 1];
+  }
   for (int v = 0; v < num_vertices; ++v) bucket_start[v + 1] += bucket_start[v];
   // Each entry holds (larger end << 32) | h, so that sorting a bucket's integers sorts its
   // halfedges by (larger end, index) with no look-up into the triangles.
   std::vector<std::uint64_t> bucket(nh);
   {
     std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
-    for (int h = 0; h < nh; ++h) {
-      const int a = t.tail(h), b = t.head(h);
+    auto put = [&](int a, int b, int h) {
       bucket[fill[std::min(a, b)]++] =
           (static_cast<std::uint64_t>(std::max(a, b)) << 32) | static_cast<std::uint32_t>(h);
+    };
+    for (int f = 0; f < nf; ++f) {
+      const int v0 = triangles(f, 0), v1 = triangles(f, 1), v2 = triangles(f, 2);
+      put(v1, v2, 3 * f);
+      put(v2, v0, 3 * f + 1);
+      put(v0, v1, 3 * f + 2);
     }
   }
   auto halfedge_of = [](std::uint64_t entry) { return static_cast<int>(entry & 0xffffffffu); };
@@ -147,7 +159,9 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
     }
   }
   t.face_edges.resize(nf, 3);
-  for (int h = 0; h < nh; ++h) t.face_edges(h / 3, h % 3) = t.halfedge_edge[h];
+  parallel::for_each(nf, [&](std::int64_t f) {
+    for (int k = 0; k < 3; ++k) t.face_edges(f, k) = t.halfedge_edge[3 * f + k];
+  });
 
   // Fans: corners around a vertex joined across interior edges. A manifold vertex has one fan.
   // Corner c = 3f + k sits at triangles(f, k); halfedge h runs tail -> head, so its tail corner
@@ -156,10 +170,12 @@ Topology build_topology(const Triangles& triangles, int num_vertices) {
   // per vertex in parallel (an exact count); where it fails, the union-find of the corners below
   // names the first non-manifold vertex in corner order.
   std::vector<int> vertex_corners(num_vertices, 0), first_corner(num_vertices, -1);
-  for (int c = nh - 1; c >= 0; --c) {
-    const int v = triangles(c / 3, c % 3);
-    ++vertex_corners[v];
-    first_corner[v] = c;
+  for (int f = nf - 1; f >= 0; --f) {
+    for (int k = 2; k >= 0; --k) {
+      const int v = triangles(f, k);
+      ++vertex_corners[v];
+      first_corner[v] = 3 * f + k;
+    }
   }
   const std::int64_t several_fans = parallel::count_if(num_vertices, [&](std::int64_t v) {
     const int start = first_corner[v];
