@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
@@ -181,18 +182,21 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
         return std::abs(la - lb) / std::max(la, lb);
       },
       0.0);
-  // 1 for a degenerate face, 2 for a flipped one.
-  auto kind = [&](std::int64_t f) {
+  // 1 for a degenerate face, 2 for a flipped one, each face's kind found once. (Squared side
+  // lengths as x^2 + y^2: std::norm goes through std::abs, a hypot, in libstdc++.)
+  auto squared = [](Complex z) { return z.real() * z.real() + z.imag() * z.imag(); };
+  std::vector<char> kind(static_cast<std::size_t>(input.num_faces));
+  parallel::for_each(input.num_faces, [&](std::int64_t f) {
     const auto& p = shapes[f];
     const double area = cross(p[1] - p[0], p[2] - p[0]);
     const double scale =
-        std::max({std::norm(p[1] - p[0]), std::norm(p[2] - p[1]), std::norm(p[0] - p[2])});
-    return std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
-  };
+        std::max({squared(p[1] - p[0]), squared(p[2] - p[1]), squared(p[0] - p[2])});
+    kind[f] = std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
+  });
   d.degenerate_faces = static_cast<int>(
-      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 1; }));
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind[f] == 1; }));
   d.flipped_faces = static_cast<int>(
-      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 2; }));
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind[f] == 2; }));
   return d;
 }
 
