@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "../mesh/parallel.hpp"
+#include "complex_length.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
@@ -168,7 +169,7 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
   d.lengths.resize(input.num_edges);
   auto side = [&](int h) {
     const auto& p = shapes[h / 3];
-    return std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    return complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   };
   // In parallel: the largest mismatch (a maximum: the same however the edges are split) and
   // the counts.

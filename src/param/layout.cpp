@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 
 #include "../mesh/parallel.hpp"
+#include "../metric/complex_length.hpp"
 #include "layout_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
@@ -139,8 +140,8 @@ double length_error(const Topology& topology, const Topology& cut_topology,
         double worst = 0;
         for (int k = 0; k < 3; ++k) {
           const double l = lengths[topology.face_edges(f, k)];
-          const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
-                                    uv[cut_topology.triangles(f, (k + 2) % 3)]);
+          const double d = complex_length::length(uv[cut_topology.triangles(f, (k + 1) % 3)] -
+                                                  uv[cut_topology.triangles(f, (k + 2) % 3)]);
           worst = std::max(worst, std::abs(d - l) / l);
         }
         return worst;
@@ -443,7 +444,7 @@ Layout layout_flat_from_shapes(const Topology& topology, const FaceShapes& shape
   parallel::for_each(topology.num_edges, [&](std::int64_t e) {
     const int h = topology.edge_halfedges(e, 0);
     const auto& p = shapes[h / 3];
-    lengths[e] = std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    lengths[e] = complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   });
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
   // Each face's turn at corner 0 from its shape (only that one places the face): the unit
