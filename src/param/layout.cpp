@@ -185,7 +185,7 @@ std::vector<Complex> lay_out_by_rotations(const Topology& cut_topology,
       // rotation[f] in_f / in_g up to the positive factor |in_g|^2, which the normalisation
       // drops: a multiplication by the conjugate instead of a complex division.
       const Complex turn = rotation[f] * (in_f * std::conj(in_g));
-      const double size = std::abs(turn);
+      const double size = complex_length::length(turn);
       // A zero-length edge leaves the turn undetermined: keep the neighbour's.
       rotation[g] = std::isfinite(size) && size > 0 ? turn / size : rotation[f];
       queue.push_back(g);
