@@ -129,6 +129,9 @@ struct RicciFlow::State {
   // failed the Delaunay test: its own call of set_u(initial u) then neither recomputes nor tests
   // them again (the same computation would give the same values).
   bool initial_lengths_delaunay = false;
+  // The constructor started the symbolic analysis of the input triangulation's pattern ahead of
+  // its Delaunay test: its set_u keeps it when no flip changed the triangulation.
+  bool pattern_ahead = false;
   bool factor_matches_pattern = false;  // the Cholesky factor belongs to H's current pattern
 
   std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
@@ -853,6 +856,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   admissibility.edge_flips = s.flips;
   check_admissible(topology, structure, target, admissibility);
   if (s.flips) {
+    // The input's triangulation is usually Delaunay already: its pattern's analysis starts now,
+    // beside the test below, and set_u keeps it if no edge flips.
+    s.build_pattern();
+    s.start_analysis();
+    s.pattern_ahead = true;
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
     // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
     // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
@@ -888,10 +896,13 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
     throw InvalidInput("RicciFlow::set_u: expected " + std::to_string(s.topology->num_vertices) +
                        " finite log radii");
   }
-  s.finish_analysis(/*keep=*/false);  // an analysis of the pattern this call replaces
-  // Only the constructor's own call (u is the initial u) finds the lengths in hand.
+  // Only the constructor's own call (u is the initial u) finds the lengths in hand, and with
+  // them the pattern of the unchanged triangulation, whose analysis is under way.
   const bool lengths_in_hand = s.initial_lengths_delaunay;
+  const bool pattern_in_hand = lengths_in_hand && s.pattern_ahead;
   s.initial_lengths_delaunay = false;
+  s.pattern_ahead = false;
+  if (!pattern_in_hand) s.finish_analysis(/*keep=*/false);  // of the pattern this call replaces
   s.u = u;
   int initial_flips = 0;
   if (s.flips && lengths_in_hand) {
@@ -912,11 +923,13 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.iteration = 0;
   s.history.clear();
   s.finished = false;
-  s.pinned_vertex = -1;
-  s.build_pattern();
-  s.cholesky = SparseCholesky(s.options.use_cholmod);
-  s.factor_matches_pattern = false;
-  s.start_analysis();
+  if (!pattern_in_hand) {
+    s.pinned_vertex = -1;
+    s.build_pattern();
+    s.cholesky = SparseCholesky(s.options.use_cholmod);
+    s.factor_matches_pattern = false;
+    s.start_analysis();
+  }
   s.build_slots();
   const Evaluation ev = lengths_in_hand ? s.evaluate_angles(s.lengths, s.angles, s.curvature)
                                         : s.evaluate(s.u, s.lengths, s.angles, s.curvature);
