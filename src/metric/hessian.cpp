@@ -1,11 +1,9 @@
 #include "ricci/metric/hessian.hpp"
 
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "../mesh/parallel.hpp"
-#include "triangle_terms.hpp"
 
 namespace ricci {
 
@@ -14,65 +12,41 @@ void halfedge_weights(const Topology& topology, const ConformalStructure& struct
                       const CornerAngles& angles, Eigen::VectorXd& weights) {
   const int nf = topology.num_faces;
   weights.resize(3 * nf);
-  parallel::for_chunks(
-      nf,
-      [&](std::int64_t begin, std::int64_t end, int) {
-        for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
-          // power[k] = epsilon gamma^2 of the vertex at corner k; side[k] = length opposite corner
-          // k. (Vertex scaling has epsilon 0 everywhere: no exponential needed for a zero power.)
-          double power[3], side[3];
-          for (int k = 0; k < 3; ++k) {
-            const int v = topology.triangles(f, k);
-            const double epsilon = structure.epsilon[v];
-            power[k] = epsilon == 0 ? 0.0 : epsilon * std::exp(2.0 * u[v]);
-            side[k] = lengths[topology.face_edges(f, k)];
-          }
-          if (power[0] == 0 && power[1] == 0 && power[2] == 0) {
-            // Vertex scaling: the power centre is the circumcentre and h / l = cot(theta_k) / 2,
-            // taken from Kahan's half-perimeter terms without a sine or cosine: with d_k = 2 (s -
-            // l_k), cot(theta_k) = (2 s d_k - d_{k+1} d_{k+2}) / (2 sqrt(2 s d_0 d_1 d_2)) (the
-            // half-angle tangent t = sqrt(d_{k+1} d_{k+2} / (2 s d_k)) in (1 - t^2) / (2 t)). Every
-            // term is accurate to rounding, needles included; near a right angle the difference
-            // cancels to an absolute error of rounding of the larger product, as cos(theta) does.
-            double two_s, d[3];
-            if (!triangle_terms::half_perimeter_terms(side, two_s, d)) {
-              for (int k = 0; k < 3; ++k)
-                weights[3 * f + k] = std::numeric_limits<double>::quiet_NaN();
-              continue;
-            }
-            // Two square roots of products of two terms: each product is a squared length, no
-            // more prone to overflow than the lengths' squares themselves.
-            const double denominator = 4 * std::sqrt(two_s * d[0]) * std::sqrt(d[1] * d[2]);
-            for (int k = 0; k < 3; ++k) {
-              weights[3 * f + k] = (two_s * d[k] - d[(k + 1) % 3] * d[(k + 2) % 3]) / denominator;
-            }
-            continue;
-          }
-          for (int k = 0; k < 3; ++k) {
-            // Halfedge opposite corner k runs from corner a = k+1 to corner b = k+2.
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            const double lab = side[k];
-            // Distance from the corner to the foot of the power centre on its two sides; the signed
-            // distance h from the power centre to side ab follows from either end. Take the end
-            // with the larger sine, so that needle triangles do not divide by a tiny number.
-            const double sin_a = std::sin(angles(f, a)), sin_b = std::sin(angles(f, b));
-            double h;
-            if (sin_a >= sin_b) {
-              const double lak = side[b];  // side opposite corner b joins a and k
-              const double d_ab = (lab * lab + power[a] - power[b]) / (2 * lab);
-              const double d_ak = (lak * lak + power[a] - power[k]) / (2 * lak);
-              h = (d_ak - d_ab * std::cos(angles(f, a))) / sin_a;
-            } else {
-              const double lbk = side[a];
-              const double d_ba = (lab * lab + power[b] - power[a]) / (2 * lab);
-              const double d_bk = (lbk * lbk + power[b] - power[k]) / (2 * lbk);
-              h = (d_bk - d_ba * std::cos(angles(f, b))) / sin_b;
-            }
-            weights[3 * f + k] = h / lab;
-          }
+  parallel::for_chunks(nf, [&](std::int64_t begin, std::int64_t end, int) {
+    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
+      // power[k] = epsilon gamma^2 of the vertex at corner k; side[k] = length opposite corner
+      // k. (Vertex scaling has epsilon 0 everywhere: no exponential needed for a zero power.)
+      double power[3], side[3];
+      for (int k = 0; k < 3; ++k) {
+        const int v = topology.triangles(f, k);
+        const double epsilon = structure.epsilon[v];
+        power[k] = epsilon == 0 ? 0.0 : epsilon * std::exp(2.0 * u[v]);
+        side[k] = lengths[topology.face_edges(f, k)];
+      }
+      for (int k = 0; k < 3; ++k) {
+        // Halfedge opposite corner k runs from corner a = k+1 to corner b = k+2.
+        const int a = (k + 1) % 3, b = (k + 2) % 3;
+        const double lab = side[k];
+        // Distance from the corner to the foot of the power centre on its two sides; the signed
+        // distance h from the power centre to side ab follows from either end. Take the end
+        // with the larger sine, so that needle triangles do not divide by a tiny number.
+        const double sin_a = std::sin(angles(f, a)), sin_b = std::sin(angles(f, b));
+        double h;
+        if (sin_a >= sin_b) {
+          const double lak = side[b];  // side opposite corner b joins a and k
+          const double d_ab = (lab * lab + power[a] - power[b]) / (2 * lab);
+          const double d_ak = (lak * lak + power[a] - power[k]) / (2 * lak);
+          h = (d_ak - d_ab * std::cos(angles(f, a))) / sin_a;
+        } else {
+          const double lbk = side[a];
+          const double d_ba = (lab * lab + power[b] - power[a]) / (2 * lab);
+          const double d_bk = (lbk * lbk + power[b] - power[k]) / (2 * lbk);
+          h = (d_bk - d_ba * std::cos(angles(f, b))) / sin_b;
         }
-      },
-      parallel::kDefaultMinChunk / 4);
+        weights[3 * f + k] = h / lab;
+      }
+    }
+  }, parallel::kDefaultMinChunk / 4);
 }
 
 void edge_weights(const Topology& topology, const Eigen::VectorXd& halfedge_weights,
