@@ -7,6 +7,7 @@
 #include <optional>
 #include <utility>
 
+#include "mesh_flow_internal.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
@@ -386,9 +387,20 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
 
 MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
                          const MeshFlowOptions& options) {
+  bool kept_input_topology = false;
+  MeshFlowResult result =
+      mesh_flow_internal::flow_mesh_keeping_topology(mesh, topology, options, kept_input_topology);
+  if (kept_input_topology) result.topology = topology;
+  return result;
+}
+
+MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const Mesh& mesh,
+                                                              const Topology& topology,
+                                                              const MeshFlowOptions& options,
+                                                              bool& kept_input_topology) {
   const auto start = Clock::now();
   MeshFlowResult result;
-  // result.topology is set at the end: the final triangulation, or a copy of this one.
+  // result.topology is set at the end when flips changed the triangulation.
   const Topology& whole = topology;
   const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
   result.structure = make_conformal_structure(whole, lbar, options.structure);
@@ -406,12 +418,17 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
   check_admissible(whole, structure, result.target, admissibility);
   result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  result.u = structure.initial_u;
-  result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
-  result.target_curvature = result.target.curvature;
-  result.lengths = lbar;
+  // Starting values, which the components' flows overwrite (a mesh of one component: every
+  // one of them, so no copy is made).
+  auto start_values = [&] {
+    result.u = structure.initial_u;
+    result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
+    result.target_curvature = result.target.curvature;
+    result.lengths = lbar;
+    result.eta = structure.eta;
+  };
+  if (whole.components.size() != 1) start_values();
   result.input_lengths = lbar;
-  result.eta = structure.eta;
   result.converged = true;
 
   // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
@@ -428,6 +445,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
         flow_doubled(whole, structure, result.target, options.flow, out);
       }
       if (out.doubled) {
+        start_values();
         gather_doubled(out, whole, std::vector<int>(), std::vector<int>(), result);
       } else {
         result.u = out.flow.u;
@@ -498,11 +516,10 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
   }
-  if (flipped) {
-    result.topology = std::move(*flipped);
-  } else {
-    result.topology = topology;
-  }
+  // Without flips the caller holds the topology (a copy here would cost tens of milliseconds on
+  // a million faces).
+  kept_input_topology = !flipped;
+  if (flipped) result.topology = std::move(*flipped);
   result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

@@ -123,8 +123,15 @@ struct RicciFlow::State {
   int trial_flips = 0, trial_blocked = 0;
   std::vector<int> trial_flipped_edges;
   int total_flips = 0, blocked_flips = 0;
-  std::vector<int> flipped_edges;       // accepted flips in order (FlowResult::flipped_edges)
-  int isometric_flips = 0;              // the first ones, made isometrically at the input metric
+  std::vector<int> flipped_edges;  // accepted flips in order (FlowResult::flipped_edges)
+  int isometric_flips = 0;         // the first ones, made isometrically at the input metric
+  // Set by the constructor when `lengths` hold the initial metric's, all valid, and no edge
+  // failed the Delaunay test: its own call of set_u(initial u) then neither recomputes nor tests
+  // them again (the same computation would give the same values).
+  bool initial_lengths_delaunay = false;
+  // The constructor started the symbolic analysis of the input triangulation's pattern ahead of
+  // its Delaunay test: its set_u keeps it when no flip changed the triangulation.
+  bool pattern_ahead = false;
   bool factor_matches_pattern = false;  // the Cholesky factor belongs to H's current pattern
 
   std::vector<int> row_of_vertex;  // #V: row of the reduced system, -1 when u is held
@@ -182,6 +189,11 @@ struct RicciFlow::State {
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
     if (edge_lengths(*topology, structure, at, l) > 0) return Evaluation::BadLength;
+    return evaluate_angles(l, a, k);
+  }
+
+  /// The same from lengths l in hand (valid ones).
+  Evaluation evaluate_angles(const Eigen::VectorXd& l, CornerAngles& a, Eigen::VectorXd& k) const {
     if (corner_angles(*topology, l, a, structure.geometry) >= 0) {
       return Evaluation::TriangleInequality;
     }
@@ -241,10 +253,11 @@ struct RicciFlow::State {
                          trial_flipped_edges.end());
     blocked_flips = trial_blocked;
     finish_analysis();
-    build_system();
+    build_pattern();
     cholesky = SparseCholesky(options.use_cholmod);
     factor_matches_pattern = false;
     start_analysis();
+    build_slots();
   }
 
   /// max and sum of squares of |K-bar - K| over the vertices with a target.
@@ -348,7 +361,8 @@ struct RicciFlow::State {
     message = why;
   }
 
-  void build_system() {
+  /// The reduced system's rows and H's sparsity pattern (values zero).
+  void build_pattern() {
     const auto t0 = Clock::now();
     const int nv = topology->num_vertices;
     row_of_vertex.assign(nv, -1);
@@ -412,6 +426,17 @@ struct RicciFlow::State {
       }
       std::fill_n(H.valuePtr(), nnz, 0.0);
     }
+    timings.setup += seconds_since(t0);
+  }
+
+  /// What each value of H sums (slot_terms), from H's pattern: built while the symbolic
+  /// analysis of that pattern runs (build_pattern, start_analysis, build_slots), both only
+  /// reading it.
+  void build_slots() {
+    const auto t0 = Clock::now();
+    const int n = static_cast<int>(vertex_of_row.size());
+    const int ne = topology->num_edges;
+    const std::int64_t nnz = H.nonZeros();
     auto slot = [&](int r, int c) -> int {
       if (r < 0 || c < 0) return -1;
       const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[c];
@@ -831,6 +856,11 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   admissibility.edge_flips = s.flips;
   check_admissible(topology, structure, target, admissibility);
   if (s.flips) {
+    // The input's triangulation is usually Delaunay already: its pattern's analysis starts now,
+    // beside the test below, and set_u keeps it if no edge flips.
+    s.build_pattern();
+    s.start_analysis();
+    s.pattern_ahead = true;
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
     // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
     // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
@@ -840,11 +870,16 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
-      const DelaunayFlipResult r =
-          s.flip_current_to_delaunay(s.structure.initial_u, s.lengths, isometric);
-      s.total_flips += r.flips;
-      s.isometric_flips = r.flips;
-      s.flipped_edges = r.flipped_edges;
+      if (count_non_delaunay_edges(*s.topology, s.lengths, isometric.tolerance,
+                                   s.structure.geometry) == 0) {
+        s.initial_lengths_delaunay = true;
+      } else {
+        const DelaunayFlipResult r = flip_to_delaunay(s.own_topology(), s.structure,
+                                                      s.structure.initial_u, s.lengths, isometric);
+        s.total_flips += r.flips;
+        s.isometric_flips = r.flips;
+        s.flipped_edges = r.flipped_edges;
+      }
     }
   }
   if (s.options.max_iterations <= 0) {
@@ -861,10 +896,18 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
     throw InvalidInput("RicciFlow::set_u: expected " + std::to_string(s.topology->num_vertices) +
                        " finite log radii");
   }
-  s.finish_analysis(/*keep=*/false);  // an analysis of the pattern this call replaces
+  // Only the constructor's own call (u is the initial u) finds the lengths in hand, and with
+  // them the pattern of the unchanged triangulation, whose analysis is under way.
+  const bool lengths_in_hand = s.initial_lengths_delaunay;
+  const bool pattern_in_hand = lengths_in_hand && s.pattern_ahead;
+  s.initial_lengths_delaunay = false;
+  s.pattern_ahead = false;
+  if (!pattern_in_hand) s.finish_analysis(/*keep=*/false);  // of the pattern this call replaces
   s.u = u;
   int initial_flips = 0;
-  if (s.flips) {
+  if (s.flips && lengths_in_hand) {
+    s.blocked_flips = 0;  // no edge failed the test
+  } else if (s.flips) {
     // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
     // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
     if (edge_lengths(*s.topology, s.structure, s.u, s.lengths) == 0) {
@@ -880,12 +923,16 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   s.iteration = 0;
   s.history.clear();
   s.finished = false;
-  s.pinned_vertex = -1;
-  s.build_system();
-  s.cholesky = SparseCholesky(s.options.use_cholmod);
-  s.factor_matches_pattern = false;
-  s.start_analysis();
-  const Evaluation ev = s.evaluate(s.u, s.lengths, s.angles, s.curvature);
+  if (!pattern_in_hand) {
+    s.pinned_vertex = -1;
+    s.build_pattern();
+    s.cholesky = SparseCholesky(s.options.use_cholmod);
+    s.factor_matches_pattern = false;
+    s.start_analysis();
+  }
+  s.build_slots();
+  const Evaluation ev = lengths_in_hand ? s.evaluate_angles(s.lengths, s.angles, s.curvature)
+                                        : s.evaluate(s.u, s.lengths, s.angles, s.curvature);
   if (ev == Evaluation::BadLength) {
     throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
   }

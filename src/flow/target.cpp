@@ -217,20 +217,24 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
   const bool packing =
       structure.scheme == Scheme::Thurston || structure.scheme == Scheme::Tangential;
 
-  // Sum over the faces of each vertex of (pi - Phi of the opposite edge).
-  Eigen::VectorXd bound_sum = Eigen::VectorXd::Zero(t.num_vertices);
-  for (int f = 0; f < t.num_faces; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const double phi =
-          packing ? std::acos(std::clamp(structure.eta[t.face_edges(f, k)], -1.0, 1.0)) : 0.0;
-      bound_sum[t.triangles(f, k)] += kPi - phi;
+  // Sum over the faces of each vertex of (pi - Phi of the opposite edge): the single-vertex
+  // bound, which edge flips lift (not computed then).
+  Eigen::VectorXd bound_sum;
+  if (!options.edge_flips) {
+    bound_sum.setZero(t.num_vertices);
+    for (int f = 0; f < t.num_faces; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const double phi =
+            packing ? std::acos(std::clamp(structure.eta[t.face_edges(f, k)], -1.0, 1.0)) : 0.0;
+        bound_sum[t.triangles(f, k)] += kPi - phi;
+      }
     }
   }
   for (int v = 0; v < t.num_vertices; ++v) {
     if (t.vertex_component[v] < 0 || target.fixed[v]) continue;
     const double k = target.curvature[v];
     const double top = t.is_boundary_vertex[v] ? kPi : 2 * kPi;
-    const double lower = top - bound_sum[v];
+    const double lower = options.edge_flips ? 0.0 : top - bound_sum[v];
     const char* where = t.is_boundary_vertex[v] ? "boundary vertex " : "vertex ";
     if (!std::isfinite(k)) {
       throw InvalidInput("check_admissible: " + std::string(where) +

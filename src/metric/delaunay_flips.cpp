@@ -195,7 +195,18 @@ double margin_of(const Eigen::VectorXd& l, int e, const Quad& q, Geometry geomet
 /// An interior edge whose Delaunay margin is below -tolerance.
 bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double tolerance,
                      Geometry geometry) {
-  return t.edge_halfedges(e, 1) >= 0 && margin_of(l, e, quad_of(t, e), geometry) < -tolerance;
+  const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+  if (h1 < 0) return false;
+  // margin_of(l, e, quad_of(t, e), geometry), reading only the four sides' edges (the test of
+  // every edge at every trial point: no vertex look-ups).
+  const int f0 = h0 / 3, k0 = h0 % 3, f1 = h1 / 3, k1 = h1 % 3;
+  const double ab = l[e];
+  const double cb = l[t.face_edges(f0, (k0 + 1) % 3)], ca = l[t.face_edges(f0, (k0 + 2) % 3)];
+  const double da = l[t.face_edges(f1, (k1 + 1) % 3)], db = l[t.face_edges(f1, (k1 + 2) % 3)];
+  const double margin = geometry == Geometry::Hyperbolic
+                            ? hyperbolic_delaunay_margin(ab, ca, cb, da, db)
+                            : delaunay_margin(ab, ca, cb, da, db);
+  return margin < -tolerance;
 }
 
 }  // namespace

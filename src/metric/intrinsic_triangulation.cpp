@@ -5,8 +5,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "../mesh/parallel.hpp"
+#include "complex_length.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
@@ -99,8 +101,9 @@ Topology replay_flips(const Topology& input, const std::vector<int>& flipped_edg
 }
 
 FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::VectorXd& lengths) {
-  // Only the angle at corner 0 places a face: computed alone, as corner_angles computes it
-  // (the half-angle formula on Kahan's terms), in parallel over the faces.
+  // Only the angle at corner 0 places a face: its cosine and sine from the half-angle formula on
+  // Kahan's terms (corner_angles takes the angle from the same tangent), in parallel over the
+  // faces.
   const int nf = topology.num_faces;
   FaceShapes shapes(static_cast<std::size_t>(nf));
   const int chunks = parallel::num_chunks(nf, parallel::kDefaultMinChunk / 4);
@@ -114,8 +117,11 @@ FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::Vecto
         if (first_bad[chunk] < 0) first_bad[chunk] = f;
         continue;
       }
-      const double angle0 = 2 * std::atan2(std::sqrt(d[1] * d[2]), std::sqrt(two_s * d[0]));
-      shapes[f] = {Complex{0}, Complex{l[2]}, std::polar(l[1], angle0)};
+      // With t = tan(theta_0 / 2) = sqrt(b / a), a = 2 s d_0 and b = d_1 d_2: cos theta_0 =
+      // (a - b) / (a + b) and sin theta_0 = 2 sqrt(a b) / (a + b), no trigonometric call.
+      const double a = two_s * d[0], b = d[1] * d[2];
+      const double cos0 = (a - b) / (a + b), sin0 = 2 * std::sqrt(a) * std::sqrt(b) / (a + b);
+      shapes[f] = {Complex{0}, Complex{l[2]}, Complex{l[1] * cos0, l[1] * sin0}};
     }
   });
   for (const int bad : first_bad) {
@@ -163,7 +169,7 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
   d.lengths.resize(input.num_edges);
   auto side = [&](int h) {
     const auto& p = shapes[h / 3];
-    return std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    return complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   };
   // In parallel: the largest mismatch (a maximum: the same however the edges are split) and
   // the counts.
@@ -177,18 +183,21 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
         return std::abs(la - lb) / std::max(la, lb);
       },
       0.0);
-  // 1 for a degenerate face, 2 for a flipped one.
-  auto kind = [&](std::int64_t f) {
+  // 1 for a degenerate face, 2 for a flipped one, each face's kind found once. (Squared side
+  // lengths as x^2 + y^2: std::norm goes through std::abs, a hypot, in libstdc++.)
+  auto squared = [](Complex z) { return z.real() * z.real() + z.imag() * z.imag(); };
+  std::vector<char> kind(static_cast<std::size_t>(input.num_faces));
+  parallel::for_each(input.num_faces, [&](std::int64_t f) {
     const auto& p = shapes[f];
     const double area = cross(p[1] - p[0], p[2] - p[0]);
     const double scale =
-        std::max({std::norm(p[1] - p[0]), std::norm(p[2] - p[1]), std::norm(p[0] - p[2])});
-    return std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
-  };
+        std::max({squared(p[1] - p[0]), squared(p[2] - p[1]), squared(p[0] - p[2])});
+    kind[f] = std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
+  });
   d.degenerate_faces = static_cast<int>(
-      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 1; }));
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind[f] == 1; }));
   d.flipped_faces = static_cast<int>(
-      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind(f) == 2; }));
+      parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind[f] == 2; }));
   return d;
 }
 

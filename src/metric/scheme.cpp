@@ -190,7 +190,9 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
   }
   if (options.geometry == Geometry::Hyperbolic) return make_hyperbolic_structure(t, lbar, options);
   const int nv = t.num_vertices, ne = t.num_edges;
-  const VertexEdges ve = vertex_edges(t);
+  // Each vertex's edges: for the schemes that fit radii to the lengths (vertex scaling starts
+  // from gamma = 1 and needs none).
+  const VertexEdges ve = options.scheme == Scheme::VertexScaling ? VertexEdges{} : vertex_edges(t);
   StructureResult result;
   ConformalStructure& s = result.structure;
   s.scheme = options.scheme;

@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 
 #include "../mesh/parallel.hpp"
+#include "../metric/complex_length.hpp"
 #include "layout_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
@@ -139,8 +140,8 @@ double length_error(const Topology& topology, const Topology& cut_topology,
         double worst = 0;
         for (int k = 0; k < 3; ++k) {
           const double l = lengths[topology.face_edges(f, k)];
-          const double d = std::abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
-                                    uv[cut_topology.triangles(f, (k + 2) % 3)]);
+          const double d = complex_length::length(uv[cut_topology.triangles(f, (k + 1) % 3)] -
+                                                  uv[cut_topology.triangles(f, (k + 2) % 3)]);
           worst = std::max(worst, std::abs(d - l) / l);
         }
         return worst;
@@ -181,10 +182,12 @@ std::vector<Complex> lay_out_by_rotations(const Topology& cut_topology,
       // Halfedge 3f + k runs from corner k + 1 to corner k + 2 of f; its twin the other way.
       const Complex in_f = q[f][(k + 2) % 3] - q[f][(k + 1) % 3];
       const Complex in_g = q[g][(kg + 1) % 3] - q[g][(kg + 2) % 3];
-      const Complex turn = rotation[f] * in_f / in_g;
+      // rotation[f] in_f / in_g up to the positive factor |in_g|^2, which the normalisation
+      // drops: a multiplication by the conjugate instead of a complex division.
+      const Complex turn = rotation[f] * (in_f * std::conj(in_g));
+      const double size = complex_length::length(turn);
       // A zero-length edge leaves the turn undetermined: keep the neighbour's.
-      rotation[g] =
-          std::isfinite(std::abs(turn)) && std::abs(turn) > 0 ? turn / std::abs(turn) : rotation[f];
+      rotation[g] = std::isfinite(size) && size > 0 ? turn / size : rotation[f];
       queue.push_back(g);
       // The twin lies opposite corner kg of g; its ends, corners kg + 1 and kg + 2, are f's.
       const int vk = cut_topology.triangles(g, kg);
@@ -300,13 +303,19 @@ std::vector<std::array<Complex, 3>> face_triangles(const Topology& topology,
 /// The layout proper, from each edge's length and each face's triangle (face_triangles).
 Layout layout_from_triangles(const Topology& topology, const Eigen::VectorXd& lengths,
                              const std::vector<std::array<Complex, 3>>& q, const CutGraph& cut,
-                             const CutMesh& cut_mesh, const LayoutOptions& options) {
+                             const CutMesh& cut_mesh, const LayoutOptions& options,
+                             const layout_support::Roots* ahead = nullptr) {
   const Topology& cut_topology = cut_mesh.topology;
   const int nf = topology.num_faces;
   const int ncv = cut_topology.num_vertices;
   Layout layout;
-  const std::vector<int> roots =
-      layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
+  std::vector<int> own_roots;
+  if (ahead) {
+    layout.root_face = ahead->first;
+  } else {
+    own_roots = layout_support::root_faces(cut_topology, options.root_face, layout.root_face);
+  }
+  const std::vector<int>& roots = ahead ? ahead->faces : own_roots;
 
   // Each face's triangle in the metric, corner 0 at 0 and corner 1 on the positive real axis,
   // and its rotation into the layout, propagated face to face across uncut edges from the roots
@@ -421,8 +430,11 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
 }
 
-Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
-                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+namespace {
+
+Layout layout_flat_from_shapes(const Topology& topology, const FaceShapes& shapes,
+                               const CutGraph& cut, const CutMesh& cut_mesh,
+                               const LayoutOptions& options, const layout_support::Roots* ahead) {
   if (shapes.size() != static_cast<std::size_t>(topology.num_faces)) {
     throw InvalidInput("layout_flat: " + std::to_string(shapes.size()) + " face shapes for " +
                        std::to_string(topology.num_faces) + " faces");
@@ -432,15 +444,40 @@ Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const Cut
   parallel::for_each(topology.num_edges, [&](std::int64_t e) {
     const int h = topology.edge_halfedges(e, 0);
     const auto& p = shapes[h / 3];
-    lengths[e] = std::abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    lengths[e] = complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   });
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
-  // Each face's signed angle at corner 0 from its shape (only that one places the face).
-  const auto q = face_triangles(topology, lengths, [&](std::int64_t f) {
-    const auto& p = shapes[f];
-    return std::arg((p[2] - p[0]) / (p[1] - p[0]));
-  });
-  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options);
+  // Each face's turn at corner 0 from its shape (only that one places the face): the unit
+  // complex number z / |z| for z = (p2 - p0) / (p1 - p0), its angle's cosine and sine without
+  // a trigonometric call (a degenerate shape: from the angle, as std::arg gives it).
+  std::vector<std::array<Complex, 3>> q(static_cast<std::size_t>(topology.num_faces));
+  parallel::for_each(
+      topology.num_faces,
+      [&](std::int64_t f) {
+        const auto& p = shapes[f];
+        const Complex z = (p[2] - p[0]) / (p[1] - p[0]);
+        const double r = std::abs(z);
+        const double l1 = lengths[topology.face_edges(f, 1)];
+        const Complex corner2 = r > 0 && std::isfinite(r)
+                                    ? Complex{l1 * (z.real() / r), l1 * (z.imag() / r)}
+                                    : std::polar(l1, std::arg(z));
+        q[f] = {Complex{0}, Complex{lengths[topology.face_edges(f, 2)]}, corner2};
+      },
+      parallel::kDefaultMinChunk / 4);
+  return layout_from_triangles(topology, lengths, q, cut, cut_mesh, options, ahead);
+}
+
+}  // namespace
+
+Layout layout_flat(const Topology& topology, const FaceShapes& shapes, const CutGraph& cut,
+                   const CutMesh& cut_mesh, const LayoutOptions& options) {
+  return layout_flat_from_shapes(topology, shapes, cut, cut_mesh, options, nullptr);
+}
+
+Layout layout_support::layout_flat_with_roots(const Topology& topology, const FaceShapes& shapes,
+                                              const CutGraph& cut, const CutMesh& cut_mesh,
+                                              const LayoutOptions& options, const Roots& roots) {
+  return layout_flat_from_shapes(topology, shapes, cut, cut_mesh, options, &roots);
 }
 
 }  // namespace ricci

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::layout_support {
@@ -72,10 +73,17 @@ void check_inputs(const char* who, const Topology& topology, const Eigen::Vector
     throw InvalidInput(name + "the cut mesh maps " + std::to_string(cut_mesh.to_original.size()) +
                        " of its " + std::to_string(ncv) + " vertices to the mesh");
   }
-  for (int f = 0; f < nf; ++f) {
+  auto corners_differ = [&](std::int64_t f) {
     for (int k = 0; k < 3; ++k) {
       const int v = cut_mesh.topology.triangles(f, k);
-      if (v < 0 || v >= ncv || cut_mesh.to_original[v] != topology.triangles(f, k)) {
+      if (v < 0 || v >= ncv || cut_mesh.to_original[v] != topology.triangles(f, k)) return true;
+    }
+    return false;
+  };
+  // Counted in parallel (an exact count); the first such face is looked for only when one is.
+  if (parallel::count_if(nf, corners_differ) > 0) {
+    for (int f = 0; f < nf; ++f) {
+      if (corners_differ(f)) {
         throw InvalidInput(name + "face " + std::to_string(f) +
                            ": the cut mesh's corners do not copy the mesh's");
       }

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "ricci/param/cut_graph.hpp"
+#include "ricci/param/layout.hpp"
 
 namespace ricci::layout_support {
 
@@ -22,6 +23,19 @@ void check_inputs(const char* who, const Topology& topology, const Eigen::Vector
 /// the dual graph (or the requested root_face for its component): the roots of the layout.
 /// \param[out] first_root the root of the first component, or root_face when given
 std::vector<int> root_faces(const Topology& cut_topology, int root_face, int& first_root);
+
+/// Root faces chosen ahead of the layout: root_faces(cut_topology, root_face, first).
+struct Roots {
+  std::vector<int> faces;
+  int first = -1;
+};
+
+/// layout_flat(topology, shapes, cut, cut_mesh, options) (ricci/param/layout.hpp; defined in
+/// layout.cpp) with the roots chosen ahead, from cut_mesh.topology and options.root_face: the
+/// breadth-first search for them needs only the cut mesh, so parameterize runs it beside the flow.
+Layout layout_flat_with_roots(const Topology& topology, const FaceShapes& shapes,
+                              const CutGraph& cut, const CutMesh& cut_mesh,
+                              const LayoutOptions& options, const Roots& roots);
 
 /// The order in which the layout places the cut mesh's vertices after the roots' corners: one
 /// halfedge t per vertex, whose face t / 3 has its other two corners placed already; the vertex

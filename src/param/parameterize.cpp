@@ -1,6 +1,8 @@
 #include "ricci/param/parameterize.hpp"
 
+#include "../flow/mesh_flow_internal.hpp"
 #include "../mesh/parallel.hpp"
+#include "layout_support.hpp"
 #include "parameterize_component.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 
@@ -199,6 +201,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     Eigen::VectorXd lengths_3d;
     CutGraph cut;
     CutMesh cut_mesh;
+    layout_support::Roots roots;  // of the layout (default options), chosen ahead
     double seconds = 0;
   };
   // (The cones are copied: the rounds of step 3b may choose others while this runs.)
@@ -211,6 +214,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     for (const Cone& c : through) cut_options.cones.push_back(c.vertex);
     stage.cut = cut_graph(topology, stage.lengths_3d, cut_options);
     stage.cut_mesh = slice(topology, stage.cut);
+    stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology,
+                                                   LayoutOptions{}.root_face, stage.roots.first);
     stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
     return stage;
   };
@@ -225,7 +230,16 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  result.flow = flow_mesh(result.mesh, t0, flow_options);
+  // The flows leave MeshFlowResult::topology to us when they keep t0's triangulation: t0 is
+  // moved there at the end, once the stages below are done with it (no copy of the topology).
+  bool flow_kept_t0 = false;
+  auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
+    return mesh_flow_internal::flow_mesh_keeping_topology(result.mesh, t0, o, kept);
+  };
+  auto give_t0_to_flow = [&] {
+    if (flow_kept_t0) result.flow.topology = std::move(t0);
+  };
+  result.flow = run_flow(flow_options, flow_kept_t0);
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
   if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
@@ -243,7 +257,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     result.edge_splits += result.mesh.num_vertices() - before;
     result.subdivided = true;
     t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-    result.flow = flow_mesh(result.mesh, t0, flow_options);
+    result.flow = run_flow(flow_options, flow_kept_t0);
     result.converged = result.flow.converged;
   }
   // 3b. The selection's model is the flow linearised at the input metric, which holds while u
@@ -269,8 +283,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       quantize(more);
       flow_options.target.cones = more;
       MeshFlowResult flow;
+      bool kept = false;
       try {
-        flow = flow_mesh(result.mesh, t0, flow_options);
+        flow = run_flow(flow_options, kept);
       } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
         result.cone_selection = std::move(previous);
         flow_options.target.cones = cones;
@@ -292,6 +307,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       cut_ahead = {};
       result.cones = cones;
       result.flow = std::move(flow);
+      flow_kept_t0 = kept;
       result.log_scale_spread = spread;
     }
   }
@@ -299,6 +315,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   if (!result.converged) {
     // The cut stage beside the flow reads result.mesh: wait for it (and drop it) first.
     if (cut_ahead.valid()) cut_ahead.wait();
+    give_t0_to_flow();
     result.message = result.flow.components.front().flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
@@ -319,7 +336,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   const Development development = develop_input_faces(topology, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
   lap(result.timings.development);
-  result.layout = layout_flat(topology, development.shapes, result.cut, result.cut_mesh);
+  result.layout = layout_support::layout_flat_with_roots(
+      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
   lap(result.timings.layout);
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   lap(result.timings.atlas);
@@ -328,6 +346,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }
+  give_t0_to_flow();  // (topology is t0: not read after this)
 
   // Texture coordinates in the unit square, aspect ratio kept.
   const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
