@@ -122,6 +122,24 @@ std::int64_t count_if(std::int64_t n, Predicate&& predicate,
   return total;
 }
 
+/// Calls ok = body(i) for every i in [0, n) (each call runs whatever the others return) and
+/// returns the smallest i whose call returned false, or -1: the same however the range is split.
+template <class Body>
+std::int64_t first_failing(std::int64_t n, Body&& body, std::int64_t min_chunk = kDefaultMinChunk) {
+  const int chunks = num_chunks(n, min_chunk);
+  std::vector<std::int64_t> first(static_cast<std::size_t>(chunks), -1);
+  run_chunks(n, chunks, [&](std::int64_t begin, std::int64_t end, int c) {
+    for (std::int64_t i = begin; i < end; ++i) {
+      if (!body(i) && first[static_cast<std::size_t>(c)] < 0)
+        first[static_cast<std::size_t>(c)] = i;
+    }
+  });
+  for (const std::int64_t i : first) {
+    if (i >= 0) return i;
+  }
+  return -1;
+}
+
 /// max(initial, value(i) for i in [0, n)): the maximum of doubles is exact, so any split gives
 /// the same result (NaN values are skipped, as std::max(x, NaN) skips them).
 template <class Value>

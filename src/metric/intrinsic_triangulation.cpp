@@ -106,29 +106,24 @@ FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::Vecto
   // faces.
   const int nf = topology.num_faces;
   FaceShapes shapes(static_cast<std::size_t>(nf));
-  const int chunks = parallel::num_chunks(nf, parallel::kDefaultMinChunk / 4);
-  std::vector<int> first_bad(static_cast<std::size_t>(chunks), -1);
-  parallel::run_chunks(nf, chunks, [&](std::int64_t begin, std::int64_t end, int chunk) {
-    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
-      const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
-                           lengths[topology.face_edges(f, 2)]};
-      double two_s, d[3];
-      if (!triangle_terms::half_perimeter_terms(l, two_s, d)) {
-        if (first_bad[chunk] < 0) first_bad[chunk] = f;
-        continue;
-      }
-      // With t = tan(theta_0 / 2) = sqrt(b / a), a = 2 s d_0 and b = d_1 d_2: cos theta_0 =
-      // (a - b) / (a + b) and sin theta_0 = 2 sqrt(a b) / (a + b), no trigonometric call.
-      const double a = two_s * d[0], b = d[1] * d[2];
-      const double cos0 = (a - b) / (a + b), sin0 = 2 * std::sqrt(a) * std::sqrt(b) / (a + b);
-      shapes[f] = {Complex{0}, Complex{l[2]}, Complex{l[1] * cos0, l[1] * sin0}};
-    }
-  });
-  for (const int bad : first_bad) {
-    if (bad >= 0) {
-      throw InvalidInput("face_shapes_from_lengths: face " + std::to_string(bad) +
-                         " breaks a triangle inequality");
-    }
+  const std::int64_t bad = parallel::first_failing(
+      nf,
+      [&](std::int64_t f) {
+        const double l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
+                             lengths[topology.face_edges(f, 2)]};
+        double two_s, d[3];
+        if (!triangle_terms::half_perimeter_terms(l, two_s, d)) return false;
+        // With t = tan(theta_0 / 2) = sqrt(b / a), a = 2 s d_0 and b = d_1 d_2: cos theta_0 =
+        // (a - b) / (a + b) and sin theta_0 = 2 sqrt(a b) / (a + b), no trigonometric call.
+        const double a = two_s * d[0], b = d[1] * d[2];
+        const double cos0 = (a - b) / (a + b), sin0 = 2 * std::sqrt(a) * std::sqrt(b) / (a + b);
+        shapes[f] = {Complex{0}, Complex{l[2]}, Complex{l[1] * cos0, l[1] * sin0}};
+        return true;
+      },
+      parallel::kDefaultMinChunk / 4);
+  if (bad >= 0) {
+    throw InvalidInput("face_shapes_from_lengths: face " + std::to_string(bad) +
+                       " breaks a triangle inequality");
   }
   return shapes;
 }

@@ -66,30 +66,24 @@ int corner_angles_with(const Topology& topology, const Lengths& lengths, Angles&
                        HalfAngles half_angles) {
   const int nf = topology.num_faces;
   angles.resize(nf, 3);
-  // Faces in parallel chunks (each face's angles are its own); the first bad face is the
-  // smallest of the chunks' first ones.
-  const int chunks = parallel::num_chunks(nf, parallel::kDefaultMinChunk / 4);
-  std::vector<int> first_bad(static_cast<std::size_t>(chunks), -1);
-  parallel::run_chunks(nf, chunks, [&](std::int64_t begin, std::int64_t end, int chunk) {
-    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
-      // Edge opposite corner k has index face_edges(f, k).
-      const T l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
-                      lengths[topology.face_edges(f, 2)]};
-      T two_s, d[3];
-      if (!half_perimeter_terms(l, two_s, d)) {
-        for (int k = 0; k < 3; ++k) angles(f, k) = std::numeric_limits<T>::quiet_NaN();
-        if (first_bad[chunk] < 0) first_bad[chunk] = f;
-        continue;
-      }
-      T theta[3];
-      half_angles(two_s, d, theta);
-      for (int k = 0; k < 3; ++k) angles(f, k) = theta[k];
-    }
-  });
-  for (const int f : first_bad) {
-    if (f >= 0) return f;
-  }
-  return -1;
+  // Faces in parallel (each face's angles are its own); the first bad face whatever the split.
+  return static_cast<int>(parallel::first_failing(
+      nf,
+      [&](std::int64_t f) {
+        // Edge opposite corner k has index face_edges(f, k).
+        const T l[3] = {lengths[topology.face_edges(f, 0)], lengths[topology.face_edges(f, 1)],
+                        lengths[topology.face_edges(f, 2)]};
+        T two_s, d[3];
+        if (!half_perimeter_terms(l, two_s, d)) {
+          for (int k = 0; k < 3; ++k) angles(f, k) = std::numeric_limits<T>::quiet_NaN();
+          return false;
+        }
+        T theta[3];
+        half_angles(two_s, d, theta);
+        for (int k = 0; k < 3; ++k) angles(f, k) = theta[k];
+        return true;
+      },
+      parallel::kDefaultMinChunk / 4));
 }
 
 /// q = sinh^2(l / 2) of the hyperbolic unified form, t = e^u, and the denominator's factors
