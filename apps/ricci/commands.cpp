@@ -563,6 +563,7 @@ int run_param(const ParamArgs& args) {
   options.quantize = args.quantize;
   options.auto_cones.max_log_scale = args.max_log_scale;
   options.auto_cones.max_cones = args.max_cones;
+  options.auto_cones.smoothness = args.cone_smoothness;
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
   options.packing.gutter = args.gutter;

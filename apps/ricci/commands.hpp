@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ricci/mesh/repair.hpp"
+#include "ricci/param/cones.hpp"
 
 namespace ricci::cli {
 
@@ -60,6 +61,7 @@ struct ParamArgs {
   bool quantize = false;
   double max_log_scale = 1.0;
   int max_cones = 0;
+  double cone_smoothness = ConeSelectionOptions{}.smoothness;
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;

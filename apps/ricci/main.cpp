@@ -180,6 +180,13 @@ int main(int argc, char** argv) {
                    "genus)")
       ->capture_default_str();
   param_cmd
+      ->add_option("--cone-smoothness", param.cone_smoothness,
+                   "automatic cones: weight of angle distortion against area distortion when "
+                   "curvatures are chosen (they minimise log(1 + E) + W D / #F, D the Dirichlet "
+                   "energy of the log scale; 0: area distortion alone; docs/cones.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  param_cmd
       ->add_option("--gutter", param.gutter,
                    "several components: space between packed charts, in uv units")
       ->capture_default_str()

@@ -12,7 +12,7 @@ _CONE_MODES = ("needed", "auto", "none", "one")
 
 
 def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scale=None,
-                 max_cones=None, try_first_cone_candidates=None, modify_connectivity=None,
+                 max_cones=None, try_first_cone_candidates=None, cone_smoothness=None, modify_connectivity=None,
                  scheme=None, packing_init=None, max_intersection_angle=None, fit_sweeps=None,
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
@@ -35,7 +35,9 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     boundary: ``"free"`` (default), ``"disk"``, ``"disk-length"``.
     quantize: round cone curvatures to multiples of pi/2.
     Automatic cones (``ConeSelectionOptions``): max_log_scale (1.0), max_cones (64),
-      try_first_cone_candidates (1).
+      try_first_cone_candidates (1), cone_smoothness (1000: the curvatures minimise
+      log(1 + E) + cone_smoothness D / #F, D the Dirichlet energy of the log scale; 0: area
+      distortion E alone).
     modify_connectivity: split edges around cones whose valence is too low (True).
     Metric and solver: as ``ricci.flow`` (tolerance defaults to 1e-12 here), flips included:
       after Delaunay flips the triangles returned are the intrinsic Delaunay triangulation of
@@ -96,6 +98,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
             mesh, cones=cones, boundary=boundary, quantize=quantize,
             max_log_scale=max_log_scale, max_cones=max_cones,
             try_first_cone_candidates=try_first_cone_candidates,
+            cone_smoothness=cone_smoothness,
             modify_connectivity=modify_connectivity, scheme=scheme, packing_init=packing_init,
             max_intersection_angle=max_intersection_angle, fit_sweeps=fit_sweeps,
             fit_tolerance=fit_tolerance, solver=solver, tolerance=tolerance,
@@ -115,7 +118,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                modify_connectivity=modify_connectivity)
     set_fields(opts.packing, gutter=gutter)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
-               try_first_cone_candidates=try_first_cone_candidates)
+               try_first_cone_candidates=try_first_cone_candidates, smoothness=cone_smoothness)
     set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,
                              max_intersection_angle=max_intersection_angle,
                              fit_sweeps=fit_sweeps, fit_tolerance=fit_tolerance, solver=solver,
@@ -157,7 +160,8 @@ def _is_hyperbolic(geometry):
 
 
 def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, max_cones,
-                             try_first_cone_candidates, modify_connectivity, root_face, options,
+                             try_first_cone_candidates, cone_smoothness, modify_connectivity,
+                             root_face, options,
                              **structure_and_solver):
     """parameterize(geometry='hyperbolic'): refuses the Euclidean-only arguments, then calls
     ``parameterize_hyperbolic``."""
@@ -173,6 +177,7 @@ def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, 
     euclidean_only = {"quantize": quantize, "max_log_scale": max_log_scale,
                       "max_cones": max_cones,
                       "try_first_cone_candidates": try_first_cone_candidates,
+                      "cone_smoothness": cone_smoothness,
                       "modify_connectivity": modify_connectivity}
     given = [name for name, value in euclidean_only.items() if value is not None]
     if given:

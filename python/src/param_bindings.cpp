@@ -43,6 +43,9 @@ void bind_param(py::module_& m) {
              "largest uv corner angle at a cone, estimated from the input's (radians)")
       .field("max_curvature", &ConeSelectionOptions::max_curvature,
              "largest curvature of a cone (radians)")
+      .field("smoothness", &ConeSelectionOptions::smoothness,
+             "weight of angle against area distortion: curvatures minimise log(1 + E) + "
+             "smoothness D / #F (D: Dirichlet energy of the log scale)")
       .field("try_first_cone_candidates", &ConeSelectionOptions::try_first_cone_candidates,
              "well-spread candidates tried for the first cone of a closed surface")
       .enum_field("boundary", &ConeSelectionOptions::boundary, &parse_boundary_mode,

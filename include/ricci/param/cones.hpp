@@ -52,6 +52,12 @@ struct ConeSelectionOptions {
   /// Boundary treatment while cones are chosen: Free holds the boundary at u = 0 (it flattens
   /// with no cone needed); the disk modes leave it free as well during selection.
   BoundaryMode boundary = BoundaryMode::Free;
+  /// Weight of the angle distortion against the area distortion: the curvatures minimise
+  /// log(1 + E) + smoothness D / #F, D the Dirichlet energy of the linearised log scale u (a
+  /// discrete conformal map distorts a face's angles by about |grad u| h). 0: E alone, which
+  /// pairs strong cones of both signs (angle distortion 1.077 on spot with 32 cones, BFF 1.058);
+  /// 1000: 1.058 there (docs/cones.md has the sweep).
+  double smoothness = 1000;
   StructureOptions structure;  ///< the scheme whose Hessian linearises the flow
 };
 
@@ -63,6 +69,8 @@ struct ConeSelection {
   /// they sum to 2 pi chi; with a boundary the boundary takes the rest.
   std::vector<double> linear_curvature;
   double log_scale_rms = 0;  ///< sqrt(J / total area) at the end
+  /// The area distortion E (tutorial eq. 9, per vertex) of the linearised flat metric at the end.
+  double area_energy = 0;
   /// Whether every cone's curvature lies within its bounds. Automatic count: when the selection
   /// ends out of bounds (the cap on the number of cones, or an infeasible bounded problem), the
   /// last cone set that met them is returned (`vertices` cut back to it; `max_log_scale` keeps

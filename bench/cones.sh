@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Automatic cones against BFF: for every row of ../shared/reference/bff-cones.tsv (a shared mesh
+# and a cone count), `ricci param MESH --cones N` with default options, then the same with
+# --quantize, and `--cones auto`; ../shared/tools/checkuv.py measures each written OBJ (area
+# distortion E of the tutorial's eq. 9, log-area rms, angle distortion, flipped faces, seam
+# mismatch, cones). BFF's figures come from the TSV (same checker, same meshes).
+#
+#   bench/cones.sh [BUILD_DIR] [OUT_DIR]         (defaults: build, build/cones)
+#   RICCI_CONES_MESHES="spot bunny" bench/cones.sh    only these meshes
+#
+# Prints a markdown table on stdout (the one in docs/cones.md); the outputs stay in OUT_DIR,
+# with every checker's JSON in OUT_DIR/rows.tsv.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+out=${2:-$build/cones}
+ricci="$PWD/$build/ricci"
+shared=${RICCI_SHARED_MESHES:-$PWD/../shared/meshes}
+reference=$PWD/../shared/reference/bff-cones.tsv
+checkuv=$PWD/../shared/tools/checkuv.py
+mkdir -p "$out"
+if [ ! -f "$reference" ] || [ ! -d "$shared" ]; then
+  echo "cones.sh: needs $reference and $shared" >&2
+  exit 0
+fi
+only=" ${RICCI_CONES_MESHES:-} "
+
+path_of() {  # mesh name -> file under shared/meshes
+  local f
+  for f in "$shared/$1".*; do
+    [ -f "$f" ] && echo "$f" && return
+  done
+}
+# field of the checker's JSON
+field() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v=d.get(sys.argv[2]); print('%.4g' % v if isinstance(v, float) else v)" "$1" "$2" 2>/dev/null; }
+report() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1" 2>/dev/null; }
+
+# runs ricci param, the checker; sets e, angle, flipped, mismatch, ncones, seconds, select, ok
+measure() {  # name, tag, extra args...
+  local name=$1 tag=$2 start end
+  shift 2
+  local obj="$out/$name-$tag.obj"
+  start=$(date +%s.%N)
+  "$ricci" param "$(path_of "$name")" -o "$obj" --report "$out/$name-$tag.json" "$@" \
+    >"$out/$name-$tag.log" 2>&1
+  local rc=$?
+  end=$(date +%s.%N)
+  seconds=$(printf '%.2f' "$(echo "$end - $start" | bc)")
+  e=- angle=- flipped=- mismatch=- ncones=- select=- log_rms=-
+  [ $rc -eq 0 ] || { ok="exit $rc"; return; }
+  ok=ok
+  /usr/bin/python3 "$checkuv" "$obj" >"$out/$name-$tag.check.json"
+  e=$(field "$out/$name-$tag.check.json" area_distortion_energy)
+  log_rms=$(field "$out/$name-$tag.check.json" log_area_rms)
+  angle=$(field "$out/$name-$tag.check.json" angle_distortion_mean)
+  flipped=$(field "$out/$name-$tag.check.json" flipped)
+  mismatch=$(field "$out/$name-$tag.check.json" seam_length_mismatch)
+  ncones=$(field "$out/$name-$tag.check.json" cones)
+  select=$(report "$out/$name-$tag.json" '"%.2f" % d["timings"]["cones"]')
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$tag" "$ncones" "$e" "$log_rms" \
+    "$angle" "$flipped" "$mismatch" "$seconds" "$select" >>"$out/rows.tsv"
+}
+
+printf 'mesh\trun\tcones\tE\tlog_area_rms\tangle_mean\tflipped\tseam_mismatch\tseconds\tselect_seconds\n' >"$out/rows.tsv"
+echo "| mesh | cones | BFF E | ricci E | BFF angle | ricci angle | ricci flipped | ricci seam mismatch | ricci log-area rms | ricci s (cones) | BFF s | ricci --quantize: E, angle, flipped |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+last=""
+while IFS=$'\t' read -r name n bff_s bff_e bff_angle bff_flipped; do
+  case "$name" in '#'*|mesh|'') continue ;; esac
+  [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
+  [ -n "$(path_of "$name")" ] || continue
+  measure "$name" "$n" --cones "$n"
+  row="| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $log_rms | $seconds ($select) | $bff_s"
+  [ "$ok" = ok ] || row="$row ($ok)"
+  measure "$name" "$n-q" --cones "$n" --quantize
+  echo "$row | $e, $angle, $flipped |"
+  if [ "$name" != "$last" ]; then
+    last=$name
+  fi
+done <"$reference"
+
+echo
+echo "| mesh | --cones auto: cones | E | angle | flipped | log-area rms | s (cones) |"
+echo "|---|---|---|---|---|---|---|"
+for name in $(awk -F'\t' '!/^#/ && $1 != "mesh" {print $1}' "$reference" | uniq); do
+  [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
+  [ -n "$(path_of "$name")" ] || continue
+  measure "$name" auto --cones auto
+  echo "| $name | $ncones | $e | $angle | $flipped | $log_rms | $seconds ($select) |"
+done
