@@ -32,7 +32,7 @@ path_of() {  # mesh name -> file under shared/meshes
   done
 }
 # field of the checker's JSON
-field() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v=d.get(sys.argv[2]); print('%.4g' % v if isinstance(v, float) else v)" "$1" "$2" 2>/dev/null; }
+field() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v=d.get(sys.argv[2]); print('%.5g' % v if isinstance(v, float) else v)" "$1" "$2" 2>/dev/null; }
 report() { /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1" 2>/dev/null; }
 
 # runs ricci param, the checker; sets e, angle, flipped, mismatch, ncones, seconds, select, ok
@@ -62,25 +62,29 @@ measure() {  # name, tag, extra args...
 }
 
 printf 'mesh\trun\tcones\tE\tlog_area_rms\tangle_mean\tflipped\tseam_mismatch\tseconds\tselect_seconds\n' >"$out/rows.tsv"
-echo "| mesh | cones | BFF E | ricci E | BFF angle | ricci angle | ricci flipped | ricci seam mismatch | ricci log-area rms | ricci s (cones) | BFF s | ricci --quantize: E, angle, flipped |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-last=""
+# yes when ricci has lower E, no more angle distortion, no flipped face and exact seams
+beats() { /usr/bin/python3 -c "import sys; e,be,a,ba,f,m=sys.argv[1:]; print('yes' if float(e)<float(be) and float(a)<=float(ba) and int(f)==0 and float(m)<=1e-9 else 'no')" "$@" 2>/dev/null || echo no; }
+wins=0 rows=0
+echo "| mesh | cones | BFF E | ricci E | BFF angle | ricci angle | ricci flipped | ricci seam mismatch | beats BFF | ricci log-area rms | ricci s (selection) | BFF s | ricci --quantize: E, angle, flipped |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 while IFS=$'\t' read -r name n bff_s bff_e bff_angle bff_flipped; do
   case "$name" in '#'*|mesh|'') continue ;; esac
   [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
   [ -n "$(path_of "$name")" ] || continue
   measure "$name" "$n" --cones "$n"
-  row="| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $log_rms | $seconds ($select) | $bff_s"
+  verdict=$(beats "$e" "$bff_e" "$angle" "$bff_angle" "$flipped" "$mismatch")
+  rows=$((rows + 1))
+  [ "$verdict" = yes ] && wins=$((wins + 1))
+  row="| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $verdict | $log_rms | $seconds ($select) | $bff_s"
   [ "$ok" = ok ] || row="$row ($ok)"
   measure "$name" "$n-q" --cones "$n" --quantize
   echo "$row | $e, $angle, $flipped |"
-  if [ "$name" != "$last" ]; then
-    last=$name
-  fi
 done <"$reference"
+echo
+echo "ricci beats BFF (lower E, no more angle distortion, no flipped face, seams within 1e-9) on $wins of $rows rows."
 
 echo
-echo "| mesh | --cones auto: cones | E | angle | flipped | log-area rms | s (cones) |"
+echo "| mesh | --cones auto: cones | E | angle | flipped | log-area rms | s (selection) |"
 echo "|---|---|---|---|---|---|---|"
 for name in $(awk -F'\t' '!/^#/ && $1 != "mesh" {print $1}' "$reference" | uniq); do
   [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue

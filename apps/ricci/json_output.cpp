@@ -265,6 +265,14 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   j["cone_selection_max_log_scale"] = r.cone_selection.max_log_scale;
   j["log_scale_spread"] = r.log_scale_spread;
   j["cone_rounds"] = r.cone_rounds;
+  j["cone_selection_area_energy"] = r.cone_selection.area_energy;
+  j["timings"] = {{"cones", r.timings.cones},
+                  {"flow", r.timings.flow},
+                  {"cut", r.timings.cut},
+                  {"development", r.timings.development},
+                  {"layout", r.timings.layout},
+                  {"atlas", r.timings.atlas},
+                  {"distortion", r.timings.distortion}};
   j["modification"] = {{"edge_splits", r.edge_splits},
                        {"subdivided", r.subdivided},
                        {"added_vertices", r.added_vertex_parents.size()},

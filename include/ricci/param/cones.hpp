@@ -7,18 +7,21 @@
 /// Laplacian of the input's intrinsic Delaunay triangulation (the scheme's own Hessian for the
 /// circle packings). A flat metric with cones k_s at the vertices s of S (and u = 0 on a free
 /// boundary) has log scale u(k) = A^-1 (sum_s k_s e_s - K): affine in the curvatures. For a cone
-/// set S the curvatures minimise the area-weighted spread of u,
-///     J(k) = sum_v a_v (u_v - mean u)^2      (a_v: a third of the 3D area around v),
-/// subject to Gauss-Bonnet on a closed surface (sum k = 2 pi chi) and to bounds that keep every
-/// cone drawable on the input's own faces: a cone's angle 2 pi - k spread over its faces as
-/// straight uv triangles needs every corner there below pi (max_face_angle, max_corner_angle),
-/// and k <= max_curvature. J is the log-scale L2 norm of the tutorial's area distortion; its
-/// minimiser spreads curvature over the cones instead of piling it on one.
-/// Cones are added greedily where dJ/dk (the gradient of J with respect to a new cone's
-/// curvature, one solve for every vertex at once) is largest, at least 3 rings from the cones
+/// set S the curvatures minimise
+///     log(1 + E(u)) + smoothness D(u) / #F,
+/// E = sum_v a_v (e^{2 u_v} / Z - 1)^2 (Z = sum_v a_v e^{2 u_v}; a_v a third of the 3D area around
+/// v, summing to 1) the area distortion energy of the tutorial's eq. 9 in per-vertex form, and
+/// D = u^T L u the Dirichlet energy of u, the angle distortion's stand-in (a discrete conformal
+/// map distorts a face's angles by about |grad u| h). They are subject to Gauss-Bonnet on a closed
+/// surface (sum k = 2 pi chi) and to bounds that keep every cone drawable on the input's own
+/// faces: a cone's angle 2 pi - k spread over its faces as straight uv triangles needs every
+/// corner there below pi (max_face_angle, max_corner_angle), and k <= max_curvature. The
+/// minimisation (quasi-Newton with bounded quadratic steps) starts from the minimiser of the
+/// L2 norm J = sum_v a_v (u_v - mean u)^2, a quadratic programme.
+/// Cones are added greedily where the objective's gradient with respect to a new cone's
+/// curvature (one solve for every vertex at once) is largest, at least 3 rings from the cones
 /// already there, until max |u - mean u| <= max_log_scale and every cone is within its bounds.
-/// One factorisation serves the whole selection (the cones are sources, not constraints), with
-/// four solves per cone added.
+/// One factorisation serves the whole selection (the cones are sources, not constraints).
 
 #include <vector>
 
