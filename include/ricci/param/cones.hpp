@@ -9,8 +9,8 @@
 /// boundary) has log scale u(k) = A^-1 (sum_s k_s e_s - K): affine in the curvatures. For a cone
 /// set S the curvatures minimise
 ///     log(1 + E(u)) + smoothness D(u) / #F,
-/// E = sum_v a_v (e^{2 u_v} / Z - 1)^2 (Z = sum_v a_v e^{2 u_v}; a_v a third of the 3D area around
-/// v, summing to 1) the area distortion energy of the tutorial's eq. 9 in per-vertex form, and
+/// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 (Z = sum_f a_f e^{2 u_f}; u_f the mean of u over face f,
+/// a_f its share of the 3D area) the area distortion energy of the tutorial's eq. 9, and
 /// D = u^T L u the Dirichlet energy of u, the angle distortion's stand-in (a discrete conformal
 /// map distorts a face's angles by about |grad u| h). They are subject to Gauss-Bonnet on a closed
 /// surface (sum k = 2 pi chi) and to bounds that keep every cone drawable on the input's own
@@ -72,7 +72,7 @@ struct ConeSelection {
   /// they sum to 2 pi chi; with a boundary the boundary takes the rest.
   std::vector<double> linear_curvature;
   double log_scale_rms = 0;  ///< sqrt(J / total area) at the end
-  /// The area distortion E (tutorial eq. 9, per vertex) of the linearised flat metric at the end.
+  /// The area distortion E (tutorial eq. 9) of the linearised flat metric at the end.
   double area_energy = 0;
   /// Whether every cone's curvature lies within its bounds. Automatic count: when the selection
   /// ends out of bounds (the cap on the number of cones, or an infeasible bounded problem), the
