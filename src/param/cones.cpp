@@ -102,6 +102,9 @@ void grow_rings_within(const std::vector<std::vector<int>>& neighbours, int sour
   }
 }
 
+/// Most doubles the selection keeps as columns of A^-1 (#V per cone): 320 MB.
+constexpr double kColumnValues = 4e7;
+
 /// Rings around a cone left out of the measure and of the candidates for the next cone. (Capping
 /// them by area in the selection let cones crowd on small high-genus meshes: 2 flipped faces on
 /// a generated genus-20 surface of 748 faces.)
@@ -258,8 +261,9 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
     uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
   }
   const double top = uf.maxCoeff();  // e^{4 (u - top)} cannot overflow
-  const Eigen::ArrayXd e2 = (2 * (uf - top)).exp() * face_area.array();
-  const Eigen::ArrayXd e4 = (4 * (uf - top)).exp() * face_area.array();
+  const Eigen::ArrayXd scale = (2 * (uf - top)).exp();
+  const Eigen::ArrayXd e2 = scale * face_area.array();
+  const Eigen::ArrayXd e4 = scale * e2;
   const double s2 = e2.sum(), s4 = e4.sum();
   if (gradient) {
     const Eigen::ArrayXd per_face = (4.0 / 3) * (e4 / s4 - e2 / s2);
@@ -284,12 +288,22 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
 struct ConeObjective {
   const SparseCholesky& cholesky;
   const Eigen::VectorXd& rhs0;
+  const Eigen::VectorXd& u0;  ///< A^-1 rhs0
   const Topology& t;
   const Eigen::VectorXd& face_area;
   const std::vector<int>& S;
+  /// A^-1 e_s for the cones, when kept (then u and the cones' gradient take no solve); empty
+  /// when they would take too much memory.
+  const std::vector<Eigen::VectorXd>& columns;
   double smooth = 0;
 
+  bool has_columns() const { return !S.empty() && columns.size() == S.size(); }
   Eigen::VectorXd solve_u(const Eigen::VectorXd& k) const {
+    if (has_columns()) {
+      Eigen::VectorXd u = u0;
+      for (std::size_t i = 0; i < S.size(); ++i) u += k[static_cast<int>(i)] * columns[i];
+      return u;
+    }
     Eigen::VectorXd rhs = rhs0;
     for (std::size_t i = 0; i < S.size(); ++i) rhs[S[i]] += k[static_cast<int>(i)];
     return cholesky.solve(rhs);
@@ -298,6 +312,20 @@ struct ConeObjective {
     double dirichlet = u.dot(rhs0);
     for (std::size_t i = 0; i < S.size(); ++i) dirichlet += u[S[i]] * k[static_cast<int>(i)];
     return area_energy(t, face_area, u, nullptr) + smooth * dirichlet;
+  }
+  /// d/dk_i for the cones: G_S^T dF/du + 2 smooth u_S.
+  Eigen::VectorXd gradient(const Eigen::VectorXd& u) const {
+    Eigen::VectorXd w;
+    area_energy(t, face_area, u, &w);
+    const int m = static_cast<int>(S.size());
+    Eigen::VectorXd g(m);
+    if (has_columns()) {
+      for (int i = 0; i < m; ++i) g[i] = columns[i].dot(w) + 2 * smooth * u[S[i]];
+    } else {
+      const Eigen::VectorXd all = cholesky.solve(w);
+      for (int i = 0; i < m; ++i) g[i] = all[S[i]] + 2 * smooth * u[S[i]];
+    }
+    return g;
   }
   /// d/dk at every vertex (a cone of curvature 0 there included): A^-1 dF/du + 2 smooth u.
   Eigen::VectorXd gradient_everywhere(const Eigen::VectorXd& u) const {
@@ -311,28 +339,36 @@ struct ConeObjective {
 /// closed surface, sum k = total: a quasi-Newton method (BFGS started from the objective's
 /// Hessian at u = 0: 8 M for log(1 + E), M = G_S^T P G_S the Hessian of J, plus 2 smooth green)
 /// whose steps are the bounded quadratic programmes of bounded_least_squares, with a backtracking
-/// line search. An iterate costs two solves (u, and the gradient), so nothing of size #V x #S is
-/// stored. `k` enters feasible (the J minimiser) and leaves at the minimiser; returns u there,
-/// `gradient_all` gets the objective's gradient at every vertex (for the next cone).
+/// line search. With the cones' columns of A^-1 kept an iterate takes no solve (dense products
+/// of #V x #S); without them two. `k` enters feasible (the J minimiser) and leaves at the
+/// minimiser; returns u there, `gradient_all` gets the objective's gradient at every vertex (for
+/// the next cone: the one solve of the call with columns).
 Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Eigen::MatrixXd& M,
                                         const Eigen::MatrixXd& green, const Eigen::VectorXd& lo,
                                         const Eigen::VectorXd& hi, bool closed, double total,
-                                        Eigen::VectorXd& k, Eigen::VectorXd& gradient_all,
-                                        double& value) {
-  const std::vector<int>& S = objective.S;
-  const int m = static_cast<int>(S.size());
-  auto restrict = [&](const Eigen::VectorXd& all) {
-    Eigen::VectorXd g(m);
-    for (int i = 0; i < m; ++i) g[i] = all[S[i]];
-    return g;
-  };
+                                        Eigen::VectorXd& k, Eigen::MatrixXd& B,
+                                        Eigen::VectorXd& gradient_all, double& value) {
+  const int m = static_cast<int>(objective.S.size());
   Eigen::VectorXd u = objective.solve_u(k);
   value = objective.value(u, k);
-  gradient_all = objective.gradient_everywhere(u);
-  if (m == 0) return u;
-  Eigen::VectorXd g = restrict(gradient_all);
-  Eigen::MatrixXd B = 8 * M + 2 * objective.smooth * green;
-  B.diagonal().array() += 1e-9 * std::max(1e-300, B.diagonal().cwiseAbs().maxCoeff());
+  if (m == 0) {
+    gradient_all = objective.gradient_everywhere(u);
+    return u;
+  }
+  Eigen::VectorXd g = objective.gradient(u);
+  // The previous greedy step's estimate for the cones it had (B enters with those rows), the
+  // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
+  Eigen::MatrixXd start = 8 * M + 2 * objective.smooth * green;
+  start.diagonal().array() += 1e-9 * std::max(1e-300, start.diagonal().cwiseAbs().maxCoeff());
+  const int kept = static_cast<int>(std::min<Eigen::Index>(B.rows(), m));
+  if (kept > 0 && B.cols() == B.rows()) {
+    start.topLeftCorner(kept, kept) = B.topLeftCorner(kept, kept);
+    if (start.llt().info() != Eigen::Success) {
+      start = 8 * M + 2 * objective.smooth * green;
+      start.diagonal().array() += 1e-9 * std::max(1e-300, start.diagonal().cwiseAbs().maxCoeff());
+    }
+  }
+  B = std::move(start);
   for (int iteration = 0; iteration < 60; ++iteration) {
     Eigen::VectorXd target;
     double multiplier = 0;
@@ -352,8 +388,7 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
       if (value_new <= value + 1e-4 * step * slope) break;
     }
     if (!(value_new < value)) break;
-    Eigen::VectorXd all_new = objective.gradient_everywhere(u_new);
-    const Eigen::VectorXd g_new = restrict(all_new);
+    const Eigen::VectorXd g_new = objective.gradient(u_new);
     const Eigen::VectorXd s = k_new - k, y = g_new - g;
     const double sy = s.dot(y);
     if (sy > 1e-12 * s.norm() * y.norm()) {
@@ -364,10 +399,10 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     k = k_new;
     u = u_new;
     g = g_new;
-    gradient_all = std::move(all_new);
     value = value_new;
-    if (decrease <= 1e-10 * (1 + std::abs(value))) break;
+    if (decrease <= 1e-8 * (1 + std::abs(value))) break;
   }
+  gradient_all = objective.gradient_everywhere(u);
   return u;
 }
 
@@ -527,22 +562,35 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   const double smooth = options.smoothness / t.num_faces;
   Eigen::VectorXd r(0);
   std::vector<char> is_cone(nv, 0);
+  // The cones' columns of A^-1, kept while they fit in kColumnValues doubles (the objective's
+  // iterations then take no solve, and M comes from dot products).
+  std::vector<Eigen::VectorXd> columns;
   auto add_cone = [&](int v) {
     const int m = static_cast<int>(S.size());
     Eigen::VectorXd e = Eigen::VectorXd::Zero(nv);
     e[v] = 1;
-    const Eigen::VectorXd g = cholesky.solve(e);
-    const Eigen::VectorXd h = cholesky.solve(spread(g));
-    S.push_back(v);
-    is_cone[v] = 1;
+    Eigen::VectorXd g = cholesky.solve(e);
+    const Eigen::VectorXd Pg = spread(g);
+    const bool keep = static_cast<double>(nv) * (m + 1) <= kColumnValues &&
+                      columns.size() == static_cast<std::size_t>(m);
     M.conservativeResize(m + 1, m + 1);
     green.conservativeResize(m + 1, m + 1);
     r.conservativeResize(m + 1);
-    for (int i = 0; i <= m; ++i) {
-      M(i, m) = M(m, i) = h[S[i]];
-      green(i, m) = green(m, i) = g[S[i]];
+    if (keep) {
+      // M_im = g_i^T P g_m (= (A^-1 P g_m)_{S_i}: A is symmetric).
+      for (int i = 0; i < m; ++i) M(i, m) = M(m, i) = columns[i].dot(Pg);
+      M(m, m) = g.dot(Pg);
+    } else {
+      columns.clear();
+      const Eigen::VectorXd h = cholesky.solve(Pg);
+      for (int i = 0; i < m; ++i) M(i, m) = M(m, i) = h[S[i]];
+      M(m, m) = h[v];
     }
+    S.push_back(v);
+    is_cone[v] = 1;
+    for (int i = 0; i <= m; ++i) green(i, m) = green(m, i) = g[S[i]];
     r[m] = g.dot(Pu0);
+    if (keep) columns.push_back(std::move(g));
     grow_rings(neighbours, v, separation, ring);
   };
   auto reset_rings = [&]() {
@@ -599,6 +647,9 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   }
 
   Eigen::VectorXd k;
+  // The objective's minimiser and its quasi-Newton Hessian at the previous greedy step.
+  Eigen::VectorXd k_best;
+  Eigen::MatrixXd hessian;
   // The last cone set whose curvatures met their bounds: when automatic selection ends out of
   // bounds (the cap, or cones so close together on a needle mesh that the bounded problem had
   // no solution and its unbounded fallback gave curvatures of +-36), it returns that one.
@@ -626,8 +677,18 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
       // From the L2 minimiser to the area distortion's: the gradient of F at it chooses the next
       // cone, so the greedy measures what the texture shows.
       double value = 0;
-      const ConeObjective objective{cholesky, rhs0, t, model.face_area, S, smooth};
-      u = minimise_cone_objective(objective, M, green, lo, hi, closed, total, k, q, value);
+      const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, S, columns, smooth};
+      // Warm start: the previous step's minimiser, the new cones at 0, when that is within
+      // their bounds (a cone at a valence-3 vertex must be positive); else the J minimiser.
+      if (k_best.size() > 0 && k_best.size() < m) {
+        Eigen::VectorXd warm = Eigen::VectorXd::Zero(m);
+        warm.head(k_best.size()) = k_best;
+        bool inside = true;
+        for (int i = 0; i < m; ++i) inside = inside && warm[i] >= lo[i] && warm[i] <= hi[i];
+        if (inside) k = warm;
+      }
+      u = minimise_cone_objective(objective, M, green, lo, hi, closed, total, k, hessian, q, value);
+      k_best = k;
       result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
       lambda = 0;
       if (closed) {
