@@ -24,6 +24,13 @@ experiments=(
   "eight-one|eight.off|--cones one|(genus 2, one cone of -4 pi)|"
   "fertility-auto|fertility.off|--cones 6 --quantize|genus-6 buddha 10k faces, five cones of -4 pi (fig. 22)|1.467170"
   "spot-auto|spot.obj|--cones 8 --quantize|Iphigenia 30k faces, 8 cones (fig. 13)|0.571903"
+  "spot-8|spot.obj|--cones 8|(8 automatic cones, not quantized: docs/cones.md)|"
+  "face-8|face.obj|--cones 8|(free boundary and 8 automatic cones)|"
+  "bob-4|bob_tri.obj|--cones 4|(genus 1, 4 automatic cones)|"
+  "kitten-8|kitten.obj|--cones 8|(genus 1, 8 automatic cones)|"
+  "3holes-16|3holes.off|--cones 16|(genus 3, 16 automatic cones)|"
+  "eight-8|eight.off|--cones 8|(genus 2, 8 automatic cones)|"
+  "fertility-16|fertility.off|--cones 16|(genus 4, 16 automatic cones)|"
 )
 
 table="$out/table.md"

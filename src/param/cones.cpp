@@ -102,7 +102,7 @@ void grow_rings_within(const std::vector<std::vector<int>>& neighbours, int sour
   }
 }
 
-/// A fixed count of at most this many cones is improved by exchanges (each cone taken out and
+/// A cone set of at most this many cones is improved by exchanges (each cone taken out and
 /// the best candidate put in): two passes over the cones up to kExchangeTwice of them, one pass
 /// above (an exchange costs two fits of #V x #S each; kitten with 32 cones: 6.1 s for two passes
 /// against 1.4 s for the greedy alone).
@@ -801,12 +801,13 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     }
     if (added == 0) break;  // no candidate keeps the bounds feasible
   }
-  // Exchange: a fixed count's greedy order is not its best placement (the first cones were
+  // Exchange: the greedy order is not the best placement of its cones (the first ones were
   // chosen when the others were missing). Each cone in turn is taken out and the best candidate
   // for the others put in its place; kept when the objective falls.
-  if (wanted >= 0 && result.within_bounds && static_cast<int>(S.size()) == wanted &&
-      wanted <= kExchangeCones && fit.value < INFINITY) {
-    const int passes = wanted <= kExchangeTwice ? 2 : 1;
+  const int chosen = static_cast<int>(S.size());
+  if (result.within_bounds && chosen > 0 && chosen <= kExchangeCones &&
+      (wanted < 0 || chosen == wanted) && fit.value < INFINITY) {
+    const int passes = chosen <= kExchangeTwice ? 2 : 1;
     for (int pass = 0; pass < passes; ++pass) {
       bool improved = false;
       for (int i = 0; i < static_cast<int>(S.size()); ++i) {
