@@ -43,6 +43,9 @@ void bind_param(py::module_& m) {
              "largest uv corner angle at a cone, estimated from the input's (radians)")
       .field("max_curvature", &ConeSelectionOptions::max_curvature,
              "largest curvature of a cone (radians)")
+      .field("quantize", &ConeSelectionOptions::quantize,
+             "curvatures in multiples of pi/2, chosen in the model (ParamOptions.quantize sets "
+             "it)")
       .field("smoothness", &ConeSelectionOptions::smoothness,
              "weight of angle against area distortion: curvatures minimise log(1 + E) + "
              "smoothness D / #F (D: Dirichlet energy of the log scale)")

@@ -735,6 +735,56 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     }
     return best;
   };
+  // Curvatures in quarter turns for the cones S: rounded (the sum kept, as quantize_cones does),
+  // then a quarter turn moved from one cone to another while the objective falls; the moves
+  // tried first are those its gradient predicts to gain most. A cone that ends at 0 is none.
+  auto quantize_in_model = [&](const std::vector<int>& cones, const Eigen::VectorXd& k_real) {
+    const int m = static_cast<int>(cones.size());
+    const double quarter = kPi / 2;
+    std::vector<Cone> real(m);
+    double sum = 0;
+    for (int i = 0; i < m; ++i) {
+      real[i] = {i, k_real[i]};
+      sum += k_real[i];
+    }
+    const double units_total = std::round((closed ? total : sum) / quarter) * quarter;
+    Eigen::VectorXd kq = Eigen::VectorXd::Zero(m);
+    for (const Cone& c : quantize_cones(real, units_total)) kq[c.vertex] = c.curvature;
+    auto allowed = [&](int i, double value) {
+      return value <= options.max_curvature + 1e-12 && value >= lower_bound(cones[i]) - 1e-12;
+    };
+    const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, cones, columns, smooth};
+    Eigen::VectorXd u = objective.solve_u(kq);
+    double value = objective.value(u, kq);
+    for (int move = 0; move < 4 * m + 8; ++move) {
+      const Eigen::VectorXd g = objective.gradient(u);
+      std::vector<std::pair<double, std::pair<int, int>>> moves;  // predicted change, (to, from)
+      for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < m; ++j) {
+          if (i == j || !allowed(i, kq[i] + quarter) || !allowed(j, kq[j] - quarter)) continue;
+          moves.push_back({quarter * (g[i] - g[j]), {i, j}});
+        }
+      }
+      std::sort(moves.begin(), moves.end());
+      bool improved = false;
+      for (std::size_t a = 0; a < std::min<std::size_t>(moves.size(), 8) && !improved; ++a) {
+        const auto [i, j] = moves[a].second;
+        Eigen::VectorXd trial = kq;
+        trial[i] += quarter;
+        trial[j] -= quarter;
+        const Eigen::VectorXd u_trial = objective.solve_u(trial);
+        const double v = objective.value(u_trial, trial);
+        if (v < value - 1e-12 * (1 + std::abs(value))) {
+          kq = trial;
+          u = u_trial;
+          value = v;
+          improved = true;
+        }
+      }
+      if (!improved) break;
+    }
+    return kq;
+  };
   SetFit fit;
   for (;;) {
     const int m = static_cast<int>(S.size());
@@ -894,9 +944,17 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   }
   if (!result.within_bounds && wanted < 0 && last_good.m > 0) {
     S.resize(static_cast<std::size_t>(last_good.m));
+    if (columns.size() > S.size()) columns.resize(S.size());
     k = last_good.k;
     result.log_scale_rms = last_good.rms;
     result.within_bounds = true;
+  }
+  if (options.quantize && result.within_bounds && !S.empty()) {
+    k = quantize_in_model(S, k);
+    const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, S, columns, smooth};
+    const Eigen::VectorXd u = objective.solve_u(k);
+    result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
+    result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(spread(u))));
   }
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;

@@ -96,6 +96,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     selection.count = count;
     selection.structure = options.structure;
     selection.boundary = options.boundary;
+    selection.quantize = options.quantize;
     result.cone_selection = select_cones(input, selection);
     std::vector<Cone> chosen;
     for (std::size_t i = 0; i < result.cone_selection.vertices.size(); ++i) {

@@ -61,6 +61,10 @@ struct ConeSelectionOptions {
   /// pairs strong cones of both signs (angle distortion 1.077 on spot with 32 cones, BFF 1.058);
   /// 1000: 1.058 there (docs/cones.md has the sweep).
   double smoothness = 1000;
+  /// Curvatures in multiples of pi/2 (seamless maps, quad meshing), chosen in the model: the
+  /// minimiser rounded with its sum kept, then quarter turns moved between cones while the
+  /// objective falls. A cone left at 0 has no curvature (parameterize drops it).
+  bool quantize = false;
   StructureOptions structure;  ///< the scheme whose Hessian linearises the flow
 };
 
