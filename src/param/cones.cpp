@@ -716,6 +716,16 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     }
     return fit;
   };
+  // Vertices of a face with a corner above max_corner_angle: a cone there steepens u across
+  // that face, whose angle distortion (the checker's face mean) then explodes or whose corner
+  // images cross (a CAD cylinder's fan: one 178.5-degree face next to an exchanged cone took
+  // sigma ratio 2836 and the mean from 1.79 to 4.15; lifted valence-3 spikes, 141-degree
+  // corners: 6 flipped faces, 2 with this). They are candidates only when no other vertex is.
+  std::vector<char> on_sliver(nv, 0);
+  for (int f = 0; f < t.num_faces; ++f) {
+    if (model.angles.row(f).maxCoeff() <= options.max_corner_angle) continue;
+    for (int c = 0; c < 3; ++c) on_sliver[t.triangles(f, c)] = 1;
+  }
   // The best candidate for a new cone by the gradient q (not held, not a cone, outside the
   // rings of the cones, and on a closed surface with a lower bound the total can still pay);
   // -1 when there is none.
@@ -723,15 +733,18 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     double lower_sum = 0;
     for (int c : S) lower_sum += lower_bound(c);
     int best = -1;
-    double best_gain = -1;
-    for (int v = 0; v < nv; ++v) {
-      if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
-      const double gain = std::abs(fit.q[v] + fit.lambda);
-      if (gain <= best_gain) continue;
-      const double lo_v = lower_bound(v);
-      if (closed && lo_v > 0 && lower_sum + lo_v > total + 1e-9) continue;
-      best = v;
-      best_gain = gain;
+    for (int pass = 0; pass < 2 && best < 0; ++pass) {
+      double best_gain = -1;
+      for (int v = 0; v < nv; ++v) {
+        if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
+        if (pass == 0 && on_sliver[v]) continue;
+        const double gain = std::abs(fit.q[v] + fit.lambda);
+        if (gain <= best_gain) continue;
+        const double lo_v = lower_bound(v);
+        if (closed && lo_v > 0 && lower_sum + lo_v > total + 1e-9) continue;
+        best = v;
+        best_gain = gain;
+      }
     }
     return best;
   };
@@ -822,9 +835,12 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
     const int batch = std::max(1, m / 8);
     const int room = (wanted >= 0 ? wanted : max_cones) - m;
     std::vector<std::pair<double, int>> order;
-    for (int v = 0; v < nv; ++v) {
-      if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
-      order.emplace_back(-std::abs(q[v] + lambda), v);
+    for (int pass = 0; pass < 2 && order.empty(); ++pass) {
+      for (int v = 0; v < nv; ++v) {
+        if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
+        if (pass == 0 && on_sliver[v]) continue;
+        order.emplace_back(-std::abs(q[v] + lambda), v);
+      }
     }
     if (order.empty()) {
       if (separation == 0) break;
