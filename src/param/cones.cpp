@@ -121,16 +121,25 @@ constexpr int kSeparationRings = 3;
 constexpr double kRingArea = 0.02;
 
 /// A third of the 3D area of the faces around each vertex, normalised to a total of 1.
-Eigen::VectorXd vertex_areas(const Mesh& mesh, const Topology& t) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(t.num_vertices);
+/// Each face's share of the 3D area (summing to 1).
+Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t) {
+  Eigen::VectorXd area(t.num_faces);
   for (int f = 0; f < t.num_faces; ++f) {
     const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
     const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
     const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
-    const double third = (b - a).cross(c - a).norm() / 6;
-    for (int k = 0; k < 3; ++k) area[t.triangles(f, k)] += third;
+    area[f] = (b - a).cross(c - a).norm();
   }
   return area / area.sum();
+}
+
+/// A third of each vertex's faces' share of the 3D area (summing to 1).
+Eigen::VectorXd vertex_areas(const Topology& t, const Eigen::VectorXd& face_area) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(t.num_vertices);
+  for (int f = 0; f < t.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) area[t.triangles(f, k)] += face_area[f] / 3;
+  }
+  return area;
 }
 
 std::vector<std::vector<int>> vertex_neighbours(const Topology& t) {
@@ -366,15 +375,14 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
   Eigen::VectorXd g = objective.gradient(u);
   // The previous greedy step's estimate for the cones it had (B enters with those rows), the
   // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
-  Eigen::MatrixXd start = 8 * M + 2 * objective.smooth * green;
-  start.diagonal().array() += 1e-9 * std::max(1e-300, start.diagonal().cwiseAbs().maxCoeff());
+  Eigen::MatrixXd model_hessian = 8 * M + 2 * objective.smooth * green;
+  model_hessian.diagonal().array() +=
+      1e-9 * std::max(1e-300, model_hessian.diagonal().cwiseAbs().maxCoeff());
+  Eigen::MatrixXd start = model_hessian;
   const int kept = static_cast<int>(std::min<Eigen::Index>(B.rows(), m));
   if (kept > 0 && B.cols() == B.rows()) {
     start.topLeftCorner(kept, kept) = B.topLeftCorner(kept, kept);
-    if (start.llt().info() != Eigen::Success) {
-      start = 8 * M + 2 * objective.smooth * green;
-      start.diagonal().array() += 1e-9 * std::max(1e-300, start.diagonal().cwiseAbs().maxCoeff());
-    }
+    if (start.llt().info() != Eigen::Success) start = model_hessian;
   }
   B = std::move(start);
   for (int iteration = 0; iteration < 60; ++iteration) {
@@ -480,15 +488,8 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
   }
 
   // Area weights: a third of the 3D area of the faces around each vertex, normalised.
-  model.area = vertex_areas(mesh, t);
-  model.face_area.resize(t.num_faces);
-  for (int f = 0; f < t.num_faces; ++f) {
-    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
-    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
-    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
-    model.face_area[f] = (b - a).cross(c - a).norm();
-  }
-  model.face_area /= model.face_area.sum();
+  model.face_area = face_areas(mesh, t);
+  model.area = vertex_areas(t, model.face_area);
   const bool has_boundary = t.num_boundary_loops() > 0;
   model.chi = t.euler_characteristic();
   model.closed = !has_boundary;
@@ -979,7 +980,7 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
 double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& u,
                         const std::vector<int>& cones) {
   const int nv = t.num_vertices;
-  const Eigen::VectorXd area = vertex_areas(mesh, t);
+  const Eigen::VectorXd area = vertex_areas(t, face_areas(mesh, t));
   std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
   std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
   for (int c : cones) grow_rings_within(neighbours, c, kSeparationRings, area, kRingArea, ring);
