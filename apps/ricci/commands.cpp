@@ -570,6 +570,8 @@ int run_param(const ParamArgs& args) {
   check_output_is_not_input(args.output, {args.mesh, args.cones});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
   const bool refinement = args.faces == "refinement";
+  // The common refinement places the input's vertices where the flat metric puts them.
+  options.polish.enabled = args.polish == "angles" && !refinement;
   const RefinementFiles files = refinement_files(args.output);
   if (refinement) {
     if (options.structure.scheme != Scheme::VertexScaling) {

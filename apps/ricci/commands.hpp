@@ -62,6 +62,7 @@ struct ParamArgs {
   double max_log_scale = 1.0;
   int max_cones = 0;
   double cone_smoothness = ConeSelectionOptions{}.smoothness;
+  std::string polish = "angles";  ///< --polish: "angles" (PolishOptions) or "none"
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;

@@ -271,8 +271,15 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
                   {"cut", r.timings.cut},
                   {"development", r.timings.development},
                   {"layout", r.timings.layout},
+                  {"polish", r.timings.polish},
                   {"atlas", r.timings.atlas},
                   {"distortion", r.timings.distortion}};
+  j["polish"] = {{"enabled", options.polish.enabled},
+                 {"free_vertices", r.polish.free_vertices},
+                 {"moved_vertices", r.polish.moved_vertices},
+                 {"sweeps", r.polish.sweeps},
+                 {"angle_distortion_face_mean_before", r.polish.angle_distortion_before},
+                 {"angle_distortion_face_mean_after", r.polish.angle_distortion_after}};
   j["modification"] = {{"edge_splits", r.edge_splits},
                        {"subdivided", r.subdivided},
                        {"added_vertices", r.added_vertex_parents.size()},

@@ -187,6 +187,14 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   param_cmd
+      ->add_option("--polish", param.polish,
+                   "angles: after the layout, move the vertices on no seam and no boundary to "
+                   "lower the mean angle distortion (seams, cones and boundary stay exact); none: "
+                   "the discrete conformal map itself, every edge as long as the flat metric says "
+                   "(--faces refinement always is); docs/cones.md")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"angles", "none"}));
+  param_cmd
       ->add_option("--gutter", param.gutter,
                    "several components: space between packed charts, in uv units")
       ->capture_default_str()

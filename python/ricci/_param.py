@@ -17,7 +17,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
                  reuse_factorization_cg_iterations=None, progress=None, flips=None,
-                 geometry=None, root_face=None, gutter=None, options=None):
+                 geometry=None, root_face=None, gutter=None, polish=None, options=None):
     """Global conformal parameterization of a manifold mesh: cones, valence raising, Ricci flow
     to a flat metric, cut graph, layout, atlas, distortion, uv in the unit square. A mesh of
     several components gets one atlas: each component is parameterized on its own (a component
@@ -47,6 +47,10 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
       Poincare disk, see below).
     gutter: several components, the space between packed charts in uv units (0.002; options
       field packing.gutter).
+    polish: after the layout, move the vertices on no seam and no boundary to lower the faces'
+      mean angle distortion, seams, cones and boundary kept exact (True; options field
+      polish.enabled). False: the discrete conformal map itself, every edge as long as the flat
+      metric says. result.polish says what it did; its uv holds the positions before it.
     options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
       (copied); other arguments, when not None, override its fields.
 
@@ -90,9 +94,10 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     a surface with chi >= 0 or a scheme without a hyperbolic energy (virtual-radius).
     """
     mesh = _arrays.mesh(V, F)
-    if gutter is not None and _is_hyperbolic(geometry):
-        raise _ricci.InvalidInput("parameterize: gutter is an option of the Euclidean "
-                                  "parameterization only")
+    for name, value in (("gutter", gutter), ("polish", polish)):
+        if value is not None and _is_hyperbolic(geometry):
+            raise _ricci.InvalidInput(f"parameterize: {name} is an option of the Euclidean "
+                                      "parameterization only")
     if _is_hyperbolic(geometry):
         return _parameterize_hyperbolic(
             mesh, cones=cones, boundary=boundary, quantize=quantize,
@@ -117,6 +122,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     set_fields(opts, boundary=boundary, quantize=quantize,
                modify_connectivity=modify_connectivity)
     set_fields(opts.packing, gutter=gutter)
+    set_fields(opts.polish, enabled=polish)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
                try_first_cone_candidates=try_first_cone_candidates, smoothness=cone_smoothness)
     set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,

@@ -26,6 +26,7 @@ void bind_param(py::module_& m) {
       .readonly("cut", &ParamTimings::cut, "")
       .readonly("development", &ParamTimings::development, "")
       .readonly("layout", &ParamTimings::layout, "")
+      .readonly("polish", &ParamTimings::polish, "")
       .readonly("atlas", &ParamTimings::atlas, "")
       .readonly("distortion", &ParamTimings::distortion, "")
       .repr();
@@ -127,6 +128,34 @@ void bind_param(py::module_& m) {
         "Pairs of faces whose uv triangles' interiors intersect, decided exactly; with "
         "face_group only pairs of different groups.");
 
+  StructBinding<PolishOptions>(m, "PolishOptions", "Options of polish_angles.")
+      .field("enabled", &PolishOptions::enabled,
+             "run the angle polish (False: the discrete conformal map itself)")
+      .field("max_sweeps", &PolishOptions::max_sweeps, "sweeps over the free vertices at most")
+      .field("tolerance", &PolishOptions::tolerance,
+             "stop when a sweep lowers the mean ratio's excess over 1 by less than this fraction")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<PolishResult>(m, "PolishResult", "What polish_angles did.")
+      .readonly("uv", &PolishResult::uv,
+                "polish_angles: the polished positions; ParamResult.polish: the layout's "
+                "positions before the polish (empty when it did not run)")
+      .readonly("free_vertices", &PolishResult::free_vertices,
+                "vertices it may move (on no seam, no boundary, no bad face)")
+      .readonly("moved_vertices", &PolishResult::moved_vertices, "")
+      .readonly("sweeps", &PolishResult::sweeps, "")
+      .readonly("angle_distortion_before", &PolishResult::angle_distortion_before,
+                "unweighted face mean of sigma_max / sigma_min")
+      .readonly("angle_distortion_after", &PolishResult::angle_distortion_after, "")
+      .readonly("seconds", &PolishResult::seconds, "")
+      .repr();
+
+  m.def("polish_angles", &polish_angles, py::arg("mesh"), py::arg("uv_triangles"), py::arg("uv"),
+        py::arg("options") = PolishOptions{},
+        "Moves the layout's vertices on no seam and no boundary to lower the faces' mean "
+        "sigma_max / sigma_min, keeping seams, cones and boundary exact; returns PolishResult.");
+
   StructBinding<ParamOptions>(m, "ParamOptions", "Options of parameterize.")
       .enum_field("cone_mode", &ParamOptions::cone_mode, &parse_cone_mode,
                   "ConeMode (or 'none', 'user', 'auto', 'one')")
@@ -141,6 +170,8 @@ void bind_param(py::module_& m) {
              "split edges around cones whose valence breaks the single-vertex bound")
       .field("packing", &ParamOptions::packing,
              "ChartPackingOptions: several components, how their charts are packed")
+      .field("polish", &ParamOptions::polish,
+             "PolishOptions: the angle polish of the layout's interior (enabled by default)")
       .keyword_constructor()
       .repr();
 
@@ -254,6 +285,8 @@ void bind_param(py::module_& m) {
       .readonly("cut", &ParamResult::cut, "CutGraph")
       .readonly("cut_mesh", &ParamResult::cut_mesh, "CutMesh")
       .readonly("layout", &ParamResult::layout, "Layout")
+      .readonly("polish", &ParamResult::polish,
+                "PolishResult (its uv: the layout before the polish)")
       .readonly("atlas", &ParamResult::atlas, "AffineAtlas")
       .readonly("seconds", &ParamResult::seconds, "")
       .readonly("timings", &ParamResult::timings, "ParamTimings: seconds per stage")

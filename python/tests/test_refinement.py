@@ -40,10 +40,20 @@ def test_sizes_and_flips(exact):
     assert r.inverted_triangles == 0
 
 
-def test_input_vertices_where_the_default_output_puts_them(exact):
+def test_input_vertices_where_the_flat_metric_puts_them(exact):
     V, F, param, r = exact
     np.testing.assert_array_equal(r.vertices[:len(V)], V)
-    np.testing.assert_array_equal(r.uv[:len(param.uv)], param.uv)
+    # The default output is polished (interior vertices moved to lower the angle distortion);
+    # the refinement, the exact map, puts the input's vertices where the layout had them before.
+    assert param.polish.moved_vertices > 0
+    exact_uv = (param.polish.uv - param.uv_offset) * param.uv_scale
+    np.testing.assert_array_equal(r.uv[:len(param.uv)], exact_uv)
+    V2, F2 = _valence3_sphere()
+    unpolished = ricci.parameterize(V2, F2, scheme="vertex-scaling", polish=False,
+                                    cones={0: 1.5 * math.pi, 5: 1.5 * math.pi, 20: math.pi})
+    assert unpolished.polish.moved_vertices == 0
+    np.testing.assert_array_equal(r.uv[:len(param.uv)], unpolished.uv)
+    np.testing.assert_array_equal(ricci.common_refinement(unpolished).uv, r.uv)
     assert r.input_vertex == list(range(len(V)))
     assert r.max_corner_mismatch < 1e-9
 

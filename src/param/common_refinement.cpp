@@ -252,6 +252,16 @@ CommonRefinement common_refinement(const ParamResult& param,
       param.cut_mesh.triangles.rows() != front || param.uv.rows() != param.layout.uv.rows()) {
     throw InvalidInput("common_refinement: the parameterization's arrays do not fit its mesh");
   }
+  // A polished layout moved interior vertices off the flat metric's positions: the refinement
+  // is the exact map, so it reads the positions from before the polish.
+  const bool polished = param.polish.moved_vertices > 0;
+  const Eigen::Matrix<double, Eigen::Dynamic, 2>& exact_uv =
+      polished ? param.polish.uv : param.layout.uv;
+  if (exact_uv.rows() != param.layout.uv.rows()) {
+    throw InvalidInput(
+        "common_refinement: the layout was polished and the flat metric's own positions "
+        "(ParamResult::polish.uv) are not kept; parameterize with polish.enabled = false");
+  }
   CommonRefinement result;
   result.doubled = flow.doubled;
 
@@ -672,7 +682,7 @@ CommonRefinement common_refinement(const ParamResult& param,
     for (int j = 0; j < 3; ++j) {
       if (!found[j]) internal_error("input face " + std::to_string(f) + " misses a corner");
       const int cv = param.cut_mesh.triangles(f, j);
-      target[j] = {param.layout.uv(cv, 0), param.layout.uv(cv, 1)};
+      target[j] = {exact_uv(cv, 0), exact_uv(cv, 1)};
     }
     for (int j = 0; j < 3; ++j)
       longest = std::max(longest, std::abs(target[(j + 1) % 3] - target[j]));
@@ -721,7 +731,11 @@ CommonRefinement common_refinement(const ParamResult& param,
     }
   }
   result.uv.resize(base + static_cast<int>(extra.size()), 2);
-  result.uv.topRows(base) = param.uv;
+  if (polished) {
+    result.uv.topRows(base) = (exact_uv.rowwise() - param.uv_offset.transpose()) * param.uv_scale;
+  } else {
+    result.uv.topRows(base) = param.uv;
+  }
   for (std::size_t i = 0; i < extra.size(); ++i)
     result.uv.row(base + static_cast<int>(i)) = extra[i].transpose();
   result.projective_uv.resize(3 * nt, 3);

@@ -633,6 +633,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   result.flow.target_curvature = Eigen::VectorXd::Zero(num_vertices);
   result.flow.target.description = "flat, per component";
   int segment_offset = 0;
+  double polish_faces = 0;
   for (int c = 0; c < num_components; ++c) {
     ComponentParam& info = pieces[c].info;
     const ParamResult& p = info.param;
@@ -730,6 +731,19 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
     result.timings.development += t.development, result.timings.layout += t.layout;
     result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
+    result.timings.polish += t.polish;
+    // The polish over all components: counts and seconds add up, the face means are weighted by
+    // the components' face counts (and divided at the end).
+    const double faces_here = static_cast<double>(p.mesh.num_faces());
+    result.polish.free_vertices += p.polish.free_vertices;
+    result.polish.moved_vertices += p.polish.moved_vertices;
+    result.polish.sweeps = std::max(result.polish.sweeps, p.polish.sweeps);
+    result.polish.seconds += p.polish.seconds;
+    if (std::isfinite(p.polish.angle_distortion_before)) {
+      result.polish.angle_distortion_before += faces_here * p.polish.angle_distortion_before;
+      result.polish.angle_distortion_after += faces_here * p.polish.angle_distortion_after;
+      polish_faces += faces_here;
+    }
     const MeshFlowResult& flow = p.flow;
     result.flow.converged = result.flow.converged && flow.converged;
     result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
@@ -749,6 +763,10 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   }
   std::sort(result.layout.transitions.begin(), result.layout.transitions.end(),
             [](const SeamTransition& a, const SeamTransition& b) { return a.edge < b.edge; });
+  if (polish_faces > 0) {
+    result.polish.angle_distortion_before /= polish_faces;
+    result.polish.angle_distortion_after /= polish_faces;
+  }
 
   // 6. Verdict.
   int failed = 0;

@@ -240,8 +240,20 @@ expect_rc "param with flips" 0
 expect_out "param with flips" '"flipped_edges"'
 expect_json "param with flips: input vertices, intrinsic faces" "$WORK/out.txt" \
   'd["flow"]["flipped_edges"] > 0 and d["distortion"]["flipped_faces"] == 0'
+expect_json "param: the angle polish moves the interior and lowers the face-mean distortion" \
+  "$WORK/out.txt" \
+  'd["polish"]["enabled"] and d["polish"]["moved_vertices"] > 0 and d["polish"]["angle_distortion_face_mean_after"] < d["polish"]["angle_distortion_face_mean_before"]'
+# --polish none: the discrete conformal map itself (what the refinement below extends).
+ricci param meshes/icosphere.obj -o exact_param.obj --scheme vertex-scaling \
+  --cones "$strong_cones" --polish none --json
+expect_rc "param --polish none" 0
+expect_json "param --polish none moves nothing" "$WORK/out.txt" \
+  'not d["polish"]["enabled"] and d["polish"]["moved_vertices"] == 0 and d["timings"]["polish"] == 0'
+ricci param meshes/icosphere.obj -o exact_param.obj --polish sometimes
+expect_rc "param --polish unknown" 2
 # --faces refinement: the common refinement with homogeneous vt, its linear twin, the vertex map
-# and the interpolation matrix; the input's vertices first, at the default output's uv.
+# and the interpolation matrix; the input's vertices first, at the uv of the output without the
+# angle polish (the refinement is the exact map: it never polishes).
 mkdir -p refined
 ricci param meshes/icosphere.obj -o refined/sphere.obj --scheme vertex-scaling \
   --cones "$strong_cones" --faces refinement --report refined/sphere.json
@@ -253,7 +265,7 @@ expect_out "param --faces refinement" "refinement" "sphere.spmat"
 expect_json "param --faces refinement report" refined/sphere.json \
   'd["refinement"]["ptolemy_flips"] > 0 and d["refinement"]["vertices"] > d["refinement"]["input_vertices"] and d["refinement"]["max_intrinsic_length_error"] < 1e-9 and d["refinement"]["inverted_triangles"] == 0 and d["refinement"]["files"]["linear"].endswith("sphere.linear.obj")'
 if "$PYTHON" - refined/sphere.obj refined/sphere.linear.obj refined/sphere.vertex_map.txt \
-    refined/sphere.spmat flipped_param.obj <<'EOF'
+    refined/sphere.spmat exact_param.obj <<'EOF'
 import sys
 def read(path):
     v, vt, f = [], [], []
@@ -273,8 +285,8 @@ for face, lface in zip(f, lf):
     for (a, t), (b, s) in zip(face, lface):
         assert a == b and vt[t][2] > 0
         assert abs(vt[t][0] / vt[t][2] - lvt[s][0]) < 1e-12 and abs(vt[t][1] / vt[t][2] - lvt[s][1]) < 1e-12
-# The vertex map: input vertex i is refinement vertex i, at the same place, with the default
-# output's texture coordinates at the default output's corners.
+# The vertex map: input vertex i is refinement vertex i, at the same place, with the texture
+# coordinates of the output without polish at its corners.
 pairs = [tuple(int(x) - 1 for x in line.split()) for line in open(sys.argv[3]) if not line.startswith("#")]
 assert len(pairs) == len(dv) and all(v[r] == dv[i] for i, r in pairs)
 default_uv = {(a, tuple(dvt[t])) for face in df for a, t in face}

@@ -88,9 +88,17 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
       r.doubled ? face_shapes_from_lengths(*component.intrinsic_topology, component.lengths)
                 : face_shapes_from_lengths(p.flow.topology, p.flow.lengths);
 
-  // The input vertices come first, unchanged, with the default output's texture coordinates.
+  // The input vertices come first, unchanged, with the default output's texture coordinates,
+  // or, where the angle polish moved them, with the flat metric's own positions (the layout
+  // before the polish) in the same frame.
   EXPECT_EQ(r.positions.topRows(nv), mesh.positions);
-  EXPECT_EQ(r.uv.topRows(p.uv.rows()), p.uv);
+  if (p.polish.moved_vertices > 0) {
+    const Eigen::Matrix<double, Eigen::Dynamic, 2> exact =
+        (p.polish.uv.rowwise() - p.uv_offset.transpose()) * p.uv_scale;
+    EXPECT_EQ(r.uv.topRows(p.uv.rows()), exact);
+  } else {
+    EXPECT_EQ(r.uv.topRows(p.uv.rows()), p.uv);
+  }
   EXPECT_LT(r.max_corner_mismatch, 1e-9);
 
   // Interpolation rows: sum to 1, reproduce the positions, lie in the piece's input face.
@@ -331,6 +339,32 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
     ++tested;
   }
   if (tested == 0) GTEST_SKIP() << "eight.off, spot.obj and bob_tri.obj not found";
+}
+
+// The refinement is the exact map: the angle polish of the default output (which moves the
+// input's vertices inside the charts) changes nothing in it.
+TEST(CommonRefinement, IsTheSameWithAndWithoutTheAnglePolish) {
+  const Mesh mesh = make_icosphere(2);
+  std::vector<Cone> cones;
+  for (int v = 0; v < 4; ++v) cones.push_back({3 * v, kPi});
+  ParamResult polished = param_vertex_scaling(mesh, cones);
+  ASSERT_TRUE(polished.converged) << polished.message;
+  ASSERT_GT(polished.polish.moved_vertices, 0);
+  ParamOptions options;
+  options.structure.scheme = Scheme::VertexScaling;
+  options.cone_mode = ConeMode::User;
+  options.cones = cones;
+  options.polish.enabled = false;
+  const ParamResult exact = parameterize(mesh, options);
+  ASSERT_TRUE(exact.converged) << exact.message;
+  EXPECT_EQ(exact.polish.moved_vertices, 0);
+  const CommonRefinement a = common_refinement(polished), b = common_refinement(exact);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.uv, b.uv);
+  EXPECT_EQ(a.projective_uv, b.projective_uv);
+  // Without the positions from before the polish there is nothing exact to refine.
+  polished.polish.uv.resize(0, 2);
+  EXPECT_THROW(common_refinement(polished), InvalidInput);
 }
 
 TEST(CommonRefinement, RefusesOtherSchemes) {

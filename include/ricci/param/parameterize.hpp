@@ -17,6 +17,7 @@
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
 #include "ricci/param/layout.hpp"
+#include "ricci/param/polish.hpp"
 
 namespace ricci {
 
@@ -58,6 +59,11 @@ struct ParamOptions {
   /// With flips (vertex scaling, the default) every admissible target is reached on the input's
   /// own triangulation, which is never modified.
   bool modify_connectivity = true;
+  /// After the layout, move the vertices on no seam and no boundary to lower the faces' mean
+  /// angle distortion (polish_angles); seams, cones and boundary stay exact. Off: the layout is
+  /// the discrete conformal map itself (every edge as long as the flat metric says), which
+  /// common_refinement needs.
+  PolishOptions polish;
 };
 
 /// Wall time of each stage of parameterize, seconds.
@@ -67,6 +73,7 @@ struct ParamTimings {
   double cut = 0;          ///< cut graph and slicing
   double development = 0;  ///< the input's faces developed in the flow's metric
   double layout = 0;       ///< planar layout (with its least-squares refinement)
+  double polish = 0;       ///< angle polish of the layout's interior
   double atlas = 0;        ///< affine atlas
   double distortion = 0;   ///< distortion figures
 };
@@ -107,7 +114,13 @@ struct ParamResult {
   double development_length_mismatch = 0;
   CutGraph cut;
   CutMesh cut_mesh;
-  Layout layout;  ///< raw layout (metric units)
+  /// Raw layout (metric units). With ParamOptions::polish its interior vertices have moved
+  /// (polish); its seams, cones and boundary, transitions and lattice are the flat metric's.
+  Layout layout;
+  /// The angle polish. Its uv holds the layout before the polish, the flat metric's own
+  /// positions (layout.uv holds the polished ones; common_refinement reads these); empty when
+  /// the polish did not run, and on a mesh of several components (see components[c].param).
+  PolishResult polish;
   AffineAtlas atlas;
   Distortion distortion;
   double seam_length = 0;  ///< 3D length of the cut edges

@@ -1,0 +1,299 @@
+#include "ricci/param/polish.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ricci/errors.hpp"
+
+namespace ricci {
+namespace {
+
+using Complex = std::complex<double>;
+using Uv = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+[[noreturn]] void invalid(const std::string& what) {
+  throw InvalidInput("polish_angles: " + what);
+}
+
+/// The map from a 3D triangle (in a frame of its plane, z_k) to its layout (w_k) is
+/// w = alpha z + beta conj(z); alpha D = sum_k a_k w_k and beta D = sum_k b_k w_k with fixed
+/// coefficients (D = z1 conj(z2) - z2 conj(z1), z0 = 0). Its singular values are |alpha| +
+/// |beta| and |alpha| - |beta| (orientation kept when |alpha| > |beta|), so the face's sigma
+/// ratio is (A + B) / (A - B) with A = |alpha D|, B = |beta D|: D cancels, and a vertex moving
+/// alone changes A and B as distances to two points (each is |P + a_k w|).
+struct FaceCoefficients {
+  Complex a[3], b[3];
+  bool valid = false;  // positive, finite 3D area
+};
+
+FaceCoefficients coefficients(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                              const Eigen::Vector3d& p2) {
+  FaceCoefficients c;
+  const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+  const double twice_area = e1.cross(e2).norm();
+  const double length1 = e1.norm();
+  if (!(std::isfinite(twice_area) && twice_area > 0 && length1 > 0)) return c;
+  const Complex z1(length1, 0.0), z2(e1.dot(e2) / length1, twice_area / length1);
+  c.a[0] = -(std::conj(z2) - std::conj(z1));
+  c.a[1] = std::conj(z2);
+  c.a[2] = -std::conj(z1);
+  c.b[0] = -(z1 - z2);
+  c.b[1] = -z2;
+  c.b[2] = z1;
+  c.valid = true;
+  return c;
+}
+
+/// sigma_max / sigma_min from A and B; infinity when the face is flipped or degenerate.
+double ratio(double a, double b) {
+  // A - B below 1e-12 A: the face has collapsed to rounding.
+  if (!(a - b > 1e-12 * a)) return std::numeric_limits<double>::infinity();
+  return (a + b) / (a - b);
+}
+
+/// One face around the vertex being moved: A = |p + a w|, B = |q + b w|.
+struct Term {
+  Complex p, q, a, b;
+};
+
+double energy(const std::vector<Term>& terms, Complex w) {
+  double sum = 0;
+  for (const Term& t : terms) sum += ratio(std::abs(t.p + t.a * w), std::abs(t.q + t.b * w));
+  return sum;
+}
+
+/// Gradient and Hessian (in the plane, w = x + i y) of the sum of ratios.
+void derivatives(const std::vector<Term>& terms, Complex w, Eigen::Vector2d& g,
+                 Eigen::Matrix2d& h) {
+  g.setZero();
+  h.setZero();
+  for (const Term& t : terms) {
+    const Complex ya = t.p + t.a * w, yb = t.q + t.b * w;
+    const double a = std::abs(ya), b = std::abs(yb);
+    const double d = a - b;
+    // grad |y| for y = p + c w is (Re z, -Im z) with z = conj(y) c / |y|; its Hessian is
+    // |c|^2 (I - n n^T) / |y| with n the gradient's direction.
+    const Complex za = std::conj(ya) * t.a / a;
+    const Eigen::Vector2d ga(za.real(), -za.imag());
+    Eigen::Vector2d gb = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d hb = Eigen::Matrix2d::Zero();
+    const double c2 = std::norm(t.a);  // |a| = |b|: the length of the opposite edge
+    const Eigen::Matrix2d ha = (Eigen::Matrix2d::Identity() - ga * ga.transpose() / c2) * c2 / a;
+    if (b > 1e-14 * a) {  // at B = 0 (a conformal face) B has a kink: no gradient there
+      const Complex zb = std::conj(yb) * t.b / b;
+      gb = Eigen::Vector2d(zb.real(), -zb.imag());
+      hb = (Eigen::Matrix2d::Identity() - gb * gb.transpose() / c2) * c2 / b;
+    }
+    const double d2 = d * d, d3 = d2 * d;
+    const double ra = -2 * b / d2, rb = 2 * a / d2;
+    const double raa = 4 * b / d3, rbb = 4 * a / d3, rab = -2 * (a + b) / d3;
+    g += ra * ga + rb * gb;
+    h += ra * ha + rb * hb + raa * ga * ga.transpose() + rbb * gb * gb.transpose() +
+         rab * (ga * gb.transpose() + gb * ga.transpose());
+  }
+}
+
+/// Newton direction with the Hessian's eigenvalues clamped positive.
+Eigen::Vector2d newton_direction(const Eigen::Vector2d& g, const Eigen::Matrix2d& h) {
+  const double mean = 0.5 * (h(0, 0) + h(1, 1));
+  const double half = 0.5 * (h(0, 0) - h(1, 1));
+  const double radius = std::hypot(half, h(0, 1));
+  double l1 = mean + radius, l2 = mean - radius;
+  Eigen::Vector2d v1;
+  if (radius == 0) {
+    v1 = Eigen::Vector2d(1, 0);
+  } else if (half >= 0) {
+    v1 = Eigen::Vector2d(half + radius, h(0, 1)).normalized();
+  } else {
+    v1 = Eigen::Vector2d(h(0, 1), radius - half).normalized();
+  }
+  const Eigen::Vector2d v2(-v1.y(), v1.x());
+  const double top = std::max(std::abs(l1), std::abs(l2));
+  if (!(top > 0) || !std::isfinite(top)) return -g;
+  const double floor = 1e-6 * top;
+  l1 = std::max(l1, floor);
+  l2 = std::max(l2, floor);
+  return -(v1 * (v1.dot(g) / l1) + v2 * (v2.dot(g) / l2));
+}
+
+}  // namespace
+
+PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
+                           const PolishOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int num_faces = mesh.num_faces();
+  const int num_uv = static_cast<int>(uv.rows());
+  if (uv_triangles.rows() != num_faces) {
+    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
+            std::to_string(num_faces) + " faces");
+  }
+  if (options.max_sweeps < 0) invalid("max_sweeps is negative");
+  if (!(options.tolerance >= 0)) invalid("tolerance is negative or NaN");
+  for (int f = 0; f < num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = uv_triangles(f, k), v = mesh.triangles(f, k);
+      if (i < 0 || i >= num_uv) {
+        invalid("face " + std::to_string(f) + " has uv index " + std::to_string(i) +
+                " out of range [0, " + std::to_string(num_uv) + ")");
+      }
+      if (v < 0 || v >= mesh.num_vertices()) {
+        invalid("face " + std::to_string(f) + " has vertex " + std::to_string(v) +
+                " out of range");
+      }
+    }
+  }
+
+  PolishResult result;
+  result.uv = uv;
+  auto w_of = [&](int i) { return Complex(result.uv(i, 0), result.uv(i, 1)); };
+
+  std::vector<FaceCoefficients> faces(num_faces);
+  for (int f = 0; f < num_faces; ++f) {
+    faces[f] = coefficients(mesh.positions.row(mesh.triangles(f, 0)).transpose(),
+                            mesh.positions.row(mesh.triangles(f, 1)).transpose(),
+                            mesh.positions.row(mesh.triangles(f, 2)).transpose());
+  }
+  auto face_ratio = [&](int f) {
+    Complex a = 0, b = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Complex w = w_of(uv_triangles(f, k));
+      a += faces[f].a[k] * w;
+      b += faces[f].b[k] * w;
+    }
+    return ratio(std::abs(a), std::abs(b));
+  };
+  // Mean over the faces with a finite ratio (positive 3D and layout area).
+  auto mean_ratio = [&] {
+    double sum = 0;
+    int count = 0;
+    for (int f = 0; f < num_faces; ++f) {
+      if (!faces[f].valid) continue;
+      const double r = face_ratio(f);
+      if (std::isfinite(r)) sum += r, ++count;
+    }
+    return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
+  };
+
+  // Free vertices: on no boundary edge of the uv mesh (an edge of one face there: the seams and
+  // the mesh boundary; also edges of three or more faces), on no degenerate or flipped face.
+  std::vector<char> fixed(num_uv, 0);
+  {
+    std::vector<std::uint64_t> edges;
+    edges.reserve(3 * static_cast<size_t>(num_faces));
+    for (int f = 0; f < num_faces; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const auto i = static_cast<std::uint64_t>(uv_triangles(f, k));
+        const auto j = static_cast<std::uint64_t>(uv_triangles(f, (k + 1) % 3));
+        edges.push_back(std::min(i, j) << 32 | std::max(i, j));
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    for (size_t s = 0; s < edges.size();) {
+      size_t e = s;
+      while (e < edges.size() && edges[e] == edges[s]) ++e;
+      if (e - s != 2) {
+        fixed[edges[s] >> 32] = 1;
+        fixed[edges[s] & 0xffffffffu] = 1;
+      }
+      s = e;
+    }
+  }
+  for (int f = 0; f < num_faces; ++f) {
+    if (faces[f].valid && std::isfinite(face_ratio(f))) continue;
+    for (int k = 0; k < 3; ++k) fixed[uv_triangles(f, k)] = 1;
+  }
+  // Faces around each uv vertex (compressed rows).
+  std::vector<int> offset(num_uv + 1, 0), incident(3 * static_cast<size_t>(num_faces));
+  for (int f = 0; f < num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) ++offset[uv_triangles(f, k) + 1];
+  }
+  for (int i = 0; i < num_uv; ++i) offset[i + 1] += offset[i];
+  {
+    std::vector<int> next(offset.begin(), offset.end() - 1);
+    for (int f = 0; f < num_faces; ++f) {
+      for (int k = 0; k < 3; ++k) incident[next[uv_triangles(f, k)]++] = 3 * f + k;
+    }
+  }
+  std::vector<int> free;
+  for (int i = 0; i < num_uv; ++i) {
+    if (!fixed[i] && offset[i + 1] > offset[i]) free.push_back(i);
+  }
+  result.free_vertices = static_cast<int>(free.size());
+  result.angle_distortion_before = mean_ratio();
+  result.angle_distortion_after = result.angle_distortion_before;
+  if (!options.enabled || free.empty()) {
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
+
+  std::vector<char> moved(num_uv, 0);
+  std::vector<Term> terms;
+  double mean = result.angle_distortion_before;
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    for (const int i : free) {
+      terms.clear();
+      double shortest = std::numeric_limits<double>::infinity();
+      const Complex w0 = w_of(i);
+      for (int s = offset[i]; s < offset[i + 1]; ++s) {
+        const int f = incident[s] / 3, k = incident[s] % 3;
+        Term t{0, 0, faces[f].a[k], faces[f].b[k]};
+        for (int j = 0; j < 3; ++j) {
+          if (j == k) continue;
+          const Complex w = w_of(uv_triangles(f, j));
+          t.p += faces[f].a[j] * w;
+          t.q += faces[f].b[j] * w;
+          shortest = std::min(shortest, std::abs(w - w0));
+        }
+        terms.push_back(t);
+      }
+      Complex w = w0;
+      double e = energy(terms, w);
+      for (int step = 0; step < 2; ++step) {
+        Eigen::Vector2d g;
+        Eigen::Matrix2d h;
+        derivatives(terms, w, g, h);
+        Eigen::Vector2d d = newton_direction(g, h);
+        // At most a quarter of the shortest edge at a time: the ratios blow up where a face
+        // flips, and the line search should not have to find its way back from there.
+        const double cap = 0.25 * shortest;
+        if (d.norm() > cap) d *= cap / d.norm();
+        if (!d.allFinite() || d.norm() == 0) break;
+        bool accepted = false;
+        for (double t = 1; t > 1e-6; t *= 0.5) {
+          const Complex trial = w + t * Complex(d.x(), d.y());
+          const double et = energy(terms, trial);
+          if (et < e) {
+            w = trial, e = et, accepted = true;
+            break;
+          }
+        }
+        if (!accepted) break;
+      }
+      if (w != w0) {
+        result.uv(i, 0) = w.real();
+        result.uv(i, 1) = w.imag();
+        moved[i] = 1;
+      }
+    }
+    ++result.sweeps;
+    const double now = mean_ratio();
+    const double gain = mean - now;
+    mean = now;
+    if (!(gain > options.tolerance * (mean - 1))) break;
+  }
+  result.angle_distortion_after = mean;
+  result.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace ricci
