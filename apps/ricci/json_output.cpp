@@ -266,18 +266,15 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   j["log_scale_spread"] = r.log_scale_spread;
   j["cone_rounds"] = r.cone_rounds;
   j["cone_selection_area_energy"] = r.cone_selection.area_energy;
-  j["timings"] = {{"cones", r.timings.cones},
-                  {"flow", r.timings.flow},
-                  {"cut", r.timings.cut},
-                  {"development", r.timings.development},
-                  {"layout", r.timings.layout},
-                  {"polish", r.timings.polish},
-                  {"atlas", r.timings.atlas},
-                  {"distortion", r.timings.distortion}};
+  j["timings"] = {{"cones", r.timings.cones},   {"flow", r.timings.flow},
+                  {"cut", r.timings.cut},       {"development", r.timings.development},
+                  {"layout", r.timings.layout}, {"polish", r.timings.polish},
+                  {"atlas", r.timings.atlas},   {"distortion", r.timings.distortion}};
   j["polish"] = {{"enabled", options.polish.enabled},
                  {"free_vertices", r.polish.free_vertices},
                  {"moved_vertices", r.polish.moved_vertices},
                  {"sweeps", r.polish.sweeps},
+                 {"untangled_faces", r.polish.untangled_faces},
                  {"angle_distortion_face_mean_before", r.polish.angle_distortion_before},
                  {"angle_distortion_face_mean_after", r.polish.angle_distortion_after}};
   j["modification"] = {{"edge_splits", r.edge_splits},

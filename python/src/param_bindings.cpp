@@ -145,6 +145,8 @@ void bind_param(py::module_& m) {
                 "vertices it may move (on no seam, no boundary, no bad face)")
       .readonly("moved_vertices", &PolishResult::moved_vertices, "")
       .readonly("sweeps", &PolishResult::sweeps, "")
+      .readonly("untangled_faces", &PolishResult::untangled_faces,
+                "faces drawn flipped that were unflipped by moving a free vertex")
       .readonly("angle_distortion_before", &PolishResult::angle_distortion_before,
                 "unweighted face mean of sigma_max / sigma_min")
       .readonly("angle_distortion_after", &PolishResult::angle_distortion_after, "")

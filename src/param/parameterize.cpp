@@ -341,8 +341,8 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
   lap(result.timings.layout);
   if (options.polish.enabled) {
-    result.polish = polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv,
-                                  options.polish);
+    result.polish =
+        polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv, options.polish);
     // The layout takes the polished positions; polish.uv keeps the flat metric's own.
     std::swap(result.layout.uv, result.polish.uv);
     lap(result.timings.polish);

@@ -737,6 +737,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     const double faces_here = static_cast<double>(p.mesh.num_faces());
     result.polish.free_vertices += p.polish.free_vertices;
     result.polish.moved_vertices += p.polish.moved_vertices;
+    result.polish.untangled_faces += p.polish.untangled_faces;
     result.polish.sweeps = std::max(result.polish.sweeps, p.polish.sweeps);
     result.polish.seconds += p.polish.seconds;
     if (std::isfinite(p.polish.angle_distortion_before)) {
