@@ -4,6 +4,10 @@
 # --quantize, and `--cones auto`; ../shared/tools/checkuv.py measures each written OBJ (area
 # distortion E of the tutorial's eq. 9, log-area rms, angle distortion, flipped faces, seam
 # mismatch, cones). BFF's figures come from the TSV (same checker, same meshes).
+# bench/bff-checker.tsv (bench/bff-checker.sh, with BFF built outside the project) says where
+# BFF's output is not a flat metric with N cones: curvature on other vertices, along its seams.
+# For those rows the fewest exact cones of ours that beat BFF's figures are searched (N, 2N, ...
+# up to 64) and listed in a second table.
 #
 #   bench/cones.sh [BUILD_DIR] [OUT_DIR]         (defaults: build, build/cones)
 #   RICCI_CONES_MESHES="spot bunny" bench/cones.sh    only these meshes
@@ -61,12 +65,23 @@ measure() {  # name, tag, extra args...
     "$angle" "$flipped" "$mismatch" "$seconds" "$select" >>"$out/rows.tsv"
 }
 
+bff_checker=$PWD/bench/bff-checker.tsv
+# BFF's curvature away from its N strongest cones: "vertices sum_over_pi", or nothing.
+off_cones() { [ -f "$bff_checker" ] && awk -F'\t' -v m="$1" -v n="$2" '$1 == m && $2 == n {print $4, $5}' "$bff_checker"; }
+# the figures of an earlier measure of (name, tag), from rows.tsv
+lookup() {
+  local line
+  line=$(awk -F'\t' -v m="$1" -v t="$2" '$1 == m && $2 == t' "$out/rows.tsv" | tail -1)
+  [ -n "$line" ] || return 1
+  IFS=$'\t' read -r _ _ ncones e log_rms angle flipped mismatch seconds select <<<"$line"
+}
+
 printf 'mesh\trun\tcones\tE\tlog_area_rms\tangle_mean\tflipped\tseam_mismatch\tseconds\tselect_seconds\n' >"$out/rows.tsv"
 # yes when ricci has lower E, no more angle distortion, no flipped face and exact seams
 beats() { /usr/bin/python3 -c "import sys; e,be,a,ba,f,m=sys.argv[1:]; print('yes' if float(e)<float(be) and float(a)<=float(ba) and int(f)==0 and float(m)<=1e-9 else 'no')" "$@" 2>/dev/null || echo no; }
 wins=0 rows=0
-echo "| mesh | cones | BFF E | ricci E | BFF angle | ricci angle | ricci flipped | ricci seam mismatch | beats BFF | ricci log-area rms | ricci s (selection) | BFF s | ricci --quantize: E, angle, flipped |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| mesh | cones | BFF E | ricci E | BFF angle | ricci angle | ricci flipped | ricci seam mismatch | beats BFF | BFF curved vertices off its N cones | ricci log-area rms | ricci s (selection) | BFF s | ricci --quantize: E, angle, flipped |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 while IFS=$'\t' read -r name n bff_s bff_e bff_angle bff_flipped; do
   case "$name" in '#'*|mesh|'') continue ;; esac
   [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
@@ -75,13 +90,47 @@ while IFS=$'\t' read -r name n bff_s bff_e bff_angle bff_flipped; do
   verdict=$(beats "$e" "$bff_e" "$angle" "$bff_angle" "$flipped" "$mismatch")
   rows=$((rows + 1))
   [ "$verdict" = yes ] && wins=$((wins + 1))
-  row="| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $verdict | $log_rms | $seconds ($select) | $bff_s"
+  read -r off_vertices off_sum <<<"$(off_cones "$name" "$n")"
+  off="${off_vertices:--}"
+  [ "${off_vertices:-0}" -gt 0 ] && off="$off_vertices (${off_sum} pi)"
+  row="| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $verdict | $off | $log_rms | $seconds ($select) | $bff_s"
   [ "$ok" = ok ] || row="$row ($ok)"
   measure "$name" "$n-q" --cones "$n" --quantize
   echo "$row | $e, $angle, $flipped |"
 done <"$reference"
 echo
 echo "ricci beats BFF (lower E, no more angle distortion, no flipped face, seams within 1e-9) on $wins of $rows rows."
+
+if [ -f "$bff_checker" ]; then
+  echo
+  echo "Rows where BFF's output is not a flat metric with N cones (bench/bff-checker.tsv: interior"
+  echo "vertices off its N strongest cones with |2 pi - angle sum| > 1e-3), and the fewest exact"
+  echo "cones of ours (N, 2N, ... up to 64) that beat its figures:"
+  echo
+  echo "| mesh | BFF cones | BFF curved vertices off them (their curvature) | BFF seam mismatch | BFF E, angle | fewest ricci cones that beat it | ricci E, angle, flipped, seam mismatch |"
+  echo "|---|---|---|---|---|---|---|"
+  curved=0 beaten=0
+  while IFS=$'\t' read -r name n _ off_vertices off_sum bff_mismatch bff_e bff_angle _; do
+    [ "$name" = mesh ] && continue
+    [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
+    [ -n "$(path_of "$name")" ] && [ "$off_vertices" -gt 0 ] || continue
+    curved=$((curved + 1))
+    found="none up to 64" figures=-
+    m=$n
+    while [ "$m" -le 64 ]; do
+      lookup "$name" "$m" || { measure "$name" "$m" --cones "$m"; lookup "$name" "$m"; }
+      if [ "$(beats "$e" "$bff_e" "$angle" "$bff_angle" "$flipped" "$mismatch")" = yes ]; then
+        found=$m figures="$e, $angle, $flipped, $mismatch"
+        beaten=$((beaten + 1))
+        break
+      fi
+      m=$((2 * m))
+    done
+    echo "| $name | $n | $off_vertices ($off_sum pi) | $bff_mismatch | $bff_e, $bff_angle | $found | $figures |"
+  done <"$bff_checker"
+  echo
+  echo "Of the $curved rows whose BFF output carries curvature off its N cones, ricci beats $beaten with at most 64 exact cones."
+fi
 
 echo
 echo "| mesh | --cones auto: cones | E | angle | flipped | log-area rms | s (selection) |"

@@ -68,6 +68,8 @@ from ._ricci import (
     ParamOptions,
     ParamResult,
     ParamTimings,
+    PolishOptions,
+    PolishResult,
     ReadOptions,
     ReadResult,
     RepairOptions,
@@ -95,6 +97,7 @@ from ._ricci import (
     pack_charts,
     parse_cone_list,
     parse_curvature,
+    polish_angles,
 )
 from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj
@@ -116,9 +119,9 @@ __all__ = [
     "EdgeFlips", "FlowSolver", "FlowStatus", "FlowTimings", "Geometry", "InvalidInput", "IoError", "IterationRecord",
     "Layout", "Mesh", "MeshFlowOptions", "MeshFlowResult", "MeshFormat", "MeshInfo", "PackedChart",
     "PackingInit",
-    "ParamOptions", "ParamResult", "ParamTimings", "ReadOptions", "ReadResult", "RepairOptions", "RepairResult",
+    "ParamOptions", "ParamResult", "ParamTimings", "PolishOptions", "PolishResult", "ReadOptions", "ReadResult", "RepairOptions", "RepairResult",
     "Scheme", "SeamTransition",
     "SolverError", "StructureOptions", "StructureResult", "Target", "TargetKind", "TargetSpec",
     "Topology", "TopologyError", "UvOverlaps", "ValidationReport", "find_uv_overlaps", "pack_charts",
-    "parse_cone_list", "parse_curvature",
+    "parse_cone_list", "parse_curvature", "polish_angles",
 ]

@@ -143,3 +143,29 @@ def test_pack_charts_and_overlaps():
     assert packed.uv.min() >= 0.025 - 1e-12 and packed.uv.max() <= 0.975 + 1e-12
     with pytest.raises(ricci.InvalidInput):
         ricci.pack_charts(layout, faces, options=ricci.ChartPackingOptions(gutter=-1))
+
+
+def test_angle_polish_moves_the_interior_only(icosphere):
+    V, F = icosphere
+    cones = {0: math.pi, 5: math.pi, 9: math.pi, 11: math.pi}
+    polished = ricci.parameterize(V, F, cones=cones)
+    exact = ricci.parameterize(V, F, cones=cones, polish=False)
+    assert polished.converged and exact.converged
+    assert polished.polish.moved_vertices > 0 and exact.polish.moved_vertices == 0
+    assert polished.polish.angle_distortion_after < polished.polish.angle_distortion_before
+    # The positions from before the polish are the unpolished layout, bit for bit.
+    np.testing.assert_array_equal(polished.polish.uv, exact.layout.uv)
+    # Seam and cone vertices (on an edge of one uv face) did not move.
+    t = exact.uv_triangles
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    seams = np.unique(unique[counts == 1])
+    assert len(seams) > 0
+    np.testing.assert_array_equal(polished.layout.uv[seams], exact.layout.uv[seams])
+    _check_uv(polished)
+    # The function itself, on the unpolished layout, does what the pipeline did.
+    mesh = ricci.Mesh(V, F)
+    again = ricci.polish_angles(mesh, t, exact.layout.uv)
+    np.testing.assert_array_equal(again.uv, polished.layout.uv)
+    with pytest.raises(ricci.InvalidInput):
+        ricci.polish_angles(mesh, t[:3], exact.layout.uv)
