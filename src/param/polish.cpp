@@ -52,6 +52,9 @@ FaceCoefficients coefficients(const Eigen::Vector3d& p0, const Eigen::Vector3d& 
   return c;
 }
 
+/// Vertices of more faces than this are not moved to unflip one (see nearest_feasible_point).
+constexpr int kMaxUntangleValence = 24;
+
 /// |z| without hypot's care for overflow (layout coordinates are far from it): the sweeps take
 /// a few million of them.
 double magnitude(Complex z) {
@@ -130,36 +133,36 @@ Eigen::Vector2d newton_direction(const Eigen::Vector2d& g, const Eigen::Matrix2d
   return -(v1 * (v1.dot(g) / l1) + v2 * (v2.dot(g) / l2));
 }
 
-/// The point deepest inside the half-planes n_i . v >= c_i (|n_i| = 1): the largest t with
-/// n_i . v - t >= c_i for all i. A linear programme in (v, t) whose optimum is where three
-/// constraints are tight; around one vertex there are a handful, so every triple is tried.
-/// Returns false when no point has t > 0.
-bool deepest_point(const std::vector<Eigen::Vector2d>& n, const std::vector<double>& c,
-                   Eigen::Vector2d& best, double& depth) {
+/// The point nearest to `from` in the half-planes n_i . v >= c_i (|n_i| = 1), a quadratic
+/// programme in the plane: its optimum is `from`, the projection onto one constraint's line, or
+/// the meeting point of two lines, so every candidate is tried (a handful of constraints around
+/// one vertex: cubic in their number). Returns false when no candidate is feasible.
+bool nearest_feasible_point(const std::vector<Eigen::Vector2d>& n, const std::vector<double>& c,
+                            const Eigen::Vector2d& from, Eigen::Vector2d& best) {
   const int m = static_cast<int>(n.size());
   double scale = 0;
   for (double x : c) scale = std::max(scale, std::abs(x));
-  const double slack = 1e-12 * std::max(scale, 1e-300);
-  depth = 0;
-  bool found = false;
+  const double slack = 1e-14 * scale;
+  double nearest = std::numeric_limits<double>::infinity();
+  auto consider = [&](const Eigen::Vector2d& p) {
+    const double d = (p - from).squaredNorm();
+    if (!(d < nearest) || !p.allFinite()) return;
+    for (int q = 0; q < m; ++q) {
+      if (n[q].dot(p) < c[q] - slack) return;
+    }
+    nearest = d, best = p;
+  };
+  consider(from);
   for (int i = 0; i < m; ++i) {
+    consider(from + (c[i] - n[i].dot(from)) * n[i]);
     for (int j = i + 1; j < m; ++j) {
-      for (int k = j + 1; k < m; ++k) {
-        Eigen::Matrix3d a;
-        a << n[i].x(), n[i].y(), -1, n[j].x(), n[j].y(), -1, n[k].x(), n[k].y(), -1;
-        const double det = a.determinant();
-        if (!(std::abs(det) > 1e-12)) continue;
-        const Eigen::Vector3d x = a.inverse() * Eigen::Vector3d(c[i], c[j], c[k]);
-        if (!(x.z() > depth) || !x.allFinite()) continue;
-        bool inside = true;
-        for (int q = 0; q < m && inside; ++q) {
-          inside = n[q].dot(x.head<2>()) - x.z() >= c[q] - slack;
-        }
-        if (inside) best = x.head<2>(), depth = x.z(), found = true;
-      }
+      const double det = n[i].x() * n[j].y() - n[i].y() * n[j].x();
+      if (!(std::abs(det) > 1e-12)) continue;
+      consider(Eigen::Vector2d((c[i] * n[j].y() - c[j] * n[i].y()) / det,
+                               (n[i].x() * c[j] - n[j].x() * c[i]) / det));
     }
   }
-  return found;
+  return std::isfinite(nearest);
 }
 
 }  // namespace
@@ -257,8 +260,9 @@ PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, cons
   }
   // Untangle: a face drawn flipped (a needle or an obtuse sliver whose vertices' exact images
   // fold it) may have a vertex that is free to move. Where the faces around it leave room, it
-  // goes to the point deepest inside all of them (each face's far edge a half-plane), and the
-  // face unflips without flipping another; the sweeps below then smooth it.
+  // moves as little as keeps each of them a fraction of its own height above its far edge (a
+  // half-plane per face), and the face unflips without flipping another; the sweeps below then
+  // smooth it.
   auto signed_area = [&](int f) {
     const Complex a = w_of(uv_triangles(f, 0));
     const Complex b = w_of(uv_triangles(f, 1)) - a, c = w_of(uv_triangles(f, 2)) - a;
@@ -274,28 +278,49 @@ PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, cons
   if (options.enabled) {
     const int flipped_before = count_flipped();
     std::vector<Eigen::Vector2d> normals;
-    std::vector<double> offsets;
+    std::vector<double> heights, offsets;
     for (int f = 0; f < num_faces; ++f) {
       if (signed_area(f) > 0 || !faces[f].valid) continue;
       for (int k = 0; k < 3 && !(signed_area(f) > 0); ++k) {
         const int i = uv_triangles(f, k);
-        if (fixed[i]) continue;
+        // The candidates are cubic in the vertex's valence: a CAD fan's hub is left alone.
+        if (fixed[i] || offset[i + 1] - offset[i] > kMaxUntangleValence) continue;
         normals.clear();
+        heights.clear();
         offsets.clear();
-        for (int s = offset[i]; s < offset[i + 1]; ++s) {
+        bool usable = true;
+        for (int s = offset[i]; s < offset[i + 1] && usable; ++s) {
           const int g = incident[s] / 3, j = incident[s] % 3;
           const Complex a = w_of(uv_triangles(g, (j + 1) % 3));
           const Complex b = w_of(uv_triangles(g, (j + 2) % 3));
           const Complex edge = b - a;
-          if (!(std::abs(edge) > 0)) continue;
+          // The face's own height over that edge, at the scale the layout gives the edge: what
+          // it would have drawn undistorted.
+          const Eigen::Vector3d pa = mesh.positions.row(mesh.triangles(g, (j + 1) % 3));
+          const Eigen::Vector3d pb = mesh.positions.row(mesh.triangles(g, (j + 2) % 3));
+          const Eigen::Vector3d pv = mesh.positions.row(mesh.triangles(g, j));
+          const double edge_3d = (pb - pa).norm();
+          usable = magnitude(edge) > 0 && edge_3d > 0;
+          if (!usable) break;
+          const double height_3d = (pa - pv).cross(pb - pv).norm() / edge_3d;
           // v left of a -> b: cross(b - a, v - a) > 0, i.e. n . v > n . a, n = i (b - a).
-          const Eigen::Vector2d normal = Eigen::Vector2d(-edge.imag(), edge.real()).normalized();
-          normals.push_back(normal);
-          offsets.push_back(normal.dot(Eigen::Vector2d(a.real(), a.imag())));
+          normals.push_back(Eigen::Vector2d(-edge.imag(), edge.real()) / magnitude(edge));
+          heights.push_back(height_3d * magnitude(edge) / edge_3d);
+          offsets.push_back(normals.back().dot(Eigen::Vector2d(a.real(), a.imag())));
         }
+        if (!usable) continue;
+        // The least move that leaves every face around the vertex at least this fraction of
+        // its own height (so the unflipped face is not a new sliver), the largest that fits.
+        const Eigen::Vector2d from(result.uv(i, 0), result.uv(i, 1));
         Eigen::Vector2d point;
-        double depth = 0;
-        if (!deepest_point(normals, offsets, point, depth)) continue;
+        bool found = false;
+        for (double fraction : {0.5, 0.1, 0.01}) {
+          std::vector<double> c(normals.size());
+          for (std::size_t q = 0; q < normals.size(); ++q)
+            c[q] = offsets[q] + fraction * heights[q];
+          if ((found = nearest_feasible_point(normals, c, from, point))) break;
+        }
+        if (!found) continue;
         const Eigen::RowVector2d before = result.uv.row(i);
         result.uv.row(i) = point.transpose();
         bool all_positive = true;

@@ -38,7 +38,7 @@ struct PolishResult {
   int moved_vertices = 0;  ///< of those, moved at least once
   int sweeps = 0;          ///< sweeps run
   /// Faces drawn flipped that were unflipped first, by moving one of their vertices that is on
-  /// no seam and no boundary to the point deepest inside all of its faces.
+  /// no seam and no boundary as little as keeps each of its faces a fraction of its own height.
   int untangled_faces = 0;
   /// Mean over the faces (unweighted, as ../shared/tools/checkuv.py counts it) of sigma_max /
   /// sigma_min, over the faces with positive 3D and layout area, before and after.
