@@ -7,7 +7,7 @@
 # bench/bff-checker.tsv (bench/bff-checker.sh, with BFF built outside the project) says where
 # BFF's output is not a flat metric with N cones: curvature on other vertices, along its seams.
 # For those rows the fewest exact cones of ours that beat BFF's figures are searched (N, 2N, ...
-# up to 64) and listed in a second table.
+# up to as many as BFF's output has curved vertices) and listed in a second table.
 #
 #   bench/cones.sh [BUILD_DIR] [OUT_DIR]         (defaults: build, build/cones)
 #   RICCI_CONES_MESHES="spot bunny" bench/cones.sh    only these meshes
@@ -105,7 +105,7 @@ if [ -f "$bff_checker" ]; then
   echo
   echo "Rows where BFF's output is not a flat metric with N cones (bench/bff-checker.tsv: interior"
   echo "vertices off its N strongest cones with |2 pi - angle sum| > 1e-3), and the fewest exact"
-  echo "cones of ours (N, 2N, ... up to 64) that beat its figures:"
+  echo "cones of ours (N, 2N, ... up to as many as BFF has curved vertices) that beat its figures:"
   echo
   echo "| mesh | BFF cones | BFF curved vertices off them (their curvature) | BFF seam mismatch | BFF E, angle | fewest ricci cones that beat it | ricci E, angle, flipped, seam mismatch |"
   echo "|---|---|---|---|---|---|---|"
@@ -115,21 +115,25 @@ if [ -f "$bff_checker" ]; then
     [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
     [ -n "$(path_of "$name")" ] && [ "$off_vertices" -gt 0 ] || continue
     curved=$((curved + 1))
-    found="none up to 64" figures=-
+    # Up to as many cones as BFF's output has curved vertices (its N and the others).
+    limit=$((n + off_vertices))
+    found="none up to $limit" figures=-
     m=$n
-    while [ "$m" -le 64 ]; do
-      lookup "$name" "$m" || { measure "$name" "$m" --cones "$m"; lookup "$name" "$m"; }
+    while [ "$m" -le "$limit" ]; do
+      lookup "$name" "$m" ||
+        { measure "$name" "$m" --cones "$m" --max-cones "$m"; lookup "$name" "$m"; }
       if [ "$(beats "$e" "$bff_e" "$angle" "$bff_angle" "$flipped" "$mismatch")" = yes ]; then
         found=$m figures="$e, $angle, $flipped, $mismatch"
         beaten=$((beaten + 1))
         break
       fi
-      m=$((2 * m))
+      # Doubling, and BFF's own count last.
+      if [ "$m" -lt "$limit" ] && [ $((2 * m)) -gt "$limit" ]; then m=$limit; else m=$((2 * m)); fi
     done
     echo "| $name | $n | $off_vertices ($off_sum pi) | $bff_mismatch | $bff_e, $bff_angle | $found | $figures |"
   done <"$bff_checker"
   echo
-  echo "Of the $curved rows whose BFF output carries curvature off its N cones, ricci beats $beaten with at most 64 exact cones."
+  echo "Of the $curved rows whose BFF output carries curvature off its N cones, ricci beats $beaten with fewer exact cones than BFF has curved vertices."
 fi
 
 echo

@@ -155,6 +155,9 @@ std::vector<std::vector<int>> vertex_neighbours(const Topology& t) {
 
 namespace {
 
+/// Quadratic programmes of more cones than this activate violated bounds in batches.
+constexpr int kBatchedActiveSet = 64;
+
 /// min 1/2 k^T M k + r^T k subject to lo <= k <= hi and, with `sum_constraint`, sum k = total:
 /// a small dense quadratic programme, solved by an active-set method (the KKT system of the free
 /// variables, bounds fixed one violation at a time and released when their multiplier turns).
@@ -202,7 +205,24 @@ bool bounded_least_squares(const Eigen::MatrixXd& M, const Eigen::VectorXd& r,
       for (int a = 0; a < nf; ++a) K(a, nf) = K(nf, a) = 1.0;
       b[nf] = total - fixed_sum;
     }
-    const Eigen::VectorXd y = K.fullPivLu().solve(b);
+    // M restricted to the free variables is positive definite (M is, plus the ridge): one
+    // Cholesky factorisation, and the sum constraint by its Schur complement. (A full-pivoting
+    // LU of the whole KKT system took 95 % of a genus-150 selection of 912 cones: 149 s.)
+    const Eigen::LLT<Eigen::MatrixXd> llt(K.topLeftCorner(nf, nf));
+    Eigen::VectorXd y(rows);
+    if (llt.info() == Eigen::Success) {
+      const Eigen::VectorXd yb = llt.solve(b.head(nf));
+      if (sum_constraint) {
+        const Eigen::VectorXd y1 = llt.solve(Eigen::VectorXd::Ones(nf));
+        const double mu = (yb.sum() - b[nf]) / y1.sum();
+        y.head(nf) = yb - mu * y1;
+        y[nf] = mu;
+      } else {
+        y = yb;
+      }
+    } else {
+      y = K.fullPivLu().solve(b);
+    }
     for (int a = 0; a < nf; ++a) x[free[a]] = y[a];
     if (sum_constraint) lambda = y[nf];
     return y.allFinite();
@@ -213,47 +233,62 @@ bool bounded_least_squares(const Eigen::MatrixXd& M, const Eigen::VectorXd& r,
     solve_free(k, multiplier);
     return false;
   }
-  Eigen::VectorXd x;
-  double lambda = 0;
-  for (int iteration = 0; iteration < 4 * m + 8; ++iteration) {
-    if (!solve_free(x, lambda)) break;
-    // The worst violated bound among the free variables becomes active.
-    int worst = -1;
-    double worst_violation = 1e-12;
-    for (int i = 0; i < m; ++i) {
-      if (state[i] != 0) continue;
-      const double v = std::max(lo[i] - x[i], x[i] - hi[i]);
-      if (v > worst_violation) {
-        worst_violation = v;
-        worst = i;
+  // The active-set iterations; `batched`: violated bounds among the free variables become
+  // active all at once (one at a time, a genus-150 surface whose 900 cones sit at their lower
+  // bounds took 900 factorisations per programme: 149 s for its selection). The optimum is
+  // unique (M is positive definite), so the path does not change it, but a batch can leave the
+  // sum constraint a single free variable it cannot meet; then the one-at-a-time path runs.
+  auto run = [&](bool batched) -> bool {
+    std::fill(state.begin(), state.end(), 0);
+    Eigen::VectorXd x;
+    double lambda = 0;
+    for (int iteration = 0; iteration < 4 * m + 8; ++iteration) {
+      if (!solve_free(x, lambda)) break;
+      int worst = -1;
+      double worst_violation = 1e-12;
+      std::vector<int> violated;
+      for (int i = 0; i < m; ++i) {
+        if (state[i] != 0) continue;
+        const double v = std::max(lo[i] - x[i], x[i] - hi[i]);
+        if (v > 1e-12) violated.push_back(i);
+        if (v > worst_violation) {
+          worst_violation = v;
+          worst = i;
+        }
       }
-    }
-    if (worst >= 0) {
-      int free_count = 0;
-      for (int st : state) free_count += st == 0;
-      if (sum_constraint && free_count == 1) break;  // the sum needs one free variable
-      state[worst] = x[worst] < lo[worst] ? -1 : 1;
-      continue;
-    }
-    // Feasible: release the active bound whose multiplier has the wrong sign, if any. The
-    // gradient of the Lagrangian at a bound at lo must be >= 0 (at hi <= 0).
-    const Eigen::VectorXd gradient = M * x + r + Eigen::VectorXd::Constant(m, lambda);
-    int release = -1;
-    double most = 1e-12 * (1 + gradient.cwiseAbs().maxCoeff());
-    for (int i = 0; i < m; ++i) {
-      const double wrong = state[i] < 0 ? -gradient[i] : state[i] > 0 ? gradient[i] : 0.0;
-      if (wrong > most) {
-        most = wrong;
-        release = i;
+      if (worst >= 0) {
+        int free_count = 0;
+        for (int st : state) free_count += st == 0;
+        if (sum_constraint && free_count == 1) break;  // the sum needs one free variable
+        if (!batched || (sum_constraint && static_cast<int>(violated.size()) >= free_count)) {
+          violated = {worst};  // the worst violated bound becomes active
+        }
+        for (int i : violated) state[i] = x[i] < lo[i] ? -1 : 1;
+        continue;
       }
+      // Feasible: release the active bound whose multiplier has the wrong sign, if any. The
+      // gradient of the Lagrangian at a bound at lo must be >= 0 (at hi <= 0).
+      const Eigen::VectorXd gradient = M * x + r + Eigen::VectorXd::Constant(m, lambda);
+      int release = -1;
+      double most = 1e-12 * (1 + gradient.cwiseAbs().maxCoeff());
+      for (int i = 0; i < m; ++i) {
+        const double wrong = state[i] < 0 ? -gradient[i] : state[i] > 0 ? gradient[i] : 0.0;
+        if (wrong > most) {
+          most = wrong;
+          release = i;
+        }
+      }
+      if (release < 0) {
+        k = x;
+        multiplier = lambda;
+        return true;
+      }
+      state[release] = 0;
     }
-    if (release < 0) {
-      k = x;
-      multiplier = lambda;
-      return true;
-    }
-    state[release] = 0;
-  }
+    return false;
+  };
+  if (m > kBatchedActiveSet && run(true)) return true;
+  if (run(false)) return true;
   std::fill(state.begin(), state.end(), 0);
   solve_free(k, multiplier);
   return false;
