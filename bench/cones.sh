@@ -133,7 +133,7 @@ if [ -f "$bff_checker" ]; then
     echo "| $name | $n | $off_vertices ($off_sum pi) | $bff_mismatch | $bff_e, $bff_angle | $found | $figures |"
   done <"$bff_checker"
   echo
-  echo "Of the $curved rows whose BFF output carries curvature off its N cones, ricci beats $beaten with fewer exact cones than BFF has curved vertices."
+  echo "Of the $curved rows whose BFF output carries curvature off its N cones, ricci beats $beaten with at most as many exact cones as BFF has curved vertices (its N and the others)."
 fi
 
 echo

@@ -46,6 +46,8 @@ for row in "${experiments[@]}"; do
   for scheme in $schemes; do
   run="$name-$scheme"
   scheme_option=(--scheme "$scheme")
+  # The tutorial's rows draw its map as it does: without ricci's angle polish.
+  [ "$scheme" = thurston ] && scheme_option+=(--polish none)
   [ "$scheme" = given ] && scheme_option=()
   # shellcheck disable=SC2086
   if ! "$ricci" param "$meshes/$mesh" $opts "${scheme_option[@]}" -o "$out/$run.obj" --report "$out/$run.json" > "$out/$run.log" 2>&1; then
