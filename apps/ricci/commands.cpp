@@ -1,10 +1,16 @@
 #include "commands.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -555,7 +561,34 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
 
 }  // namespace
 
+/// --fault: the failures a batch must survive, on demand (tests of `ricci batch`).
+void inject_fault(const std::string& fault) {
+  if (fault.empty()) return;
+  const char* enabled = std::getenv("RICCI_FAULT_INJECTION");
+  if (enabled == nullptr || std::string(enabled) != "1") {
+    throw InvalidInput("--fault injects failures for tests; it needs RICCI_FAULT_INJECTION=1");
+  }
+  if (fault == "segv") {
+    std::signal(SIGSEGV, SIG_DFL);  // past any sanitizer's handler: the plain crash
+    std::raise(SIGSEGV);
+  } else if (fault == "abort") {
+    std::abort();
+  } else if (fault == "hang") {
+    for (;;) ::pause();
+  } else if (fault == "alloc") {
+    // Grows until an allocation fails (under a memory limit) or the kernel steps in.
+    std::vector<std::unique_ptr<char[]>> blocks;
+    for (;;) {
+      constexpr std::size_t kBlock = std::size_t{64} << 20;
+      blocks.emplace_back(new char[kBlock]);
+      std::memset(blocks.back().get(), 1, kBlock);
+    }
+  }
+  throw InvalidInput("--fault: unknown fault '" + fault + "' (segv, abort, hang, alloc)");
+}
+
 int run_param(const ParamArgs& args) {
+  inject_fault(args.fault);
   if (parse_geometry(args.geometry) == Geometry::Hyperbolic) return run_param_hyperbolic(args);
   ParamOptions options;
   options.structure.scheme = parse_scheme(args.scheme);

@@ -9,6 +9,10 @@
 #include "ricci/mesh/repair.hpp"
 #include "ricci/param/cones.hpp"
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace ricci::cli {
 
 /// Exit codes of the `ricci` program (documented in README.md).
@@ -17,6 +21,8 @@ enum ExitCode : int {
   kBadInput = 2,       ///< unreadable or defective mesh, inadmissible target, bad option
   kNotConverged = 3,   ///< the flow stopped before reaching the tolerance
   kInternalError = 4,  ///< a numerical breakdown or a bug
+  kOutOfMemory = 5,    ///< an allocation failed (a memory limit, or the machine's memory)
+  kSomeFailed = 6,     ///< batch: at least one mesh did not end Ok (the summary lists them)
 };
 
 struct InfoArgs {
@@ -72,7 +78,13 @@ struct ParamArgs {
   /// with homogeneous uv, ricci/param/common_refinement.hpp, and its companion files)
   std::string faces = "input";
   double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
+  /// --fault (hidden; honoured only when RICCI_FAULT_INJECTION=1): segv, abort, hang or alloc,
+  /// the failures `ricci batch` must survive, injected for its tests.
+  std::string fault;
 };
+/// Registers `param` and its options on app (also used by `batch` to check the options it
+/// passes on).
+CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param);
 int run_param(const ParamArgs& args);
 
 struct SphereArgs {

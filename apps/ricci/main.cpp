@@ -3,6 +3,7 @@
 #include <csignal>
 #include <iostream>
 
+#include "batch_command.hpp"
 #include "commands.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ricci: discrete surface Ricci flow and conformal metrics on triangle meshes.\n"
       "Reads OBJ, OFF, PLY and STL. Exit codes: 0 ok, 2 bad input, 3 not converged, 4 internal "
-      "error."};
+      "error, 5 out of memory, 6 (batch) some mesh failed."};
   app.set_version_flag("--version", std::string("ricci ") + RICCI_VERSION);
   app.require_subcommand(1);
 
@@ -126,92 +127,8 @@ int main(int argc, char** argv) {
   flow_cmd->add_flag("--largest-component", flow.largest_component, kLargestComponentHelp);
 
   ParamArgs param;
-  CLI::App* param_cmd = app.add_subcommand(
-      "param",
-      "Global conformal parameterization: cones, Ricci flow to a flat metric, cut graph, "
-      "layout; writes an OBJ with per-corner texture coordinates in the unit square. A mesh "
-      "of several components gets one atlas: each component parameterized on its own, the "
-      "charts packed into the unit square.");
-  param_cmd->add_option("MESH", param.mesh, "mesh file (.obj .off .ply .stl)")->required();
-  param_cmd->add_option("-o,--output", param.output, "output .obj with vt coordinates")->required();
-  param_cmd
-      ->add_option("--cones", param.cones,
-                   "needed (none where the topology allows: surfaces with boundary and tori; "
-                   "automatic otherwise), auto (automatic until --max-log-scale holds), N (that "
-                   "many automatic cones), none, one (all curvature at one cone, genus >= 2), or "
-                   "cones as 'V:K,...' or a file")
-      ->capture_default_str();
-  param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
-      ->capture_default_str();
-  param_cmd
-      ->add_option("--flips", param.flips,
-                   "intrinsic Delaunay edge flips (see ricci flow --help); the output keeps the "
-                   "input's own faces, each vertex at its image in the final (flat or "
-                   "hyperbolic) metric")
-      ->capture_default_str();
-  param_cmd->add_option("--scheme", param.scheme, "discrete metric (see ricci flow --help)")
-      ->capture_default_str();
-  param_cmd
-      ->add_option("--geometry", param.geometry,
-                   "euclidean (flat metric with cones; uv in the unit square) or hyperbolic "
-                   "(chi < 0: the uniformization metric, no cones, geodesic boundary; uv in the "
-                   "Poincare disk; deck transformations and Fuchsian generators in the report; "
-                   "--pictures draws the tiling of the disk)")
-      ->capture_default_str();
-  param_cmd
-      ->add_option("--faces", param.faces,
-                   "input: the input's faces with linear texture coordinates; refinement "
-                   "(vertex-scaling): the common refinement of the input and the final intrinsic "
-                   "triangulation with homogeneous texture coordinates 'vt u v w' (divided by w "
-                   "per pixel they give the exact map), written to -o, beside it STEM.linear.obj "
-                   "(the same with linear uv), STEM.vertex_map.txt and STEM.spmat (the "
-                   "interpolation matrix); docs/parameterization.md")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"input", "refinement"}));
-  param_cmd->add_flag("--quantize", param.quantize, "round cone curvatures to multiples of pi/2");
-  param_cmd
-      ->add_option("--max-log-scale", param.max_log_scale,
-                   "automatic cones: add cones until max |log area scale| is below this")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  param_cmd
-      ->add_option("--max-cones", param.max_cones,
-                   "automatic cones: at most this many (0: 64, or 6 |chi| on surfaces of high "
-                   "genus)")
-      ->capture_default_str();
-  param_cmd
-      ->add_option("--cone-smoothness", param.cone_smoothness,
-                   "automatic cones: weight of angle distortion against area distortion when "
-                   "curvatures are chosen (they minimise log(1 + E) + W D / #F, D the Dirichlet "
-                   "energy of the log scale; 0: area distortion alone; docs/cones.md)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  param_cmd
-      ->add_option("--polish", param.polish,
-                   "angles: after the layout, move the vertices on no seam and no boundary to "
-                   "lower the mean angle distortion (seams, cones and boundary stay exact); none: "
-                   "the discrete conformal map itself, every edge as long as the flat metric says "
-                   "(--faces refinement always is); docs/cones.md")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"angles", "none"}));
-  param_cmd
-      ->add_option("--gutter", param.gutter,
-                   "several components: space between packed charts, in uv units")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.25));
-  param_cmd->add_option("--tol", param.tolerance, "flow tolerance on max |K-bar - K|")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  param_cmd->add_option("--report", param.report,
-                        "write a JSON report: cones, cut, layout, atlas, distortion, flow");
-  param_cmd->add_flag("--json", param.json, "print the report as JSON");
-  param_cmd->add_flag("--progress", param.progress, "print flow iterations on stderr");
-  param_cmd->add_flag("--repair", param.repair, kRepairHelp);
-  param_cmd->add_flag("--largest-component", param.largest_component, kLargestComponentHelp);
+  CLI::App* param_cmd = add_param_subcommand(app, param);
 #ifdef RICCI_HAVE_RENDER
-  param_cmd->add_option("--pictures", param.pictures,
-                        "write render.png, uv.svg, uv.png, convergence.png and convergence.svg "
-                        "into this folder (created when missing)");
   RenderArgs render;
   CLI::App* render_cmd = add_render_subcommand(app, render);
 #endif
@@ -285,6 +202,9 @@ int main(int argc, char** argv) {
                          "this folder (created when missing)");
 #endif
 
+  BatchArgs batch;
+  CLI::App* batch_cmd = add_batch_subcommand(app, batch);
+
   GenerateArgs generate;
   CLI::App* generate_cmd = app.add_subcommand(
       "generate",
@@ -327,6 +247,7 @@ int main(int argc, char** argv) {
     if (*sphere_cmd) return run_sphere(sphere);
     if (*spline_cmd) return run_spline(spline);
     if (*generate_cmd) return run_generate(generate);
+    if (*batch_cmd) return run_batch_command(batch, *batch_cmd, argv[0]);
 #ifdef RICCI_HAVE_RENDER
     if (*render_cmd) return run_render(render);
 #endif
@@ -341,6 +262,9 @@ int main(int argc, char** argv) {
     // not converge, which is not a bug of the program.
     std::cerr << "error: numerical breakdown: " << e.what() << "\n";
     return kNotConverged;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory\n";
+    return kOutOfMemory;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return kInternalError;
