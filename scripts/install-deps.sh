@@ -12,6 +12,8 @@ packages=(
   # Python module (built against Debian's own /usr/bin/python3) and its tests; pictures.
   pybind11-dev python3-dev python3-numpy python3-pytest
   libcairo2-dev
+  # `ricci batch` on MPI ranks (optional at build time; its test runs mpirun).
+  openmpi-bin libopenmpi-dev
   # Fuzzing (fuzz/run.sh): clang++ with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
 )

@@ -178,7 +178,9 @@ std::vector<std::string> batch_child_environment(const BatchOptions& options, in
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, cores / std::max(1, slots));
   }
+  // CHOLMOD's OpenMP threads too: a child gets its share of the cores and no more.
   std::vector<std::string> environment = {"RICCI_NUM_THREADS=" + std::to_string(threads),
+                                          "OMP_NUM_THREADS=" + std::to_string(threads),
                                           "OPENBLAS_NUM_THREADS=1"};
   // A child is not an MPI process: the launcher's variables would make it look for its rank.
   for (char** e = environ; e != nullptr && *e != nullptr; ++e) {

@@ -87,7 +87,8 @@ MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
 /// options.jobs threads, each running run_batch_mesh.
 std::unique_ptr<BatchWorkers> make_local_workers(const BatchOptions& options);
 
-/// The environment overrides of a mesh's child: RICCI_NUM_THREADS and OPENBLAS_NUM_THREADS, and
+/// The environment overrides of a mesh's child: RICCI_NUM_THREADS, OMP_NUM_THREADS and
+/// OPENBLAS_NUM_THREADS, and
 /// the MPI launcher's variables removed (a child is not an MPI process).
 std::vector<std::string> batch_child_environment(const BatchOptions& options, int slots);
 
