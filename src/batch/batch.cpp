@@ -109,8 +109,11 @@ class LocalWorkers final : public BatchWorkers {
   }
   ~LocalWorkers() override {
     {
+      // Jobs not started stay undone (a scheduler that stops early, or an exception); the
+      // running ones finish, which is at most one mesh per slot.
       const std::lock_guard<std::mutex> lock(mutex_);
       stopping_ = true;
+      todo_.clear();
     }
     queued_.notify_all();
     for (std::thread& t : threads_) t.join();

@@ -14,6 +14,7 @@ namespace ricci {
 namespace {
 
 using render_detail::draw_text;
+using render_detail::nice_step;
 using render_detail::set_colour;
 
 const Rgb kInk{0.1, 0.1, 0.1};
@@ -32,17 +33,6 @@ struct Frame {
   double px(double x) const { return left + (x - x_lo) / (x_hi - x_lo) * (right - left); }
   double py(double y) const { return bottom - y / y_hi * (bottom - top); }
 };
-
-/// A "nice" step (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
-/// (The same rule as the convergence plot's axis, where it is private to convergence_plot.cpp.)
-double nice_step(double span, int count) {
-  const double raw = span / count;
-  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0}) {
-    if (m * magnitude >= raw) return m * magnitude;
-  }
-  return 10 * magnitude;
-}
 
 /// A number with at most `digits` decimals, trailing zeros dropped ("1.5", "2", "0.25").
 std::string format_number(double x, int digits) {

@@ -2,6 +2,8 @@
 
 #include <cairo-svg.h>
 
+#include <cmath>
+
 #include "ricci/errors.hpp"
 
 namespace ricci::render_detail {
@@ -77,6 +79,15 @@ void draw_text(cairo_t* cr, const std::string& text, double x, double y, double 
   cairo_move_to(cr, x - e.x_bearing - ax * e.width, y - e.y_bearing - ay * e.height);
   cairo_show_text(cr, text.c_str());
   cairo_new_path(cr);
+}
+
+double nice_step(double span, int count) {
+  const double raw = span / count;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * magnitude >= raw) return m * magnitude;
+  }
+  return 10 * magnitude;
 }
 
 }  // namespace ricci::render_detail

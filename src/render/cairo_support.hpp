@@ -46,4 +46,7 @@ inline void set_colour(cairo_t* cr, const Rgb& c, double alpha = 1.0) {
 void draw_text(cairo_t* cr, const std::string& text, double x, double y, double size, double ax,
                double ay);
 
+/// A "nice" axis step (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
+double nice_step(double span, int count);
+
 }  // namespace ricci::render_detail

@@ -13,6 +13,7 @@ namespace ricci {
 namespace {
 
 using render_detail::draw_text;
+using render_detail::nice_step;
 using render_detail::set_colour;
 
 /// Axes and their mapping onto the picture.
@@ -33,16 +34,6 @@ struct Frame {
 
 bool plottable(double e) {
   return std::isfinite(e) && e > 0;
-}
-
-/// A "nice" step (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
-double nice_step(double span, int count) {
-  const double raw = span / count;
-  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0}) {
-    if (m * magnitude >= raw) return m * magnitude;
-  }
-  return 10 * magnitude;
 }
 
 /// "10" with a raised exponent, its right end at (x, y) (vertically centred).
