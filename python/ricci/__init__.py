@@ -11,6 +11,7 @@ classes are the C++ structs, field for field (``FlowOptions(tolerance=1e-8)``).
     disk = ricci.parameterize(V, F, geometry="hyperbolic")  # chi < 0: uv in the Poincare disk
     sphere = ricci.sphere(V, F)  # closed genus 0: positions on the unit sphere
     s = ricci.spline(V, F)  # manifold spline: s.surface, s.control_net, s.error, s.continuity
+    table = ricci.batch(["a.obj", "b.ply"], "out", jobs=4, cones=8)  # a dict per mesh
 
 Errors: ``InvalidInput`` (a ValueError), ``TopologyError`` (an InvalidInput), ``IoError`` (an
 OSError), ``SolverError`` (a RuntimeError), all deriving from ``ricci.Error``.
@@ -99,6 +100,7 @@ from ._ricci import (
     parse_curvature,
     polish_angles,
 )
+from ._batch import batch, batch_summary
 from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj
 from ._param import common_refinement, interpolate_to_refinement, parameterize
@@ -106,7 +108,7 @@ from ._sphere import sphere
 from ._spline import spline
 
 __all__ = [
-    "flow", "info", "parameterize", "common_refinement", "interpolate_to_refinement",
+    "batch", "batch_summary", "flow", "info", "parameterize", "common_refinement", "interpolate_to_refinement",
     "CommonRefinement", "CommonRefinementOptions", "read_mesh", "repair", "validate", "write_obj", "generate",
     "sphere", "SphereOptions", "SphereResult",
     "spline", "SplineOptions", "SplineResult", "SplineError", "SplineFit", "ContinuityReport",

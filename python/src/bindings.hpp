@@ -29,6 +29,7 @@ void bind_param(py::module_& m);
 void bind_hyperbolic_param(py::module_& m);
 void bind_sphere(py::module_& m);
 void bind_spline(py::module_& m);
+void bind_batch(py::module_& m);
 
 /// Short repr of a field value: arrays by shape, lists of arrays and long lists by length, tuples
 /// item by item.

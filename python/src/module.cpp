@@ -81,4 +81,5 @@ PYBIND11_MODULE(_ricci, m) {
   bind_hyperbolic_param(m);
   bind_sphere(m);
   bind_spline(m);
+  bind_batch(m);
 }
