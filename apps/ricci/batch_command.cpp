@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <set>
 #include <thread>
 
 #include "batch_mpi.hpp"
@@ -24,33 +23,6 @@ namespace ricci::cli {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// The options batch sets itself for every mesh.
-const std::set<std::string> kBatchOwned = {"-o",         "--output",   "--report", "--json",
-                                           "--progress", "--pictures", "-h",       "--help"};
-
-/// Checks options meant for `ricci param` with param's own parser (a typo fails here, once,
-/// instead of once per mesh); `where` names their origin in the message.
-void check_param_options(const std::vector<std::string>& options, const std::string& where) {
-  for (const std::string& o : options) {
-    const std::string name = o.substr(0, o.find('='));
-    if (kBatchOwned.count(name) > 0) {
-      throw InvalidInput(where + ": " + name +
-                         " is set by ricci batch for every mesh (outputs go to the -o folder)");
-    }
-  }
-  CLI::App app;
-  ParamArgs scratch;
-  add_param_subcommand(app, scratch);
-  std::vector<std::string> argv = {"param", "MESH", "-o", "OUT.obj"};
-  argv.insert(argv.end(), options.begin(), options.end());
-  std::reverse(argv.begin(), argv.end());  // CLI11 parses a reversed vector
-  try {
-    app.parse(argv);
-  } catch (const CLI::ParseError& e) {
-    throw InvalidInput(where + ": not an option of ricci param: " + e.what());
-  }
-}
 
 std::string duration_text(double seconds) {
   if (seconds < 0) return "?";
@@ -195,11 +167,11 @@ int run_batch_command(BatchArgs& args, const CLI::App& command, const std::strin
   options.retry_failed = args.retry_failed;
   if (mpi.role() == MpiRole::Worker) return mpi.work(options);
 
-  check_param_options(args.param_options, "ricci batch");
+  check_param_options(args.param_options, "ricci batch", "the -o folder");
   std::vector<BatchJob> jobs = list_batch_jobs(args.input, args.output, args.param_options);
   for (const BatchJob& job : jobs) {
     if (job.options.size() > args.param_options.size()) {
-      check_param_options(job.options, job.key + " (manifest options)");
+      check_param_options(job.options, job.key + " (manifest options)", "the -o folder");
     }
   }
   options.progress = make_batch_progress(args.progress);

@@ -85,6 +85,12 @@ struct ParamArgs {
 /// Registers `param` and its options on app (also used by `batch` to check the options it
 /// passes on).
 CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param);
+/// What `ricci batch` and `ricci.batch` check before running anything: every option is one that
+/// `ricci param` parses, and none is one that batch sets itself (-o, --report, --json,
+/// --progress, --pictures). \param where names their origin in the message; \param outputs
+/// names where the outputs go ("the -o folder"). \throw InvalidInput naming the option
+void check_param_options(const std::vector<std::string>& options, const std::string& where,
+                         const std::string& outputs);
 int run_param(const ParamArgs& args);
 
 struct SphereArgs {

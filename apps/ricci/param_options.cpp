@@ -1,8 +1,10 @@
 // The options of `ricci param`, registered in one place: `ricci batch` checks the options it
 // passes on against the same parser.
 #include <CLI/CLI.hpp>
+#include <set>
 
 #include "commands.hpp"
+#include "ricci/errors.hpp"
 
 namespace ricci::cli {
 
@@ -96,6 +98,32 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
 #endif
   param_cmd->add_option("--fault", param.fault)->group("");  // tests only (kFaultHelp)
   return param_cmd;
+}
+
+void check_param_options(const std::vector<std::string>& options, const std::string& where,
+                         const std::string& outputs) {
+  // Set by batch for every mesh: its outputs' paths, and what would print per mesh.
+  static const std::set<std::string> owned = {"-o",         "--output",   "--report", "--json",
+                                              "--progress", "--pictures", "-h",       "--help"};
+  for (const std::string& o : options) {
+    const std::string name = o.substr(0, o.find('='));
+    if (owned.count(name) > 0) {
+      throw InvalidInput(where + ": " + name +
+                         " is set by ricci batch for every mesh (outputs go to " + outputs + ")");
+    }
+  }
+  CLI::App app;
+  ParamArgs scratch;
+  add_param_subcommand(app, scratch);
+  std::vector<std::string> words = {"ricci", "param", "MESH", "-o", "OUT.obj"};
+  words.insert(words.end(), options.begin(), options.end());
+  std::vector<const char*> argv;
+  for (const std::string& w : words) argv.push_back(w.c_str());
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::ParseError& e) {
+    throw InvalidInput(where + ": not an option of ricci param: " + e.what());
+  }
 }
 
 }  // namespace ricci::cli

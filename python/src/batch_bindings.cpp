@@ -4,10 +4,8 @@
 /// them into dicts, python/ricci/_batch.py); `_ricci._check_param_options` checks options meant
 /// for `ricci param` with param's own parser (apps/ricci/param_options.cpp, compiled in).
 
-#include <CLI/CLI.hpp>
 #include <exception>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -20,31 +18,8 @@ namespace ricci::python {
 
 namespace {
 
-/// The options ricci batch sets itself for every mesh (as apps/ricci/batch_command.cpp).
-const std::set<std::string> kBatchOwned = {"-o",         "--output",   "--report", "--json",
-                                           "--progress", "--pictures", "-h",       "--help"};
-
-/// What `ricci batch` checks before it runs anything: no option batch owns, and every option one
-/// that `ricci param` parses. \throw InvalidInput naming `where` and the option
 void check_param_options(const std::vector<std::string>& options, const std::string& where) {
-  for (const std::string& o : options) {
-    const std::string name = o.substr(0, o.find('='));
-    if (kBatchOwned.count(name) > 0) {
-      throw InvalidInput(where + ": " + name +
-                         " is set by ricci batch for every mesh (outputs go to out_dir)");
-    }
-  }
-  CLI::App app;
-  cli::ParamArgs scratch;
-  cli::add_param_subcommand(app, scratch);
-  std::vector<std::string> argv = {"param", "MESH", "-o", "OUT.obj"};
-  argv.insert(argv.end(), options.begin(), options.end());
-  std::reverse(argv.begin(), argv.end());  // CLI11 parses a reversed vector
-  try {
-    app.parse(argv);
-  } catch (const CLI::ParseError& e) {
-    throw InvalidInput(where + ": not an option of ricci param: " + e.what());
-  }
+  cli::check_param_options(options, where, "out_dir");
 }
 
 /// Thrown out of the progress callback to end run_batch after the Python callable raised; the
