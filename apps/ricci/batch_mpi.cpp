@@ -161,20 +161,9 @@ int MpiSession::work(const BatchOptions& options) {
     const MPI_Status status = wait_for_message(0, MPI_ANY_TAG);
     const std::string text = receive_text(status);
     if (status.MPI_TAG == kStop) break;
-    MeshRecord record;
-    BatchJob job;
-    try {
-      job = job_from_json(text);
-      record = run_batch_mesh(job, mine, label);
-    } catch (const std::exception& e) {
-      record.key = job.key;
-      record.input = job.input;
-      record.options = job.options;
-      record.worker = label;
-      record.outcome = MeshOutcome::SpawnFailed;
-      record.message = e.what();
-    }
-    send_text(to_json_line(record), 0, kResult);
+    // The scheduler wrote the task: one that does not parse is a bug, not a mesh's failure.
+    const BatchJob job = job_from_json(text);
+    send_text(to_json_line(run_batch_mesh(job, mine, label)), 0, kResult);
   }
   return kOk;
 #else

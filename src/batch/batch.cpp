@@ -145,17 +145,7 @@ class LocalWorkers final : public BatchWorkers {
         job = std::move(todo_.front());
         todo_.pop_front();
       }
-      MeshRecord record;
-      try {
-        record = run_batch_mesh(job, options_, label);
-      } catch (const std::exception& e) {
-        record.key = job.key;
-        record.input = job.input;
-        record.options = job.options;
-        record.worker = label;
-        record.outcome = MeshOutcome::SpawnFailed;
-        record.message = e.what();
-      }
+      MeshRecord record = run_batch_mesh(job, options_, label);
       {
         const std::lock_guard<std::mutex> lock(mutex_);
         done_.push_back(std::move(record));
@@ -195,8 +185,9 @@ std::vector<std::string> batch_child_environment(const BatchOptions& options, in
   return environment;
 }
 
-MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
-                          const std::string& worker) {
+namespace {
+
+MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std::string& worker) {
   MeshRecord record;
   record.key = job.key;
   record.input = job.input;
@@ -293,6 +284,27 @@ MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
   }
   record.finished_at = utc_now();
   return record;
+}
+
+}  // namespace
+
+MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
+                          const std::string& worker) {
+  try {
+    return run_mesh(job, options, worker);
+  } catch (const std::exception& e) {
+    // The worker's own trouble (a folder it cannot create, memory): this mesh's record.
+    MeshRecord record;
+    record.key = job.key;
+    record.input = job.input;
+    record.options = job.options;
+    record.worker = worker;
+    record.version = version();
+    record.outcome = MeshOutcome::SpawnFailed;
+    record.message = e.what();
+    record.finished_at = utc_now();
+    return record;
+  }
 }
 
 std::unique_ptr<BatchWorkers> make_local_workers(const BatchOptions& options) {

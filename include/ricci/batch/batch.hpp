@@ -79,7 +79,8 @@ class BatchWorkers {
 };
 
 /// Runs one mesh the way every worker does: `options.program param ...` in a child with the
-/// limits, then the record from its exit and its report. Thread-safe.
+/// limits, then the record from its exit and its report. Thread-safe; never throws (a failure of
+/// the worker itself is the mesh's SpawnFailed record).
 /// \param worker the record's worker label
 MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
                           const std::string& worker);
