@@ -101,9 +101,12 @@ auto run_with_progress(const std::string& mesh, bool progress_flag, bool json, c
     auto result = run();
     finish_progress(progress);
     return result;
+  } catch (const TopologyError& e) {
+    finish_progress(progress);
+    throw TopologyError(mesh + ": " + e.what());
   } catch (const InvalidInput& e) {
     finish_progress(progress);
-    throw InvalidInput(mesh + ": " + e.what());
+    throw InvalidInput(mesh + ": " + e.what(), e.fixes());  // the fixes stay
   }
 }
 
@@ -658,7 +661,7 @@ int run_param(const ParamArgs& args) {
     write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
   }
 #ifdef RICCI_HAVE_RENDER
-  write_param_pictures(args.pictures, result);
+  write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);
 #endif
   if (args.json) {
     std::cout << report.dump(2) << "\n";

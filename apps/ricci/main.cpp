@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
 #ifdef RICCI_HAVE_RENDER
   RenderArgs render;
   CLI::App* render_cmd = add_render_subcommand(app, render);
+  ViewArgs view;
+  CLI::App* view_cmd = add_view_subcommand(app, view);
 #endif
 
   SphereArgs sphere;
@@ -250,9 +252,16 @@ int main(int argc, char** argv) {
     if (*batch_cmd) return run_batch_command(batch, *batch_cmd, argv[0]);
 #ifdef RICCI_HAVE_RENDER
     if (*render_cmd) return run_render(render);
+    if (*view_cmd) return run_view(view);
 #endif
   } catch (const ricci::InvalidInput& e) {
     std::cerr << "error: " << e.what() << "\n";
+    // The options that would have worked, as flags: "try: --cones auto, or --cones one".
+    for (std::size_t i = 0; i < e.fixes().size(); ++i) {
+      std::cerr << (i == 0 ? "  try: " : ", or ") << "--" << e.fixes()[i].option << " "
+                << e.fixes()[i].value;
+    }
+    if (!e.fixes().empty()) std::cerr << "\n";
     return kBadInput;
   } catch (const ricci::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";

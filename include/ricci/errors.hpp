@@ -4,8 +4,11 @@
 /// the offending element (file and line, vertex, edge or face index) in its message.
 /// Non-convergence is never an exception: solvers report it in their result structs.
 
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ricci {
 
@@ -15,11 +18,36 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// An option setting that avoids an InvalidInput: the option's name, the same for the command
+/// line's flag and Python's keyword (`target`, `cones`, `boundary`, `scheme`, `geometry`), and the
+/// value to give it ("natural", "auto", "disk", "vertex-scaling", "euclidean"). The command line
+/// prints it as `--target natural`, Python as `target="natural"`; in C++ it names the field of
+/// the options struct the message mentions.
+struct OptionFix {
+  std::string option;
+  std::string value;
+  bool operator==(const OptionFix&) const = default;
+};
+
+/// Fixes from (option, value) pairs of literals: `fixes_of({{"cones", "auto"}})`. (A function,
+/// not a braced list of strings in the throw expression, where GCC 12 warns of maybe-uninitialized
+/// temporaries.)
+std::vector<OptionFix> fixes_of(std::initializer_list<std::pair<const char*, const char*>> pairs);
+
 /// The caller's data breaks a precondition: non-finite coordinates, a target that violates
-/// Gauss-Bonnet, an option out of range, a zero-area face.
+/// Gauss-Bonnet, an option out of range, a zero-area face. When another option value would have
+/// worked, fixes() says which (the front ends print them: every refusal names the option that
+/// works).
 class InvalidInput : public Error {
  public:
   using Error::Error;
+  InvalidInput(const std::string& message, std::vector<OptionFix> fixes)
+      : Error(message), fixes_(std::move(fixes)) {}
+  /// Option settings that avoid this error, best first; empty when none is known.
+  const std::vector<OptionFix>& fixes() const { return fixes_; }
+
+ private:
+  std::vector<OptionFix> fixes_;
 };
 
 /// The mesh is not an oriented manifold triangle mesh (non-manifold edge or vertex,

@@ -6,6 +6,7 @@
 
 #include "bindings.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/version.hpp"
 
 namespace ricci::python {
 namespace {
@@ -28,14 +29,33 @@ struct ExceptionClasses {
 };
 ExceptionClasses exception_classes;
 
+/// An InvalidInput as a Python exception: the message with the fixes phrased as keywords
+/// ('try: cones="auto", or cones="one"'), and the fixes as `exc.fixes`, a list of
+/// (keyword, value) pairs.
+void set_invalid_input(const py::handle& type, const InvalidInput& e) {
+  std::string message = e.what();
+  py::list fixes;
+  for (std::size_t i = 0; i < e.fixes().size(); ++i) {
+    const OptionFix& fix = e.fixes()[i];
+    const bool number =
+        !fix.value.empty() && fix.value.find_first_not_of("0123456789") == std::string::npos;
+    message += (i == 0 ? "\ntry: " : ", or ") + fix.option + "=" +
+               (number ? fix.value : "\"" + fix.value + "\"");
+    fixes.append(py::make_tuple(fix.option, fix.value));
+  }
+  py::object exc = py::reinterpret_borrow<py::object>(type)(message);
+  exc.attr("fixes") = fixes;
+  PyErr_SetObject(type.ptr(), exc.ptr());
+}
+
 void translate_exception(std::exception_ptr p) {
   const ExceptionClasses& c = exception_classes;
   try {
     if (p) std::rethrow_exception(p);
   } catch (const TopologyError& e) {
-    PyErr_SetString(c.topology_error.ptr(), e.what());
+    set_invalid_input(c.topology_error, e);
   } catch (const InvalidInput& e) {
-    PyErr_SetString(c.invalid_input.ptr(), e.what());
+    set_invalid_input(c.invalid_input, e);
   } catch (const IoError& e) {
     PyErr_SetString(c.io_error.ptr(), e.what());
   } catch (const SolverError& e) {
@@ -54,6 +74,8 @@ PYBIND11_MODULE(_ricci, m) {
   m.doc() =
       "ricci: discrete surface Ricci flow and conformal parameterization (C++ bindings; "
       "use the package `ricci`, which checks array shapes).";
+  // The C++ library's version (CMake's project version), re-exported as ricci.__version__.
+  m.attr("__version__") = ricci::version();
 
   // The hierarchy of ricci/errors.hpp, each class also deriving from the built-in exception a
   // Python caller would expect (so `except ValueError` catches bad input).

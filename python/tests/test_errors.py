@@ -98,3 +98,24 @@ def test_bad_option_values(torus):
 def test_unknown_option_field_is_type_error():
     with pytest.raises(TypeError, match="unknown field 'tolerence'.*tolerance"):
         ricci.FlowOptions(tolerence=1e-3)
+
+
+def test_refusals_name_the_keyword_that_works(torus):
+    V, F = ricci.generate.icosphere(2)
+    with pytest.raises(ricci.InvalidInput) as caught:
+        ricci.flow(V, F, target="flat")
+    assert caught.value.fixes == [("target", "natural"), ("target", "uniform")]
+    assert 'try: target="natural", or target="uniform"' in str(caught.value)
+    with pytest.raises(ricci.InvalidInput) as caught:
+        ricci.parameterize(V, F, cones="none")
+    assert caught.value.fixes == [("cones", "auto")]
+    with pytest.raises(ricci.InvalidInput) as caught:
+        ricci.parameterize(V, F, cones=1)
+    assert 'cones=4, or cones="auto"' in str(caught.value)
+    with pytest.raises(ricci.InvalidInput) as caught:
+        ricci.parameterize(*torus, cones="one")
+    assert caught.value.fixes == [("cones", "needed"), ("cones", "auto")]
+    # An error with nothing to suggest has an empty list.
+    with pytest.raises(ricci.InvalidInput) as caught:
+        ricci.flow(*torus, cones={100000: 0.0})
+    assert caught.value.fixes == []

@@ -126,10 +126,11 @@ Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMo
                          " has curvature " + format_value(cone.curvature));
     }
     if (t.is_boundary_vertex[cone.vertex] && boundary == BoundaryMode::Free) {
-      throw InvalidInput("flat_target: cone at boundary vertex " +
-                         vertex_label(cone.vertex, labels) +
-                         ", whose log radius the free boundary keeps fixed; use a disk boundary "
-                         "or an interior vertex");
+      throw InvalidInput(
+          "flat_target: cone at boundary vertex " + vertex_label(cone.vertex, labels) +
+              ", whose log radius the free boundary keeps fixed; use a disk boundary "
+              "or an interior vertex",
+          fixes_of({{"boundary", "disk"}}));
     }
     is_cone[cone.vertex] = 1;
     target.curvature[cone.vertex] = cone.curvature;
@@ -250,13 +251,20 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
     if (!options.edge_flips && !(k > lower)) {
       throw InvalidInput(
           "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
-          " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
-          format_value(k) + ", which breaks the single-vertex bound K > " + format_value(lower) +
-          (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
-          "; split edges around it to raise its valence" +
-          (structure.scheme == Scheme::Thurston
-               ? ", or use the tangential scheme (Phi = 0 gives the widest bound)"
-               : ""));
+              " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
+              format_value(k) + ", which breaks the single-vertex bound K > " +
+              format_value(lower) +
+              (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
+              "; split edges around it to raise its valence, or use vertex scaling with edge flips "
+              "(no such bound)" +
+              (structure.scheme == Scheme::Thurston
+                   ? ", or the tangential scheme (Phi = 0 gives the widest bound)"
+                   : ""),
+          structure.scheme == Scheme::VertexScaling
+              ? fixes_of({{"flips", "auto"}})
+              : (structure.scheme == Scheme::Thurston
+                     ? fixes_of({{"scheme", "vertex-scaling"}, {"scheme", "tangential"}})
+                     : fixes_of({{"scheme", "vertex-scaling"}})));
     }
   }
   for (std::size_t c = 0; c < t.components.size(); ++c) {
@@ -278,23 +286,26 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
       // sum K - area = 2 pi chi with a positive area: the sum must exceed 2 pi chi.
       if (!(sum - expected > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude))) {
         throw InvalidInput("check_admissible: component " + std::to_string(c) +
-                           " cannot carry a hyperbolic metric with this target: its target "
-                           "curvatures sum to " +
-                           format_value(sum) +
-                           ", which must exceed 2 pi chi = " + format_value(expected) +
-                           " (chi = " + std::to_string(comp.euler_characteristic) +
-                           ") by the metric's area; zero curvature needs chi < 0 (genus >= 2, "
-                           "or boundaries); use the Euclidean geometry for this surface");
+                               " cannot carry a hyperbolic metric with this target: its target "
+                               "curvatures sum to " +
+                               format_value(sum) +
+                               ", which must exceed 2 pi chi = " + format_value(expected) +
+                               " (chi = " + std::to_string(comp.euler_characteristic) +
+                               ") by the metric's area; zero curvature needs chi < 0 (genus >= 2, "
+                               "or boundaries); use the Euclidean geometry for this surface",
+                           fixes_of({{"geometry", "euclidean"}}));
       }
       continue;
     }
     if (std::abs(sum - expected) > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
       throw InvalidInput("check_admissible: component " + std::to_string(c) +
-                         " breaks Gauss-Bonnet: its target curvatures sum to " + format_value(sum) +
-                         " but must sum to 2 pi chi = " + format_value(expected) +
-                         " (chi = " + std::to_string(comp.euler_characteristic) +
-                         "); give cones that make up the difference, or use the natural or "
-                         "uniform target (automatic cones: parameterize)");
+                             " breaks Gauss-Bonnet: its target curvatures sum to " +
+                             format_value(sum) +
+                             " but must sum to 2 pi chi = " + format_value(expected) +
+                             " (chi = " + std::to_string(comp.euler_characteristic) +
+                             "); give cones that make up the difference, or use the natural or "
+                             "uniform target (automatic cones: parameterize)",
+                         fixes_of({{"target", "natural"}, {"target", "uniform"}}));
     }
   }
 }

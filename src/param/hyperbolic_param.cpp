@@ -79,11 +79,14 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   }
   const Component& comp = t0.components[0];
   if (comp.euler_characteristic >= 0) {
-    throw InvalidInput(
-        "parameterize_hyperbolic: a surface with chi = " +
-        std::to_string(comp.euler_characteristic) + " (genus " + std::to_string(comp.genus) + ", " +
-        std::to_string(comp.num_boundary_loops) +
-        " boundary loops) has no hyperbolic metric; it needs chi < 0 (genus >= 2, or boundaries)");
+    throw InvalidInput("parameterize_hyperbolic: a surface with chi = " +
+                           std::to_string(comp.euler_characteristic) + " (genus " +
+                           std::to_string(comp.genus) + ", " +
+                           std::to_string(comp.num_boundary_loops) +
+                           " boundary loops) has no hyperbolic metric; it needs chi < 0 (genus >= "
+                           "2, or boundaries); "
+                           "the Euclidean geometry gives a flat metric with cones",
+                       fixes_of({{"geometry", "euclidean"}}));
   }
 
   // 1. The uniformization metric: K = 0 everywhere, geodesic boundary.

@@ -17,7 +17,13 @@
 #include "ricci/mesh/split.hpp"
 
 namespace ricci {
+
 namespace {
+
+/// A fixed cone count too small for the curvature: about twice as many, or the automatic count.
+std::vector<OptionFix> more_cones_fixes(std::size_t count) {
+  return {OptionFix{"cones", std::to_string(2 * count + 2)}, OptionFix{"cones", "auto"}};
+}
 
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
@@ -122,8 +128,10 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     case ConeMode::None:
       if (closed && chi != 0) {
         throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
-                           " has no flat metric without cones (chi = " + std::to_string(chi) +
-                           "); use automatic cones or one cone");
+                               " has no flat metric without cones (chi = " + std::to_string(chi) +
+                               "); use automatic cones or one cone",
+                           genus >= 2 ? fixes_of({{"cones", "auto"}, {"cones", "one"}})
+                                      : fixes_of({{"cones", "auto"}}));
       }
       break;
     case ConeMode::User:
@@ -134,7 +142,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
         throw InvalidInput(
             "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
             "2; this one has genus " +
-            std::to_string(genus) + " and " + std::to_string(boundary_loops) + " boundary loops");
+                std::to_string(genus) + " and " + std::to_string(boundary_loops) +
+                " boundary loops",
+            fixes_of({{"cones", "needed"}, {"cones", "auto"}}));
       }
       ConeSelectionOptions one = options.auto_cones;
       one.count = 1;
@@ -152,12 +162,13 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
         // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
         if (!result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
           throw InvalidInput("parameterize: " + std::to_string(cones.size()) +
-                             " automatic cones cannot carry the curvature within their bounds "
-                             "(vertex " +
-                             std::to_string(c.vertex) + " would need " +
-                             std::to_string(c.curvature) +
-                             ", a cone angle below 0); ask for more cones, or let the count be "
-                             "chosen automatically");
+                                 " automatic cones cannot carry the curvature within their bounds "
+                                 "(vertex " +
+                                 std::to_string(c.vertex) + " would need " +
+                                 std::to_string(c.curvature) +
+                                 ", a cone angle below 0); ask for more cones, or let the count be "
+                                 "chosen automatically",
+                             more_cones_fixes(cones.size()));
         }
       }
       break;
@@ -240,7 +251,14 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   auto give_t0_to_flow = [&] {
     if (flow_kept_t0) result.flow.topology = std::move(t0);
   };
-  result.flow = run_flow(flow_options, flow_kept_t0);
+  try {
+    result.flow = run_flow(flow_options, flow_kept_t0);
+  } catch (const InvalidInput& e) {
+    // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
+    // not the flow's target options.
+    if (options.cone_mode != ConeMode::User || e.fixes().empty()) throw;
+    throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
+  }
   result.converged = result.flow.converged;
   const FlowStatus status = result.flow.components.front().flow.status;
   if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&

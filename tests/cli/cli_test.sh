@@ -618,11 +618,13 @@ expect_rc "flow sphere with the natural target" 0
 cp "$WORK/out.txt" natural.json
 expect_json "natural target on a sphere is uniform" natural.json \
   'd["converged"] is True and "uniform" in d["target"]'
-bad_flow "flat sphere without cones" "Gauss-Bonnet" "natural" -- "$ico" --target flat
+bad_flow "flat sphere without cones" "Gauss-Bonnet" "try: --target natural, or --target uniform" \
+  -- "$ico" --target flat
 bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" -- "$ico" --cones '0:pi'
 # -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, Thurston's
 # single-vertex bound fails (vertex scaling with flips, the default, has no such bound).
-bad_flow "cone breaking the vertex bound" "vertex 0" "bound" -- \
+bad_flow "cone breaking the vertex bound" "vertex 0" "bound" \
+  "try: --scheme vertex-scaling, or --scheme tangential" -- \
   "$ico" --scheme thurston --cones '0:-4pi,1:pi,2:pi,3:pi,4:pi,5:pi,6:pi,7:pi,8:pi'
 bad_flow "cone of -20 pi" "vertex 0" "bound" -- "$ico" --scheme thurston \
   --cones '0:-20pi,3:pi,5:pi,9:pi'
@@ -704,8 +706,14 @@ expect_rc "param disk" 0
 expect_json "param disk report" param/disk.json 'd["converged"] and d["cut"]["cut_edges"] == 0'
 ricci param "$ico" --cones none -o param/refused.obj
 expect_rc "param sphere without cones" 2
-expect_err "param sphere without cones" "no flat metric without cones"
+expect_err "param sphere without cones" "no flat metric without cones" "try: --cones auto"
 expect_no_file "param sphere without cones writes nothing" param/refused.obj
+ricci param "$ico" --cones 0:pi -o param/refused.obj
+expect_rc "param sphere, cones breaking Gauss-Bonnet" 2
+expect_err "param sphere, cones breaking Gauss-Bonnet" "Gauss-Bonnet" "try: --cones auto"
+ricci param meshes/small_torus.obj --cones one -o param/refused.obj
+expect_rc "param torus, one cone" 2
+expect_err "param torus, one cone" "genus >= 2" "try: --cones needed, or --cones auto"
 ricci param "$ico" --cones sideways -o param/refused.obj
 expect_rc "param bad --cones" 2
 expect_no_file "param bad --cones writes nothing" param/refused.obj
@@ -779,7 +787,7 @@ expect_rc "flow hyperbolic virtual-radius" 2
 expect_err "flow hyperbolic virtual-radius" "virtual-radius"
 ricci flow meshes/small_torus.obj --geometry hyperbolic
 expect_rc "flow hyperbolic torus" 2
-expect_err "flow hyperbolic torus" "chi"
+expect_err "flow hyperbolic torus" "chi" "try: --geometry euclidean"
 ricci flow hyperbolic/g2.obj --geometry spherical
 expect_rc "flow --geometry spherical" 2
 # A pair of pants: the default hyperbolic boundary is geodesic (zero curvature on it too).

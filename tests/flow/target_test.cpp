@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -119,6 +120,50 @@ TEST(Target, SingleVertexBoundNamesTheVertexAndTheBound) {
   const std::string m2 = message_of([&] { check_admissible(f.t, f.s, above); });
   EXPECT_NE(m2.find("vertex 1"), std::string::npos) << m2;
   EXPECT_NE(m2.find("must be below"), std::string::npos) << m2;
+}
+
+/// The fixes an InvalidInput carries, or a failure when f does not throw one.
+std::vector<OptionFix> fixes_from(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    return e.fixes();
+  }
+  ADD_FAILURE() << "no InvalidInput thrown";
+  return {};
+}
+
+TEST(Target, RefusalsNameTheOptionThatWorks) {
+  Fixture f(make_icosphere(1));
+  // A flat target with too little curvature: the natural or the uniform target.
+  const Target flat = flat_target(f.t, {{0, kPi}});
+  EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, flat); }),
+            (std::vector<OptionFix>{{"target", "natural"}, {"target", "uniform"}}));
+  // The single-vertex bound: edge flips lift it for vertex scaling; a circle packing gets
+  // vertex scaling, or the tangential scheme's wider bound.
+  ASSERT_EQ(f.s.scheme, Scheme::VertexScaling);
+  const Target deep = flat_target(f.t, {{0, -4 * kPi}, {1, 4 * kPi + 2 * kPi}});
+  EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, deep); }),
+            (std::vector<OptionFix>{{"flips", "auto"}}));
+  ConformalStructure packing = f.s;
+  packing.scheme = Scheme::Thurston;
+  EXPECT_EQ(fixes_from([&] { check_admissible(f.t, packing, deep); }),
+            (std::vector<OptionFix>{{"scheme", "vertex-scaling"}, {"scheme", "tangential"}}));
+  // A sphere in the hyperbolic background: the Euclidean one.
+  ConformalStructure hyperbolic = f.s;
+  hyperbolic.geometry = Geometry::Hyperbolic;
+  const Target zero = flat_target(f.t, {});
+  EXPECT_EQ(fixes_from([&] { check_admissible(f.t, hyperbolic, zero); }),
+            (std::vector<OptionFix>{{"geometry", "euclidean"}}));
+  // A cone on a free boundary: the disk boundary.
+  Fixture d(make_disk(3));
+  const int boundary_vertex = d.t.boundary_loops[0][0];
+  EXPECT_EQ(fixes_from([&] {
+              flat_target(d.t, {{boundary_vertex, 1.0}});
+            }),
+            (std::vector<OptionFix>{{"boundary", "disk"}}));
+  // Nothing to suggest for a cone off the mesh.
+  EXPECT_TRUE(fixes_from([&] { flat_target(d.t, {{1000, 1.0}}); }).empty());
 }
 
 TEST(Target, BadConesAreRejected) {

@@ -190,12 +190,43 @@ TEST(Parameterize, GenusTwoWithOneConeRaisesItsValence) {
   EXPECT_EQ(r.cut.num_generators, 4);
 }
 
+/// The fixes of the InvalidInput that parameterize throws (a failure when it does not).
+std::vector<OptionFix> refusal_fixes(const Mesh& mesh, const ParamOptions& options) {
+  try {
+    parameterize(mesh, options);
+  } catch (const InvalidInput& e) {
+    return e.fixes();
+  }
+  ADD_FAILURE() << "parameterize did not refuse";
+  return {};
+}
+
 TEST(Parameterize, ClosedSphereWithoutConesIsRefused) {
   ParamOptions options;
   options.cone_mode = ConeMode::None;
   EXPECT_THROW(parameterize(make_icosphere(1), options), InvalidInput);
   options.cone_mode = ConeMode::OneCone;
   EXPECT_THROW(parameterize(make_torus(12, 6), options), InvalidInput);
+}
+
+TEST(Parameterize, RefusalsNameTheConesThatWork) {
+  ParamOptions options;
+  options.cone_mode = ConeMode::None;
+  EXPECT_EQ(refusal_fixes(make_icosphere(1), options), (std::vector<OptionFix>{{"cones", "auto"}}));
+  EXPECT_EQ(refusal_fixes(make_closed_surface(2, 6), options),
+            (std::vector<OptionFix>{{"cones", "auto"}, {"cones", "one"}}));
+  options.cone_mode = ConeMode::OneCone;
+  EXPECT_EQ(refusal_fixes(make_torus(12, 6), options),
+            (std::vector<OptionFix>{{"cones", "needed"}, {"cones", "auto"}}));
+  // The user's cones break Gauss-Bonnet: automatic ones, not the flow's target options.
+  options.cone_mode = ConeMode::User;
+  options.cones = {{0, std::numbers::pi}};
+  EXPECT_EQ(refusal_fixes(make_icosphere(1), options), (std::vector<OptionFix>{{"cones", "auto"}}));
+  // One automatic cone cannot carry a sphere's 4 pi: more of them, or the automatic count.
+  options.cone_mode = ConeMode::Auto;
+  options.auto_cones.count = 1;
+  EXPECT_EQ(refusal_fixes(make_icosphere(2), options),
+            (std::vector<OptionFix>{{"cones", "4"}, {"cones", "auto"}}));
 }
 
 }  // namespace
