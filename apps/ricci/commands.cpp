@@ -29,6 +29,7 @@
 #include "ricci/spline/manifold_spline.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
+#include "ricci/render/textured_files.hpp"
 #endif
 
 namespace ricci::cli {
@@ -382,9 +383,81 @@ std::vector<std::vector<std::pair<int, double>>> file_columns(const ParamResult&
   return columns;
 }
 
+/// "obj" or "glb": --format, else the output's extension (.glb: glb).
+std::string output_format(const ParamArgs& args) {
+  if (!args.format.empty()) return args.format;
+  std::string extension = std::filesystem::path(args.output).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return extension == ".glb" ? "glb" : "obj";
+}
+
+/// The checks of --texture and --format before any work: the image exists, glb is available.
+void check_texture_options(const ParamArgs& args) {
+  const std::string format = output_format(args);
+  if (args.texture != "checker" && args.texture != "none") {
+    check_output_is_not_input(args.output, {args.texture});
+    if (!std::filesystem::is_regular_file(args.texture)) {
+      throw InvalidInput(
+          "--texture: " + args.texture + " is no image file (give a PNG or JPEG, checker, or none)",
+          fixes_of({{"texture", "checker"}}));
+    }
+  }
+  if (format == "obj" && args.texture != "none") {
+    std::filesystem::path stem(args.output);
+    stem.replace_extension();
+    check_output_is_not_input(stem.string() + ".mtl", {args.mesh, args.cones});
+    if (args.texture == "checker") {
+      check_output_is_not_input(stem.string() + ".png", {args.mesh, args.cones});
+    }
+  }
+  if (format == "glb") {
+#ifdef RICCI_HAVE_RENDER
+    if (!glb_supported()) {
+      throw InvalidInput(
+          "--format glb: this ricci was built without tinygltf (install libtinygltf-dev and "
+          "rebuild)",
+          fixes_of({{"format", "obj"}}));
+    }
+#else
+    throw InvalidInput("--format glb: this ricci was built without its picture library",
+                       fixes_of({{"format", "obj"}}));
+#endif
+    if (args.faces == "refinement") {
+      throw InvalidInput(
+          "--format glb: glTF interpolates texture coordinates linearly, and the refinement's "
+          "are projective (vt u v w); write OBJ (STEM.linear.obj beside it has linear ones)",
+          fixes_of({{"format", "obj"}}));
+    }
+  }
+}
+
+/// The parameterization's file: OBJ with its material (STEM.mtl and the checkerboard STEM.png,
+/// or --texture's image) unless --texture none, or glTF binary with the texture inside.
+void write_textured_output(const ParamArgs& args, const Mesh& mesh, const Triangles& uv_triangles,
+                           const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+#ifdef RICCI_HAVE_RENDER
+  const std::string texture = args.texture == "checker" ? "" : args.texture;
+  if (output_format(args) == "glb") {
+    GlbOptions glb;
+    glb.texture_path = texture;
+    write_glb(args.output, mesh, uv_triangles, uv, glb);
+    return;
+  }
+  if (args.texture != "none") {
+    // The material first: an OBJ never names a library that is not there.
+    const ObjMaterialFiles files = write_obj_material(args.output, texture);
+    write_obj(args.output, mesh, uv_triangles, uv, ObjMaterial{files.library});
+    return;
+  }
+#endif
+  write_obj(args.output, mesh, uv_triangles, uv);
+}
+
 /// Writes the refinement (homogeneous vt) to `output` and its companions beside it.
 void write_refinement(const std::string& output, const std::string& input, const ParamResult& r,
-                      const CommonRefinement& c, const ReadResult& read) {
+                      const CommonRefinement& c, const ReadResult& read,
+                      const ObjMaterial& linear_material) {
   const RefinementFiles files = refinement_files(output);
   Mesh mesh;
   mesh.positions = c.positions;
@@ -392,7 +465,7 @@ void write_refinement(const std::string& output, const std::string& input, const
   Triangles corners(c.triangles.rows(), 3);
   for (Eigen::Index t = 0; t < corners.rows(); ++t) corners.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
   write_obj(output, mesh, corners, c.projective_uv);
-  write_obj(files.linear, mesh, c.uv_triangles, c.uv);
+  write_obj(files.linear, mesh, c.uv_triangles, c.uv, linear_material);
   const std::string name = std::filesystem::path(output).filename().string();
   write_file_atomically(files.vertex_map, [&](std::ostream& out) {
     out << "# ricci param --faces refinement: where the input's vertices are in " << name
@@ -464,7 +537,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
                      "the flow did not converge: " + result.message)) {
     return kNotConverged;
   }
-  write_obj(args.output, read.mesh, result.cut_mesh.triangles, result.uv);
+  write_textured_output(args, read.mesh, result.cut_mesh.triangles, result.uv);
 #ifdef RICCI_HAVE_RENDER
   write_hyperbolic_pictures(args.pictures, result);
 #endif
@@ -592,6 +665,7 @@ void inject_fault(const std::string& fault) {
 
 int run_param(const ParamArgs& args) {
   inject_fault(args.fault);
+  check_texture_options(args);
   if (parse_geometry(args.geometry) == Geometry::Hyperbolic) return run_param_hyperbolic(args);
   ParamOptions options;
   options.structure.scheme = parse_scheme(args.scheme);
@@ -656,9 +730,19 @@ int run_param(const ParamArgs& args) {
     return kNotConverged;
   }
   if (exact) {
-    write_refinement(args.output, args.mesh, result, *exact, read);
+    // The material goes with the linear companion: tools that read `vt u v` would take the
+    // projective file's (u w, v w) for coordinates.
+    ObjMaterial linear_material;
+#ifdef RICCI_HAVE_RENDER
+    if (args.texture != "none") {
+      linear_material.library = write_obj_material(refinement_files(args.output).linear,
+                                                   args.texture == "checker" ? "" : args.texture)
+                                    .library;
+    }
+#endif
+    write_refinement(args.output, args.mesh, result, *exact, read, linear_material);
   } else {
-    write_obj(args.output, result.mesh, result.cut_mesh.triangles, result.uv);
+    write_textured_output(args, result.mesh, result.cut_mesh.triangles, result.uv);
   }
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);

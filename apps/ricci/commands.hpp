@@ -78,6 +78,9 @@ struct ParamArgs {
   /// with homogeneous uv, ricci/param/common_refinement.hpp, and its companion files)
   std::string faces = "input";
   double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
+  /// --texture: "checker" (STEM.png beside the OBJ), "none" (no material), or an image file
+  std::string texture = "checker";
+  std::string format;  ///< --format: obj or glb; empty: from -o's extension
   /// --fault (hidden; honoured only when RICCI_FAULT_INJECTION=1): segv, abort, hang or alloc,
   /// the failures `ricci batch` must survive, injected for its tests.
   std::string fault;

@@ -96,6 +96,17 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
                         "write render.png, uv.svg, uv.png, convergence.png and convergence.svg "
                         "into this folder (created when missing)");
 #endif
+  param_cmd
+      ->add_option("--texture", param.texture,
+                   "the OBJ's material: checker (STEM.mtl and a checkerboard STEM.png beside "
+                   "the OBJ, which Blender and MeshLab show textured), none (no material), or "
+                   "an image file (PNG or JPEG) the material refers to; glb embeds it")
+      ->capture_default_str();
+  param_cmd
+      ->add_option("--format", param.format,
+                   "obj (texture coordinates per corner, with its material) or glb (glTF 2.0 "
+                   "binary with the texture inside); default: glb when -o ends with .glb")
+      ->check(CLI::IsMember({"obj", "glb"}));
   param_cmd->add_option("--fault", param.fault)->group("");  // tests only (kFaultHelp)
   return param_cmd;
 }

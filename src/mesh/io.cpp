@@ -190,7 +190,8 @@ namespace {
 /// write_obj with texture coordinates of `Columns` components (2: u v; 3: u v w).
 template <int Columns>
 void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-                       const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv) {
+                       const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv,
+                       const ObjMaterial& material) {
   auto invalid = [&](const std::string& what) {
     throw InvalidInput("write_obj: " + path + ": " + what);
   };
@@ -225,6 +226,7 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
       out.write(text.data(), static_cast<std::streamsize>(text.size()));
       text.clear();
     };
+    if (!material.library.empty()) text += "mtllib " + material.library + "\n";
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       append(std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
                            mesh.positions(v, 1), mesh.positions(v, 2)));
@@ -237,6 +239,7 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
                              uv(t, 2)));
       }
     }
+    if (!material.library.empty()) text += "usemtl " + material.name + "\n";
     for (int f = 0; f < mesh.num_faces(); ++f) {
       append(std::snprintf(buffer, sizeof buffer, "f %d/%d %d/%d %d/%d\n", mesh.triangles(f, 0) + 1,
                            uv_triangles(f, 0) + 1, mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
@@ -249,13 +252,13 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
 }  // namespace
 
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
-  write_obj_with_vt(path, mesh, uv_triangles, uv);
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const ObjMaterial& material) {
+  write_obj_with_vt(path, mesh, uv_triangles, uv, material);
 }
 
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw) {
-  write_obj_with_vt(path, mesh, uvw_triangles, uvw);
+               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw, const ObjMaterial& material) {
+  write_obj_with_vt(path, mesh, uvw_triangles, uvw, material);
 }
 
 }  // namespace ricci

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "cairo_support.hpp"
@@ -49,17 +50,30 @@ void write_png(const std::string& path, const Image& image) {
                        std::to_string(image.pixels.size()) + " pixels, not " +
                        std::to_string(image.width) + " x " + std::to_string(image.height));
   }
+  const std::string bytes = encode_png(image);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  });
+}
+
+std::string encode_png(const Image& image) {
+  render_detail::check_picture_size("encode_png", image.width, image.height);
+  if (image.pixels.size() != static_cast<std::size_t>(image.width) * image.height) {
+    throw InvalidInput("encode_png: the image holds " + std::to_string(image.pixels.size()) +
+                       " pixels, not " + std::to_string(image.width) + " x " +
+                       std::to_string(image.height));
+  }
   // Cairo reads the pixels only; the copy keeps the const promise without a cast.
   Image copy = image;
   const render_detail::SurfaceHandle surface = render_detail::surface_on(copy);
-  write_file_atomically(path, [&](std::ostream& out) {
-    const cairo_status_t status =
-        cairo_surface_write_to_png_stream(surface.get(), &write_to_stream, &out);
-    if (status != CAIRO_STATUS_SUCCESS) {
-      throw std::runtime_error(std::string("PNG encoding failed: ") +
-                               cairo_status_to_string(status));
-    }
-  });
+  std::ostringstream out;
+  const cairo_status_t status =
+      cairo_surface_write_to_png_stream(surface.get(), &write_to_stream, &out);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    throw IoError(std::string("encode_png: PNG encoding failed: ") +
+                  cairo_status_to_string(status));
+  }
+  return out.str();
 }
 
 Image read_png(const std::string& path) {

@@ -704,6 +704,41 @@ expect_out "param sphere auto cones" '"cones"' '"area_distortion_energy"'
 ricci param meshes/small_disk.obj --cones none --boundary disk -o param/disk_uv.obj --report param/disk.json
 expect_rc "param disk" 0
 expect_json "param disk report" param/disk.json 'd["converged"] and d["cut"]["cut_edges"] == 0'
+# Files other tools open textured: the OBJ names its material, STEM.mtl its checkerboard STEM.png.
+ricci param meshes/small_torus.obj -o param/textured.obj
+expect_rc "param textured" 0
+expect_file "param writes the material" param/textured.mtl
+expect_file "param writes the checkerboard" param/textured.png
+expect_in "the OBJ names its material" param/textured.obj "mtllib textured.mtl" "usemtl ricci_texture"
+expect_in "the material names the checkerboard" param/textured.mtl "map_Kd textured.png"
+cp param/textured.png param/brick.png
+ricci param meshes/small_torus.obj -o param/own_texture.obj --texture param/brick.png
+expect_in "--texture: the material names that image" param/own_texture.mtl "map_Kd brick.png"
+expect_no_file "--texture: no checkerboard" param/own_texture.png
+ricci param meshes/small_torus.obj -o param/plain.obj --texture none
+expect_no_file "--texture none: no material" param/plain.mtl
+if grep -q mtllib param/plain.obj; then fail "--texture none" "the OBJ names a material"; else ok; fi
+ricci param meshes/small_torus.obj -o param/missing_texture.obj --texture param/nosuch.png
+expect_rc "--texture missing" 2
+expect_err "--texture missing" "nosuch.png" "try: --texture checker"
+expect_no_file "--texture missing writes nothing" param/missing_texture.obj
+# glTF binary: the magic, version 2, the texture inside.
+ricci param meshes/small_torus.obj -o param/torus.glb
+expect_rc "param glb" 0
+"$PYTHON" - param/torus.glb <<'PY' && ok || fail "glb" "not a glTF 2 binary with an embedded PNG"
+import json, struct, sys
+data = open(sys.argv[1], "rb").read()
+magic, version, length = struct.unpack_from("<4sII", data, 0)
+assert magic == b"glTF" and version == 2 and length == len(data)
+chunk_length, chunk_type = struct.unpack_from("<I4s", data, 12)
+gltf = json.loads(data[20:20 + chunk_length])
+assert chunk_type == b"JSON"
+assert gltf["images"][0]["mimeType"] == "image/png"
+assert "TEXCOORD_0" in gltf["meshes"][0]["primitives"][0]["attributes"]
+PY
+ricci param meshes/small_torus.obj -o param/refined.glb --faces refinement
+expect_rc "glb of the refinement" 2
+expect_err "glb of the refinement" "projective" "try: --format obj"
 ricci param "$ico" --cones none -o param/refused.obj
 expect_rc "param sphere without cones" 2
 expect_err "param sphere without cones" "no flat metric without cones" "try: --cones auto"

@@ -79,18 +79,28 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 /// Writes a mesh as OBJ, atomically (see write_file_atomically).
 void write_obj(const std::string& path, const Mesh& mesh);
 
+/// The material an OBJ with texture coordinates refers to: `mtllib LIBRARY` before the vertices
+/// and `usemtl NAME` before the faces (ricci/render/textured_files.hpp writes the library and
+/// its texture). An empty library writes neither.
+struct ObjMaterial {
+  std::string library;  ///< the .mtl file, relative to the OBJ's folder
+  std::string name = "ricci_texture";
+};
+
 /// Writes a mesh with per-corner texture coordinates as OBJ (`v`, `vt`, `f v/vt`), atomically.
 /// \param uv_triangles #F by 3 indices into uv (corners that share a uv index share a `vt`)
 /// \param uv #UV by 2 texture coordinates
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv);
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv,
+               const ObjMaterial& material = {});
 
 /// The same with three-component texture coordinates (`vt u v w`), e.g. homogeneous ones whose
 /// linear interpolation divided by w gives a projective map (ricci/param/common_refinement.hpp).
 /// \param uvw_triangles #F by 3 indices into uvw
 /// \param uvw #UVW by 3 texture coordinates
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw);
+               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw,
+               const ObjMaterial& material = {});
 
 /// Writes a file through a temporary file in the same folder, renamed into place only when
 /// write succeeded; on any error the temporary is removed and the target is left untouched.

@@ -42,6 +42,10 @@ Image make_image(int width, int height, const Rgb& fill);
 /// \throw IoError naming the file when Cairo cannot encode it or the file cannot be written
 void write_png(const std::string& path, const Image& image);
 
+/// The PNG file's bytes of an image (what write_png writes).
+/// \throw InvalidInput as write_png; IoError when Cairo cannot encode it
+std::string encode_png(const Image& image);
+
 /// Reads a PNG file (any PNG that Cairo reads; RGB files come back with alpha 255).
 /// \throw IoError naming the file when it is missing or not a PNG Cairo can read
 Image read_png(const std::string& path);

@@ -1,0 +1,56 @@
+#pragma once
+/// \file
+/// Texture-mapped files other tools open textured: an OBJ's material library (.mtl) with its
+/// texture image, and glTF 2.0 binary (.glb) with the texture inside. Blender, MeshLab and
+/// three.js show a parameterization's checkerboard from either without further set-up.
+
+#include <Eigen/Core>
+#include <string>
+
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/render/image.hpp"
+
+namespace ricci {
+
+/// The default texture: a checkerboard of `squares` x `squares` squares over the unit square of
+/// texture coordinates, in render_mesh's two colours (the squares of `ricci render`).
+/// \throw InvalidInput when pixels is outside [8, 16384] or squares < 1 or > pixels
+Image checkerboard_texture(int pixels = 1024, int squares = 16);
+
+/// What write_obj_material wrote.
+struct ObjMaterialFiles {
+  std::string mtl;      ///< the material library (STEM.mtl beside the OBJ)
+  std::string texture;  ///< the texture it refers to (STEM.png, or the user's image)
+  std::string library;  ///< the library's name as the OBJ's `mtllib` gives it (relative)
+};
+
+/// Writes the material library of an OBJ with texture coordinates: STEM.mtl beside obj_path,
+/// one material (ObjMaterial's name) whose diffuse map is the texture. texture_path empty: the
+/// checkerboard is written as STEM.png; otherwise the MTL refers to that image (by its path
+/// relative to the OBJ's folder; it is not copied). Both written atomically.
+/// \throw IoError when a file cannot be written or texture_path is missing
+ObjMaterialFiles write_obj_material(const std::string& obj_path,
+                                    const std::string& texture_path = "");
+
+/// Options of write_glb.
+struct GlbOptions {
+  /// The texture image's file (PNG or JPEG, embedded as it is); empty: the checkerboard.
+  std::string texture_path;
+  /// Smooth vertex normals (area-weighted over each vertex's faces) for shading.
+  bool normals = true;
+};
+
+/// Writes glTF 2.0 binary: one mesh, one primitive, positions, normals, texture coordinates per
+/// corner (vertices split where uv differs across a seam; glTF's t = 1 - v), one material whose
+/// base colour texture is embedded, written through tinygltf, atomically.
+/// \param uv_triangles #F by 3 indices into uv \param uv #UV by 2
+/// \throw InvalidInput when the arrays disagree or hold non-finite values, or the texture is
+///        not PNG or JPEG; IoError when a file cannot be read or written, or ricci was built
+///        without tinygltf
+void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const GlbOptions& options = {});
+
+/// True when write_glb is available (ricci was built with Debian's libtinygltf-dev).
+bool glb_supported();
+
+}  // namespace ricci

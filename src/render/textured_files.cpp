@@ -1,0 +1,280 @@
+#include "ricci/render/textured_files.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/io.hpp"
+#include "ricci/render/render_mesh.hpp"
+
+#ifdef RICCI_HAVE_GLTF
+// Debian's libtinygltf is a shared library with the implementation inside; the header is used
+// for declarations only, without stb (images are embedded as the encoded bytes they are).
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#include <tiny_gltf.h>
+#endif
+
+namespace ricci {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot read the texture image");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+/// "image/png" or "image/jpeg" from the file's first bytes.
+std::string image_mime_type(const std::string& bytes, const std::string& where) {
+  static const char png[] = "\x89PNG\r\n\x1a\n";
+  if (bytes.size() >= 8 && std::memcmp(bytes.data(), png, 8) == 0) return "image/png";
+  if (bytes.size() >= 3 && static_cast<unsigned char>(bytes[0]) == 0xFF &&
+      static_cast<unsigned char>(bytes[1]) == 0xD8 &&
+      static_cast<unsigned char>(bytes[2]) == 0xFF) {
+    return "image/jpeg";
+  }
+  throw InvalidInput(where + ": the texture must be a PNG or JPEG image (glTF embeds no other)");
+}
+
+}  // namespace
+
+Image checkerboard_texture(int pixels, int squares) {
+  if (pixels < 8 || pixels > 16384 || squares < 1 || squares > pixels) {
+    throw InvalidInput("checkerboard_texture: pixels must lie in [8, 16384] and squares in [1, " +
+                       std::to_string(pixels) + "]");
+  }
+  const RenderOptions colours;
+  const std::uint32_t light = pack_rgb(colours.checker_light);
+  const std::uint32_t dark = pack_rgb(colours.checker_dark);
+  Image image = make_image(pixels, pixels, colours.checker_light);
+  for (int y = 0; y < pixels; ++y) {
+    // Row 0 is the top of the image, v = 1: squares counted from v = 0 as render_mesh does.
+    const int row = static_cast<int>((static_cast<long>(pixels - 1 - y) * squares) / pixels);
+    for (int x = 0; x < pixels; ++x) {
+      const int column = static_cast<int>((static_cast<long>(x) * squares) / pixels);
+      image.pixels[static_cast<std::size_t>(y) * pixels + x] = (row + column) & 1 ? dark : light;
+    }
+  }
+  return image;
+}
+
+ObjMaterialFiles write_obj_material(const std::string& obj_path, const std::string& texture_path) {
+  const fs::path obj(obj_path);
+  fs::path stem = obj;
+  stem.replace_extension();
+  ObjMaterialFiles files;
+  files.mtl = stem.string() + ".mtl";
+  files.library = fs::path(files.mtl).filename().string();
+  std::string map;  // the texture as the MTL names it
+  if (texture_path.empty()) {
+    files.texture = stem.string() + ".png";
+    write_png(files.texture, checkerboard_texture());
+    map = fs::path(files.texture).filename().string();
+  } else {
+    std::error_code error;
+    if (!fs::is_regular_file(texture_path, error)) {
+      throw IoError(texture_path + ": no such texture image (--texture)");
+    }
+    files.texture = texture_path;
+    const fs::path folder = fs::absolute(obj).parent_path();
+    map = fs::absolute(texture_path).lexically_normal().lexically_relative(folder).generic_string();
+    if (map.empty()) map = fs::absolute(texture_path).string();
+  }
+  const ObjMaterial material;
+  write_file_atomically(files.mtl, [&](std::ostream& out) {
+    out << "# ricci: the checkerboard (or --texture) over the texture coordinates\n"
+        << "newmtl " << material.name << "\n"
+        << "Ka 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\n"
+        << "map_Kd " << map << "\n";
+  });
+  return files;
+}
+
+bool glb_supported() {
+#ifdef RICCI_HAVE_GLTF
+  return true;
+#else
+  return false;
+#endif
+}
+
+void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const GlbOptions& options) {
+  const int n = mesh.num_faces();
+  if (uv_triangles.rows() != n) {
+    throw InvalidInput("write_glb: " + path + ": uv_triangles has " +
+                       std::to_string(uv_triangles.rows()) + " rows for " + std::to_string(n) +
+                       " faces");
+  }
+  for (int f = 0; f < n; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (mesh.triangles(f, c) < 0 || mesh.triangles(f, c) >= mesh.num_vertices() ||
+          uv_triangles(f, c) < 0 || uv_triangles(f, c) >= uv.rows()) {
+        throw InvalidInput("write_glb: " + path + ": face " + std::to_string(f) +
+                           " has an index out of range");
+      }
+    }
+  }
+  if (!mesh.positions.allFinite() || !uv.allFinite()) {
+    throw InvalidInput("write_glb: " + path + ": non-finite positions or texture coordinates");
+  }
+  const std::string texture = options.texture_path.empty() ? encode_png(checkerboard_texture())
+                                                           : read_bytes(options.texture_path);
+  const std::string mime = image_mime_type(
+      texture, options.texture_path.empty() ? std::string("checkerboard") : options.texture_path);
+#ifndef RICCI_HAVE_GLTF
+  (void)mime;
+  throw IoError("write_glb: " + path +
+                ": this ricci was built without tinygltf (install libtinygltf-dev and rebuild)");
+#else
+  // One glTF vertex per (position, uv) pair: a seam vertex appears once per side.
+  std::map<std::pair<int, int>, std::uint32_t> vertex_of;
+  std::vector<std::pair<int, int> > corners_of;
+  std::vector<std::uint32_t> indices;
+  indices.reserve(static_cast<std::size_t>(3) * n);
+  for (int f = 0; f < n; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const std::pair<int, int> key{mesh.triangles(f, c), uv_triangles(f, c)};
+      const auto [it, fresh] =
+          vertex_of.emplace(key, static_cast<std::uint32_t>(corners_of.size()));
+      if (fresh) corners_of.push_back(key);
+      indices.push_back(it->second);
+    }
+  }
+  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.num_vertices(), 3);
+  if (options.normals) {
+    for (int f = 0; f < n; ++f) {
+      const Eigen::Vector3d a = mesh.positions.row(mesh.triangles(f, 0));
+      const Eigen::Vector3d b = mesh.positions.row(mesh.triangles(f, 1));
+      const Eigen::Vector3d c = mesh.positions.row(mesh.triangles(f, 2));
+      const Eigen::Vector3d area_normal = (b - a).cross(c - a);  // twice the area, outward
+      for (int k = 0; k < 3; ++k) normals.row(mesh.triangles(f, k)) += area_normal.transpose();
+    }
+  }
+  const std::size_t count = corners_of.size();
+  std::vector<float> positions(3 * count), normal_data(3 * count), texcoords(2 * count);
+  std::vector<double> low(3, std::numeric_limits<double>::infinity());
+  std::vector<double> high(3, -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto [v, t] = corners_of[i];
+    Eigen::Vector3d normal = normals.row(v);
+    normal = normal.norm() > 0 ? normal.normalized() : Eigen::Vector3d(0, 0, 1);
+    for (int k = 0; k < 3; ++k) {
+      positions[3 * i + k] = static_cast<float>(mesh.positions(v, k));
+      normal_data[3 * i + k] = static_cast<float>(normal[k]);
+      low[k] = std::min(low[k], static_cast<double>(positions[3 * i + k]));
+      high[k] = std::max(high[k], static_cast<double>(positions[3 * i + k]));
+    }
+    texcoords[2 * i] = static_cast<float>(uv(t, 0));
+    texcoords[2 * i + 1] = static_cast<float>(1.0 - uv(t, 1));  // glTF's t runs downwards
+  }
+
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "ricci";
+  tinygltf::Buffer buffer;
+  auto add_view = [&](const void* data, std::size_t bytes, int target) {
+    while (buffer.data.size() % 4 != 0) buffer.data.push_back(0);  // 4-byte alignment
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = buffer.data.size();
+    view.byteLength = bytes;
+    view.target = target;
+    const auto* first = static_cast<const unsigned char*>(data);
+    buffer.data.insert(buffer.data.end(), first, first + bytes);
+    model.bufferViews.push_back(view);
+    return static_cast<int>(model.bufferViews.size() - 1);
+  };
+  auto add_accessor = [&](int view, int component, int type, std::size_t elements) {
+    tinygltf::Accessor accessor;
+    accessor.bufferView = view;
+    accessor.componentType = component;
+    accessor.type = type;
+    accessor.count = elements;
+    model.accessors.push_back(accessor);
+    return static_cast<int>(model.accessors.size() - 1);
+  };
+  const int position_accessor = add_accessor(
+      add_view(positions.data(), positions.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
+  model.accessors[position_accessor].minValues = low;
+  model.accessors[position_accessor].maxValues = high;
+  const int normal_accessor =
+      add_accessor(add_view(normal_data.data(), normal_data.size() * sizeof(float),
+                            TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
+  const int uv_accessor = add_accessor(
+      add_view(texcoords.data(), texcoords.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, count);
+  const int index_accessor =
+      add_accessor(add_view(indices.data(), indices.size() * sizeof(std::uint32_t),
+                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
+  const int image_view = add_view(texture.data(), texture.size(), 0);
+  model.bufferViews[image_view].target = 0;  // images are not vertex data
+  buffer.data.resize((buffer.data.size() + 3) / 4 * 4, 0);
+  model.buffers.push_back(std::move(buffer));
+
+  tinygltf::Image image;
+  image.name = "texture";
+  image.bufferView = image_view;
+  image.mimeType = mime;
+  model.images.push_back(image);
+  tinygltf::Sampler sampler;
+  sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  sampler.wrapS = TINYGLTF_TEXTURE_WRAP_REPEAT;
+  sampler.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
+  model.samplers.push_back(sampler);
+  tinygltf::Texture gl_texture;
+  gl_texture.sampler = 0;
+  gl_texture.source = 0;
+  model.textures.push_back(gl_texture);
+  tinygltf::Material material;
+  material.name = ObjMaterial{}.name;
+  material.pbrMetallicRoughness.baseColorTexture.index = 0;
+  material.pbrMetallicRoughness.metallicFactor = 0.0;
+  material.pbrMetallicRoughness.roughnessFactor = 0.9;
+  material.doubleSided = true;
+  model.materials.push_back(material);
+
+  tinygltf::Primitive primitive;
+  primitive.attributes["POSITION"] = position_accessor;
+  if (options.normals) primitive.attributes["NORMAL"] = normal_accessor;
+  primitive.attributes["TEXCOORD_0"] = uv_accessor;
+  primitive.indices = index_accessor;
+  primitive.material = 0;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Mesh gl_mesh;
+  gl_mesh.name = fs::path(path).stem().string();
+  gl_mesh.primitives.push_back(primitive);
+  model.meshes.push_back(gl_mesh);
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.name = gl_mesh.name;
+  model.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+
+  write_file_atomically(path, [&](std::ostream& out) {
+    tinygltf::TinyGLTF writer;
+    if (!writer.WriteGltfSceneToStream(&model, out, false, true)) {
+      throw std::runtime_error("tinygltf could not write the glTF binary");
+    }
+  });
+#endif
+}
+
+}  // namespace ricci
