@@ -68,10 +68,13 @@ FaceMeasure measure_face(const Eigen::Vector3d (&p)[3], const Eigen::Vector2d (&
   return m;
 }
 
-}  // namespace
-
-Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
-                              const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+/// Checks the shapes and indices of a layout, then measures every face (in parallel).
+std::vector<FaceMeasure> measure_faces(const char* function, const Mesh& mesh,
+                                       const Triangles& uv_triangles,
+                                       const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  auto invalid = [function](const std::string& what) {
+    throw InvalidInput(std::string(function) + ": " + what);
+  };
   const int num_faces = mesh.num_faces();
   if (num_faces == 0) invalid("the mesh has no faces");
   if (uv_triangles.rows() != num_faces) {
@@ -100,8 +103,6 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
     }
   }
 
-  // The per-face measures in parallel; the sums below stay sequential (their rounding depends
-  // on the order).
   std::vector<FaceMeasure> faces(static_cast<std::size_t>(num_faces));
   parallel::for_each(
       num_faces,
@@ -115,6 +116,21 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
         faces[static_cast<std::size_t>(f)] = measure_face(p, q);
       },
       parallel::kDefaultMinChunk / 4);
+  return faces;
+}
+
+bool usable_layout(const FaceMeasure& m) {
+  return std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0;
+}
+
+}  // namespace
+
+Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
+                              const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  const int num_faces = mesh.num_faces();
+  // The sums below stay sequential (their rounding depends on the order).
+  const std::vector<FaceMeasure> faces =
+      measure_faces("measure_distortion", mesh, uv_triangles, uv);
   Distortion d;
   double twice_surface = 0, twice_layout = 0;
   for (int f = 0; f < num_faces; ++f) {
@@ -193,6 +209,41 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
   } else {
     d.angle_distortion_mean = d.angle_distortion_max = nan;
   }
+  return d;
+}
+
+FaceDistortion measure_face_distortion(const Mesh& mesh, const Triangles& uv_triangles,
+                                       const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  const std::vector<FaceMeasure> faces =
+      measure_faces("measure_face_distortion", mesh, uv_triangles, uv);
+  double twice_surface = 0, twice_layout = 0;
+  for (const FaceMeasure& m : faces) {
+    if (std::isfinite(m.twice_area)) twice_surface += m.twice_area;
+    if (std::isfinite(m.twice_layout_area)) twice_layout += std::abs(m.twice_layout_area);
+  }
+  if (!(std::isfinite(twice_surface) && twice_surface > 0)) {
+    throw InvalidInput("measure_face_distortion: the mesh has " +
+                       std::string(std::isfinite(twice_surface) ? "zero" : "non-finite") +
+                       " total area in R^3");
+  }
+  const Eigen::Index num_faces = static_cast<Eigen::Index>(faces.size());
+  FaceDistortion d;
+  d.log_area.resize(num_faces);
+  d.angle.resize(num_faces);
+  d.flipped.assign(faces.size(), 0);
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  parallel::for_each(num_faces, [&](std::int64_t f) {
+    const FaceMeasure& m = faces[static_cast<std::size_t>(f)];
+    d.flipped[static_cast<std::size_t>(f)] = m.twice_layout_area < 0;
+    if (!usable_layout(m) || !(std::isfinite(m.twice_area) && m.twice_area > 0)) {
+      d.log_area[f] = d.angle[f] = nan;
+      return;
+    }
+    const double layout = std::abs(m.twice_layout_area) / twice_layout;
+    const double area = m.twice_area / twice_surface;
+    d.log_area[f] = std::log(layout / area);
+    d.angle[f] = m.angle_distortion;
+  });
   return d;
 }
 

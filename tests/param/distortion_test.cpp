@@ -181,6 +181,86 @@ TEST(Distortion, FlippedAndDegenerateFacesAreCounted) {
   EXPECT_NEAR(d.angle_distortion_max, 1.0, kTight);
 }
 
+TEST(FaceDistortion, HalfTheFacesStretchedGivesTwoValuesPerFigure) {
+  // As HalfTheFacesStretchedByAreaFactorTwo, face by face: A/Abar = 4/3 and angle distortion 2
+  // on the left half, 2/3 and 1 on the right.
+  const Mesh grid = make_grid(4, 3);
+  const UV uv = mapped(planar(grid), [](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return {p.x() <= 0.5 ? 2 * p.x() : p.x() + 0.5, p.y()};
+  });
+  const FaceDistortion faces = measure_face_distortion(grid, grid.triangles, uv);
+  ASSERT_EQ(faces.log_area.size(), grid.num_faces());
+  ASSERT_EQ(faces.angle.size(), grid.num_faces());
+  ASSERT_EQ(faces.flipped.size(), static_cast<std::size_t>(grid.num_faces()));
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    double x = 0;
+    for (int c = 0; c < 3; ++c) x += grid.positions(grid.triangles(f, c), 0) / 3;
+    const bool left = x < 0.5;
+    EXPECT_NEAR(faces.log_area[f], std::log(left ? 4.0 / 3 : 2.0 / 3), 1e-14) << f;
+    EXPECT_NEAR(faces.angle[f], left ? 2.0 : 1.0, 1e-14) << f;
+    EXPECT_EQ(faces.flipped[f], 0);
+  }
+}
+
+TEST(FaceDistortion, AgreesWithTheStatisticsAndMarksFlippedAndDegenerateFaces) {
+  // The faces of FlippedAndDegenerateFacesAreCounted: the mirrored face keeps its |A| (ln 4/3)
+  // and conformality and is flagged; the collapsed and the NaN face have no figures.
+  const Mesh grid = make_grid(2, 2);
+  Triangles uv_triangles(8, 3);
+  UV uv(24, 2);
+  for (int f = 0; f < 8; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      uv_triangles(f, c) = 3 * f + c;
+      uv.row(3 * f + c) = grid.positions.row(grid.triangles(f, c)).leftCols<2>();
+    }
+  }
+  for (int c = 0; c < 3; ++c) uv(c, 0) = -uv(c, 0);
+  uv.row(3) << 0, 0;
+  uv.row(4) << 1, 1;
+  uv.row(5) << 0.5, 0.5;
+  uv(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  const FaceDistortion faces = measure_face_distortion(grid, uv_triangles, uv);
+  EXPECT_EQ(faces.flipped, (std::vector<char>{1, 0, 0, 0, 0, 0, 0, 0}));
+  for (int f : {0, 3, 4, 5, 6, 7}) {
+    EXPECT_NEAR(faces.log_area[f], std::log(4.0 / 3), kTight) << f;
+    EXPECT_NEAR(faces.angle[f], 1.0, kTight) << f;
+  }
+  for (int f : {1, 2}) {
+    EXPECT_TRUE(std::isnan(faces.log_area[f])) << f;
+    EXPECT_TRUE(std::isnan(faces.angle[f])) << f;
+  }
+}
+
+TEST(FaceDistortion, CurvedDiskMatchesTheWholeMeshFigures) {
+  // The per-face values are the terms of measure_distortion's statistics.
+  const Mesh disk = make_disk(6, 0.6);
+  const UV uv = planar(disk);
+  const Distortion d = measure_distortion(disk, disk.triangles, uv);
+  const FaceDistortion faces = measure_face_distortion(disk, disk.triangles, uv);
+  EXPECT_NEAR(faces.log_area.minCoeff(), d.log_area_min, kTight);
+  EXPECT_NEAR(faces.log_area.maxCoeff(), d.log_area_max, kTight);
+  EXPECT_NEAR(faces.angle.maxCoeff(), d.angle_distortion_max, kTight);
+}
+
+TEST(FaceDistortion, FacesOfZeroAreaGetNoFigures) {
+  // measure_distortion refuses a face of zero 3D area; the per-face figures leave it out.
+  Mesh grid = make_grid(2, 2);
+  const UV uv = planar(grid);
+  grid.positions.row(grid.triangles(4, 2)) = grid.positions.row(grid.triangles(4, 1));
+  const FaceDistortion faces = measure_face_distortion(grid, grid.triangles, uv);
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    const Eigen::Vector3d a = grid.positions.row(grid.triangles(f, 0));
+    const Eigen::Vector3d b = grid.positions.row(grid.triangles(f, 1));
+    const Eigen::Vector3d c = grid.positions.row(grid.triangles(f, 2));
+    if ((b - a).cross(c - a).norm() == 0) {
+      EXPECT_TRUE(std::isnan(faces.log_area[f])) << f;
+    } else {
+      EXPECT_TRUE(std::isfinite(faces.log_area[f])) << f;
+    }
+  }
+  EXPECT_THROW(measure_face_distortion(Mesh{}, Triangles(0, 3), uv), InvalidInput);
+}
+
 TEST(Distortion, AllFacesDegenerate) {
   // Every face collapsed to a point: A = 0 everywhere, E = sum Abar = 1, no statistics.
   const Mesh grid = make_grid(2, 1);

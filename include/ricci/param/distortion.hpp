@@ -3,6 +3,8 @@
 /// How good a parameterization is (THEORY.md section 8): area and angle distortion of the map
 /// from the 3D triangles to their layout, flipped faces, cones, seam length.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
@@ -49,5 +51,26 @@ struct Distortion {
 ///        faces, an index is out of range, or a 3D face has zero or non-finite area
 Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
                               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv);
+
+/// The per-face figures behind Distortion, for pictures and viewers that colour faces by them.
+struct FaceDistortion {
+  /// #F values ln(|A_f| / Abar_f), both areas normalised as in Distortion (flipped faces by the
+  /// size of their layout area); NaN where the layout area is zero or not finite, or where the 3D
+  /// area is.
+  Eigen::VectorXd log_area;
+  /// #F values sigma_max / sigma_min (>= 1) of the linear map from the 3D triangle to its layout,
+  /// as in Distortion; NaN where log_area is.
+  Eigen::VectorXd angle;
+  /// #F flags: 1 where the layout triangle is flipped (signed area < 0), else 0.
+  std::vector<char> flipped;
+};
+
+/// Measures every face of a layout: the values whose statistics measure_distortion reports.
+/// Unlike measure_distortion it accepts faces of zero 3D area (their values are NaN).
+/// \param mesh, uv_triangles, uv as measure_distortion
+/// \throw InvalidInput naming the mismatch when uv_triangles has not #F rows, the mesh has no
+///        faces, an index is out of range, or the total 3D area is zero or not finite
+FaceDistortion measure_face_distortion(const Mesh& mesh, const Triangles& uv_triangles,
+                                       const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv);
 
 }  // namespace ricci
