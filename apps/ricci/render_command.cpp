@@ -14,6 +14,7 @@
 #include "ricci/render/textured_obj.hpp"
 #include "ricci/render/tiling.hpp"
 #include "ricci/render/uv_plot.hpp"
+#include "ricci/render/web_viewer.hpp"
 
 namespace ricci::cli {
 namespace {
@@ -182,6 +183,54 @@ int run_render(const RenderArgs& args) {
   return kOk;
 }
 
+CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "view",
+      "Write an interactive viewer of an OBJ with texture coordinates (what `param` writes, "
+      "`vt u v w` of --faces refinement included) as one self-contained HTML file: the surface "
+      "with a checkerboard, seams and cones beside the texture layout; colouring by area or "
+      "angle distortion; hover a face for its figures. Open it in a browser (WebGL), no network "
+      "needed.");
+  cmd->add_option("MESH", args.mesh, "OBJ file with vt coordinates (f v/vt)")->required();
+  cmd->add_option("-o,--output", args.output, "output .html")->required();
+  cmd->add_option("--title", args.title, "the page's title (default: the mesh's file name)");
+  cmd->add_option("--checker", args.checker,
+                  "checker squares per unit of texture coordinate when the page opens")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e5));
+  cmd->add_option("--colour", args.colouring,
+                  "colouring when the page opens: checker, area (ln of the area ratio) or angle "
+                  "(sigma_max / sigma_min)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"checker", "area", "angle"}));
+  return cmd;
+}
+
+int run_view(const ViewArgs& args) {
+  const std::string ext = lower_extension(args.output);
+  if (ext != ".html" && ext != ".htm") {
+    throw InvalidInput(args.output + ": view writes an HTML page; give -o a .html file");
+  }
+  check_not_input(args.output, args.mesh);
+  const TexturedMesh textured = read_textured_obj(args.mesh);
+  WebViewerOptions options;
+  options.title =
+      args.title.empty() ? std::filesystem::path(args.mesh).filename().string() : args.title;
+  options.uv_weights = textured.uv_weights;
+  options.checker = args.checker;
+  options.colouring = args.colouring == "area"    ? ViewerColouring::Area
+                      : args.colouring == "angle" ? ViewerColouring::Angle
+                                                  : ViewerColouring::Checker;
+  const WebViewerInfo info =
+      write_web_viewer(args.output, textured.mesh, textured.uv_triangles, textured.uv, options);
+  std::cout << args.mesh << " -> " << args.output << " (" << (info.bytes + 512 * 1024) / (1 << 20)
+            << " MB)\n  " << info.vertices << " vertices, " << info.faces << " faces, "
+            << info.seam_edges << " seam edges, " << info.cones << " cones, " << info.flipped_faces
+            << " flipped faces"
+            << (info.projective ? ", projective texture coordinates (vt u v w)" : "") << "\n";
+  return kOk;
+}
+
 void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamResult& result) {
   if (folder.empty()) return;
   std::filesystem::create_directories(folder);
@@ -196,9 +245,33 @@ void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamR
             << " of its images)\n";
 }
 
-void write_param_pictures(const std::string& folder, const ParamResult& result) {
+void write_param_pictures(const std::string& folder, const ParamResult& result,
+                          const std::string& input, const CommonRefinement* refinement) {
   if (folder.empty()) return;
-  const ParamPicturesResult written = write_parameterization_pictures(folder, result);
+  ParamPicturesOptions options;
+  options.viewer.title = std::filesystem::path(input).filename().string() + ": " +
+                         std::to_string(result.cones.size()) + " cones";
+  // The refinement's page shows what -o holds: the exact map, projective per face.
+  options.web_viewer = refinement == nullptr;
+  ParamPicturesResult written = write_parameterization_pictures(folder, result, options);
+  if (refinement && web_viewer_available()) {
+    Mesh mesh;
+    mesh.positions = refinement->positions;
+    mesh.triangles = refinement->triangles;
+    const Eigen::Index corners = refinement->projective_uv.rows();
+    Triangles uv_triangles(mesh.triangles.rows(), 3);
+    for (Eigen::Index t = 0; t < uv_triangles.rows(); ++t) {
+      uv_triangles.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
+    }
+    Eigen::Matrix<double, Eigen::Dynamic, 2> uv(corners, 2);
+    WebViewerOptions viewer = options.viewer;
+    viewer.title += " (common refinement)";
+    viewer.uv_weights = refinement->projective_uv.col(2);
+    uv.col(0) = refinement->projective_uv.col(0).cwiseQuotient(viewer.uv_weights);
+    uv.col(1) = refinement->projective_uv.col(1).cwiseQuotient(viewer.uv_weights);
+    written.files.push_back((std::filesystem::path(folder) / "view.html").string());
+    write_web_viewer(written.files.back(), mesh, uv_triangles, uv, viewer);
+  }
   std::cerr << "pictures:";
   for (const std::string& file : written.files) std::cerr << " " << file;
   std::cerr << "\n";

@@ -1,13 +1,14 @@
 #pragma once
 /// \file
-/// The `render` subcommand (a textured OBJ to a PNG picture) and the pictures of
-/// `param --pictures DIR` and `spline --pictures DIR`.
+/// The `render` subcommand (a textured OBJ to a PNG picture), the `view` subcommand (to an
+/// interactive HTML page) and the pictures of `param --pictures DIR` and `spline --pictures DIR`.
 
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "ricci/param/common_refinement.hpp"
 #include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/spline/manifold_spline.hpp"
@@ -34,9 +35,25 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args);
 
 int run_render(const RenderArgs& args);
 
+struct ViewArgs {
+  std::string mesh;                   ///< OBJ with vt (vt u v w: projective)
+  std::string output;                 ///< .html
+  std::string title;                  ///< empty: the mesh's file name
+  double checker = 16;                ///< squares per texture unit when the page opens
+  std::string colouring = "checker";  ///< checker, area or angle when the page opens
+};
+
+/// Adds `view` (a textured OBJ to an interactive HTML page) to the program.
+CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args);
+
+int run_view(const ViewArgs& args);
+
 /// `param --pictures DIR`: writes the pictures of a parameterization into DIR and says so on
-/// stderr. No-op when `folder` is empty.
-void write_param_pictures(const std::string& folder, const ParamResult& result);
+/// stderr; view.html (the web viewer, titled with `input`'s file name) shows `refinement` when
+/// given (what `--faces refinement` writes), else the result's layout. No-op when `folder` is
+/// empty.
+void write_param_pictures(const std::string& folder, const ParamResult& result,
+                          const std::string& input, const CommonRefinement* refinement = nullptr);
 
 /// `param --geometry hyperbolic --pictures DIR`: tiling.svg and tiling.png, the fundamental
 /// domain in the Poincare disk and its images under the group the segment maps generate.

@@ -97,6 +97,14 @@ ParamPicturesResult write_parameterization_pictures(const std::string& folder,
     write_png(path("convergence.png"), plot_convergence(curves, plot));
     write_svg(path("convergence.svg"), plot_convergence_svg(curves, plot));
   }
+  if (options.web_viewer && web_viewer_available()) {
+    WebViewerOptions viewer = options.viewer;
+    if (viewer.title.empty()) {
+      viewer.title = "parameterization: " + std::to_string(mesh.num_vertices()) + " vertices, " +
+                     std::to_string(result.cones.size()) + " cones";
+    }
+    write_web_viewer(path("view.html"), mesh, uv_triangles, result.uv, viewer);
+  }
   return written;
 }
 

@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(ParamPictures, WritesAllFiveIntoANewFolder) {
+TEST(ParamPictures, WritesEveryFileIntoANewFolder) {
   ParamOptions param;
   param.cone_mode = ConeMode::None;
   const ParamResult result = parameterize(make_torus(24, 12), param);
@@ -29,7 +29,9 @@ TEST(ParamPictures, WritesAllFiveIntoANewFolder) {
   options.gradient_max_iterations = 300;
   const ParamPicturesResult written =
       write_parameterization_pictures(folder.string(), result, options);
-  ASSERT_EQ(written.files.size(), 5u);
+  // view.html besides the five pictures when this build has three.js.
+  const std::size_t files = web_viewer_available() ? 6 : 5;
+  ASSERT_EQ(written.files.size(), files);
   for (const std::string& file : written.files) EXPECT_TRUE(fs::is_regular_file(file)) << file;
   EXPECT_EQ(read_png((folder / "render.png").string()).width, 200);
   EXPECT_EQ(read_png((folder / "uv.png").string()).height, 240);
@@ -44,10 +46,16 @@ TEST(ParamPictures, WritesAllFiveIntoANewFolder) {
   EXPECT_TRUE(written.gradient_ran);
   EXPECT_GT(written.gradient_iterations, 0);
   EXPECT_LE(written.gradient_iterations, 300);
-  // Nothing but the five pictures (no temporary files left behind).
-  int entries = 0;
+  if (web_viewer_available()) {
+    const std::string page = testing::read_text(folder / "view.html");
+    EXPECT_NE(page.find("\"format\": \"ricci-viewer-1\""), std::string::npos);
+    EXPECT_NE(page.find("\"faces\": " + std::to_string(result.mesh.num_faces())),
+              std::string::npos);
+  }
+  // Nothing but those files (no temporary files left behind).
+  std::size_t entries = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(folder)) ++entries;
-  EXPECT_EQ(entries, 5);
+  EXPECT_EQ(entries, files);
 }
 
 TEST(ParamPictures, SkipsTheGradientFlowOnLargeMeshes) {
@@ -63,7 +71,7 @@ TEST(ParamPictures, SkipsTheGradientFlowOnLargeMeshes) {
   const ParamPicturesResult written = write_parameterization_pictures(
       (testing::render_tmp_dir() / "param_pictures_small").string(), result, options);
   EXPECT_FALSE(written.gradient_ran);
-  EXPECT_EQ(written.files.size(), 5u);
+  EXPECT_EQ(written.files.size(), web_viewer_available() ? 6u : 5u);
 }
 
 TEST(ParamPictures, FlatMeshWritesItsPictures) {
@@ -80,7 +88,7 @@ TEST(ParamPictures, FlatMeshWritesItsPictures) {
   const ParamPicturesResult written = write_parameterization_pictures(
       (testing::render_tmp_dir() / "param_pictures_flat").string(), result, options);
   EXPECT_GE(written.files.size(), 3u);
-  EXPECT_LE(written.files.size(), 5u);
+  EXPECT_LE(written.files.size(), 6u);
 }
 
 TEST(ParamPictures, RefusesAResultWithoutLayout) {

@@ -11,6 +11,7 @@
 #include "ricci/render/convergence_plot.hpp"
 #include "ricci/render/render_mesh.hpp"
 #include "ricci/render/uv_plot.hpp"
+#include "ricci/render/web_viewer.hpp"
 
 namespace ricci {
 
@@ -24,6 +25,10 @@ struct ParamPicturesOptions {
   int gradient_max_iterations = 5000;  ///< its iteration limit
   double gradient_max_seconds = 20;    ///< and its time limit (seconds of wall time)
   double gradient_tolerance = 1e-12;   ///< it stops there if it gets that far
+  /// view.html, the interactive viewer (web_viewer.hpp), when this build has three.js
+  /// (web_viewer_available); left out silently otherwise.
+  bool web_viewer = true;
+  WebViewerOptions viewer;  ///< its options (its title: empty gives one from the result)
 };
 
 /// What write_parameterization_pictures wrote.
@@ -35,9 +40,10 @@ struct ParamPicturesResult {
   std::string gradient_status;    ///< flow_status_name of how it stopped
 };
 
-/// Writes render.png, uv.svg, uv.png, convergence.png and convergence.svg into `folder`
-/// (created when missing), each atomically. The convergence plot is left out when every error
-/// of the flows is exactly 0 (nothing to draw on a logarithmic axis).
+/// Writes render.png, uv.svg, uv.png, convergence.png, convergence.svg and view.html into
+/// `folder` (created when missing), each atomically. The convergence plot is left out when every
+/// error of the flows is exactly 0 (nothing to draw on a logarithmic axis); view.html as
+/// options.web_viewer says.
 /// \pre result.converged and result describes one connected component (what parameterize makes)
 /// \throw InvalidInput when the result has no layout
 /// \throw IoError naming the folder or file when it cannot be written
