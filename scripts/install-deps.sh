@@ -11,6 +11,9 @@ packages=(
   libgtest-dev libbenchmark-dev
   # Python module (built against Debian's own /usr/bin/python3) and its tests; pictures.
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # `pip install ./` offline (setup.py, tests/python/pip_install_test.sh): Debian's pip,
+  # setuptools and wheel, and venv.
+  python3-pip python3-setuptools python3-wheel python3-venv
   libcairo2-dev
   # `ricci batch` on MPI ranks (optional at build time; its test runs mpirun).
   openmpi-bin libopenmpi-dev

@@ -100,6 +100,7 @@ from ._ricci import (
     parse_curvature,
     polish_angles,
 )
+from ._ricci import __version__
 from ._batch import batch, batch_summary
 from ._flow import flow
 from ._mesh import info, read_mesh, repair, validate, write_obj

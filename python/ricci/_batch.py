@@ -15,8 +15,9 @@ def _is_executable(path):
 
 def find_program(program=None):
     """The ``ricci`` executable that ``batch`` runs: ``program`` when given, else the first
-    executable of: $RICCI_EXECUTABLE, the build tree's ``ricci`` (this module was built beside
-    it), the installed ``<prefix>/bin/ricci`` (found from the package's folder, then at the
+    executable of: $RICCI_EXECUTABLE, the one inside the package (``ricci/bin/ricci``, where
+    ``pip install`` puts it), the build tree's ``ricci`` (this module was built beside it), the
+    installed ``<prefix>/bin/ricci`` (found from the package's folder, then at the
     configured prefix), ``ricci`` on PATH. Raises ``ricci.Error`` when none is."""
     if program is not None:
         path = os.fspath(program)
@@ -30,6 +31,8 @@ def find_program(program=None):
             raise _ricci.Error(
                 f"ricci.batch: RICCI_EXECUTABLE={from_env!r} is not an executable file")
         return os.path.abspath(from_env)
+    # A pip-installed package carries its own program (setup.py): ricci/bin/ricci.
+    candidates.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "bin", "ricci"))
     candidates.append(_ricci._default_program)
     if _ricci._program_from_package:
         package = os.path.dirname(os.path.abspath(_ricci.__file__))
