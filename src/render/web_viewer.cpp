@@ -19,6 +19,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/distortion.hpp"
+#include "ricci/render/render_mesh.hpp"
 #include "ricci/render/uv_chart.hpp"
 
 namespace ricci {
@@ -172,6 +173,7 @@ struct ViewerData {
   UvChart chart;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   double radius = 0;
+  Eigen::Vector3d view = Eigen::Vector3d::UnitZ(), up = Eigen::Vector3d::UnitY();  ///< camera
   WebViewerInfo info;
 };
 
@@ -226,6 +228,8 @@ ViewerData prepare(const Mesh& mesh, const Triangles& uv_triangles, const UV& uv
   }
   d.centre = 0.5 * (lo + hi);
   d.radius = 0.5 * (hi - lo).norm();
+  // The page opens looking from where render.png looks.
+  d.view = automatic_view(mesh, &d.up);
 
   WebViewerInfo& info = d.info;
   info.vertices = mesh.num_vertices();
@@ -266,6 +270,9 @@ void write_data(std::ostream& out, const Mesh& mesh, const Triangles& uv_triangl
       << ", \"degenerate_faces\": " << info.degenerate_faces;
   out << ",\n\"centre\": [" << json_number(d.centre.x()) << ", " << json_number(d.centre.y())
       << ", " << json_number(d.centre.z()) << "], \"radius\": " << json_number(d.radius);
+  out << ",\n\"view\": [" << json_number(d.view.x()) << ", " << json_number(d.view.y()) << ", "
+      << json_number(d.view.z()) << "], \"up\": [" << json_number(d.up.x()) << ", "
+      << json_number(d.up.y()) << ", " << json_number(d.up.z()) << "]";
   out << ",\n\"checker\": " << json_number(options.checker) << ", \"colouring\": \""
       << colouring_name(options.colouring) << "\"";
   out << ",\n\"log_area_range\": " << json_number(info.log_area_range)

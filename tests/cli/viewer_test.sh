@@ -9,6 +9,8 @@
 #   - draws both views: in a 1200 x 600 screenshot the left half (surface) and the right half
 #     (layout) each show the checkerboard (viewer_check.py halves), with seams, cones and a
 #     highlighted face where expected;
+#   - (the disk) answers real mouse events sent through the DevTools protocol: hover, drag,
+#     wheel, the checker slider and the colouring menu (viewer_check.py interact);
 # and the surface divides by w: the refinement's projective page and its linear twin
 # (.linear.obj: the same layout, uv interpolated linearly) draw the same layout but different
 # surfaces.
@@ -126,9 +128,14 @@ grep -q 'projective uv' exact_pictures.dom && ok || fail "exact pictures: stats"
 shot torus torus.html "" --seams
 shot disk disk.html "#face=700" --seams --highlight
 shot pictures genus2_pictures/view.html "" --seams --cones
-shot exact_pictures exact_pictures/view.html "" --seams --cones
 shot exact exact.html "" --seams --cones
 shot linear linear.html "" --seams --cones
+# Real mouse events through the DevTools protocol: hovering either view shows the face's figures
+# (compared with the data block), dragging turns the surface, the wheel zooms the layout, the
+# checker slider and the colouring menu redraw both.
+if problems="$("$PYTHON" "$check" interact disk.html "$CHROMIUM" "${browser_flags[@]}")"; then ok
+else fail "disk: interaction" "$(tr '\n' ';' <<<"$problems")"; fi
+
 # The checks can fail: a page whose layout shader does not compile reports the error, and its
 # screenshot has no layout.
 sed 's/void main() { gl_FragColor = vec4(faceColour(), 1.0); }/void main() { broken; }/' \
