@@ -62,7 +62,9 @@ def test_batch_records_outputs_and_rerun(meshes, tmp_path):
     # Each UV OBJ is the one `ricci param` writes on its own.
     program = ricci._batch.find_program()
     for r in records[:3]:
-        alone = tmp_path / ("alone-" + r["key"])
+        # The same file name in another folder: the OBJ names its material by file name.
+        (tmp_path / "alone").mkdir(exist_ok=True)
+        alone = tmp_path / "alone" / r["key"]
         subprocess.run([program, "param", r["input"], "-o", str(alone)], check=True,
                        capture_output=True)
         assert (out / r["key"]).read_bytes() == alone.read_bytes(), r["key"]
