@@ -11,18 +11,26 @@
 #include "ricci/render/param_pictures.hpp"
 #include "ricci/render/render_mesh.hpp"
 #include "ricci/render/spline_pictures.hpp"
+#include "ricci/render/textured_files.hpp"
 #include "ricci/render/textured_obj.hpp"
 #include "ricci/render/tiling.hpp"
 #include "ricci/render/uv_plot.hpp"
 #include "ricci/render/web_viewer.hpp"
 
 namespace ricci::cli {
+
 namespace {
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
+}
+
+/// Cones are read from the texture angles: glTF stores them in single precision, whose angle
+/// sums wander by ~1e-6 around 2 pi at seams, so a cone there must differ by more.
+double cone_tolerance_of(const std::string& mesh) {
+  return lower_extension(mesh) == ".glb" ? 1e-4 : 1e-6;
 }
 
 /// "auto" (zero), an axis ("x", "-z", "+y") or three numbers (as separate values or "1,1,1").
@@ -132,7 +140,7 @@ int run_render(const RenderArgs& args) {
   check_not_input(args.output, args.mesh);
   if (!args.uv_output.empty()) check_not_input(args.uv_output, args.mesh);
 
-  TexturedMesh textured = read_textured_obj(args.mesh);
+  TexturedMesh textured = read_textured_file(args.mesh);
   if (args.repair) {
     // Texture coordinates belong to face corners, so they follow the faces: kept faces keep
     // their uv corners, reversed faces exchange corners 1 and 2 like their vertices.
@@ -148,6 +156,7 @@ int run_render(const RenderArgs& args) {
     textured.uv_triangles = std::move(uv_triangles);
   }
   RenderOptions options;
+  options.cone_tolerance = cone_tolerance_of(args.mesh);
   options.width = args.width;
   options.height = args.height;
   options.view = parse_direction("--view", args.view);
@@ -169,6 +178,7 @@ int run_render(const RenderArgs& args) {
             << rendered.visible_cones << " visible)\n";
   if (!args.uv_output.empty()) {
     UvPlotOptions uv_options;
+    uv_options.cone_tolerance = cone_tolerance_of(args.mesh);
     UvPlotInfo info;
     if (uv_ext == ".svg") {
       write_svg(args.uv_output, plot_uv_layout_svg(textured.mesh, textured.uv_triangles,
@@ -212,8 +222,9 @@ int run_view(const ViewArgs& args) {
     throw InvalidInput(args.output + ": view writes an HTML page; give -o a .html file");
   }
   check_not_input(args.output, args.mesh);
-  const TexturedMesh textured = read_textured_obj(args.mesh);
+  const TexturedMesh textured = read_textured_file(args.mesh);
   WebViewerOptions options;
+  options.cone_tolerance = cone_tolerance_of(args.mesh);
   options.title =
       args.title.empty() ? std::filesystem::path(args.mesh).filename().string() : args.title;
   options.uv_weights = textured.uv_weights;

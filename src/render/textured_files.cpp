@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -98,6 +99,129 @@ ObjMaterialFiles write_obj_material(const std::string& obj_path, const std::stri
         << "map_Kd " << map << "\n";
   });
   return files;
+}
+
+TexturedMesh read_glb(const std::string& path) {
+#ifndef RICCI_HAVE_GLTF
+  throw IoError(path + ": this ricci was built without tinygltf (install libtinygltf-dev)");
+#else
+  tinygltf::TinyGLTF loader;
+  // The texture's bytes are not needed: no image decoder.
+  loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                           const unsigned char*, int, void*) { return true; },
+                        nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  if (!loader.LoadBinaryFromFile(&model, &error, &warning, path)) {
+    throw IoError(path + ": not a glTF binary file ricci can read: " + error);
+  }
+  if (model.meshes.empty()) throw InvalidInput(path + ": the glTF file holds no mesh");
+  // Reads accessor `a` as doubles (float components) or indices (unsigned integers).
+  auto floats = [&](int a, int components) {
+    const tinygltf::Accessor& accessor = model.accessors.at(a);
+    const tinygltf::BufferView& view = model.bufferViews.at(accessor.bufferView);
+    const std::vector<unsigned char>& data = model.buffers.at(view.buffer).data;
+    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+      throw InvalidInput(path + ": accessor " + std::to_string(a) + " is not float");
+    }
+    const std::size_t stride = view.byteStride > 0 ? view.byteStride : 4 * components;
+    Eigen::MatrixXd values(static_cast<Eigen::Index>(accessor.count), components);
+    for (std::size_t i = 0; i < accessor.count; ++i) {
+      const std::size_t at = view.byteOffset + accessor.byteOffset + i * stride;
+      if (at + 4 * components > data.size()) throw IoError(path + ": an accessor overruns");
+      for (int k = 0; k < components; ++k) {
+        float x;
+        std::memcpy(&x, data.data() + at + 4 * k, 4);
+        values(static_cast<Eigen::Index>(i), k) = x;
+      }
+    }
+    return values;
+  };
+  auto integers = [&](int a) {
+    const tinygltf::Accessor& accessor = model.accessors.at(a);
+    const tinygltf::BufferView& view = model.bufferViews.at(accessor.bufferView);
+    const std::vector<unsigned char>& data = model.buffers.at(view.buffer).data;
+    const int size = accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT     ? 4
+                     : accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                     : accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 1
+                                                                                        : 0;
+    if (size == 0) throw InvalidInput(path + ": indices must be unsigned integers");
+    std::vector<long> values(accessor.count);
+    for (std::size_t i = 0; i < accessor.count; ++i) {
+      const std::size_t at = view.byteOffset + accessor.byteOffset + i * size;
+      if (at + size > data.size()) throw IoError(path + ": an accessor overruns");
+      std::uint32_t x = 0;
+      std::memcpy(&x, data.data() + at, size);  // little endian, as glTF is
+      values[i] = x;
+    }
+    return values;
+  };
+  TexturedMesh result;
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector2d> uvs;
+  std::vector<std::array<int, 3> > faces, uv_faces;
+  std::map<std::array<double, 3>, int> welded;
+  for (const tinygltf::Primitive& p : model.meshes.front().primitives) {
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != -1) continue;
+    if (!p.attributes.count("POSITION") || !p.attributes.count("TEXCOORD_0")) {
+      throw InvalidInput(path + ": a primitive has no POSITION or no TEXCOORD_0");
+    }
+    const Eigen::MatrixXd xyz = floats(p.attributes.at("POSITION"), 3);
+    const Eigen::MatrixXd st = floats(p.attributes.at("TEXCOORD_0"), 2);
+    if (st.rows() != xyz.rows()) throw InvalidInput(path + ": TEXCOORD_0 and POSITION differ");
+    std::vector<int> vertex(static_cast<std::size_t>(xyz.rows()));
+    const int uv_base = static_cast<int>(uvs.size());
+    for (Eigen::Index i = 0; i < xyz.rows(); ++i) {
+      const std::array<double, 3> key = {xyz(i, 0), xyz(i, 1), xyz(i, 2)};
+      const auto [it, fresh] = welded.emplace(key, static_cast<int>(positions.size()));
+      if (fresh) positions.emplace_back(xyz(i, 0), xyz(i, 1), xyz(i, 2));
+      vertex[static_cast<std::size_t>(i)] = it->second;
+      uvs.emplace_back(st(i, 0), 1.0 - st(i, 1));
+    }
+    std::vector<long> index;
+    if (p.indices >= 0) {
+      index = integers(p.indices);
+    } else {
+      for (Eigen::Index i = 0; i < xyz.rows(); ++i) index.push_back(i);
+    }
+    for (std::size_t i = 0; i + 2 < index.size(); i += 3) {
+      std::array<int, 3> face{}, uv_face{};
+      for (int c = 0; c < 3; ++c) {
+        const long k = index[i + c];
+        if (k < 0 || k >= xyz.rows()) throw InvalidInput(path + ": an index is out of range");
+        face[c] = vertex[static_cast<std::size_t>(k)];
+        uv_face[c] = uv_base + static_cast<int>(k);
+      }
+      faces.push_back(face);
+      uv_faces.push_back(uv_face);
+    }
+  }
+  if (faces.empty()) throw InvalidInput(path + ": the glTF file's first mesh has no triangles");
+  result.mesh.positions.resize(static_cast<Eigen::Index>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    result.mesh.positions.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
+  }
+  result.mesh.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  result.uv_triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      result.mesh.triangles(static_cast<Eigen::Index>(f), c) = faces[f][c];
+      result.uv_triangles(static_cast<Eigen::Index>(f), c) = uv_faces[f][c];
+    }
+  }
+  result.uv.resize(static_cast<Eigen::Index>(uvs.size()), 2);
+  for (std::size_t t = 0; t < uvs.size(); ++t) {
+    result.uv.row(static_cast<Eigen::Index>(t)) = uvs[t].transpose();
+  }
+  return result;
+#endif
+}
+
+TexturedMesh read_textured_file(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return extension == ".glb" ? read_glb(path) : read_textured_obj(path);
 }
 
 bool glb_supported() {

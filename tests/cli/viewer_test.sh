@@ -97,6 +97,10 @@ ricci param genus2.obj --scheme vertex-scaling --faces refinement -o genus2_exac
   --pictures exact_pictures
 
 ricci view torus_uv.obj -o torus.html
+# glTF binary as param writes it: read back (seams welded again) and shown like the OBJ.
+ricci param torus.obj -o torus.glb
+ricci view torus.glb -o torus_glb.html
+grep -q 'seam edges, 0 cones' "$WORK/out.txt" && ok || fail "view glb" "$(cat "$WORK/out.txt")"
 ricci view disk_uv.obj -o disk.html --title "disk <test>"
 grep -q '<title>disk &lt;test&gt;</title>' disk.html && ok || fail "view --title" "not in <title>"
 ricci view genus2_uv.obj -o genus2.html --colour area
@@ -114,6 +118,7 @@ grep -q 'projective texture coordinates (vt u v w)' "$WORK/out.txt" && ok ||
 [[ $? == 2 && ! -e plain.html ]] && ok || fail "view without vt" "not refused"
 
 load torus torus.html
+load torus_glb torus_glb.html
 load genus2 genus2.html
 load disk disk.html "#face=700"
 load pictures genus2_pictures/view.html
@@ -126,6 +131,7 @@ grep -q '"projective": true' exact_pictures/view.html && ok || fail "exact pictu
 grep -q 'projective uv' exact_pictures.dom && ok || fail "exact pictures: stats" "not projective"
 
 shot torus torus.html "" --seams
+shot torus_glb torus_glb.html "" --seams
 shot disk disk.html "#face=700" --seams --highlight
 shot pictures genus2_pictures/view.html "" --seams --cones
 shot exact exact.html "" --seams --cones

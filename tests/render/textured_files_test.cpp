@@ -83,7 +83,7 @@ bool keep_bytes(tinygltf::Image* image, const int, std::string*, std::string*, i
   return true;
 }
 
-tinygltf::Model read_glb(const std::string& path) {
+tinygltf::Model load_glb_model(const std::string& path) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_bytes, nullptr);
   tinygltf::Model model;
@@ -107,7 +107,7 @@ TEST(TexturedFiles, GlbHoldsTheMeshItsTextureCoordinatesAndTheTexture) {
   const ParamResult param = parameterize(torus);  // a torus: seams, so vertices split
   const std::string path = (testing::render_tmp_dir() / "torus.glb").string();
   write_glb(path, param.mesh, param.cut_mesh.triangles, param.uv);
-  const tinygltf::Model model = read_glb(path);
+  const tinygltf::Model model = load_glb_model(path);
   ASSERT_EQ(model.meshes.size(), 1u);
   ASSERT_EQ(model.meshes[0].primitives.size(), 1u);
   const tinygltf::Primitive& p = model.meshes[0].primitives[0];
@@ -151,6 +151,34 @@ TEST(TexturedFiles, GlbHoldsTheMeshItsTextureCoordinatesAndTheTexture) {
   EXPECT_EQ(model.materials[0].pbrMetallicRoughness.baseColorTexture.index, 0);
   EXPECT_EQ(p.material, 0);
   ASSERT_EQ(model.accessors[p.attributes.at("POSITION")].minValues.size(), 3u);
+}
+
+TEST(TexturedFiles, GlbReadsBackWithItsSeamsWelded) {
+  const Mesh torus = make_torus(16, 8);
+  const ParamResult param = parameterize(torus);
+  const std::string path = (testing::render_tmp_dir() / "torus_back.glb").string();
+  write_glb(path, param.mesh, param.cut_mesh.triangles, param.uv);
+  const TexturedMesh back = read_textured_file(path);
+  // The split seam vertices are one vertex again: the torus's own count and faces.
+  EXPECT_EQ(back.mesh.num_vertices(), torus.num_vertices());
+  ASSERT_EQ(back.mesh.num_faces(), torus.num_faces());
+  double worst = 0;
+  for (int f = 0; f < torus.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = back.mesh.triangles(f, c);
+      worst = std::max(
+          worst, (back.mesh.positions.row(v) - param.mesh.positions.row(param.mesh.triangles(f, c)))
+                     .cwiseAbs()
+                     .maxCoeff());
+      worst = std::max(worst, (back.uv.row(back.uv_triangles(f, c)) -
+                               param.uv.row(param.cut_mesh.triangles(f, c)))
+                                  .cwiseAbs()
+                                  .maxCoeff());
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_THROW(ricci::read_glb((testing::render_tmp_dir() / "material/mesh.mtl").string()),
+               IoError);
 }
 
 TEST(TexturedFiles, GlbRefusesWhatItCannotHold) {

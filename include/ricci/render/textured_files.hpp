@@ -9,6 +9,7 @@
 
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/render/image.hpp"
+#include "ricci/render/textured_obj.hpp"
 
 namespace ricci {
 
@@ -49,6 +50,18 @@ struct GlbOptions {
 ///        without tinygltf
 void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const GlbOptions& options = {});
+
+/// Reads glTF binary back (what write_glb writes, or any .glb whose first mesh has triangles with
+/// TEXCOORD_0): the triangles of every primitive of the first mesh, uv = (s, 1 - t); vertices that
+/// glTF split at seams are welded again where their positions are bit for bit equal, so that
+/// seams read as seams (TexturedMesh as read_textured_obj gives).
+/// \throw IoError when the file cannot be read or is not glTF binary, or ricci was built without
+///        tinygltf; InvalidInput when the mesh has no triangles or no texture coordinates
+TexturedMesh read_glb(const std::string& path);
+
+/// read_glb for a .glb file (any case), read_textured_obj otherwise: what `ricci render` and
+/// `ricci view` open.
+TexturedMesh read_textured_file(const std::string& path);
 
 /// True when write_glb is available (ricci was built with Debian's libtinygltf-dev).
 bool glb_supported();
