@@ -15,6 +15,10 @@ packages=(
   # setuptools and wheel, and venv.
   python3-pip python3-setuptools python3-wheel python3-venv
   libcairo2-dev
+  # The web viewer inlines Debian's three.js; its test opens the pages in headless Chromium.
+  libjs-three chromium
+  # glTF binary output (--format glb) and its read-back test.
+  libtinygltf-dev
   # `ricci batch` on MPI ranks (optional at build time; its test runs mpirun).
   openmpi-bin libopenmpi-dev
   # Fuzzing (fuzz/run.sh): clang++ with libFuzzer and the sanitizer runtimes.
