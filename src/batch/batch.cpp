@@ -446,6 +446,7 @@ BatchResult run_batch(const std::vector<BatchJob>& jobs, const std::string& out_
   result.records = std::move(records);
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   result.summary = summarize_batch(result.records, result.seconds);
+  result.summary.ran = result.ran;
   const std::string summary = summary_to_json(result.summary);
   write_file_atomically(result.summary_path, [&](std::ostream& out) { out << summary << "\n"; });
   return result;

@@ -141,9 +141,12 @@ std::string summary_to_json(const BatchSummary& summary) {
   }
   j["failed"] = failed;
   j["wall_seconds"] = number_or_null(summary.wall_seconds);
-  // Meshes of the summary over the run's minutes; 0 when the run took no measurable time.
+  // Meshes this run ran over its minutes (a resumed run's skipped meshes do not count); 0 when
+  // the run took no measurable time.
+  const int ran = summary.ran >= 0 ? summary.ran : summary.total;
+  j["ran"] = ran;
   const double per_minute = summary.wall_seconds > 0 && std::isfinite(summary.wall_seconds)
-                                ? summary.total / (summary.wall_seconds / 60.0)
+                                ? ran / (summary.wall_seconds / 60.0)
                                 : 0.0;
   j["meshes_per_minute"] = per_minute;
   // Messages are child output: replace invalid UTF-8 instead of throwing.

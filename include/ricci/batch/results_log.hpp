@@ -18,8 +18,8 @@ enum class MeshOutcome {
   BadInput,       ///< exit 2: unreadable or defective mesh, bad option (message as param prints)
   NotConverged,   ///< exit 3: the flow stopped short (the report is written, the OBJ is not)
   InternalError,  ///< exit 4, or any other status
-  OutOfMemory,    ///< exit 5 (an allocation failed under the memory limit), or killed by the
-                  ///< kernel's out-of-memory killer
+  OutOfMemory,    ///< exit 5: an allocation failed under the memory limit (a child the kernel's
+                  ///< out-of-memory killer ends dies of SIGKILL: Crashed, with that signal)
   Crashed,        ///< killed by a signal (SIGSEGV, SIGABRT, SIGKILL from outside, ...)
   TimedOut,       ///< stopped by the batch's --timeout
   SpawnFailed,    ///< the worker could not start `ricci param`

@@ -34,6 +34,8 @@ struct BatchSummary {
   /// ones.
   std::vector<double> all_seconds, all_angle_distortion, all_area_distortion;
   double wall_seconds = 0;  ///< the run that wrote it
+  /// Meshes that run ran (the others' records came from an earlier run); -1: unknown, all.
+  int ran = -1;
 };
 
 /// Percentiles by linear interpolation between order statistics (p50 of {1, 2, 3, 4} is 2.5).
