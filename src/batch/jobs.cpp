@@ -34,6 +34,17 @@ bool lies_under(const fs::path& inner, const fs::path& outer) {
   return !relative.empty() && *relative.begin() != "..";
 }
 
+/// `--format glb` (or `--format=glb`) among param options: the output is KEY.glb; the last
+/// --format given wins, as in param's parser.
+bool asks_for_glb(const std::vector<std::string>& options) {
+  bool glb = false;
+  for (std::size_t i = 0; i < options.size(); ++i) {
+    if (options[i] == "--format" && i + 1 < options.size()) glb = options[i + 1] == "glb";
+    if (options[i].starts_with("--format=")) glb = options[i] == "--format=glb";
+  }
+  return glb;
+}
+
 struct Entry {
   fs::path input;  // absolute, normal
   std::vector<std::string> options;
@@ -55,10 +66,10 @@ std::vector<BatchJob> make_jobs(const std::vector<Entry>& entries, const fs::pat
     job.key = entry.input.lexically_relative(root).generic_string();
     fs::path stem = out / fs::path(job.key);
     stem.replace_extension();
-    job.output = stem.string() + ".obj";
-    job.report = stem.string() + ".json";
     job.options = options;
     job.options.insert(job.options.end(), entry.options.begin(), entry.options.end());
+    job.output = stem.string() + (asks_for_glb(job.options) ? ".glb" : ".obj");
+    job.report = stem.string() + ".json";
     std::error_code error;
     const std::uintmax_t bytes = fs::file_size(entry.input, error);
     if (error) {

@@ -65,6 +65,16 @@ TEST(BatchJobs, AManifestGivesPerMeshOptionsAfterTheBatchsOwn) {
   EXPECT_EQ(jobs[1].options,
             (std::vector<std::string>{"--repair", "--cones", "one", "--tol=1e-9"}));
   EXPECT_EQ(jobs[1].output, (root / "o/sub/b.obj").string());
+  // --format glb, for every mesh or on one line: that mesh's output is KEY.glb.
+  std::ofstream(root / "m/glb.tsv") << "a.obj\t--format glb\nsub/b.off\n";
+  const std::vector<BatchJob> glb =
+      list_batch_jobs((root / "m/glb.tsv").string(), (root / "o").string(), {});
+  EXPECT_EQ(glb[0].output, (root / "o/a.glb").string());
+  EXPECT_EQ(glb[1].output, (root / "o/sub/b.obj").string());
+  EXPECT_EQ(
+      list_batch_jobs((root / "m/glb.tsv").string(), (root / "o").string(), {"--format=glb"})[1]
+          .output,
+      (root / "o/sub/b.glb").string());
 }
 
 TEST(BatchJobs, RefusalsNameTheProblem) {

@@ -18,7 +18,8 @@ struct BatchJob {
   /// common folder of a list of paths), with '/' separators: names the mesh in the results log,
   /// in the summary and in the outputs.
   std::string key;
-  /// The UV OBJ: OUTDIR/<key without its extension>.obj.
+  /// The UV OBJ: OUTDIR/<key without its extension>.obj (.glb when the options ask for
+  /// `--format glb`).
   std::string output;
   /// The JSON report of `ricci param`: OUTDIR/<key without its extension>.json.
   std::string report;
