@@ -187,13 +187,19 @@ std::vector<std::string> batch_child_environment(const BatchOptions& options, in
 
 namespace {
 
-MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std::string& worker) {
+/// A record naming the job, its worker and this ricci's version; the outcome still to fill in.
+MeshRecord record_for(const BatchJob& job, const std::string& worker) {
   MeshRecord record;
   record.key = job.key;
   record.input = job.input;
   record.options = job.options;
   record.worker = worker;
   record.version = version();
+  return record;
+}
+
+MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std::string& worker) {
+  MeshRecord record = record_for(job, worker);
   record.input_stamp = file_stamp(job.input);
   try {
     record.input_hash = hash_file(job.input);
@@ -294,12 +300,7 @@ MeshRecord run_batch_mesh(const BatchJob& job, const BatchOptions& options,
     return run_mesh(job, options, worker);
   } catch (const std::exception& e) {
     // The worker's own trouble (a folder it cannot create, memory): this mesh's record.
-    MeshRecord record;
-    record.key = job.key;
-    record.input = job.input;
-    record.options = job.options;
-    record.worker = worker;
-    record.version = version();
+    MeshRecord record = record_for(job, worker);
     record.outcome = MeshOutcome::SpawnFailed;
     record.message = e.what();
     record.finished_at = utc_now();
