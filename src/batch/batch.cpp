@@ -67,14 +67,29 @@ std::string error_message(const std::string& stderr_text) {
 
 /// Removes the temporary files write_file_atomically leaves when a child is killed: in the
 /// folder of each output, ".NAME.tmp.*" (of any process: no other writer uses these names).
-void remove_temporaries(const BatchJob& job) {
-  for (const std::string& target : {job.output, job.report}) {
-    const fs::path path(target);
-    const std::string prefix = "." + path.filename().string() + ".tmp.";
+/// Each folder is listed once, however many jobs write into it (a batch of 10^5 meshes in one
+/// folder would otherwise list it 10^5 times).
+void remove_temporaries(const std::vector<const BatchJob*>& jobs) {
+  std::map<fs::path, std::set<std::string>> names_by_folder;  // folder -> ".NAME.tmp."
+  for (const BatchJob* job : jobs) {
+    for (const std::string& target : {job->output, job->report}) {
+      const fs::path path(target);
+      names_by_folder[path.parent_path()].insert("." + path.filename().string() + ".tmp.");
+    }
+  }
+  for (const auto& [folder, prefixes] : names_by_folder) {
     std::error_code error;
-    for (fs::directory_iterator it(path.parent_path(), error), end; !error && it != end;
-         it.increment(error)) {
-      if (it->path().filename().string().starts_with(prefix)) fs::remove(it->path(), error);
+    for (fs::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
+      const std::string name = it->path().filename().string();
+      if (name.empty() || name[0] != '.') continue;
+      // NAME may itself hold ".tmp.": try each occurrence as the end of the prefix.
+      for (std::size_t tmp = name.find(".tmp."); tmp != std::string::npos;
+           tmp = name.find(".tmp.", tmp + 1)) {
+        if (prefixes.count(name.substr(0, tmp + 5)) > 0) {
+          fs::remove(it->path(), error);
+          break;
+        }
+      }
     }
   }
 }
@@ -274,7 +289,7 @@ MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std:
     record.message += text.str();
   }
   if (child.end == ChildEnd::Signaled || child.end == ChildEnd::TimedOut) {
-    remove_temporaries(job);
+    remove_temporaries({&job});
   }
   if (record.outcome == MeshOutcome::Ok && fs::exists(job.output, error)) {
     record.output = job.output;
@@ -380,7 +395,9 @@ BatchResult run_batch(const std::vector<BatchJob>& jobs, const std::string& out_
   // Largest first: the long meshes start early instead of ending the batch alone.
   std::stable_sort(pending.begin(), pending.end(),
                    [&](std::size_t a, std::size_t b) { return jobs[a].bytes > jobs[b].bytes; });
-  for (const std::size_t j : pending) remove_temporaries(jobs[j]);
+  std::vector<const BatchJob*> to_clean;
+  for (const std::size_t j : pending) to_clean.push_back(&jobs[j]);
+  remove_temporaries(to_clean);
 
   std::unique_ptr<BatchWorkers> local;
   if (workers == nullptr) {
