@@ -145,26 +145,38 @@ TEST(Distortion, HalfTheFacesStretchedByAreaFactorTwo) {
   EXPECT_EQ(d.flipped_faces, 0);
 }
 
+/// The 2 x 2 unit grid (8 faces of area 1/8), each face with its own three uv rows, laid out as
+/// itself except face 0 mirrored (flipped, same |A|), face 1 collapsed onto a line and face 2
+/// with a NaN coordinate.
+struct DamagedGrid {
+  Mesh grid = make_grid(2, 2);
+  Triangles uv_triangles = Triangles(8, 3);
+  UV uv = UV(24, 2);
+  DamagedGrid() {
+    for (int f = 0; f < 8; ++f) {
+      for (int c = 0; c < 3; ++c) {
+        uv_triangles(f, c) = 3 * f + c;
+        uv.row(3 * f + c) = grid.positions.row(grid.triangles(f, c)).leftCols<2>();
+      }
+    }
+    for (int c = 0; c < 3; ++c) uv(c, 0) = -uv(c, 0);
+    uv.row(3) << 0, 0;
+    uv.row(4) << 1, 1;
+    uv.row(5) << 0.5, 0.5;
+    uv(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  }
+};
+
 TEST(Distortion, FlippedAndDegenerateFacesAreCounted) {
   // The 2 x 2 unit grid (8 faces of area 1/8), each face with its own three uv rows, laid out as
   // itself except face 0 mirrored (flipped, same |A|), face 1 collapsed onto a line and face 2
   // with a NaN coordinate. Layout area 6/8, so A/Abar = 4/3 on the 5 good faces, -4/3 on the
   // flipped one and 0 on the degenerate ones:
   // E = (5 (1/3)^2 + (7/3)^2 + 2) / 8 = 1.
-  const Mesh grid = make_grid(2, 2);
-  Triangles uv_triangles(8, 3);
-  UV uv(24, 2);
-  for (int f = 0; f < 8; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      uv_triangles(f, c) = 3 * f + c;
-      uv.row(3 * f + c) = grid.positions.row(grid.triangles(f, c)).leftCols<2>();
-    }
-  }
-  for (int c = 0; c < 3; ++c) uv(c, 0) = -uv(c, 0);
-  uv.row(3) << 0, 0;
-  uv.row(4) << 1, 1;
-  uv.row(5) << 0.5, 0.5;
-  uv(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  const DamagedGrid damaged;
+  const Mesh& grid = damaged.grid;
+  const Triangles& uv_triangles = damaged.uv_triangles;
+  const UV& uv = damaged.uv;
 
   const Distortion d = measure_distortion(grid, uv_triangles, uv);
   EXPECT_EQ(d.flipped_faces, 1);
@@ -205,20 +217,10 @@ TEST(FaceDistortion, HalfTheFacesStretchedGivesTwoValuesPerFigure) {
 TEST(FaceDistortion, AgreesWithTheStatisticsAndMarksFlippedAndDegenerateFaces) {
   // The faces of FlippedAndDegenerateFacesAreCounted: the mirrored face keeps its |A| (ln 4/3)
   // and conformality and is flagged; the collapsed and the NaN face have no figures.
-  const Mesh grid = make_grid(2, 2);
-  Triangles uv_triangles(8, 3);
-  UV uv(24, 2);
-  for (int f = 0; f < 8; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      uv_triangles(f, c) = 3 * f + c;
-      uv.row(3 * f + c) = grid.positions.row(grid.triangles(f, c)).leftCols<2>();
-    }
-  }
-  for (int c = 0; c < 3; ++c) uv(c, 0) = -uv(c, 0);
-  uv.row(3) << 0, 0;
-  uv.row(4) << 1, 1;
-  uv.row(5) << 0.5, 0.5;
-  uv(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  const DamagedGrid damaged;
+  const Mesh& grid = damaged.grid;
+  const Triangles& uv_triangles = damaged.uv_triangles;
+  const UV& uv = damaged.uv;
   const FaceDistortion faces = measure_face_distortion(grid, uv_triangles, uv);
   EXPECT_EQ(faces.flipped, (std::vector<char>{1, 0, 0, 0, 0, 0, 0, 0}));
   for (int f : {0, 3, 4, 5, 6, 7}) {
