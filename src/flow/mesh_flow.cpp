@@ -387,23 +387,39 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options) {
 
 MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
                          const MeshFlowOptions& options) {
+  const auto start = Clock::now();
+  const Eigen::VectorXd lbar = input_edge_lengths(mesh, topology);
   bool kept_input_topology = false;
-  MeshFlowResult result =
-      mesh_flow_internal::flow_mesh_keeping_topology(mesh, topology, options, kept_input_topology);
+  MeshFlowResult result = mesh_flow_internal::flow_mesh_keeping_topology(
+      topology, lbar, make_conformal_structure(topology, lbar, options.structure), options,
+      kept_input_topology, start);
   if (kept_input_topology) result.topology = topology;
   return result;
 }
 
-MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const Mesh& mesh,
-                                                              const Topology& topology,
+MeshFlowResult flow_mesh(const FlowProblem& problem, const MeshFlowOptions& options) {
+  bool kept_input_topology = false;
+  MeshFlowResult result =
+      mesh_flow_internal::flow_mesh_keeping_topology(problem, options, kept_input_topology);
+  if (kept_input_topology) result.topology = problem.topology;
+  return result;
+}
+
+MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const FlowProblem& problem,
                                                               const MeshFlowOptions& options,
                                                               bool& kept_input_topology) {
-  const auto start = Clock::now();
+  return flow_mesh_keeping_topology(problem.topology, problem.input_lengths, problem.structure,
+                                    options, kept_input_topology, Clock::now());
+}
+
+MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
+    const Topology& topology, const Eigen::VectorXd& lbar, StructureResult structure_result,
+    const MeshFlowOptions& options, bool& kept_input_topology,
+    std::chrono::steady_clock::time_point start) {
   MeshFlowResult result;
   // result.topology is set at the end when flips changed the triangulation.
   const Topology& whole = topology;
-  const Eigen::VectorXd lbar = input_edge_lengths(mesh, whole);
-  result.structure = make_conformal_structure(whole, lbar, options.structure);
+  result.structure = std::move(structure_result);
   const ConformalStructure& structure = result.structure.structure;
   TargetSpec spec = options.target;
   // Zero curvature is the hyperbolic background's natural target (the uniformization metric).
@@ -515,6 +531,17 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const Mesh& mesh,
     result.converged = result.converged && out.flow.converged;
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
+  }
+  // The status and message of the first failed component (else of the first one).
+  for (std::size_t c = 0; c < result.components.size(); ++c) {
+    const FlowResult& flow = result.components[c].flow;
+    if (c == 0 || (!flow.converged && result.status == FlowStatus::Converged)) {
+      result.status = flow.status;
+      result.message = flow.message;
+      if (result.components.size() > 1 && !flow.converged) {
+        result.message = "component " + std::to_string(c) + ": " + flow.message;
+      }
+    }
   }
   // Without flips the caller holds the topology (a copy here would cost tens of milliseconds on
   // a million faces).

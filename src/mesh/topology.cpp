@@ -8,6 +8,7 @@
 #include "disjoint_sets.hpp"
 #include "parallel.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/build_counts.hpp"
 
 namespace ricci {
 namespace {
@@ -28,6 +29,7 @@ int Topology::num_referenced_vertices() const {
 }
 
 Topology build_topology(const Triangles& triangles, int num_vertices) {
+  const build_counting::Scope counted(build_counting::Kind::Topology);
   Topology t;
   const int nf = static_cast<int>(triangles.rows());
   t.num_vertices = num_vertices;

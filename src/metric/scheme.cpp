@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/mesh/build_counts.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
@@ -165,6 +166,7 @@ Scheme parse_scheme(const std::string& name) {
 }
 
 Eigen::VectorXd input_edge_lengths(const Mesh& mesh, const Topology& topology) {
+  const build_counting::Scope counted(build_counting::Kind::InputLengths);
   Eigen::VectorXd lengths(topology.num_edges);
   for (int e = 0; e < topology.num_edges; ++e) {
     lengths[e] = (mesh.positions.row(topology.edge_vertices(e, 0)) -
@@ -188,7 +190,9 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
                          std::to_string(lbar[e]));
     }
   }
+  // (The hyperbolic structure is made from a Euclidean one, counted there.)
   if (options.geometry == Geometry::Hyperbolic) return make_hyperbolic_structure(t, lbar, options);
+  const build_counting::Scope counted(build_counting::Kind::Structure);
   const int nv = t.num_vertices, ne = t.num_edges;
   // Each vertex's edges: for the schemes that fit radii to the lengths (vertex scaling starts
   // from gamma = 1 and needs none).

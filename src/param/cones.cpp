@@ -11,6 +11,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
+#include "ricci/mesh/build_counts.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
@@ -34,12 +35,12 @@ bool positive_definite_with_one_pin(const Eigen::SparseMatrix<double>& L) {
 }
 
 /// The cotangent Laplacian of the input metric's intrinsic Delaunay triangulation (#V by #V).
-Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Mesh& mesh, const Topology& t) {
+/// \param vertex_scaling the input lengths' vertex-scaling structure
+Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Topology& t,
+                                                         const Eigen::VectorXd& input_lengths,
+                                                         ConformalStructure s) {
   Topology flipped = t;
-  StructureOptions vertex_scaling;
-  vertex_scaling.scheme = Scheme::VertexScaling;
-  Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
-  ConformalStructure s = make_conformal_structure(t, lengths, vertex_scaling).structure;
+  Eigen::VectorXd lengths = input_lengths;
   DelaunayFlipOptions isometric;
   isometric.isometric = true;
   flip_to_delaunay(flipped, s, s.initial_u, lengths, isometric);
@@ -459,8 +460,8 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
 
 /// The flow linearised at the input metric, factorised once: what the selection and the
 /// refinement of cone curvatures share.
-struct ConeModel {
-  Topology t;
+struct ConeModelData {
+  const Topology* topology = nullptr;  ///< the problem's
   int nv = 0;
   bool closed = false;
   int chi = 0;
@@ -490,17 +491,36 @@ void check_cone_options(const ConeSelectionOptions& options) {
   }
 }
 
-ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options) {
-  ConeModel model;
-  model.t = build_topology(mesh.triangles, mesh.num_vertices());
-  const Topology& t = model.t;
+}  // namespace
+
+struct ConeModel::Data : ConeModelData {};
+
+ConeModel::ConeModel(std::unique_ptr<Data> data) : data_(std::move(data)) {}
+ConeModel::ConeModel(ConeModel&&) noexcept = default;
+ConeModel& ConeModel::operator=(ConeModel&&) noexcept = default;
+ConeModel::~ConeModel() = default;
+
+ConeModel build_cone_model(const FlowProblem& problem) {
+  const build_counting::Scope counted(build_counting::Kind::ConeModel);
+  auto data = std::make_unique<ConeModel::Data>();
+  ConeModelData& model = *data;
+  const Mesh& mesh = *problem.mesh;
+  model.topology = &problem.topology;
+  const Topology& t = problem.topology;
   if (t.components.size() != 1) {
     throw InvalidInput("select_cones: the mesh has " + std::to_string(t.components.size()) +
                        " connected components; choose cones for each on its own");
   }
   const int nv = model.nv = t.num_vertices;
-  const ConformalStructure s =
-      make_conformal_structure(t, input_edge_lengths(mesh, t), options.structure).structure;
+  const ConformalStructure& s = problem.structure.structure;
+  // The input lengths' vertex-scaling structure, for the intrinsic Delaunay Laplacian: the
+  // problem's own when that is its scheme.
+  auto vertex_scaling = [&] {
+    if (s.scheme == Scheme::VertexScaling && s.geometry == Geometry::Euclidean) return s;
+    StructureOptions vs;
+    vs.scheme = Scheme::VertexScaling;
+    return make_conformal_structure(t, problem.input_lengths, vs).structure;
+  };
   Eigen::VectorXd lengths, hw, ew;
   edge_lengths(t, s, s.initial_u, lengths);
   if (corner_angles(t, lengths, model.angles) >= 0) {
@@ -508,9 +528,9 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
   }
   vertex_curvature(t, model.angles, model.curvature);
   Eigen::SparseMatrix<double> L;
-  if (options.structure.scheme == Scheme::VertexScaling) {
+  if (s.scheme == Scheme::VertexScaling) {
     // The flow with flips linearises to the Laplacian of the intrinsic Delaunay triangulation.
-    L = intrinsic_delaunay_laplacian(mesh, t);
+    L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
   } else {
     halfedge_weights(t, s, s.initial_u, lengths, model.angles, hw);
     edge_weights(t, hw, ew);
@@ -518,7 +538,7 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
     if (!positive_definite_with_one_pin(L)) {
       // Obtuse needles make some weights negative enough that L is indefinite (the repaired
       // Stanford dragon): the intrinsic Delaunay Laplacian has non-negative weights.
-      L = intrinsic_delaunay_laplacian(mesh, t);
+      L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
     }
   }
 
@@ -557,15 +577,17 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
       model.largest_corner[v] = std::max(model.largest_corner[v], model.angles(f, c));
     }
   }
-  return model;
+  return ConeModel(std::move(data));
 }
+
+namespace {
 
 /// Cone bounds: drawable on the input's faces, and a positive angle. Near a cone the map scales
 /// the angles at the vertex by about (its cone angle) / (its angle sum in the input), so the
 /// largest input corner there, scaled, must stay below max_corner_angle; and the average below
 /// max_face_angle.
-double cone_lower_bound(const ConeModel& model, const ConeSelectionOptions& options, int v) {
-  const double by_average = options.max_face_angle * model.t.vertex_degree[v];
+double cone_lower_bound(const ConeModelData& model, const ConeSelectionOptions& options, int v) {
+  const double by_average = options.max_face_angle * model.topology->vertex_degree[v];
   const double by_largest = options.max_corner_angle * model.angle_sum[v] / model.largest_corner[v];
   return 2 * std::numbers::pi - std::min(by_average, by_largest);
 }
@@ -574,8 +596,14 @@ double cone_lower_bound(const ConeModel& model, const ConeSelectionOptions& opti
 
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options) {
   check_cone_options(options);
-  const ConeModel model = build_cone_model(mesh, options);
-  const Topology& t = model.t;
+  const FlowProblem problem = make_flow_problem(mesh, options.structure);
+  return select_cones(build_cone_model(problem), options);
+}
+
+ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& options) {
+  check_cone_options(options);
+  const ConeModelData& model = handle.data();
+  const Topology& t = *model.topology;
   const int nv = model.nv;
   constexpr double kPi = std::numbers::pi;
   const Eigen::VectorXd& curvature = model.curvature;
@@ -1012,10 +1040,11 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
   return result;
 }
 
-double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& u,
+namespace {
+
+double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Eigen::VectorXd& u,
                         const std::vector<int>& cones) {
   const int nv = t.num_vertices;
-  const Eigen::VectorXd area = vertex_areas(t, face_areas(mesh, t));
   std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
   std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
   for (int c : cones) grow_rings_within(neighbours, c, kSeparationRings, area, kRingArea, ring);
@@ -1032,6 +1061,18 @@ double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::Vector
     largest = std::max(largest, std::abs(u[v] - mean));
   }
   return largest;
+}
+
+}  // namespace
+
+double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& u,
+                        const std::vector<int>& cones) {
+  return log_scale_spread(t, vertex_areas(t, face_areas(mesh, t)), u, cones);
+}
+
+double log_scale_spread(const ConeModel& model, const Eigen::VectorXd& u,
+                        const std::vector<int>& cones) {
+  return log_scale_spread(*model.data().topology, model.data().area, u, cones);
 }
 
 std::vector<Cone> quantize_cones(const std::vector<Cone>& cones, double total) {

@@ -11,9 +11,11 @@
 #include <future>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "ricci/errors.hpp"
+#include "ricci/flow/flow_problem.hpp"
 #include "ricci/mesh/split.hpp"
 
 namespace ricci {
@@ -71,74 +73,108 @@ const char* cone_mode_name(ConeMode mode) {
   return "unknown";
 }
 
-ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
-  return parameterize_one_component(input, options,
-                                    build_topology(input.triangles, input.num_vertices()));
+namespace {
+
+/// One run of the single-component pipeline: the problem (connectivity, input lengths,
+/// structure) built once for the mesh the flow runs on, the cone model built once from it, and
+/// what the stages hand on to each other. A stage that changes the mesh (valence raising,
+/// subdivision) makes the problem of the new mesh; nothing else builds one.
+struct ParamRun {
+  ParamRun(const Mesh& mesh, const ParamOptions& o, ParamResult& r, Topology topology)
+      : input(mesh), options(o), result(r), input_topology(std::move(topology)) {}
+  const Mesh& input;
+  const ParamOptions& options;
+  ParamResult& result;
+  /// The input's connectivity until the problem takes it.
+  Topology input_topology;
+  std::optional<FlowProblem> problem;   ///< of result.mesh (of the input until it changes)
+  std::optional<ConeModel> cone_model;  ///< of *problem, at the first automatic selection
+  bool closed = false;
+  int chi = 0;
+  /// Edge flips: every admissible target is reachable on the mesh's own triangulation.
+  bool flips = false;
+  ConeMode mode = ConeMode::Needed;  ///< options.cone_mode with Needed resolved
+  std::vector<Cone> cones;
+
+  /// The problem of the mesh the flow will run on, built at the first call.
+  FlowProblem& the_problem(const Mesh& mesh) {
+    if (!problem) problem = make_flow_problem(mesh, std::move(input_topology), options.structure);
+    return *problem;
+  }
+  /// A new problem for a changed mesh (the cone model belonged to the old one).
+  void remake_problem(const Mesh& mesh) {
+    cone_model.reset();
+    problem.reset();
+    input_topology = build_topology(mesh.triangles, mesh.num_vertices());
+    the_problem(mesh);
+  }
+  const ConeModel& the_cone_model() {
+    if (!cone_model) cone_model = build_cone_model(the_problem(input));
+    return *cone_model;
+  }
+};
+
+/// Wall time since the previous lap, added to a phase of result.timings.
+class Laps {
+ public:
+  void operator()(double& phase) {
+    const auto now = Clock::now();
+    phase += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+  void restart() { last_ = Clock::now(); }
+
+ private:
+  Clock::time_point last_ = Clock::now();
+};
+
+/// Automatic cones from the run's model (ConeSelection in result.cone_selection).
+std::vector<Cone> select_automatic(ParamRun& run, int count) {
+  ConeSelectionOptions selection = run.options.auto_cones;
+  selection.count = count;
+  selection.boundary = run.options.boundary;
+  selection.quantize = run.options.quantize;
+  run.result.cone_selection = select_cones(run.the_cone_model(), selection);
+  std::vector<Cone> chosen;
+  const ConeSelection& s = run.result.cone_selection;
+  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+    chosen.push_back({s.vertices[i], s.linear_curvature[i]});
+  }
+  return chosen;
 }
 
-ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
-                                       Topology t0) {
-  const auto start = Clock::now();
-  ParamResult result;
-  // Wall time since the previous lap, added to a phase of result.timings.
-  auto last = start;
-  auto lap = [&last](double& phase) {
-    const auto now = Clock::now();
-    phase += std::chrono::duration<double>(now - last).count();
-    last = now;
-  };
-  if (t0.components.size() != 1) {
-    throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
-                       " connected components");
-  }
-  // (Copied: t0 is rebuilt below when the Thurston scheme splits edges.)
-  const int genus = t0.components[0].genus, boundary_loops = t0.components[0].num_boundary_loops;
-  const bool closed = boundary_loops == 0;
-  const int chi = t0.components[0].euler_characteristic;
+/// Quarter-turn cone curvatures (ParamOptions::quantize).
+void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
+  if (!run.options.quantize || chosen.empty()) return;
+  double total = 0;
+  for (const Cone& c : chosen) total += c.curvature;
+  // Closed surfaces must keep 2 pi chi; with a boundary the nearest multiple of pi/2 will do.
+  total = run.closed ? 2 * kPi * run.chi : std::round(total / (kPi / 2)) * (kPi / 2);
+  chosen = quantize_cones(chosen, total);
+}
 
-  // 1. Singularities, in input vertex indices.
-  auto select_auto = [&](int count) {
-    ConeSelectionOptions selection = options.auto_cones;
-    selection.count = count;
-    selection.structure = options.structure;
-    selection.boundary = options.boundary;
-    selection.quantize = options.quantize;
-    result.cone_selection = select_cones(input, selection);
-    std::vector<Cone> chosen;
-    for (std::size_t i = 0; i < result.cone_selection.vertices.size(); ++i) {
-      chosen.push_back(
-          {result.cone_selection.vertices[i], result.cone_selection.linear_curvature[i]});
-    }
-    return chosen;
-  };
-  auto quantize = [&](std::vector<Cone>& chosen) {
-    if (!options.quantize || chosen.empty()) return;
-    double total = 0;
-    for (const Cone& c : chosen) total += c.curvature;
-    // Closed surfaces must keep 2 pi chi; with a boundary the nearest multiple of pi/2 will do.
-    total = closed ? 2 * kPi * chi : std::round(total / (kPi / 2)) * (kPi / 2);
-    chosen = quantize_cones(chosen, total);
-  };
-  std::vector<Cone> cones;
-  ConeMode mode = options.cone_mode;
-  if (mode == ConeMode::Needed) mode = closed && chi != 0 ? ConeMode::Auto : ConeMode::None;
-  switch (mode) {
+/// Stage 1: the singularities, in input vertex indices.
+void choose_cones(ParamRun& run) {
+  const ParamOptions& options = run.options;
+  const Component& component = run.input_topology.components[0];
+  const int genus = component.genus, boundary_loops = component.num_boundary_loops;
+  switch (run.mode) {
     case ConeMode::Needed:
       break;
     case ConeMode::None:
-      if (closed && chi != 0) {
+      if (run.closed && run.chi != 0) {
         throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
-                               " has no flat metric without cones (chi = " + std::to_string(chi) +
-                               "); use automatic cones or one cone",
+                               " has no flat metric without cones (chi = " +
+                               std::to_string(run.chi) + "); use automatic cones or one cone",
                            genus >= 2 ? fixes_of({{"cones", "auto"}, {"cones", "one"}})
                                       : fixes_of({{"cones", "auto"}}));
       }
       break;
     case ConeMode::User:
-      cones = options.cones;
+      run.cones = options.cones;
       break;
     case ConeMode::OneCone: {
-      if (!closed || genus < 2) {
+      if (!run.closed || genus < 2) {
         throw InvalidInput(
             "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
             "2; this one has genus " +
@@ -149,91 +185,131 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       ConeSelectionOptions one = options.auto_cones;
       one.count = 1;
       one.try_first_cone_candidates = 16;
-      one.structure = options.structure;
       one.max_cones = 1;
-      result.cone_selection = select_cones(input, one);
-      cones.push_back({result.cone_selection.vertices.front(), 2 * kPi * chi});
+      run.result.cone_selection = select_cones(run.the_cone_model(), one);
+      run.cones.push_back({run.result.cone_selection.vertices.front(), 2 * kPi * run.chi});
       break;
     }
     case ConeMode::Auto:
-      cones = select_auto(options.auto_cones.count);
-      for (const Cone& c : cones) {
+      run.cones = select_automatic(run, options.auto_cones.count);
+      for (const Cone& c : run.cones) {
         // A fixed count too small for the curvature (two cones on a sphere): the least-squares
         // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
-        if (!result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
-          throw InvalidInput("parameterize: " + std::to_string(cones.size()) +
+        if (!run.result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
+          throw InvalidInput("parameterize: " + std::to_string(run.cones.size()) +
                                  " automatic cones cannot carry the curvature within their bounds "
                                  "(vertex " +
                                  std::to_string(c.vertex) + " would need " +
                                  std::to_string(c.curvature) +
                                  ", a cone angle below 0); ask for more cones, or let the count be "
                                  "chosen automatically",
-                             more_cones_fixes(cones.size()));
+                             more_cones_fixes(run.cones.size()));
         }
       }
       break;
   }
-  lap(result.timings.cones);
-  quantize(cones);
+}
 
-  // 2. Local connectivity modification: raise the valence of cones that need it.
-  result.mesh = input;
-  result.vertex_origin.resize(input.num_vertices());
-  for (int v = 0; v < input.num_vertices(); ++v) result.vertex_origin[v] = v;
+/// Stage 2: local connectivity modification, raising the valence of cones that need it (without
+/// flips only). The problem of the raised mesh is made when edges were split.
+void raise_cone_valence(ParamRun& run) {
+  ParamResult& result = run.result;
+  result.mesh = run.input;
+  result.vertex_origin.resize(run.input.num_vertices());
+  for (int v = 0; v < run.input.num_vertices(); ++v) result.vertex_origin[v] = v;
   // With flips every admissible target is reachable on the input's own triangulation, which is
   // kept. (A cone much stronger than its valence then shows as flipped uv triangles around it, as
   // every map drawn linearly on the input's faces does; the common refinement is exact.)
-  const bool flips =
-      options.flow.flips == EdgeFlips::Delaunay ||
-      (options.flow.flips == EdgeFlips::Auto && options.structure.scheme == Scheme::VertexScaling);
-  if (options.modify_connectivity && !flips) {
-    for (const Cone& cone : cones) {
+  if (run.options.modify_connectivity && !run.flips) {
+    // Degrees of the current mesh: the input's connectivity, rebuilt only after a split.
+    std::optional<Topology> raised;
+    for (const Cone& cone : run.cones) {
       if (cone.vertex < 0 || cone.vertex >= result.mesh.num_vertices()) continue;  // flat_target
-      const Topology t = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-      const int needed = required_valence(cone.curvature, options.structure.scheme);
+      const Topology& t = raised        ? *raised
+                          : run.problem ? run.problem->topology
+                                        : run.input_topology;
+      const int needed = required_valence(cone.curvature, run.options.structure.scheme);
       if (t.vertex_degree[cone.vertex] >= needed) continue;
-      ValenceResult raised = raise_valence(result.mesh, cone.vertex, needed);
-      result.mesh = std::move(raised.mesh);
-      result.edge_splits += raised.splits;
-      for (const auto& parents : raised.new_vertex_parents) {
+      ValenceResult r = raise_valence(result.mesh, cone.vertex, needed);
+      result.mesh = std::move(r.mesh);
+      result.edge_splits += r.splits;
+      for (const auto& parents : r.new_vertex_parents) {
         result.added_vertex_parents.push_back(parents);
         result.vertex_origin.push_back(-1);
       }
+      raised = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+    }
+    if (raised) {
+      run.cone_model.reset();
+      run.problem.reset();
+      run.input_topology = std::move(*raised);
     }
   }
-  result.cones = cones;
-  // The connectivity every later stage reads, built once (again only if edges were split).
-  if (result.edge_splits > 0)
-    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+  result.cones = run.cones;
+}
+
+}  // namespace
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
+  return parameterize_one_component(input, options,
+                                    build_topology(input.triangles, input.num_vertices()));
+}
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
+                                       Topology t0) {
+  const auto start = Clock::now();
+  ParamResult result;
+  if (t0.components.size() != 1) {
+    throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
+                       " connected components");
+  }
+  ParamRun run(input, options, result, std::move(t0));
+  run.closed = run.input_topology.components[0].num_boundary_loops == 0;
+  run.chi = run.input_topology.components[0].euler_characteristic;
+  run.flips =
+      options.flow.flips == EdgeFlips::Delaunay ||
+      (options.flow.flips == EdgeFlips::Auto && options.structure.scheme == Scheme::VertexScaling);
+  run.mode = options.cone_mode;
+  if (run.mode == ConeMode::Needed) {
+    run.mode = run.closed && run.chi != 0 ? ConeMode::Auto : ConeMode::None;
+  }
+  Laps lap;
+
+  choose_cones(run);
+  lap(result.timings.cones);
+  quantize(run, run.cones);
+  raise_cone_valence(run);
+  std::vector<Cone>& cones = run.cones;
+  // The problem every later stage reads, built once (for the raised mesh when edges were split).
+  FlowProblem* problem = &run.the_problem(result.mesh);
 
   // 4 (ahead). The cut graph through the cones and the slicing need only the connectivity and
   // the 3D lengths: when the flow cannot change the connectivity (no subdivision possible) they
   // run beside it, on a core the flow's factorisation leaves idle.
   struct CutStage {
-    Eigen::VectorXd lengths_3d;
     CutGraph cut;
     CutMesh cut_mesh;
     layout_support::Roots roots;  // of the layout (default options), chosen ahead
     double seconds = 0;
   };
   // (The cones are copied: the rounds of step 3b may choose others while this runs.)
-  auto cut_stage = [&input = std::as_const(result.mesh)](const Topology& topology,
-                                                         std::vector<Cone> through) {
+  auto cut_stage = [](const FlowProblem& p, std::vector<Cone> through) {
     const auto t = Clock::now();
     CutStage stage;
-    stage.lengths_3d = input_edge_lengths(input, topology);
     CutGraphOptions cut_options;
     for (const Cone& c : through) cut_options.cones.push_back(c.vertex);
-    stage.cut = cut_graph(topology, stage.lengths_3d, cut_options);
-    stage.cut_mesh = slice(topology, stage.cut);
+    stage.cut = cut_graph(p.topology, p.input_lengths, cut_options);
+    stage.cut_mesh = slice(p.topology, stage.cut);
     stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology,
                                                    LayoutOptions{}.root_face, stage.roots.first);
     stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
     return stage;
   };
-  const bool may_subdivide = options.modify_connectivity && !flips && !cones.empty();
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
   std::future<CutStage> cut_ahead;
-  if (!may_subdivide) cut_ahead = parallel::run_beside([&, cones] { return cut_stage(t0, cones); });
+  if (!may_subdivide) {
+    cut_ahead = parallel::run_beside([&, problem, cones] { return cut_stage(*problem, cones); });
+  }
 
   // 3. Ricci flow to the flat metric with these cones.
   MeshFlowOptions flow_options;
@@ -242,17 +318,17 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  // The flows leave MeshFlowResult::topology to us when they keep t0's triangulation: t0 is
-  // moved there at the end, once the stages below are done with it (no copy of the topology).
-  bool flow_kept_t0 = false;
+  // The flows leave MeshFlowResult::topology to us when they keep the problem's triangulation:
+  // it is moved there at the end, once the stages below are done with it (no copy).
+  bool flow_kept_topology = false;
   auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
-    return mesh_flow_internal::flow_mesh_keeping_topology(result.mesh, t0, o, kept);
+    return mesh_flow_internal::flow_mesh_keeping_topology(*problem, o, kept);
   };
-  auto give_t0_to_flow = [&] {
-    if (flow_kept_t0) result.flow.topology = std::move(t0);
+  auto give_topology_to_flow = [&] {
+    if (flow_kept_topology) result.flow.topology = std::move(problem->topology);
   };
   try {
-    result.flow = run_flow(flow_options, flow_kept_t0);
+    result.flow = run_flow(flow_options, flow_kept_topology);
   } catch (const InvalidInput& e) {
     // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
     // not the flow's target options.
@@ -260,46 +336,50 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
   }
   result.converged = result.flow.converged;
-  const FlowStatus status = result.flow.components.front().flow.status;
-  if (!result.converged && options.modify_connectivity && !flips && !cones.empty() &&
+  const FlowStatus status = result.flow.status;
+  if (!result.converged && may_subdivide &&
       (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
     // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
     // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
     // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
     // an edge midpoint).
     const int before = result.mesh.num_vertices();
+    const Topology& t = problem->topology;
     result.mesh = subdivide_midpoint(result.mesh);
-    for (int e = 0; e < t0.num_edges; ++e) {
-      result.added_vertex_parents.push_back({t0.edge_vertices(e, 0), t0.edge_vertices(e, 1)});
+    for (int e = 0; e < t.num_edges; ++e) {
+      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
       result.vertex_origin.push_back(-1);
     }
     result.edge_splits += result.mesh.num_vertices() - before;
     result.subdivided = true;
-    t0 = build_topology(result.mesh.triangles, result.mesh.num_vertices());
-    result.flow = run_flow(flow_options, flow_kept_t0);
+    run.remake_problem(result.mesh);
+    problem = &*run.problem;
+    result.flow = run_flow(flow_options, flow_kept_topology);
     result.converged = result.flow.converged;
   }
   // 3b. The selection's model is the flow linearised at the input metric, which holds while u
   // stays small. Strong cones leave it: on a CAD cylinder three cones of 1.5 pi each met the
   // linear bound, but the flat metric scaled areas by e^4 (area distortion energy 4.5, angle
   // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
-  // the bound, more cones are chosen and the flow run again, keeping the better of the two.
-  if (mode == ConeMode::Auto && options.auto_cones.count == 0 && flips && result.converged) {
+  // the bound, more cones are chosen (from the same model) and the flow run again (on the same
+  // problem), keeping the better of the two.
+  if (run.mode == ConeMode::Auto && options.auto_cones.count == 0 && run.flips &&
+      result.converged) {
     std::vector<int> vertices;
     for (const Cone& c : cones) vertices.push_back(c.vertex);
-    result.log_scale_spread = log_scale_spread(result.mesh, t0, result.flow.u, vertices);
+    result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
     for (int round = 0; round < kConeRounds; ++round) {
       if (result.log_scale_spread <= kNonlinearSlack * options.auto_cones.max_log_scale) break;
       const int n = static_cast<int>(cones.size());
       ConeSelection previous = result.cone_selection;
-      std::vector<Cone> more = select_auto(std::max(n + 2, (3 * n + 1) / 2));
+      std::vector<Cone> more = select_automatic(run, std::max(n + 2, (3 * n + 1) / 2));
       // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such
       // cone set is drawable. Either way the first one stays.
       if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
         result.cone_selection = std::move(previous);
         break;
       }
-      quantize(more);
+      quantize(run, more);
       flow_options.target.cones = more;
       MeshFlowResult flow;
       bool kept = false;
@@ -313,7 +393,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       vertices.clear();
       for (const Cone& c : more) vertices.push_back(c.vertex);
       const double spread =
-          flow.converged ? log_scale_spread(result.mesh, t0, flow.u, vertices) : kInf;
+          flow.converged ? log_scale_spread(run.the_cone_model(), flow.u, vertices) : kInf;
       ++result.cone_rounds;
       if (!(spread < result.log_scale_spread)) {
         result.cone_selection = std::move(previous);
@@ -326,16 +406,16 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
       cut_ahead = {};
       result.cones = cones;
       result.flow = std::move(flow);
-      flow_kept_t0 = kept;
+      flow_kept_topology = kept;
       result.log_scale_spread = spread;
     }
   }
   lap(result.timings.flow);
   if (!result.converged) {
-    // The cut stage beside the flow reads result.mesh: wait for it (and drop it) first.
+    // The cut stage beside the flow reads the problem: wait for it (and drop it) first.
     if (cut_ahead.valid()) cut_ahead.wait();
-    give_t0_to_flow();
-    result.message = result.flow.components.front().flow.message;
+    give_topology_to_flow();
+    result.message = result.flow.message;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
   }
@@ -344,14 +424,13 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   // faces. After Delaunay flips the flat metric lives on the intrinsic triangulation; each input
   // face is developed in it (its corners at their exact images), so the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
-  const Topology& topology = t0;
-  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(topology, cones);
-  const Eigen::VectorXd& lengths_3d = cut.lengths_3d;
+  const Topology& topology = problem->topology;
+  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(*problem, cones);
   result.cut = std::move(cut.cut);
   result.cut_mesh = std::move(cut.cut_mesh);
   // The stage's own time (run beside the flow it took no time of the pipeline's own).
   result.timings.cut += cut.seconds;
-  last = Clock::now();
+  lap.restart();
   const Development development = develop_input_faces(topology, result.flow);
   result.development_length_mismatch = development.max_length_mismatch;
   lap(result.timings.development);
@@ -370,9 +449,9 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
   lap(result.timings.distortion);
   for (int e = 0; e < topology.num_edges; ++e) {
-    if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
+    if (result.cut.is_cut_edge[e]) result.seam_length += problem->input_lengths[e];
   }
-  give_t0_to_flow();  // (topology is t0: not read after this)
+  give_topology_to_flow();  // (topology is the problem's: not read after this)
 
   // Texture coordinates in the unit square, aspect ratio kept.
   const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/flow/flow_problem.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/flow/target.hpp"
 #include "ricci/mesh/mesh.hpp"
@@ -71,7 +72,12 @@ struct ComponentFlow {
 
 /// What flow_mesh returns, gathered on the whole mesh.
 struct MeshFlowResult {
-  bool converged = false;     ///< every component converged
+  bool converged = false;  ///< every component converged
+  /// Converged when every component did; else the first failed component's status.
+  FlowStatus status = FlowStatus::MaxIterations;
+  /// The first failed component's message (with several components, prefixed by its index), or
+  /// the first component's when all converged.
+  std::string message;
   double max_error = 0;       ///< over all components
   StructureResult structure;  ///< whole-mesh structure and fit error
   Target target;              ///< whole-mesh target
@@ -122,5 +128,8 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const MeshFlowOptions& options = {});
 /// The same with the mesh's connectivity at hand. \pre topology = build_topology(mesh)
 MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
                          const MeshFlowOptions& options = {});
+/// The same on a problem built once (ricci/flow/flow_problem.hpp): its topology, input lengths
+/// and structure are used as they are (options.structure is not read).
+MeshFlowResult flow_mesh(const FlowProblem& problem, const MeshFlowOptions& options = {});
 
 }  // namespace ricci

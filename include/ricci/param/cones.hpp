@@ -23,8 +23,10 @@
 /// already there, until max |u - mean u| <= max_log_scale and every cone is within its bounds.
 /// One factorisation serves the whole selection (the cones are sources, not constraints).
 
+#include <memory>
 #include <vector>
 
+#include "ricci/flow/flow_problem.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 
 namespace ricci {
@@ -86,7 +88,36 @@ struct ConeSelection {
   bool within_bounds = true;
 };
 
-/// Chooses cone vertices and curvatures (see the file comment).
+/// The flow linearised at the input metric (the Laplacian of the problem's structure, or of the
+/// input's intrinsic Delaunay triangulation), factorised once, with the areas and angles the
+/// selection reads: what every cone selection on one mesh shares. parameterize builds it once
+/// per run and selects from it as often as its rounds need.
+class ConeModel {
+ public:
+  struct Data;  ///< defined in cones.cpp
+  explicit ConeModel(std::unique_ptr<Data> data);
+  ConeModel(ConeModel&&) noexcept;
+  ConeModel& operator=(ConeModel&&) noexcept;
+  ~ConeModel();
+  const Data& data() const { return *data_; }
+
+ private:
+  std::unique_ptr<Data> data_;
+};
+
+/// Builds the cone model of a problem (ricci/flow/flow_problem.hpp). The model reads the
+/// problem's topology: the problem must outlive it.
+/// \pre the problem's mesh is a single connected component that passed validate_mesh
+/// \throw InvalidInput when it has several components or its initial metric breaks a triangle
+///        inequality
+ConeModel build_cone_model(const FlowProblem& problem);
+
+/// Chooses cone vertices and curvatures (see the file comment) on a model built once
+/// (options.structure is not read: the model's problem has its structure).
+/// \throw InvalidInput when options are out of range
+ConeSelection select_cones(const ConeModel& model, const ConeSelectionOptions& options);
+
+/// The same on a mesh: builds its problem (options.structure) and model, then selects.
 /// \pre the mesh is a single connected component that passed validate_mesh
 /// \throw InvalidInput when options are out of range
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options = {});
@@ -97,6 +128,9 @@ ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options
 /// flow's u.
 /// \param u #V log scale factors; cones: vertex indices
 double log_scale_spread(const Mesh& mesh, const Topology& topology, const Eigen::VectorXd& u,
+                        const std::vector<int>& cones);
+/// The same with the areas of a cone model (its problem's mesh and topology).
+double log_scale_spread(const ConeModel& model, const Eigen::VectorXd& u,
                         const std::vector<int>& cones);
 
 /// Rounds cone curvatures to multiples of pi/2 keeping their sum (which must itself be a
