@@ -6,7 +6,7 @@
 // The same source builds against older trees that carry the counters, so a before/after ratio
 // comes from one invocation of each binary on the same machine (docs/architecture.md).
 //
-//   build/bench/ricci_param_setup                     # generated genus-3 surface, ~100k faces
+//   build/bench/ricci_param_setup                     # generated genus-3 surface, about 102k faces
 //   build/bench/ricci_param_setup MESH.obj [runs]
 #include <algorithm>
 #include <chrono>
@@ -23,7 +23,7 @@
 int main(int argc, char** argv) {
   const ricci::Mesh mesh = argc > 1 && std::string(argv[1]) != "-"
                                ? ricci::read_mesh(argv[1]).mesh
-                               : ricci::make_closed_surface(3, 40);
+                               : ricci::make_closed_surface(3, 190);
   const int runs = argc > 2 ? std::atoi(argv[2]) : 3;
   ricci::ParamOptions options;
   options.cone_mode = ricci::ConeMode::Auto;
@@ -48,8 +48,11 @@ int main(int argc, char** argv) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
   };
-  std::printf("builds per run: topology %ld, input lengths %ld, structure %ld, cone model %ld\n",
-              counts.topologies, counts.input_lengths, counts.structures, counts.cone_models);
+  std::printf(
+      "builds per run: topology %ld (%ld of them cut meshes), input lengths %ld, structure %ld, "
+      "cone model %ld\n",
+      counts.topologies, counts.cut_meshes, counts.input_lengths, counts.structures,
+      counts.cone_models);
   std::printf("set-up seconds %.4f of %.4f total\n", median(setup), median(total));
   return 0;
 }

@@ -38,26 +38,6 @@ void construct_from_name(py::enum_<E>& e, E (*parse)(const std::string&)) {
   e.def(py::init([parse](const std::string& name) { return parse(name); }), py::arg("name"));
 }
 
-/// Status of the whole mesh: Converged when every component converged, otherwise the status of
-/// the first component that did not.
-FlowStatus mesh_status(const MeshFlowResult& r) {
-  for (const ComponentFlow& c : r.components) {
-    if (!c.flow.converged) return c.flow.status;
-  }
-  return FlowStatus::Converged;
-}
-
-/// Messages of the components, prefixed by their index when there are several.
-std::string mesh_message(const MeshFlowResult& r) {
-  if (r.components.size() == 1) return r.components.front().flow.message;
-  std::string out;
-  for (std::size_t c = 0; c < r.components.size(); ++c) {
-    out += (c ? "; " : "") + std::string("component ") + std::to_string(c) + ": " +
-           r.components[c].flow.message;
-  }
-  return out;
-}
-
 }  // namespace
 
 void bind_flow(py::module_& m) {
@@ -291,9 +271,9 @@ void bind_flow(py::module_& m) {
 
   StructBinding<MeshFlowResult>(m, "MeshFlowResult", "What flow_mesh returns.")
       .readonly("converged", &MeshFlowResult::converged, "every component converged")
-      .computed("status", &mesh_status,
+      .readonly("status", &MeshFlowResult::status,
                 "Converged, or the FlowStatus of the first component that did not converge")
-      .computed("message", &mesh_message, "why each component stopped, in words")
+      .readonly("message", &MeshFlowResult::message, "why each component stopped, in words")
       .readonly("max_error", &MeshFlowResult::max_error, "over all components")
       .readonly("u", &MeshFlowResult::u, "#V final log radii")
       .readonly("curvature", &MeshFlowResult::curvature, "#V final curvature")

@@ -532,15 +532,17 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
   }
-  // The status and message of the first failed component (else of the first one).
+  // Converged when every component converged, else the first failed component's status; the
+  // message says why each component stopped, prefixed by its index when there are several.
+  result.status = FlowStatus::Converged;
   for (std::size_t c = 0; c < result.components.size(); ++c) {
     const FlowResult& flow = result.components[c].flow;
-    if (c == 0 || (!flow.converged && result.status == FlowStatus::Converged)) {
-      result.status = flow.status;
+    if (!flow.converged && result.status == FlowStatus::Converged) result.status = flow.status;
+    if (result.components.size() == 1) {
       result.message = flow.message;
-      if (result.components.size() > 1 && !flow.converged) {
-        result.message = "component " + std::to_string(c) + ": " + flow.message;
-      }
+    } else {
+      result.message +=
+          (c ? "; " : "") + std::string("component ") + std::to_string(c) + ": " + flow.message;
     }
   }
   // Without flips the caller holds the topology (a copy here would cost tens of milliseconds on

@@ -13,6 +13,7 @@
 
 #include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/build_counts.hpp"
 
 namespace ricci {
 
@@ -629,6 +630,7 @@ CutMesh slice(const Topology& topology, const CutGraph& cut) {
   }
   out.triangles.resize(topology.num_faces, 3);
   for (int c = 0; c < nc; ++c) out.triangles(c / 3, c % 3) = corner_vertex[c];
+  const build_counting::Scope counted(build_counting::Kind::CutMesh);
   out.topology = build_topology(out.triangles, static_cast<int>(out.to_original.size()));
   return out;
 }

@@ -99,7 +99,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   result.flow = flow_mesh(mesh, flow_options);
   result.converged = result.flow.converged;
   if (!result.converged) {
-    result.message = result.flow.components.front().flow.message;
+    result.message = result.flow.message;
     result.seconds = seconds();
     return result;
   }

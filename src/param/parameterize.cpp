@@ -255,10 +255,11 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
                                     build_topology(input.triangles, input.num_vertices()));
 }
 
-ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
-                                       Topology t0) {
-  const auto start = Clock::now();
-  ParamResult result;
+namespace {
+
+/// The stages, in order, filling `result` (all but its total time).
+void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
+                  ParamResult& result) {
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
                        " connected components");
@@ -416,8 +417,7 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
     if (cut_ahead.valid()) cut_ahead.wait();
     give_topology_to_flow();
     result.message = result.flow.message;
-    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return result;
+    return;
   }
 
   // 4. Cut graph through the cones, slicing, layout, atlas, distortion, all on the mesh's own
@@ -460,6 +460,15 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   result.uv_offset = lo;
   result.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
   result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
+}
+
+}  // namespace
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
+                                       Topology topology) {
+  const auto start = Clock::now();
+  ParamResult result;
+  run_pipeline(input, options, std::move(topology), result);
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

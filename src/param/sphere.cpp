@@ -277,8 +277,7 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   result.flow = flow_mesh(disk, flow_options);
   result.flow_seconds = result.flow.total_seconds;
   if (!result.flow.converged) {
-    result.message =
-        "the flow on the disk did not converge: " + result.flow.components.front().flow.message;
+    result.message = "the flow on the disk did not converge: " + result.flow.message;
     result.seconds = seconds_since(start);
     return result;
   }

@@ -73,10 +73,10 @@ struct ComponentFlow {
 /// What flow_mesh returns, gathered on the whole mesh.
 struct MeshFlowResult {
   bool converged = false;  ///< every component converged
-  /// Converged when every component did; else the first failed component's status.
+  /// Converged when every component converged; else the first failed component's status.
   FlowStatus status = FlowStatus::MaxIterations;
-  /// The first failed component's message (with several components, prefixed by its index), or
-  /// the first component's when all converged.
+  /// Why each component stopped, in words (prefixed by the component's index when there are
+  /// several).
   std::string message;
   double max_error = 0;       ///< over all components
   StructureResult structure;  ///< whole-mesh structure and fit error

@@ -16,6 +16,7 @@ struct BuildCounts {
   long input_lengths = 0;  ///< input_edge_lengths calls (3D edge lengths of a mesh)
   long structures = 0;     ///< make_conformal_structure calls (the Thurston fit and its kin)
   long cone_models = 0;    ///< build_cone_model calls (the linearised flow, factorised)
+  long cut_meshes = 0;     ///< topologies of cut meshes (slice), counted in `topologies` too
   /// Wall time inside the outermost of these builds (a build inside another counts once),
   /// summed over threads.
   double seconds = 0;
@@ -24,7 +25,7 @@ struct BuildCounts {
   BuildCounts operator-(const BuildCounts& earlier) const {
     return {topologies - earlier.topologies, input_lengths - earlier.input_lengths,
             structures - earlier.structures, cone_models - earlier.cone_models,
-            seconds - earlier.seconds};
+            cut_meshes - earlier.cut_meshes, seconds - earlier.seconds};
   }
 };
 
@@ -33,7 +34,7 @@ BuildCounts build_counts();
 
 /// What the builders use (not for users): one Scope for the duration of each build.
 namespace build_counting {
-enum class Kind { Topology, InputLengths, Structure, ConeModel };
+enum class Kind { Topology, InputLengths, Structure, ConeModel, CutMesh };
 class Scope {
  public:
   explicit Scope(Kind kind);
