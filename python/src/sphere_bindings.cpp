@@ -64,7 +64,7 @@ void bind_sphere(py::module_& m) {
       .readonly("seconds", &SphereResult::seconds, "")
       .repr();
 
-  m.def("choose_pole_vertex", &choose_pole_vertex, py::arg("mesh"),
+  m.def("choose_pole_vertex", py::overload_cast<const Mesh&>(&choose_pole_vertex), py::arg("mesh"),
         "The default pole: the flattest vertex of valence >= 5.");
   m.def(
       "sphere_map",

@@ -71,7 +71,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   HyperbolicParamResult result;
-  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
+  Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize_hyperbolic: the mesh has " +
                        std::to_string(t0.components.size()) +
@@ -89,14 +89,16 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
                        fixes_of({{"geometry", "euclidean"}}));
   }
 
-  // 1. The uniformization metric: K = 0 everywhere, geodesic boundary.
+  // 1. The uniformization metric: K = 0 everywhere, geodesic boundary. The problem (topology,
+  // 3D lengths, hyperbolic structure) is built once; the cut below reads it too.
   MeshFlowOptions flow_options;
   flow_options.structure = options.structure;
   flow_options.structure.geometry = Geometry::Hyperbolic;
   flow_options.flow = options.flow;
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.boundary = BoundaryMode::Geodesic;
-  result.flow = flow_mesh(mesh, flow_options);
+  const FlowProblem problem = make_flow_problem(mesh, std::move(t0), flow_options.structure);
+  result.flow = flow_mesh(problem, flow_options);
   result.converged = result.flow.converged;
   if (!result.converged) {
     result.message = result.flow.message;
@@ -115,7 +117,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   // The input's own faces in that metric: without flips their lengths; with flips each face
   // developed into the disk by undoing the flips (long double), so that the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
-  const Topology& topology = t0;
+  const Topology& topology = problem.topology;
   const bool flipped = result.flow.flips > 0;
   HyperbolicDevelopment development;
   Eigen::VectorXd path_lengths = result.flow.lengths;  // hyperbolic lengths of the input edges
@@ -125,7 +127,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     result.development_length_mismatch = development.max_length_mismatch;
     path_lengths = development.lengths.cast<double>();
   }
-  const Eigen::VectorXd lengths_3d = input_edge_lengths(mesh, topology);
+  const Eigen::VectorXd& lengths_3d = problem.input_lengths;
 
   // 3. Cut graph (no cones: 2 g loops, joined to the boundaries), slicing, disk layout and, on a
   // closed surface, the Fuchsian group. Shortest paths follow the hyperbolic metric, so that
@@ -133,7 +135,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   // out depends on where the tree-cotree grows from (on a generated genus-4 surface the relation
   // residual ranged from 1e-11 to 6e-6 over root vertices), so roots spread over the
   // surface are tried and the best-conditioned group is kept.
-  const bool closed = comp.num_boundary_loops == 0;
+  const bool closed = topology.components[0].num_boundary_loops == 0;
   const std::vector<int> roots =
       closed ? candidate_roots(topology, std::max(1, options.cut_candidates))
              : std::vector<int>{-1};

@@ -141,7 +141,10 @@ void weighted_stats(const std::vector<double>& values, const std::vector<double>
 }  // namespace
 
 int choose_pole_vertex(const Mesh& mesh) {
-  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  return choose_pole_vertex(mesh, build_topology(mesh.triangles, mesh.num_vertices()));
+}
+
+int choose_pole_vertex(const Mesh& mesh, const Topology& t) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   Eigen::VectorXd sums = Eigen::VectorXd::Zero(nv);
   Eigen::MatrixXd corner(nf, 3);
@@ -232,7 +235,7 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   const int nv = mesh.num_vertices();
   int pole = options.pole;
   if (pole < 0) {
-    pole = choose_pole_vertex(mesh);
+    pole = choose_pole_vertex(mesh, topology);
   } else if (pole >= nv || topology.vertex_component[pole] < 0) {
     throw InvalidInput("sphere_map: pole vertex " + std::to_string(pole) +
                        (pole >= nv
@@ -274,7 +277,9 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.boundary = BoundaryMode::DiskLength;
   for (int v : result.disk_vertices) flow_options.vertex_labels.push_back(v);
-  result.flow = flow_mesh(disk, flow_options);
+  // The disk's problem (topology, lengths, structure), built once: the layout reads it too.
+  const FlowProblem disk_problem = make_flow_problem(disk, options.structure);
+  result.flow = flow_mesh(disk_problem, flow_options);
   result.flow_seconds = result.flow.total_seconds;
   if (!result.flow.converged) {
     result.message = "the flow on the disk did not converge: " + result.flow.message;
@@ -286,7 +291,7 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   const auto layout_start = Clock::now();
   // The disk's own faces, developed in the flat metric when the flow flipped edges (the same
   // vertex positions as a layout of the intrinsic triangulation, which may be a Delta-complex).
-  const Topology disk_topology = build_topology(disk.triangles, disk.num_vertices());
+  const Topology& disk_topology = disk_problem.topology;
   if (disk_topology.components.size() != 1 || disk_topology.boundary_loops.size() != 1) {
     throw Error("sphere_map: removing the pole's star did not leave a disk (internal error)");
   }
@@ -295,8 +300,8 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   uncut.topology = disk_topology;
   uncut.to_original.resize(disk_topology.num_vertices);
   for (int v = 0; v < disk_topology.num_vertices; ++v) uncut.to_original[v] = v;
-  const Layout layout =
-      layout_flat(disk_topology, develop_input_faces(disk, result.flow).shapes, CutGraph{}, uncut);
+  const Layout layout = layout_flat(
+      disk_topology, develop_input_faces(disk_topology, result.flow).shapes, CutGraph{}, uncut);
   result.layout_length_error = layout.max_length_relative_error;
   const std::vector<int>& loop = disk_topology.boundary_loops[0];
   std::vector<Eigen::Vector2d> boundary;

@@ -115,6 +115,8 @@ struct SphereResult {
 /// the star; on a regular mesh it picks a flat, well-surrounded vertex.
 /// \pre the mesh is closed (every vertex of a face has a full fan)
 int choose_pole_vertex(const Mesh& mesh);
+/// The same with the mesh's connectivity at hand. \pre topology = build_topology(mesh)
+int choose_pole_vertex(const Mesh& mesh, const Topology& topology);
 
 /// Maps a closed genus-0 mesh conformally onto the unit sphere (see the file comment).
 /// Non-convergence of the flow or the normalisation is reported in the result, not thrown.
