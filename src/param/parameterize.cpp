@@ -257,6 +257,190 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
 
 namespace {
 
+/// What the cut stage makes: the cut graph through the cones, the sliced mesh and the layout's
+/// root faces. It needs only the connectivity and the 3D lengths, so it can run beside the flow.
+struct CutStage {
+  CutGraph cut;
+  CutMesh cut_mesh;
+  layout_support::Roots roots;  // of the layout (default options), chosen ahead
+  double seconds = 0;
+};
+
+/// Stage 4a: the cut through these cones on the problem's connectivity.
+CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones) {
+  const auto t = Clock::now();
+  CutStage stage;
+  CutGraphOptions cut_options;
+  for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
+  stage.cut = cut_graph(problem.topology, problem.input_lengths, cut_options);
+  stage.cut_mesh = slice(problem.topology, stage.cut);
+  stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
+                                                 stage.roots.first);
+  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+  return stage;
+}
+
+/// The flow stage's state: the problem it runs on, its options, and the cut made beside it.
+struct FlowStage {
+  FlowProblem* problem = nullptr;
+  MeshFlowOptions options;
+  /// The flows leave MeshFlowResult::topology to the pipeline when they keep the problem's
+  /// triangulation: it is moved there at the end, once the stages are done with it (no copy).
+  bool kept_topology = false;
+  /// When the flow cannot change the connectivity (no subdivision possible) the cut runs beside
+  /// it, on a core the flow's factorisation leaves idle.
+  std::future<CutStage> cut_ahead;
+
+  MeshFlowResult run(bool& kept) const {
+    return mesh_flow_internal::flow_mesh_keeping_topology(*problem, options, kept);
+  }
+  /// The cut beside the flow reads the problem: wait for it before the problem changes.
+  void drop_cut_ahead() {
+    if (cut_ahead.valid()) cut_ahead.wait();
+    cut_ahead = {};
+  }
+};
+
+/// Stage 3: the Ricci flow to the flat metric with the run's cones, with its fallbacks: one
+/// midpoint subdivision when a packing degenerates, and rounds of more automatic cones while the
+/// flat metric spreads past the selection's bound.
+void flow_to_flat(ParamRun& run, FlowStage& stage) {
+  const ParamOptions& options = run.options;
+  ParamResult& result = run.result;
+  std::vector<Cone>& cones = run.cones;
+  try {
+    result.flow = stage.run(stage.kept_topology);
+  } catch (const InvalidInput& e) {
+    // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
+    // not the flow's target options.
+    if (options.cone_mode != ConeMode::User || e.fixes().empty()) throw;
+    throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
+  }
+  result.converged = result.flow.converged;
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
+  const FlowStatus status = result.flow.status;
+  if (!result.converged && may_subdivide &&
+      (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
+    // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
+    // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
+    // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
+    // an edge midpoint). The subdivided mesh has a problem of its own.
+    stage.drop_cut_ahead();
+    const int before = result.mesh.num_vertices();
+    const Topology& t = stage.problem->topology;
+    result.mesh = subdivide_midpoint(result.mesh);
+    for (int e = 0; e < t.num_edges; ++e) {
+      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
+      result.vertex_origin.push_back(-1);
+    }
+    result.edge_splits += result.mesh.num_vertices() - before;
+    result.subdivided = true;
+    run.remake_problem(result.mesh);
+    stage.problem = &*run.problem;
+    result.flow = stage.run(stage.kept_topology);
+    result.converged = result.flow.converged;
+  }
+  // 3b. The selection's model is the flow linearised at the input metric, which holds while u
+  // stays small. Strong cones leave it: on a CAD cylinder three cones of 1.5 pi each met the
+  // linear bound, but the flat metric scaled areas by e^4 (area distortion energy 4.5, angle
+  // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
+  // the bound, more cones are chosen (from the same model) and the flow run again (on the same
+  // problem), keeping the better of the two.
+  if (run.mode != ConeMode::Auto || options.auto_cones.count != 0 || !run.flips ||
+      !result.converged) {
+    return;
+  }
+  std::vector<int> vertices;
+  for (const Cone& c : cones) vertices.push_back(c.vertex);
+  result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
+  for (int round = 0; round < kConeRounds; ++round) {
+    if (result.log_scale_spread <= kNonlinearSlack * options.auto_cones.max_log_scale) break;
+    const int n = static_cast<int>(cones.size());
+    ConeSelection previous = result.cone_selection;
+    std::vector<Cone> more = select_automatic(run, std::max(n + 2, (3 * n + 1) / 2));
+    // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such cone
+    // set is drawable. Either way the first one stays.
+    if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
+      result.cone_selection = std::move(previous);
+      break;
+    }
+    quantize(run, more);
+    stage.options.target.cones = more;
+    MeshFlowResult flow;
+    bool kept = false;
+    try {
+      flow = stage.run(kept);
+    } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
+      result.cone_selection = std::move(previous);
+      stage.options.target.cones = cones;
+      break;
+    }
+    vertices.clear();
+    for (const Cone& c : more) vertices.push_back(c.vertex);
+    const double spread =
+        flow.converged ? log_scale_spread(run.the_cone_model(), flow.u, vertices) : kInf;
+    ++result.cone_rounds;
+    if (!(spread < result.log_scale_spread)) {
+      result.cone_selection = std::move(previous);
+      stage.options.target.cones = cones;
+      break;
+    }
+    cones = std::move(more);
+    // The cut made beside the first flow runs through the old cones: cut again.
+    stage.drop_cut_ahead();
+    result.cones = cones;
+    result.flow = std::move(flow);
+    stage.kept_topology = kept;
+    result.log_scale_spread = spread;
+  }
+}
+
+/// Stage 4: cut graph through the cones, slicing, layout, angle polish, atlas and distortion,
+/// all on the mesh's own faces. After Delaunay flips the flat metric lives on the intrinsic
+/// triangulation; each input face is developed in it (its corners at their exact images), so the
+/// cut runs along input edges and the layout, the seams and the written faces are the user's.
+void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
+  ParamResult& result = run.result;
+  const FlowProblem& problem = *stage.problem;
+  const Topology& topology = problem.topology;
+  CutStage cut = stage.cut_ahead.valid() ? stage.cut_ahead.get() : cut_through(problem, run.cones);
+  result.cut = std::move(cut.cut);
+  result.cut_mesh = std::move(cut.cut_mesh);
+  // The stage's own time (run beside the flow it took no time of the pipeline's own).
+  result.timings.cut += cut.seconds;
+  lap.restart();
+  const Development development = develop_input_faces(topology, result.flow);
+  result.development_length_mismatch = development.max_length_mismatch;
+  lap(result.timings.development);
+  result.layout = layout_support::layout_flat_with_roots(
+      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
+  lap(result.timings.layout);
+  if (run.options.polish.enabled) {
+    result.polish =
+        polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv, run.options.polish);
+    // The layout takes the polished positions; polish.uv keeps the flat metric's own.
+    std::swap(result.layout.uv, result.polish.uv);
+    lap(result.timings.polish);
+  }
+  result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
+  lap(result.timings.atlas);
+  result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  lap(result.timings.distortion);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    if (result.cut.is_cut_edge[e]) result.seam_length += problem.input_lengths[e];
+  }
+}
+
+/// Stage 5: texture coordinates in the unit square, aspect ratio kept.
+void to_unit_square(ParamResult& result) {
+  const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
+  const Eigen::Vector2d hi = result.layout.uv.colwise().maxCoeff().transpose();
+  const double extent = (hi - lo).maxCoeff();
+  result.uv_offset = lo;
+  result.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
+  result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
+}
+
 /// The stages, in order, filling `result` (all but its total time).
 void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
                   ParamResult& result) {
@@ -276,190 +460,37 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   }
   Laps lap;
 
+  // 1-2. Cones, and the valence they need.
   choose_cones(run);
   lap(result.timings.cones);
   quantize(run, run.cones);
   raise_cone_valence(run);
-  std::vector<Cone>& cones = run.cones;
-  // The problem every later stage reads, built once (for the raised mesh when edges were split).
-  FlowProblem* problem = &run.the_problem(result.mesh);
 
-  // 4 (ahead). The cut graph through the cones and the slicing need only the connectivity and
-  // the 3D lengths: when the flow cannot change the connectivity (no subdivision possible) they
-  // run beside it, on a core the flow's factorisation leaves idle.
-  struct CutStage {
-    CutGraph cut;
-    CutMesh cut_mesh;
-    layout_support::Roots roots;  // of the layout (default options), chosen ahead
-    double seconds = 0;
-  };
-  // (The cones are copied: the rounds of step 3b may choose others while this runs.)
-  auto cut_stage = [](const FlowProblem& p, std::vector<Cone> through) {
-    const auto t = Clock::now();
-    CutStage stage;
-    CutGraphOptions cut_options;
-    for (const Cone& c : through) cut_options.cones.push_back(c.vertex);
-    stage.cut = cut_graph(p.topology, p.input_lengths, cut_options);
-    stage.cut_mesh = slice(p.topology, stage.cut);
-    stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology,
-                                                   LayoutOptions{}.root_face, stage.roots.first);
-    stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
-    return stage;
-  };
-  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
-  std::future<CutStage> cut_ahead;
+  // 3. The flow, on the problem every later stage reads, built once (for the raised mesh when
+  // edges were split), with the cut (stage 4a) beside it when the connectivity cannot change.
+  FlowStage stage;
+  stage.problem = &run.the_problem(result.mesh);
+  stage.options.structure = options.structure;
+  stage.options.flow = options.flow;
+  stage.options.target.kind = TargetKind::Flat;
+  stage.options.target.cones = run.cones;
+  stage.options.target.boundary = options.boundary;
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
   if (!may_subdivide) {
-    cut_ahead = parallel::run_beside([&, problem, cones] { return cut_stage(*problem, cones); });
+    // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
+    stage.cut_ahead = parallel::run_beside(
+        [problem = stage.problem, cones = run.cones] { return cut_through(*problem, cones); });
   }
-
-  // 3. Ricci flow to the flat metric with these cones.
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.flow = options.flow;
-  flow_options.target.kind = TargetKind::Flat;
-  flow_options.target.cones = cones;
-  flow_options.target.boundary = options.boundary;
-  // The flows leave MeshFlowResult::topology to us when they keep the problem's triangulation:
-  // it is moved there at the end, once the stages below are done with it (no copy).
-  bool flow_kept_topology = false;
-  auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
-    return mesh_flow_internal::flow_mesh_keeping_topology(*problem, o, kept);
-  };
-  auto give_topology_to_flow = [&] {
-    if (flow_kept_topology) result.flow.topology = std::move(problem->topology);
-  };
-  try {
-    result.flow = run_flow(flow_options, flow_kept_topology);
-  } catch (const InvalidInput& e) {
-    // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
-    // not the flow's target options.
-    if (options.cone_mode != ConeMode::User || e.fixes().empty()) throw;
-    throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
-  }
-  result.converged = result.flow.converged;
-  const FlowStatus status = result.flow.status;
-  if (!result.converged && may_subdivide &&
-      (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
-    // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
-    // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
-    // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
-    // an edge midpoint).
-    const int before = result.mesh.num_vertices();
-    const Topology& t = problem->topology;
-    result.mesh = subdivide_midpoint(result.mesh);
-    for (int e = 0; e < t.num_edges; ++e) {
-      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
-      result.vertex_origin.push_back(-1);
-    }
-    result.edge_splits += result.mesh.num_vertices() - before;
-    result.subdivided = true;
-    run.remake_problem(result.mesh);
-    problem = &*run.problem;
-    result.flow = run_flow(flow_options, flow_kept_topology);
-    result.converged = result.flow.converged;
-  }
-  // 3b. The selection's model is the flow linearised at the input metric, which holds while u
-  // stays small. Strong cones leave it: on a CAD cylinder three cones of 1.5 pi each met the
-  // linear bound, but the flat metric scaled areas by e^4 (area distortion energy 4.5, angle
-  // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
-  // the bound, more cones are chosen (from the same model) and the flow run again (on the same
-  // problem), keeping the better of the two.
-  if (run.mode == ConeMode::Auto && options.auto_cones.count == 0 && run.flips &&
-      result.converged) {
-    std::vector<int> vertices;
-    for (const Cone& c : cones) vertices.push_back(c.vertex);
-    result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
-    for (int round = 0; round < kConeRounds; ++round) {
-      if (result.log_scale_spread <= kNonlinearSlack * options.auto_cones.max_log_scale) break;
-      const int n = static_cast<int>(cones.size());
-      ConeSelection previous = result.cone_selection;
-      std::vector<Cone> more = select_automatic(run, std::max(n + 2, (3 * n + 1) / 2));
-      // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such
-      // cone set is drawable. Either way the first one stays.
-      if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
-        result.cone_selection = std::move(previous);
-        break;
-      }
-      quantize(run, more);
-      flow_options.target.cones = more;
-      MeshFlowResult flow;
-      bool kept = false;
-      try {
-        flow = run_flow(flow_options, kept);
-      } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
-        result.cone_selection = std::move(previous);
-        flow_options.target.cones = cones;
-        break;
-      }
-      vertices.clear();
-      for (const Cone& c : more) vertices.push_back(c.vertex);
-      const double spread =
-          flow.converged ? log_scale_spread(run.the_cone_model(), flow.u, vertices) : kInf;
-      ++result.cone_rounds;
-      if (!(spread < result.log_scale_spread)) {
-        result.cone_selection = std::move(previous);
-        flow_options.target.cones = cones;
-        break;
-      }
-      cones = std::move(more);
-      // The cut made beside the first flow runs through the old cones: cut again.
-      if (cut_ahead.valid()) cut_ahead.wait();
-      cut_ahead = {};
-      result.cones = cones;
-      result.flow = std::move(flow);
-      flow_kept_topology = kept;
-      result.log_scale_spread = spread;
-    }
-  }
+  flow_to_flat(run, stage);
   lap(result.timings.flow);
-  if (!result.converged) {
-    // The cut stage beside the flow reads the problem: wait for it (and drop it) first.
-    if (cut_ahead.valid()) cut_ahead.wait();
-    give_topology_to_flow();
+  if (result.converged) {
+    cut_and_lay_out(run, stage, lap);
+    to_unit_square(result);
+  } else {
+    stage.drop_cut_ahead();
     result.message = result.flow.message;
-    return;
   }
-
-  // 4. Cut graph through the cones, slicing, layout, atlas, distortion, all on the mesh's own
-  // faces. After Delaunay flips the flat metric lives on the intrinsic triangulation; each input
-  // face is developed in it (its corners at their exact images), so the cut runs along input
-  // edges and the layout, the seams and the written faces are the user's.
-  const Topology& topology = problem->topology;
-  CutStage cut = cut_ahead.valid() ? cut_ahead.get() : cut_stage(*problem, cones);
-  result.cut = std::move(cut.cut);
-  result.cut_mesh = std::move(cut.cut_mesh);
-  // The stage's own time (run beside the flow it took no time of the pipeline's own).
-  result.timings.cut += cut.seconds;
-  lap.restart();
-  const Development development = develop_input_faces(topology, result.flow);
-  result.development_length_mismatch = development.max_length_mismatch;
-  lap(result.timings.development);
-  result.layout = layout_support::layout_flat_with_roots(
-      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
-  lap(result.timings.layout);
-  if (options.polish.enabled) {
-    result.polish =
-        polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv, options.polish);
-    // The layout takes the polished positions; polish.uv keeps the flat metric's own.
-    std::swap(result.layout.uv, result.polish.uv);
-    lap(result.timings.polish);
-  }
-  result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
-  lap(result.timings.atlas);
-  result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
-  lap(result.timings.distortion);
-  for (int e = 0; e < topology.num_edges; ++e) {
-    if (result.cut.is_cut_edge[e]) result.seam_length += problem->input_lengths[e];
-  }
-  give_topology_to_flow();  // (topology is the problem's: not read after this)
-
-  // Texture coordinates in the unit square, aspect ratio kept.
-  const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
-  const Eigen::Vector2d hi = result.layout.uv.colwise().maxCoeff().transpose();
-  const double extent = (hi - lo).maxCoeff();
-  result.uv_offset = lo;
-  result.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
-  result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
+  if (stage.kept_topology) result.flow.topology = std::move(stage.problem->topology);
 }
 
 }  // namespace
