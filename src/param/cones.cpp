@@ -508,7 +508,7 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
   }
   vertex_curvature(t, model.angles, model.curvature);
   Eigen::SparseMatrix<double> L;
-  if (options.structure.scheme == Scheme::VertexScaling) {
+  if (scheme_traits(options.structure.scheme).ptolemy_flips) {
     // The flow with flips linearises to the Laplacian of the intrinsic Delaunay triangulation.
     L = intrinsic_delaunay_laplacian(mesh, t);
   } else {
