@@ -41,7 +41,9 @@ TEST(SchemeTraits, NamesParseBackToTheirRow) {
   for (const SchemeTraits& row : kSchemeTraits) {
     EXPECT_STREQ(scheme_name(row.scheme), row.name);
     EXPECT_EQ(parse_scheme(row.name), row.scheme) << row.name;
-    if (row.alias) EXPECT_EQ(parse_scheme(row.alias), row.scheme) << row.alias;
+    if (row.alias) {
+      EXPECT_EQ(parse_scheme(row.alias), row.scheme) << row.alias;
+    }
     EXPECT_EQ(find_enum<Scheme>(row.identifier), std::nullopt) << "Python names are not parsed";
   }
 }

@@ -31,7 +31,9 @@ template <class E>
 void expect_round_trip() {
   for (const EnumName<E>& entry : EnumNames<E>::names) {
     EXPECT_EQ(find_enum<E>(entry.name), entry.value) << entry.name;
-    if (entry.role == NameRole::Primary) EXPECT_STREQ(enum_name(entry.value), entry.name);
+    if (entry.role == NameRole::Primary) {
+      EXPECT_STREQ(enum_name(entry.value), entry.name);
+    }
   }
 }
 
