@@ -71,10 +71,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace ricci;
   Bytes in(data, size);
   const Mesh mesh = make_mesh(in.below(5));
-  constexpr Scheme kSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
-                                 Scheme::VertexScaling, Scheme::VirtualRadius};
   StructureOptions structure_options;
-  structure_options.scheme = kSchemes[in.below(5)];
+  structure_options.scheme = kSchemeTraits[in.below(static_cast<int>(kSchemeTraits.size()))].scheme;
   structure_options.packing_init = in.below(2) == 0 ? PackingInit::Fit : PackingInit::UnitRadii;
   FlowOptions flow_options;
   flow_options.solver = in.below(4) == 0 ? FlowSolver::Gradient : FlowSolver::Newton;

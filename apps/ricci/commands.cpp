@@ -216,13 +216,7 @@ int run_flow(const FlowArgs& args) {
   options.structure.scheme = parse_scheme(args.scheme);
   options.structure.geometry = parse_geometry(args.geometry);
   const bool hyperbolic = options.structure.geometry == Geometry::Hyperbolic;
-  if (args.init == "fit") {
-    options.structure.packing_init = PackingInit::Fit;
-  } else if (args.init == "unit") {
-    options.structure.packing_init = PackingInit::UnitRadii;
-  } else {
-    throw InvalidInput("--init: unknown value '" + args.init + "'; expected fit or unit");
-  }
+  options.structure.packing_init = parse_enum<PackingInit>(args.init, "--init");
   options.flow.solver = parse_flow_solver(args.solver);
   options.flow.flips = parse_edge_flips(args.flips);
   options.flow.tolerance = args.tolerance;
@@ -309,8 +303,7 @@ int run_flow(const FlowArgs& args) {
               << scheme_name(options.structure.scheme) << ", " << (hyperbolic ? "hyperbolic, " : "")
               << flow_solver_name(options.flow.solver) << ", " << result.target.description
               << ")\n";
-    if (options.structure.scheme == Scheme::Thurston ||
-        options.structure.scheme == Scheme::Tangential) {
+    if (scheme_traits(options.structure.scheme).circle_packing) {
       std::cout << "  initial packing fits the input lengths with RMS relative error "
                 << std::setprecision(3) << result.structure.fit_rms_relative_error << " (max "
                 << result.structure.fit_max_relative_error << ")" << std::defaultfloat << "\n";
@@ -684,7 +677,7 @@ int run_param(const ParamArgs& args) {
   options.polish.enabled = args.polish == "angles" && !refinement;
   const RefinementFiles files = refinement_files(args.output);
   if (refinement) {
-    if (options.structure.scheme != Scheme::VertexScaling) {
+    if (!scheme_traits(options.structure.scheme).ptolemy_flips) {
       throw InvalidInput(
           "--faces refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
           "conformal class); add --scheme vertex-scaling");

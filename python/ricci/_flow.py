@@ -5,7 +5,8 @@ import numbers
 
 from . import _arrays, _ricci
 
-_BOUNDARY_TARGETS = ("free", "disk", "disk-length", "geodesic")
+# Boundary modes a target string may name (the table in ricci/flow/target.hpp).
+_BOUNDARY_TARGETS = _ricci.BoundaryMode.names
 
 
 def set_fields(obj, **fields):

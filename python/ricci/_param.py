@@ -8,7 +8,9 @@ import numpy as np
 from . import _arrays, _ricci
 from ._flow import cone_list, set_fields, set_structure_and_solver
 
-_CONE_MODES = ("needed", "auto", "none", "one")
+# The cone modes a string may name (the table in ricci/param/parameterize.hpp); "user" is
+# spelled by giving the cones themselves.
+_CONE_MODES = tuple(name for name in _ricci.ConeMode.names if name != "user")
 
 
 def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scale=None,

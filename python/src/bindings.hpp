@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "ricci/enum_names.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 
 namespace ricci::python {
@@ -30,6 +31,18 @@ void bind_hyperbolic_param(py::module_& m);
 void bind_sphere(py::module_& m);
 void bind_spline(py::module_& m);
 void bind_batch(py::module_& m);
+
+/// Gives a bound enum the names ricci prints and parses, from its EnumNames table, as the class
+/// attribute `names` (a tuple, in the order of the table): what the pure-Python layer checks
+/// strings against instead of a copy of the list.
+template <class E>
+void bind_enum_names(py::enum_<E>& e) {
+  py::list names;
+  for (const EnumName<E>& entry : EnumNames<E>::names) {
+    if (entry.role == NameRole::Primary) names.append(entry.name);
+  }
+  e.attr("names") = py::tuple(names);
+}
 
 /// Short repr of a field value: arrays by shape, lists of arrays and long lists by length, tuples
 /// item by item.

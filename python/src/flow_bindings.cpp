@@ -17,36 +17,26 @@ namespace {
 
 /// "fit" or "unit" (the command line's --init names).
 PackingInit parse_packing_init(const std::string& name) {
-  if (name == "fit") return PackingInit::Fit;
-  if (name == "unit") return PackingInit::UnitRadii;
-  throw InvalidInput("packing_init: unknown value '" + name + "'; expected fit or unit");
+  return parse_enum<PackingInit>(name, "packing_init");
 }
 
 /// "natural", "flat", "uniform" or "values".
 TargetKind parse_target_kind(const std::string& name) {
-  if (name == "natural") return TargetKind::Natural;
-  if (name == "flat") return TargetKind::Flat;
-  if (name == "uniform") return TargetKind::Uniform;
-  if (name == "values") return TargetKind::Values;
-  throw InvalidInput("target kind: unknown value '" + name +
-                     "'; expected natural, flat, uniform or values");
+  return parse_enum<TargetKind>(name, "target kind");
 }
 
 /// Lets an enum be built from its ricci name: `Scheme("thurston")`.
 template <class E>
 void construct_from_name(py::enum_<E>& e, E (*parse)(const std::string&)) {
   e.def(py::init([parse](const std::string& name) { return parse(name); }), py::arg("name"));
+  bind_enum_names(e);
 }
 
 }  // namespace
 
 void bind_flow(py::module_& m) {
   py::enum_<Scheme> scheme(m, "Scheme", "The discrete conformal metrics ricci supports.");
-  scheme.value("Tangential", Scheme::Tangential)
-      .value("Thurston", Scheme::Thurston)
-      .value("InversiveDistance", Scheme::InversiveDistance)
-      .value("VertexScaling", Scheme::VertexScaling)
-      .value("VirtualRadius", Scheme::VirtualRadius);
+  for (const SchemeTraits& row : kSchemeTraits) scheme.value(row.identifier, row.scheme);
   construct_from_name(scheme, &parse_scheme);
   m.def("scheme_name", &scheme_name, py::arg("scheme"));
 

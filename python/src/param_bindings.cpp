@@ -18,6 +18,7 @@ void bind_param(py::module_& m) {
       .value("OneCone", ConeMode::OneCone);
   cone_mode.def(py::init([](const std::string& name) { return parse_cone_mode(name); }),
                 py::arg("name"));
+  bind_enum_names(cone_mode);
   m.def("cone_mode_name", &cone_mode_name, py::arg("mode"));
 
   StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")

@@ -19,17 +19,6 @@ namespace ricci {
 
 namespace {
 
-constexpr std::array<std::pair<MeshOutcome, const char*>, 8> kOutcomeNames = {{
-    {MeshOutcome::Ok, "ok"},
-    {MeshOutcome::BadInput, "bad_input"},
-    {MeshOutcome::NotConverged, "not_converged"},
-    {MeshOutcome::InternalError, "internal_error"},
-    {MeshOutcome::OutOfMemory, "out_of_memory"},
-    {MeshOutcome::Crashed, "crashed"},
-    {MeshOutcome::TimedOut, "timed_out"},
-    {MeshOutcome::SpawnFailed, "spawn_failed"},
-}};
-
 nlohmann::json number_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
@@ -43,16 +32,11 @@ double number_or_nan(const nlohmann::json& j, const char* name) {
 }  // namespace
 
 const char* mesh_outcome_name(MeshOutcome outcome) {
-  for (const auto& [value, name] : kOutcomeNames) {
-    if (value == outcome) return name;
-  }
-  return "internal_error";
+  return enum_name(outcome, "internal_error");
 }
 
 MeshOutcome parse_mesh_outcome(const std::string& name) {
-  for (const auto& [value, known] : kOutcomeNames) {
-    if (name == known) return value;
-  }
+  if (const std::optional<MeshOutcome> outcome = find_enum<MeshOutcome>(name)) return *outcome;
   throw InvalidInput("unknown mesh outcome '" + name + "'");
 }
 

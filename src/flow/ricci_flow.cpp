@@ -14,6 +14,7 @@
 #include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/cholesky.hpp"
+#include "ricci/metric/background.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
@@ -35,41 +36,26 @@ enum class Evaluation { Valid, BadLength, TriangleInequality };
 }  // namespace
 
 FlowSolver parse_flow_solver(const std::string& name) {
-  if (name == "newton") return FlowSolver::Newton;
-  if (name == "gradient") return FlowSolver::Gradient;
-  throw InvalidInput("parse_flow_solver: unknown solver '" + name +
-                     "'; expected newton or gradient");
+  return parse_enum<FlowSolver>(name, "parse_flow_solver");
 }
 
 const char* flow_solver_name(FlowSolver solver) {
-  return solver == FlowSolver::Newton ? "newton" : "gradient";
+  return enum_name(solver);
 }
 
 EdgeFlips parse_edge_flips(const std::string& name) {
-  if (name == "auto") return EdgeFlips::Auto;
-  if (name == "off" || name == "none") return EdgeFlips::Off;
-  if (name == "delaunay") return EdgeFlips::Delaunay;
-  throw InvalidInput("parse_edge_flips: unknown flips '" + name +
-                     "'; expected auto, off or delaunay");
+  return parse_enum<EdgeFlips>(name, "parse_edge_flips");
 }
 
 const char* edge_flips_name(EdgeFlips flips) {
-  switch (flips) {
-    case EdgeFlips::Auto:
-      return "auto";
-    case EdgeFlips::Off:
-      return "off";
-    case EdgeFlips::Delaunay:
-      return "delaunay";
-  }
-  return "unknown";
+  return enum_name(flips);
 }
 
 bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& options) {
   if (options.flips == EdgeFlips::Off) return false;
   // Both backgrounds: Ptolemy's relation holds for l (Euclidean) and for sinh(l / 2)
   // (hyperbolic), see ricci/metric/delaunay_flips.hpp.
-  const bool vertex_scaling = (structure.epsilon.array() == 0.0).all();
+  const bool vertex_scaling = scheme_traits(structure.scheme).ptolemy_flips;
   if (options.flips == EdgeFlips::Auto) return vertex_scaling;
   if (!vertex_scaling) {
     throw InvalidInput(
@@ -82,19 +68,7 @@ bool uses_edge_flips(const ConformalStructure& structure, const FlowOptions& opt
 }
 
 const char* flow_status_name(FlowStatus status) {
-  switch (status) {
-    case FlowStatus::Converged:
-      return "converged";
-    case FlowStatus::MaxIterations:
-      return "max-iterations";
-    case FlowStatus::LineSearchFailed:
-      return "line-search-failed";
-    case FlowStatus::SolverFailed:
-      return "solver-failed";
-    case FlowStatus::Cancelled:
-      return "cancelled";
-  }
-  return "unknown";
+  return enum_name(status);
 }
 
 struct RicciFlow::State {
@@ -368,7 +342,7 @@ struct RicciFlow::State {
     row_of_vertex.assign(nv, -1);
     vertex_of_row.clear();
     // The hyperbolic energy is strictly convex: no gauge, every vertex with a target is free.
-    closed = !hyperbolic && !target.has_fixed_vertices();
+    closed = geometry_traits(structure.geometry).scale_gauge && !target.has_fixed_vertices();
     for (int v = 0; v < nv; ++v) {
       if (topology->vertex_component[v] < 0 || target.fixed[v]) continue;
       if (closed && pinned_vertex < 0) pinned_vertex = v;  // the gauge: u of one vertex stays put
@@ -501,17 +475,8 @@ struct RicciFlow::State {
   }
 
   void compute_edge_weights() {
-    if (hyperbolic) {
-      hyperbolic_hessian_terms(*topology, structure, u, lengths, angles, halfedge_w,
-                               corner_diagonal);
-      vertex_diagonal.setZero(topology->num_vertices);
-      for (int f = 0; f < topology->num_faces; ++f) {
-        for (int k = 0; k < 3; ++k)
-          vertex_diagonal[topology->triangles(f, k)] += corner_diagonal[3 * f + k];
-      }
-    } else {
-      halfedge_weights(*topology, structure, u, lengths, angles, halfedge_w);
-    }
+    hessian_terms(*topology, structure, u, lengths, angles, halfedge_w, corner_diagonal,
+                  vertex_diagonal);
     edge_weights(*topology, halfedge_w, edge_w);
   }
 
@@ -777,13 +742,9 @@ struct RicciFlow::State {
     r.converged = finished && status == FlowStatus::Converged;
     r.message = finished ? message : "running";
     r.error_floor = error_floor();
-    if (hyperbolic) {
-      r.total_area = hyperbolic_total_area(angles);
-      r.gauss_bonnet_relative_error =
-          hyperbolic_gauss_bonnet_relative_error(*topology, curvature, r.total_area);
-    } else {
-      r.gauss_bonnet_relative_error = gauss_bonnet_relative_error(*topology, curvature);
-    }
+    r.total_area = gauss_bonnet_area(structure.geometry, angles);
+    r.gauss_bonnet_relative_error =
+        gauss_bonnet_relative_error(structure.geometry, *topology, curvature, r.total_area);
     r.target_curvature = target.curvature;
     for (int v = 0; v < topology->num_vertices; ++v) {
       if (target.fixed[v]) r.target_curvature[v] = curvature[v];

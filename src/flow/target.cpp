@@ -82,26 +82,11 @@ bool Target::has_fixed_vertices() const {
 }
 
 BoundaryMode parse_boundary_mode(const std::string& name) {
-  if (name == "free") return BoundaryMode::Free;
-  if (name == "disk") return BoundaryMode::DiskUniform;
-  if (name == "disk-length") return BoundaryMode::DiskLength;
-  if (name == "geodesic") return BoundaryMode::Geodesic;
-  throw InvalidInput("parse_boundary_mode: unknown boundary '" + name +
-                     "'; expected free, disk, disk-length or geodesic");
+  return parse_enum<BoundaryMode>(name, "parse_boundary_mode");
 }
 
 const char* boundary_mode_name(BoundaryMode mode) {
-  switch (mode) {
-    case BoundaryMode::Free:
-      return "free";
-    case BoundaryMode::DiskUniform:
-      return "disk";
-    case BoundaryMode::DiskLength:
-      return "disk-length";
-    case BoundaryMode::Geodesic:
-      return "geodesic";
-  }
-  return "unknown";
+  return enum_name(mode);
 }
 
 Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMode boundary,
@@ -215,8 +200,7 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                        std::to_string(target.curvature.size()) + " values for " +
                        std::to_string(t.num_vertices) + " vertices");
   }
-  const bool packing =
-      structure.scheme == Scheme::Thurston || structure.scheme == Scheme::Tangential;
+  const SchemeTraits& scheme = scheme_traits(structure.scheme);
 
   // Sum over the faces of each vertex of (pi - Phi of the opposite edge): the single-vertex
   // bound, which edge flips lift (not computed then).
@@ -225,9 +209,7 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
     bound_sum.setZero(t.num_vertices);
     for (int f = 0; f < t.num_faces; ++f) {
       for (int k = 0; k < 3; ++k) {
-        const double phi =
-            packing ? std::acos(std::clamp(structure.eta[t.face_edges(f, k)], -1.0, 1.0)) : 0.0;
-        bound_sum[t.triangles(f, k)] += kPi - phi;
+        bound_sum[t.triangles(f, k)] += max_face_angle(scheme, structure.eta[t.face_edges(f, k)]);
       }
     }
   }
@@ -254,15 +236,16 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
               " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
               format_value(k) + ", which breaks the single-vertex bound K > " +
               format_value(lower) +
-              (packing ? " (2 pi - sum of (pi - Phi) over its faces)" : " (each angle below pi)") +
+              (scheme.circle_packing ? " (2 pi - sum of (pi - Phi) over its faces)"
+                                     : " (each angle below pi)") +
               "; split edges around it to raise its valence, or use vertex scaling with edge flips "
               "(no such bound)" +
-              (structure.scheme == Scheme::Thurston
+              (scheme.fitted_intersection_angles
                    ? ", or the tangential scheme (Phi = 0 gives the widest bound)"
                    : ""),
-          structure.scheme == Scheme::VertexScaling
+          scheme.ptolemy_flips
               ? fixes_of({{"flips", "auto"}})
-              : (structure.scheme == Scheme::Thurston
+              : (scheme.fitted_intersection_angles
                      ? fixes_of({{"scheme", "vertex-scaling"}, {"scheme", "tangential"}})
                      : fixes_of({{"scheme", "vertex-scaling"}})));
     }
@@ -282,7 +265,7 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
     if (any_fixed) continue;
     sum += compensation;
     const double expected = 2 * kPi * comp.euler_characteristic;
-    if (structure.geometry == Geometry::Hyperbolic) {
+    if (geometry_traits(structure.geometry).area_in_gauss_bonnet) {
       // sum K - area = 2 pi chi with a positive area: the sum must exceed 2 pi chi.
       if (!(sum - expected > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude))) {
         throw InvalidInput("check_admissible: component " + std::to_string(c) +

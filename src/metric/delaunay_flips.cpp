@@ -233,7 +233,7 @@ int count_non_delaunay_edges(const Topology& t, const Eigen::VectorXd& l, double
 DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
                                     const Eigen::VectorXd& u, Eigen::VectorXd& l,
                                     const DelaunayFlipOptions& options) {
-  if ((structure.epsilon.array() != 0.0).any()) {
+  if (!scheme_traits(structure.scheme).ptolemy_flips) {
     throw InvalidInput(
         "flip_to_delaunay: Ptolemy flips keep the conformal class of vertex scaling only; this "
         "structure is " +

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/curvature.hpp"
@@ -181,12 +183,21 @@ double hyperbolic_length_scale(const Topology& t, const Eigen::VectorXd& lbar, d
 
 StructureResult make_hyperbolic_structure(const Topology& t, const Eigen::VectorXd& lbar,
                                           const StructureOptions& options) {
-  if (options.scheme == Scheme::VirtualRadius) {
-    // Its hyperbolic Hessian is indefinite already at the fitted metric (measured on a generated
-    // genus-2 surface: eigenvalues down to -1.8), so Newton has no convex energy to descend.
-    throw InvalidInput(
-        "make_conformal_structure: the virtual-radius scheme has no convex Ricci energy in the "
-        "hyperbolic background; use thurston, tangential, inversive-distance or vertex-scaling");
+  if (!scheme_traits(options.scheme).hyperbolic) {
+    // Virtual radius: its hyperbolic Hessian is indefinite already at the fitted metric (measured
+    // on a generated genus-2 surface: eigenvalues down to -1.8), so Newton has no convex energy
+    // to descend.
+    std::vector<const char*> offered;
+    for (const SchemeTraits& row : kSchemeTraits) {
+      if (row.hyperbolic) offered.push_back(row.name);
+    }
+    std::string list;
+    for (std::size_t i = 0; i < offered.size(); ++i) {
+      list += (i == 0 ? "" : i + 1 == offered.size() ? " or " : ", ") + std::string(offered[i]);
+    }
+    throw InvalidInput("make_conformal_structure: the " + std::string(scheme_name(options.scheme)) +
+                       " scheme has no convex Ricci energy in the hyperbolic background; use " +
+                       list);
   }
   const double scale = hyperbolic_length_scale(t, lbar, options.hyperbolic_length_scale);
   const Eigen::VectorXd big_l = scale * lbar;

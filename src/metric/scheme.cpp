@@ -127,42 +127,24 @@ int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& 
 
 }  // namespace
 
-const char* geometry_name(Geometry geometry) {
-  return geometry == Geometry::Hyperbolic ? "hyperbolic" : "euclidean";
+const SchemeTraits& scheme_traits(Scheme scheme) {
+  for (const SchemeTraits& row : kSchemeTraits) {
+    if (row.scheme == scheme) return row;
+  }
+  throw InvalidInput("scheme_traits: no scheme " + std::to_string(static_cast<int>(scheme)));
 }
 
-Geometry parse_geometry(const std::string& name) {
-  if (name == "euclidean") return Geometry::Euclidean;
-  if (name == "hyperbolic") return Geometry::Hyperbolic;
-  throw InvalidInput("parse_geometry: unknown geometry '" + name +
-                     "'; expected euclidean or hyperbolic");
+double max_face_angle(const SchemeTraits& traits, double eta) {
+  const double phi = traits.circle_packing ? std::acos(std::clamp(eta, -1.0, 1.0)) : 0.0;
+  return std::numbers::pi - phi;
 }
 
 const char* scheme_name(Scheme scheme) {
-  switch (scheme) {
-    case Scheme::Tangential:
-      return "tangential";
-    case Scheme::Thurston:
-      return "thurston";
-    case Scheme::InversiveDistance:
-      return "inversive-distance";
-    case Scheme::VertexScaling:
-      return "vertex-scaling";
-    case Scheme::VirtualRadius:
-      return "virtual-radius";
-  }
-  return "unknown";
+  return enum_name(scheme);
 }
 
 Scheme parse_scheme(const std::string& name) {
-  for (Scheme s : {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
-                   Scheme::VertexScaling, Scheme::VirtualRadius}) {
-    if (name == scheme_name(s)) return s;
-  }
-  if (name == "yamabe") return Scheme::VertexScaling;
-  throw InvalidInput("parse_scheme: unknown scheme '" + name +
-                     "'; expected tangential, thurston, inversive-distance, vertex-scaling "
-                     "(or yamabe) or virtual-radius");
+  return parse_enum<Scheme>(name, "parse_scheme");
 }
 
 Eigen::VectorXd input_edge_lengths(const Mesh& mesh, const Topology& topology) {
@@ -200,9 +182,7 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
   StructureResult result;
   ConformalStructure& s = result.structure;
   s.scheme = options.scheme;
-  s.epsilon.setConstant(nv, options.scheme == Scheme::VertexScaling   ? 0.0
-                            : options.scheme == Scheme::VirtualRadius ? -1.0
-                                                                      : 1.0);
+  s.epsilon.setConstant(nv, scheme_traits(options.scheme).epsilon);
   s.eta.resize(ne);
   Eigen::VectorXd gamma = Eigen::VectorXd::Ones(nv);
 

@@ -232,7 +232,7 @@ CommonRefinement common_refinement(const ParamResult& param,
                        (param.message.empty() ? std::string() : ": " + param.message));
   }
   const ConformalStructure& structure = param.flow.structure.structure;
-  if (structure.scheme != Scheme::VertexScaling || (structure.epsilon.array() != 0.0).any() ||
+  if (!scheme_traits(structure.scheme).ptolemy_flips || (structure.epsilon.array() != 0.0).any() ||
       structure.geometry != Geometry::Euclidean) {
     throw InvalidInput(
         "common_refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "

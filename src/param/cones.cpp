@@ -528,7 +528,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   }
   vertex_curvature(t, model.angles, model.curvature);
   Eigen::SparseMatrix<double> L;
-  if (s.scheme == Scheme::VertexScaling) {
+  if (scheme_traits(s.scheme).ptolemy_flips) {
     // The flow with flips linearises to the Laplacian of the intrinsic Delaunay triangulation.
     L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
   } else {

@@ -36,41 +36,22 @@ constexpr double kNonlinearSlack = 1.25;
 /// ... at most this many times.
 constexpr int kConeRounds = 3;
 
-/// Valence a cone of curvature k needs for the single-vertex bound with room to spare: packings
-/// with Phi up to pi/2 give each face at least pi/2, so valence > (2 pi - k) / (pi/2); the other
-/// schemes give each face up to pi, so valence > (2 pi - k) / pi.
+/// Valence a cone of curvature k needs for the single-vertex bound with room to spare: each face
+/// gives the cone at least the scheme's guaranteed angle (packings with Phi up to pi/2: pi/2; the
+/// other schemes: pi), so valence > (2 pi - k) / guaranteed angle.
 int required_valence(double k, Scheme scheme) {
-  const bool packing = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
-  const double per_face = packing ? kPi / 2 : kPi;
+  const double per_face = scheme_traits(scheme).guaranteed_face_angle;
   return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
 }
 
 }  // namespace
 
 ConeMode parse_cone_mode(const std::string& name) {
-  if (name == "needed") return ConeMode::Needed;
-  if (name == "none") return ConeMode::None;
-  if (name == "user") return ConeMode::User;
-  if (name == "auto") return ConeMode::Auto;
-  if (name == "one") return ConeMode::OneCone;
-  throw InvalidInput("parse_cone_mode: unknown cone mode '" + name +
-                     "'; expected needed, none, user, auto or one");
+  return parse_enum<ConeMode>(name, "parse_cone_mode");
 }
 
 const char* cone_mode_name(ConeMode mode) {
-  switch (mode) {
-    case ConeMode::Needed:
-      return "needed";
-    case ConeMode::None:
-      return "none";
-    case ConeMode::User:
-      return "user";
-    case ConeMode::Auto:
-      return "auto";
-    case ConeMode::OneCone:
-      return "one";
-  }
-  return "unknown";
+  return enum_name(mode);
 }
 
 namespace {
@@ -451,9 +432,9 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   ParamRun run(input, options, result, std::move(t0));
   run.closed = run.input_topology.components[0].num_boundary_loops == 0;
   run.chi = run.input_topology.components[0].euler_characteristic;
-  run.flips =
-      options.flow.flips == EdgeFlips::Delaunay ||
-      (options.flow.flips == EdgeFlips::Auto && options.structure.scheme == Scheme::VertexScaling);
+  run.flips = options.flow.flips == EdgeFlips::Delaunay ||
+              (options.flow.flips == EdgeFlips::Auto &&
+               scheme_traits(options.structure.scheme).ptolemy_flips);
   run.mode = options.cone_mode;
   if (run.mode == ConeMode::Needed) {
     run.mode = run.closed && run.chi != 0 ? ConeMode::Auto : ConeMode::None;

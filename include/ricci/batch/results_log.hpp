@@ -5,10 +5,13 @@
 /// counted done, so a batch killed at any moment leaves at most one torn last line (ignored and
 /// cut off on the next run) and never a mesh recorded twice.
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "ricci/enum_names.hpp"
 
 namespace ricci {
 
@@ -23,6 +26,21 @@ enum class MeshOutcome {
   Crashed,        ///< killed by a signal (SIGSEGV, SIGABRT, SIGKILL from outside, ...)
   TimedOut,       ///< stopped by the batch's --timeout
   SpawnFailed,    ///< the worker could not start `ricci param`
+};
+
+template <>
+struct EnumNames<MeshOutcome> {
+  static constexpr const char* noun = "mesh outcome";
+  static constexpr std::array<EnumName<MeshOutcome>, 8> names{{
+      {MeshOutcome::Ok, "ok"},
+      {MeshOutcome::BadInput, "bad_input"},
+      {MeshOutcome::NotConverged, "not_converged"},
+      {MeshOutcome::InternalError, "internal_error"},
+      {MeshOutcome::OutOfMemory, "out_of_memory"},
+      {MeshOutcome::Crashed, "crashed"},
+      {MeshOutcome::TimedOut, "timed_out"},
+      {MeshOutcome::SpawnFailed, "spawn_failed"},
+  }};
 };
 
 /// "ok", "bad_input", "not_converged", "internal_error", "out_of_memory", "crashed",

@@ -31,6 +31,18 @@ enum class TargetKind {
   Values,   ///< one value per vertex, given
 };
 
+/// Python's target= names.
+template <>
+struct EnumNames<TargetKind> {
+  static constexpr const char* noun = "value";
+  static constexpr std::array<EnumName<TargetKind>, 4> names{{
+      {TargetKind::Natural, "natural"},
+      {TargetKind::Flat, "flat"},
+      {TargetKind::Uniform, "uniform"},
+      {TargetKind::Values, "values"},
+  }};
+};
+
 /// The target, in whole-mesh vertex indices.
 struct TargetSpec {
   TargetKind kind = TargetKind::Natural;

@@ -4,6 +4,7 @@
 /// method on the convex Ricci energy, and the tutorial's gradient flow. Both find log radii u with
 /// K(u) = K-bar at every vertex with a target, u fixed where the target says so.
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -23,6 +24,15 @@ enum class FlowSolver {
   Gradient,  ///< the tutorial's explicit flow u += dt (K-bar - K) (exponential convergence)
 };
 
+template <>
+struct EnumNames<FlowSolver> {
+  static constexpr const char* noun = "solver";
+  static constexpr std::array<EnumName<FlowSolver>, 2> names{{
+      {FlowSolver::Newton, "newton"},
+      {FlowSolver::Gradient, "gradient"},
+  }};
+};
+
 /// "newton" or "gradient". \throw InvalidInput on any other string
 FlowSolver parse_flow_solver(const std::string& name);
 const char* flow_solver_name(FlowSolver solver);
@@ -33,6 +43,18 @@ enum class EdgeFlips {
   Auto,      ///< Delaunay for vertex scaling (the only scheme whose class flips preserve), else Off
   Off,       ///< the input's triangulation throughout
   Delaunay,  ///< Ptolemy flips to the intrinsic Delaunay triangulation at every accepted step
+};
+
+/// "none" is an old spelling of "off", parsed but not listed.
+template <>
+struct EnumNames<EdgeFlips> {
+  static constexpr const char* noun = "flips";
+  static constexpr std::array<EnumName<EdgeFlips>, 4> names{{
+      {EdgeFlips::Auto, "auto"},
+      {EdgeFlips::Off, "off"},
+      {EdgeFlips::Off, "none", NameRole::Hidden},
+      {EdgeFlips::Delaunay, "delaunay"},
+  }};
 };
 
 /// "auto", "off" or "delaunay". \throw InvalidInput on any other string
@@ -99,6 +121,19 @@ enum class FlowStatus {
                      ///< is degenerating: radii spanning many orders of magnitude)
   Cancelled,         ///< the progress callback asked to stop
 };
+
+template <>
+struct EnumNames<FlowStatus> {
+  static constexpr const char* noun = "flow status";
+  static constexpr std::array<EnumName<FlowStatus>, 5> names{{
+      {FlowStatus::Converged, "converged"},
+      {FlowStatus::MaxIterations, "max-iterations"},
+      {FlowStatus::LineSearchFailed, "line-search-failed"},
+      {FlowStatus::SolverFailed, "solver-failed"},
+      {FlowStatus::Cancelled, "cancelled"},
+  }};
+};
+
 const char* flow_status_name(FlowStatus status);
 
 /// Wall time spent in each phase, seconds.

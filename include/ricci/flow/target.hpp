@@ -4,6 +4,7 @@
 /// vertex keeps its log radius (a Dirichlet condition), and the checks that make a target
 /// admissible: Gauss-Bonnet and the single-vertex bound.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,17 @@ enum class BoundaryMode {
   DiskUniform,  ///< boundary curvature (2 pi chi - sum of cones) / m at each of m vertices
   DiskLength,   ///< the same total, shared in proportion to the boundary length at each vertex
   Geodesic,     ///< K-bar = 0 on the boundary: geodesic boundary (the hyperbolic default)
+};
+
+template <>
+struct EnumNames<BoundaryMode> {
+  static constexpr const char* noun = "boundary";
+  static constexpr std::array<EnumName<BoundaryMode>, 4> names{{
+      {BoundaryMode::Free, "free"},
+      {BoundaryMode::DiskUniform, "disk"},
+      {BoundaryMode::DiskLength, "disk-length"},
+      {BoundaryMode::Geodesic, "geodesic"},
+  }};
 };
 
 /// "free", "disk", "disk-length", "geodesic". \throw InvalidInput on any other string

@@ -5,10 +5,14 @@
 ///     l_ij^2 = epsilon_i gamma_i^2 + epsilon_j gamma_j^2 + 2 eta_ij gamma_i gamma_j.
 /// Changing u with epsilon and eta fixed is a discrete conformal deformation.
 
+#include <array>
+#include <cstddef>
+#include <numbers>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "ricci/enum_names.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/metric/geometry.hpp"
@@ -22,6 +26,73 @@ enum class Scheme {
   InversiveDistance,  ///< epsilon = 1, eta = inversive distance of the input circles
   VertexScaling,      ///< epsilon = 0, eta = lbar^2 / 2: discrete Yamabe flow
   VirtualRadius,      ///< epsilon = -1, eta = (lbar^2 + g_i^2 + g_j^2) / (2 g_i g_j)
+};
+
+/// What the rest of ricci needs to know about a scheme, besides how make_conformal_structure
+/// builds it. A new scheme is a value of Scheme, a row of kSchemeTraits, and its cases in
+/// make_conformal_structure (scheme.cpp, hyperbolic.cpp); everything else reads the row.
+struct SchemeTraits {
+  Scheme scheme;
+  const char* name;        ///< printed and parsed (command line, JSON reports, Python strings)
+  const char* alias;       ///< another name parse_scheme accepts, or nullptr
+  const char* identifier;  ///< the value's name in Python's ricci.Scheme enum
+  double epsilon;          ///< the scheme constant of every vertex (THEORY.md section 2)
+  /// eta = cos Phi of two circles meeting at angle Phi (Thurston, tangential): the radii are fitted
+  /// to the input lengths, and a face gives its vertex at most pi - Phi of angle (the
+  /// single-vertex bound of check_admissible).
+  bool circle_packing;
+  /// Phi is fitted per edge in [0, max_intersection_angle] (Thurston) rather than fixed at 0
+  /// (tangential, whose bound is then the widest a packing has).
+  bool fitted_intersection_angles;
+  /// The largest angle every face can give a vertex whatever the fitted constants: pi / 2 for
+  /// packings (Phi up to pi / 2), pi otherwise. Sets the valence a cone needs without flips.
+  double guaranteed_face_angle;
+  /// Ptolemy flips keep the conformal class (epsilon = 0): EdgeFlips::Auto flips, Delaunay is
+  /// allowed, and the exact common refinement exists.
+  bool ptolemy_flips;
+  /// The hyperbolic background is offered (its Ricci energy is convex there).
+  bool hyperbolic;
+};
+
+/// One row per scheme, in the order of the enum (and of parse errors).
+inline constexpr std::array<SchemeTraits, 5> kSchemeTraits{{
+    {Scheme::Tangential, "tangential", nullptr, "Tangential", 1.0, true, false,
+     std::numbers::pi / 2, false, true},
+    {Scheme::Thurston, "thurston", nullptr, "Thurston", 1.0, true, true, std::numbers::pi / 2,
+     false, true},
+    {Scheme::InversiveDistance, "inversive-distance", nullptr, "InversiveDistance", 1.0, false,
+     false, std::numbers::pi, false, true},
+    {Scheme::VertexScaling, "vertex-scaling", "yamabe", "VertexScaling", 0.0, false, false,
+     std::numbers::pi, true, true},
+    {Scheme::VirtualRadius, "virtual-radius", nullptr, "VirtualRadius", -1.0, false, false,
+     std::numbers::pi, false, false},
+}};
+
+/// The row of a scheme. \throw InvalidInput for a value outside the enum (a cast integer)
+const SchemeTraits& scheme_traits(Scheme scheme);
+
+/// The largest angle a face of the structure can give its vertex at a corner whose opposite edge
+/// has constant eta: pi - arccos(eta) for circle packings, pi otherwise.
+double max_face_angle(const SchemeTraits& traits, double eta);
+
+/// Scheme names from kSchemeTraits: each row's name, then its alias.
+template <>
+struct EnumNames<Scheme> {
+  static constexpr const char* noun = "scheme";
+  static constexpr auto names = [] {
+    constexpr std::size_t count = [] {
+      std::size_t n = 0;
+      for (const SchemeTraits& row : kSchemeTraits) n += row.alias ? 2 : 1;
+      return n;
+    }();
+    std::array<EnumName<Scheme>, count> out{};
+    std::size_t i = 0;
+    for (const SchemeTraits& row : kSchemeTraits) {
+      out[i++] = {row.scheme, row.name, NameRole::Primary};
+      if (row.alias) out[i++] = {row.scheme, row.alias, NameRole::Alias};
+    }
+    return out;
+  }();
 };
 
 /// "tangential", "thurston", "inversive-distance", "vertex-scaling", "virtual-radius".
@@ -54,6 +125,16 @@ struct ConformalStructure {
 enum class PackingInit {
   Fit,        ///< least-squares fit of the input lengths (tutorial eq. 1)
   UnitRadii,  ///< the tutorial's shortcut: gamma = 1, Phi = 0 (no conformality to the input)
+};
+
+/// "fit" or "unit" (the command line's --init, Python's packing_init).
+template <>
+struct EnumNames<PackingInit> {
+  static constexpr const char* noun = "value";
+  static constexpr std::array<EnumName<PackingInit>, 2> names{{
+      {PackingInit::Fit, "fit"},
+      {PackingInit::UnitRadii, "unit"},
+  }};
 };
 
 /// Options of make_conformal_structure.

@@ -33,6 +33,18 @@ enum class ConeMode {
   OneCone,  ///< all curvature 2 pi chi at one vertex (genus >= 2), chosen by select_cones
 };
 
+template <>
+struct EnumNames<ConeMode> {
+  static constexpr const char* noun = "cone mode";
+  static constexpr std::array<EnumName<ConeMode>, 5> names{{
+      {ConeMode::Needed, "needed"},
+      {ConeMode::None, "none"},
+      {ConeMode::User, "user"},
+      {ConeMode::Auto, "auto"},
+      {ConeMode::OneCone, "one"},
+  }};
+};
+
 /// "needed", "none", "user", "auto", "one". \throw InvalidInput otherwise
 ConeMode parse_cone_mode(const std::string& name);
 const char* cone_mode_name(ConeMode mode);
