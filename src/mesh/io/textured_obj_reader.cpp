@@ -1,5 +1,3 @@
-#include "ricci/render/textured_obj.hpp"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -11,6 +9,7 @@
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/mesh/io.hpp"
 
 namespace ricci {
 namespace {
