@@ -8,27 +8,18 @@
 namespace ricci {
 
 void write_obj(const std::string& path, const Mesh& mesh) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    std::string text;
-    char buffer[96];
-    auto flush_if_large = [&] {
-      if (text.size() < (1u << 20)) return;
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-    };
+  write_file_atomically(path, [&](std::ostream& stream) {
+    io_detail::BlockOutput out(stream);
+    char line[96];
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      const int n = std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n",
-                                  mesh.positions(v, 0), mesh.positions(v, 1), mesh.positions(v, 2));
-      text.append(buffer, static_cast<std::size_t>(n));
-      flush_if_large();
+      out.append(line,
+                 std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
+                               mesh.positions(v, 1), mesh.positions(v, 2)));
     }
     for (int f = 0; f < mesh.num_faces(); ++f) {
-      const int n = std::snprintf(buffer, sizeof buffer, "f %d %d %d\n", mesh.triangles(f, 0) + 1,
-                                  mesh.triangles(f, 1) + 1, mesh.triangles(f, 2) + 1);
-      text.append(buffer, static_cast<std::size_t>(n));
-      flush_if_large();
+      out.append(line, std::snprintf(line, sizeof line, "f %d %d %d\n", mesh.triangles(f, 0) + 1,
+                                     mesh.triangles(f, 1) + 1, mesh.triangles(f, 2) + 1));
     }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
   });
 }
 
@@ -41,35 +32,36 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
                        const ObjMaterial& material) {
   io_detail::check_faces("write_obj", path, mesh, &uv_triangles, uv);
 
-  write_file_atomically(path, [&](std::ostream& out) {
-    std::string text;
-    char buffer[160];
-    auto append = [&](int n) {
-      text.append(buffer, static_cast<std::size_t>(n));
-      if (text.size() < (1u << 20)) return;
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-    };
-    if (!material.library.empty()) text += "mtllib " + material.library + "\n";
+  write_file_atomically(path, [&](std::ostream& stream) {
+    io_detail::BlockOutput out(stream);
+    char line[160];
+    if (!material.library.empty()) {
+      const std::string statement = "mtllib " + material.library + "\n";
+      out.append(statement.data(), static_cast<int>(statement.size()));
+    }
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      append(std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
-                           mesh.positions(v, 1), mesh.positions(v, 2)));
+      out.append(line,
+                 std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
+                               mesh.positions(v, 1), mesh.positions(v, 2)));
     }
     for (Eigen::Index t = 0; t < uv.rows(); ++t) {
       if constexpr (Columns == 2) {
-        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
+        out.append(line, std::snprintf(line, sizeof line, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
       } else {
-        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g %.17g\n", uv(t, 0), uv(t, 1),
-                             uv(t, 2)));
+        out.append(line, std::snprintf(line, sizeof line, "vt %.17g %.17g %.17g\n", uv(t, 0),
+                                       uv(t, 1), uv(t, 2)));
       }
     }
-    if (!material.library.empty()) text += "usemtl " + material.name + "\n";
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      append(std::snprintf(buffer, sizeof buffer, "f %d/%d %d/%d %d/%d\n", mesh.triangles(f, 0) + 1,
-                           uv_triangles(f, 0) + 1, mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
-                           mesh.triangles(f, 2) + 1, uv_triangles(f, 2) + 1));
+    if (!material.library.empty()) {
+      const std::string statement = "usemtl " + material.name + "\n";
+      out.append(statement.data(), static_cast<int>(statement.size()));
     }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      out.append(line, std::snprintf(line, sizeof line, "f %d/%d %d/%d %d/%d\n",
+                                     mesh.triangles(f, 0) + 1, uv_triangles(f, 0) + 1,
+                                     mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
+                                     mesh.triangles(f, 2) + 1, uv_triangles(f, 2) + 1));
+    }
   });
 }
 

@@ -10,9 +10,11 @@
 namespace ricci::io_detail {
 
 void write_stl(const std::string& path, const Mesh& mesh) {
-  write_file_atomically(path, [&](std::ostream& out) {
+  write_file_atomically(path, [&](std::ostream& stream) {
+    BlockOutput out(stream);
     // The 80-byte header must not start with "solid", which would mark ASCII STL.
-    std::string bytes = "binary STL written by ricci";
+    std::string& bytes = out.bytes();
+    bytes = "binary STL written by ricci";
     bytes.resize(80, ' ');
     append_little_endian(bytes, static_cast<std::uint32_t>(mesh.num_faces()));
     for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -27,12 +29,8 @@ void write_stl(const std::string& path, const Mesh& mesh) {
         for (int k = 0; k < 3; ++k) append_little_endian(bytes, p[k]);
       }
       append_little_endian(bytes, std::uint16_t{0});  // attribute byte count
-      if (bytes.size() >= (1u << 20)) {
-        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        bytes.clear();
-      }
+      out.end_of_item();
     }
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   });
 }
 
