@@ -13,21 +13,22 @@ namespace ricci {
 /// coordinate; a seam is an edge whose two faces give its ends different uv indices. A mesh
 /// without texture coordinates has uv_triangles and uv empty (0 rows).
 struct TexturedMesh {
-  Mesh mesh;  ///< positions (#V by 3, e.g. every `v` of an OBJ file) and triangles (#F by 3)
-  Triangles
-      uv_triangles;  ///< #F by 3 indices into uv: corner c of face f has uv(uv_triangles(f, c))
+  Mesh mesh = {};  ///< positions (#V by 3, e.g. every `v` of an OBJ file) and triangles (#F by 3)
+  /// #F by 3 indices into uv: corner c of face f has uv(uv_triangles(f, c)).
+  Triangles uv_triangles = {};
   /// #UV by 2, e.g. every `vt` of an OBJ file (u, v); for homogeneous coordinates (see
   /// uv_weights) (u / w, v / w), the texture coordinates at the corners.
-  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> uv = {};
   /// #UV homogeneous weights when every `vt` has a third component w and every w is positive
   /// (`vt u v w` as `ricci param --faces refinement` writes it: (u, v, w) interpolated linearly
   /// and divided by w give the texture coordinates, a projective map per face); empty otherwise
   /// (the third component of ordinary files, often 0, is ignored).
-  Eigen::VectorXd uv_weights;
-  int polygons_triangulated =
-      0;  ///< faces of the file read with more than three corners, split as a fan
+  Eigen::VectorXd uv_weights = {};
+  /// Faces of the file read with more than three corners, split as a fan (readers only).
+  int polygons_triangulated = 0;
 
-  /// True when the mesh carries texture coordinates (uv_triangles has a row per face).
+  /// True when the mesh carries texture coordinates (write_mesh checks that uv_triangles then
+  /// has a row per face).
   bool has_uv() const { return uv_triangles.rows() > 0 || uv.rows() > 0; }
 };
 
