@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "disjoint_sets.hpp"
+#include "face_keys.hpp"
 #include "orientation.hpp"
 #include "ricci/errors.hpp"
 
@@ -24,6 +25,7 @@ using mesh_detail::edge_name;
 using mesh_detail::OrientationComponent;
 using mesh_detail::OrientationSearch;
 using mesh_detail::search_orientation;
+using mesh_detail::sorted_face_keys;
 
 void note(RepairCount& count, int element, int max_examples) {
   if (static_cast<int>(count.examples.size()) < max_examples) count.examples.push_back(element);
@@ -521,15 +523,8 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
   }
   std::vector<int> duplicate_of(nf, -1);
   {
-    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
-    keyed.reserve(nf);
-    for (int f = 0; f < nf; ++f) {
-      if (!keep[f]) continue;
-      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
-      std::sort(key.begin(), key.begin() + 3);
-      keyed.push_back(key);
-    }
-    std::sort(keyed.begin(), keyed.end());
+    const std::vector<std::array<int, 4>> keyed =
+        sorted_face_keys(T, [&](int f) { return keep[f] != 0; });
     for (std::size_t i = 1, first = 0; i < keyed.size(); ++i) {
       if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[first].begin())) {
         duplicate_of[keyed[i][3]] = keyed[first][3];

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "disjoint_sets.hpp"
+#include "face_keys.hpp"
 #include "orientation.hpp"
 #include "ricci/errors.hpp"
 
@@ -24,6 +25,7 @@ using mesh_detail::edge_name;
 using mesh_detail::OrientationComponent;
 using mesh_detail::OrientationSearch;
 using mesh_detail::search_orientation;
+using mesh_detail::sorted_face_keys;
 
 constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
 
@@ -191,15 +193,8 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
 
   // Duplicate faces: sort faces by their sorted vertex triple; equal neighbours are duplicates.
   {
-    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
-    keyed.reserve(nf);
-    for (int f = 0; f < nf; ++f) {
-      if (!usable[f]) continue;
-      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
-      std::sort(key.begin(), key.begin() + 3);
-      keyed.push_back(key);
-    }
-    std::sort(keyed.begin(), keyed.end());
+    const std::vector<std::array<int, 4>> keyed =
+        sorted_face_keys(T, [&](int f) { return usable[f] != 0; });
     std::vector<int> first_copy(nf, -1);
     for (std::size_t i = 1; i < keyed.size(); ++i) {
       if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[i - 1].begin())) {
