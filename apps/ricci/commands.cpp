@@ -24,6 +24,7 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/common_refinement.hpp"
+#include "ricci/param/output_mesh.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/param/sphere.hpp"
 #include "ricci/spline/manifold_spline.hpp"
@@ -427,24 +428,23 @@ void check_texture_options(const ParamArgs& args) {
 
 /// The parameterization's file: OBJ with its material (STEM.mtl and the checkerboard STEM.png,
 /// or --texture's image) unless --texture none, or glTF binary with the texture inside.
-void write_textured_output(const ParamArgs& args, const Mesh& mesh, const Triangles& uv_triangles,
-                           const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+void write_textured_output(const ParamArgs& args, const TexturedMesh& textured) {
+  WriteOptions write;
+  // --format, or the output's extension as output_format reads it: any other extension is OBJ.
+  write.format = MeshFormat::Obj;
 #ifdef RICCI_HAVE_RENDER
   const std::string texture = args.texture == "checker" ? "" : args.texture;
   if (output_format(args) == "glb") {
     GlbOptions glb;
     glb.texture_path = texture;
-    write_glb(args.output, mesh, uv_triangles, uv, glb);
-    return;
-  }
-  if (args.texture != "none") {
+    write.format = MeshFormat::Glb;
+    write.glb_writer = glb_writer(glb);
+  } else if (args.texture != "none") {
     // The material first: an OBJ never names a library that is not there.
-    const ObjMaterialFiles files = write_obj_material(args.output, texture);
-    write_obj(args.output, mesh, uv_triangles, uv, ObjMaterial{files.library});
-    return;
+    write.material.library = write_obj_material(args.output, texture).library;
   }
 #endif
-  write_obj(args.output, mesh, uv_triangles, uv);
+  write_mesh(args.output, textured, write);
 }
 
 /// Writes the refinement (homogeneous vt) to `output` and its companions beside it.
@@ -530,7 +530,11 @@ int run_param_hyperbolic(const ParamArgs& args) {
                      "the flow did not converge: " + result.message)) {
     return kNotConverged;
   }
-  write_textured_output(args, read.mesh, result.cut_mesh.triangles, result.uv);
+  TexturedMesh textured;
+  textured.mesh = read.mesh;
+  textured.uv_triangles = result.cut_mesh.triangles;
+  textured.uv = result.uv;
+  write_textured_output(args, textured);
 #ifdef RICCI_HAVE_RENDER
   write_hyperbolic_pictures(args.pictures, result);
 #endif
@@ -735,7 +739,7 @@ int run_param(const ParamArgs& args) {
 #endif
     write_refinement(args.output, args.mesh, result, *exact, read, linear_material);
   } else {
-    write_textured_output(args, result.mesh, result.cut_mesh.triangles, result.uv);
+    write_textured_output(args, textured_mesh(result));
   }
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);

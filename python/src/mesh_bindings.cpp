@@ -63,11 +63,14 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("num_vertices", &Mesh::num_vertices)
       .def_property_readonly("num_faces", &Mesh::num_faces);
 
-  py::enum_<MeshFormat>(m, "MeshFormat", "File formats ricci reads.")
+  py::enum_<MeshFormat>(m, "MeshFormat",
+                        "Mesh file formats: read_mesh reads Obj, Off, Ply and Stl; Glb (glTF "
+                        "binary) is written by `ricci param -o x.glb`.")
       .value("Obj", MeshFormat::Obj)
       .value("Off", MeshFormat::Off)
       .value("Ply", MeshFormat::Ply)
-      .value("Stl", MeshFormat::Stl);
+      .value("Stl", MeshFormat::Stl)
+      .value("Glb", MeshFormat::Glb);
 
   py::enum_<DefectKind>(m, "DefectKind", "The kinds of mesh defect.")
       .value("NonFiniteCoordinate", DefectKind::NonFiniteCoordinate)

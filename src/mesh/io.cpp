@@ -48,6 +48,10 @@ io_detail::RawMesh parse(MeshFormat format, const std::string& path, std::string
       return io_detail::parse_ply(path, data);
     case MeshFormat::Stl:
       return io_detail::parse_stl(path, data);
+    case MeshFormat::Glb:
+      io_error(path,
+               "glTF binary holds a textured mesh: read_glb (ricci/render/textured_files.hpp) "
+               "reads it; read_mesh reads .obj, .off, .ply or .stl");
   }
   io_error(path, "unknown mesh format");
 }
@@ -111,10 +115,11 @@ MeshFormat format_from_path(const std::string& path) {
   if (extension == ".off") return MeshFormat::Off;
   if (extension == ".ply") return MeshFormat::Ply;
   if (extension == ".stl") return MeshFormat::Stl;
+  if (extension == ".glb") return MeshFormat::Glb;
   io_error(path,
            "unknown mesh format " +
                (extension.empty() ? std::string("(no extension)") : io_detail::quote(extension)) +
-               ": expected .obj, .off, .ply or .stl");
+               ": expected .obj, .off, .ply, .stl or .glb");
 }
 
 ReadResult read_mesh(const std::string& path, const ReadOptions& options) {
@@ -158,107 +163,6 @@ void write_file_atomically(const std::string& path,
     fs::remove(temporary, ignored);
     throw IoError(path + ": cannot write: unknown error");
   }
-}
-
-void write_obj(const std::string& path, const Mesh& mesh) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    std::string text;
-    char buffer[96];
-    auto flush_if_large = [&] {
-      if (text.size() < (1u << 20)) return;
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-    };
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      const int n = std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n",
-                                  mesh.positions(v, 0), mesh.positions(v, 1), mesh.positions(v, 2));
-      text.append(buffer, static_cast<std::size_t>(n));
-      flush_if_large();
-    }
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      const int n = std::snprintf(buffer, sizeof buffer, "f %d %d %d\n", mesh.triangles(f, 0) + 1,
-                                  mesh.triangles(f, 1) + 1, mesh.triangles(f, 2) + 1);
-      text.append(buffer, static_cast<std::size_t>(n));
-      flush_if_large();
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  });
-}
-
-namespace {
-
-/// write_obj with texture coordinates of `Columns` components (2: u v; 3: u v w).
-template <int Columns>
-void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-                       const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv,
-                       const ObjMaterial& material) {
-  auto invalid = [&](const std::string& what) {
-    throw InvalidInput("write_obj: " + path + ": " + what);
-  };
-  if (uv_triangles.rows() != mesh.num_faces()) {
-    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
-            std::to_string(mesh.num_faces()) + " faces");
-  }
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int v = mesh.triangles(f, c), t = uv_triangles(f, c);
-      if (v < 0 || v >= mesh.num_vertices()) {
-        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": vertex index " +
-                std::to_string(v) + " is out of range [0, " + std::to_string(mesh.num_vertices()) +
-                ")");
-      }
-      if (t < 0 || t >= uv.rows()) {
-        invalid("face " + std::to_string(f) + " corner " + std::to_string(c) + ": uv index " +
-                std::to_string(t) + " is out of range [0, " + std::to_string(uv.rows()) + ")");
-      }
-    }
-  }
-  for (Eigen::Index t = 0; t < uv.rows(); ++t) {
-    if (!uv.row(t).allFinite()) invalid("uv row " + std::to_string(t) + " is not finite");
-  }
-
-  write_file_atomically(path, [&](std::ostream& out) {
-    std::string text;
-    char buffer[160];
-    auto append = [&](int n) {
-      text.append(buffer, static_cast<std::size_t>(n));
-      if (text.size() < (1u << 20)) return;
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-    };
-    if (!material.library.empty()) text += "mtllib " + material.library + "\n";
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      append(std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
-                           mesh.positions(v, 1), mesh.positions(v, 2)));
-    }
-    for (Eigen::Index t = 0; t < uv.rows(); ++t) {
-      if constexpr (Columns == 2) {
-        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
-      } else {
-        append(std::snprintf(buffer, sizeof buffer, "vt %.17g %.17g %.17g\n", uv(t, 0), uv(t, 1),
-                             uv(t, 2)));
-      }
-    }
-    if (!material.library.empty()) text += "usemtl " + material.name + "\n";
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      append(std::snprintf(buffer, sizeof buffer, "f %d/%d %d/%d %d/%d\n", mesh.triangles(f, 0) + 1,
-                           uv_triangles(f, 0) + 1, mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
-                           mesh.triangles(f, 2) + 1, uv_triangles(f, 2) + 1));
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  });
-}
-
-}  // namespace
-
-void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const ObjMaterial& material) {
-  write_obj_with_vt(path, mesh, uv_triangles, uv, material);
-}
-
-void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw, const ObjMaterial& material) {
-  write_obj_with_vt(path, mesh, uvw_triangles, uvw, material);
 }
 
 }  // namespace ricci

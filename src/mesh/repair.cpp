@@ -13,6 +13,8 @@
 #include <Eigen/Geometry>
 
 #include "disjoint_sets.hpp"
+#include "face_keys.hpp"
+#include "orientation.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
@@ -20,6 +22,10 @@ namespace {
 
 using mesh_detail::DisjointSets;
 using mesh_detail::edge_name;
+using mesh_detail::OrientationComponent;
+using mesh_detail::OrientationSearch;
+using mesh_detail::search_orientation;
+using mesh_detail::sorted_face_keys;
 
 void note(RepairCount& count, int element, int max_examples) {
   if (static_cast<int>(count.examples.size()) < max_examples) count.examples.push_back(element);
@@ -441,37 +447,16 @@ Split split_and_orient(const Positions& P, const Triangles& T, const std::vector
       }
       i = j;
     }
-    std::vector<signed char> bit(nk, -1);
-    std::vector<int> queue;
-    queue.reserve(nk);
-    for (int seed = 0; seed < nk; ++seed) {
-      if (bit[seed] >= 0) continue;
-      queue.clear();
-      queue.push_back(seed);
-      bit[seed] = 0;
-      bool orientable = true;
-      for (std::size_t q = 0; q < queue.size(); ++q) {
-        const int f = queue[q];
-        for (int k = 0; k < 3; ++k) {
-          const int h = 3 * f + k, g = twin[h];
-          if (g < 0) continue;
-          const int wanted = bit[f] ^ (out_tail(h) == out_tail(g) ? 1 : 0);
-          if (bit[g / 3] < 0) {
-            bit[g / 3] = static_cast<signed char>(wanted);
-            queue.push_back(g / 3);
-          } else if (bit[g / 3] != wanted) {
-            orientable = false;
-          }
-        }
-      }
-      if (!orientable) {
-        out.non_orientable.push_back(seed);
+    const OrientationSearch search = search_orientation(twin, out_tail, [](int) { return true; });
+    for (const OrientationComponent& component : search.components) {
+      if (component.conflict >= 0) {
+        out.non_orientable.push_back(component.seed);
         continue;
       }
-      std::size_t ones = 0;
-      for (int f : queue) ones += static_cast<std::size_t>(bit[f]);
-      const int minority = 2 * ones <= queue.size() ? 1 : 0;
-      for (int f : queue) flip[f] = static_cast<signed char>(bit[f] == minority);
+      for (int i = component.begin; i < component.end; ++i) {
+        const int f = search.order[i];
+        flip[f] = static_cast<signed char>(search.side[f] == component.minority());
+      }
     }
   }
   out.corner_output = std::move(corner_output);
@@ -538,15 +523,8 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
   }
   std::vector<int> duplicate_of(nf, -1);
   {
-    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
-    keyed.reserve(nf);
-    for (int f = 0; f < nf; ++f) {
-      if (!keep[f]) continue;
-      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
-      std::sort(key.begin(), key.begin() + 3);
-      keyed.push_back(key);
-    }
-    std::sort(keyed.begin(), keyed.end());
+    const std::vector<std::array<int, 4>> keyed =
+        sorted_face_keys(T, [&](int f) { return keep[f] != 0; });
     for (std::size_t i = 1, first = 0; i < keyed.size(); ++i) {
       if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[first].begin())) {
         duplicate_of[keyed[i][3]] = keyed[first][3];

@@ -13,6 +13,8 @@
 #include <Eigen/Geometry>
 
 #include "disjoint_sets.hpp"
+#include "face_keys.hpp"
+#include "orientation.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {
@@ -20,6 +22,10 @@ namespace {
 
 using mesh_detail::DisjointSets;
 using mesh_detail::edge_name;
+using mesh_detail::OrientationComponent;
+using mesh_detail::OrientationSearch;
+using mesh_detail::search_orientation;
+using mesh_detail::sorted_face_keys;
 
 constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
 
@@ -187,15 +193,8 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
 
   // Duplicate faces: sort faces by their sorted vertex triple; equal neighbours are duplicates.
   {
-    std::vector<std::array<int, 4>> keyed;  // sorted vertices, face
-    keyed.reserve(nf);
-    for (int f = 0; f < nf; ++f) {
-      if (!usable[f]) continue;
-      std::array<int, 4> key = {T(f, 0), T(f, 1), T(f, 2), f};
-      std::sort(key.begin(), key.begin() + 3);
-      keyed.push_back(key);
-    }
-    std::sort(keyed.begin(), keyed.end());
+    const std::vector<std::array<int, 4>> keyed =
+        sorted_face_keys(T, [&](int f) { return usable[f] != 0; });
     std::vector<int> first_copy(nf, -1);
     for (std::size_t i = 1; i < keyed.size(); ++i) {
       if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[i - 1].begin())) {
@@ -299,9 +298,6 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
   // consistent orientation exists (non-orientable); otherwise every same-direction edge is an
   // inconsistency that flipping the faces with the minority bit of the component would fix.
   {
-    std::vector<signed char> flip(nf, -1);
-    std::vector<int> queue;
-    queue.reserve(nf);
     struct Inconsistency {
       int face;     // the face on the minority side of its component: reversing it helps
       int other;    // the face across the edge
@@ -312,47 +308,29 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
       }
     };
     std::vector<Inconsistency> inconsistent;
-    for (int seed = 0; seed < nf; ++seed) {
-      if (!usable[seed] || flip[seed] >= 0) continue;
-      queue.clear();
-      queue.push_back(seed);
-      flip[seed] = 0;
-      int conflict = -1;  // a halfedge where the bits contradict
-      for (std::size_t q = 0; q < queue.size(); ++q) {
-        const int f = queue[q];
-        for (int k = 0; k < 3; ++k) {
-          const int h = 3 * f + k, g = twin[h];
-          if (g < 0) continue;
-          const int wanted = flip[f] ^ (tail(h) == tail(g) ? 1 : 0);
-          if (flip[g / 3] < 0) {
-            flip[g / 3] = static_cast<signed char>(wanted);
-            queue.push_back(g / 3);
-          } else if (flip[g / 3] != wanted && conflict < 0) {
-            conflict = h;
-          }
-        }
-      }
-      if (conflict >= 0) {
-        out.add(DefectKind::NonOrientable, seed, [&] {
-          const int h = conflict, g = twin[h];
+    const OrientationSearch search =
+        search_orientation(twin, tail, [&](int f) { return usable[f] != 0; });
+    for (const OrientationComponent& component : search.components) {
+      if (component.conflict >= 0) {
+        out.add(DefectKind::NonOrientable, component.seed, [&] {
+          const int h = component.conflict, g = twin[h];
           return "non-orientable surface (like a Moebius strip): the " +
-                 std::to_string(queue.size()) + " faces connected to face " + std::to_string(seed) +
+                 std::to_string(component.size()) + " faces connected to face " +
+                 std::to_string(component.seed) +
                  " cannot be oriented consistently (the contradiction closes at edge " +
                  edge_name(tail(h), head(h)) + " between faces " + std::to_string(h / 3) + " and " +
                  std::to_string(g / 3) + ")";
         });
         continue;
       }
-      std::size_t flipped = 0;
-      for (int f : queue) flipped += static_cast<std::size_t>(flip[f]);
-      const int minority = 2 * flipped <= queue.size() ? 1 : 0;
-      const int to_flip = static_cast<int>(minority ? flipped : queue.size() - flipped);
-      for (int f : queue) {
+      const int minority = component.minority();
+      for (int i = component.begin; i < component.end; ++i) {
+        const int f = search.order[i];
         for (int k = 0; k < 3; ++k) {
           const int h = 3 * f + k, g = twin[h];
           if (g < h || tail(h) != tail(g)) continue;
-          const int reported = flip[f] == minority ? f : g / 3;
-          inconsistent.push_back({reported, reported == f ? g / 3 : f, h, to_flip});
+          const int reported = search.side[f] == minority ? f : g / 3;
+          inconsistent.push_back({reported, reported == f ? g / 3 : f, h, component.to_reverse()});
         }
       }
     }

@@ -232,32 +232,23 @@ bool glb_supported() {
 #endif
 }
 
-void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const GlbOptions& options) {
+namespace {
+
+/// glb_writer's writer; write_mesh has checked the indices and coordinates.
+void write_glb(const std::string& path, const TexturedMesh& textured, const GlbOptions& options) {
+  const Mesh& mesh = textured.mesh;
+  const Triangles& uv_triangles = textured.uv_triangles;
+  const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv = textured.uv;
   const int n = mesh.num_faces();
-  if (uv_triangles.rows() != n) {
-    throw InvalidInput("write_glb: " + path + ": uv_triangles has " +
-                       std::to_string(uv_triangles.rows()) + " rows for " + std::to_string(n) +
-                       " faces");
-  }
-  for (int f = 0; f < n; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      if (mesh.triangles(f, c) < 0 || mesh.triangles(f, c) >= mesh.num_vertices() ||
-          uv_triangles(f, c) < 0 || uv_triangles(f, c) >= uv.rows()) {
-        throw InvalidInput("write_glb: " + path + ": face " + std::to_string(f) +
-                           " has an index out of range");
-      }
-    }
-  }
-  if (!mesh.positions.allFinite() || !uv.allFinite()) {
-    throw InvalidInput("write_glb: " + path + ": non-finite positions or texture coordinates");
-  }
   const std::string texture = options.texture_path.empty() ? encode_png(checkerboard_texture())
                                                            : read_bytes(options.texture_path);
   const std::string mime = image_mime_type(
       texture, options.texture_path.empty() ? std::string("checkerboard") : options.texture_path);
 #ifndef RICCI_HAVE_GLTF
   (void)mime;
+  (void)n;
+  (void)uv_triangles;
+  (void)uv;
   throw IoError("write_glb: " + path +
                 ": this ricci was built without tinygltf (install libtinygltf-dev and rebuild)");
 #else
@@ -399,6 +390,14 @@ void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
     }
   });
 #endif
+}
+
+}  // namespace
+
+MeshWriter glb_writer(const GlbOptions& options) {
+  return [options](const std::string& path, const TexturedMesh& mesh) {
+    write_glb(path, mesh, options);
+  };
 }
 
 }  // namespace ricci

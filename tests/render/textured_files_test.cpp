@@ -9,6 +9,7 @@
 #include "render_test_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/param/output_mesh.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/render/render_mesh.hpp"
 
@@ -22,6 +23,13 @@ namespace ricci {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// write_mesh's options with the glTF writer of the picture library.
+[[maybe_unused]] WriteOptions glb_options(const GlbOptions& glb = {}) {
+  WriteOptions options;
+  options.glb_writer = glb_writer(glb);
+  return options;
+}
 
 TEST(TexturedFiles, CheckerboardSquaresStartLightAtTheOrigin) {
   const Image image = checkerboard_texture(64, 4);
@@ -106,7 +114,7 @@ TEST(TexturedFiles, GlbHoldsTheMeshItsTextureCoordinatesAndTheTexture) {
   const Mesh torus = make_torus(16, 8);
   const ParamResult param = parameterize(torus);  // a torus: seams, so vertices split
   const std::string path = (testing::render_tmp_dir() / "torus.glb").string();
-  write_glb(path, param.mesh, param.cut_mesh.triangles, param.uv);
+  write_mesh(path, textured_mesh(param), glb_options());
   const tinygltf::Model model = load_glb_model(path);
   ASSERT_EQ(model.meshes.size(), 1u);
   ASSERT_EQ(model.meshes[0].primitives.size(), 1u);
@@ -157,7 +165,7 @@ TEST(TexturedFiles, GlbReadsBackWithItsSeamsWelded) {
   const Mesh torus = make_torus(16, 8);
   const ParamResult param = parameterize(torus);
   const std::string path = (testing::render_tmp_dir() / "torus_back.glb").string();
-  write_glb(path, param.mesh, param.cut_mesh.triangles, param.uv);
+  write_mesh(path, textured_mesh(param), glb_options());
   const TexturedMesh back = read_textured_file(path);
   // The split seam vertices are one vertex again: the torus's own count and faces.
   EXPECT_EQ(back.mesh.num_vertices(), torus.num_vertices());
@@ -188,11 +196,11 @@ TEST(TexturedFiles, GlbRefusesWhatItCannotHold) {
   std::ofstream(dir / "not_an_image.png") << "hello";
   GlbOptions options;
   options.texture_path = (dir / "not_an_image.png").string();
-  EXPECT_THROW(
-      write_glb((dir / "x.glb").string(), param.mesh, param.cut_mesh.triangles, param.uv, options),
-      InvalidInput);
-  Triangles short_uv = param.cut_mesh.triangles.topRows(2);
-  EXPECT_THROW(write_glb((dir / "x.glb").string(), param.mesh, short_uv, param.uv), InvalidInput);
+  EXPECT_THROW(write_mesh((dir / "x.glb").string(), textured_mesh(param), glb_options(options)),
+               InvalidInput);
+  TexturedMesh short_uv = textured_mesh(param);
+  short_uv.uv_triangles = param.cut_mesh.triangles.topRows(2);
+  EXPECT_THROW(write_mesh((dir / "x.glb").string(), short_uv, glb_options()), InvalidInput);
   EXPECT_FALSE(fs::exists(dir / "x.glb"));
 }
 #endif

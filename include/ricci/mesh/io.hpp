@@ -1,24 +1,28 @@
 #pragma once
 /// \file
-/// Reading triangle meshes from OBJ, OFF, PLY (ASCII and binary) and STL (ASCII and binary), and
-/// writing files atomically. The readers are strict: a malformed file throws an error naming the
+/// Reading triangle meshes from OBJ, OFF, PLY (ASCII and binary) and STL (ASCII and binary),
+/// writing them (write_mesh: one writer per format beside each reader, src/mesh/io/), and writing
+/// files atomically. The readers are strict: a malformed file throws an error naming the
 /// file and the line (or byte offset) instead of dropping what it cannot read. (OpenMesh's own
 /// readers silently drop faces on non-manifold edges and on bad indices, which is why ricci parses
 /// these simple formats itself.)
 
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/repair.hpp"
+#include "ricci/mesh/textured_mesh.hpp"
 #include "ricci/mesh/validate.hpp"
 
 namespace ricci {
 
-/// File formats ricci reads.
-enum class MeshFormat { Obj, Off, Ply, Stl };
+/// Mesh file formats: read_mesh reads Obj, Off, Ply and Stl; write_mesh writes those and Glb
+/// (glTF 2.0 binary, through the writer of the picture library: WriteOptions::glb_writer).
+enum class MeshFormat { Obj, Off, Ply, Stl, Glb };
 
 /// Options of read_mesh.
 struct ReadOptions {
@@ -60,7 +64,7 @@ struct ReadResult {
   RepairReport repair;
 };
 
-/// Format from the file extension (case-insensitive: .obj .off .ply .stl).
+/// Format from the file extension (case-insensitive: .obj .off .ply .stl .glb).
 /// \throw IoError naming the file when the extension is none of these
 MeshFormat format_from_path(const std::string& path);
 
@@ -68,7 +72,8 @@ MeshFormat format_from_path(const std::string& path);
 /// byte offset (binary formats) of the offending element; vertices and faces are numbered from 0
 /// in file order, while index values quoted from the file appear as written (1-based in OBJ).
 /// \throw IoError naming the file (and line or byte offset) when the file is missing, empty,
-///        truncated or malformed, or its format is unknown
+///        truncated or malformed, or its format is unknown or .glb (a textured format: read_glb
+///        of ricci/render/textured_files.hpp reads it)
 /// \throw InvalidInput naming the file and line when a face index is out of range
 /// \throw InvalidInput / TopologyError (from validate_mesh, with the file name as context) when
 ///        options.validate is set and the mesh has a defect; after options.repair the message
@@ -76,7 +81,21 @@ MeshFormat format_from_path(const std::string& path);
 ///        left it (zero-area faces, non-finite coordinates, non-orientable surfaces)
 ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 
-/// Writes a mesh as OBJ, atomically (see write_file_atomically).
+/// Reads an OBJ file whose every face corner names a texture coordinate (`f v/vt` or
+/// `f v/vt/vn`; negative indices count back from the last element read); read_mesh reads the
+/// geometry only and ignores `vt`. Texture coordinates with a positive third component on every
+/// `vt` are read as homogeneous (TexturedMesh::uv_weights). Polygons are split as a fan from their
+/// first corner; normals, groups, materials and smoothing groups are ignored. Vertices are kept in
+/// file order, referenced or not; the mesh is not validated.
+/// \throw IoError "path: line N: ..." when the file is missing, empty of faces, or a statement is
+///        malformed (a corner without a texture index, a bad number, free-form geometry, an
+///        unknown statement, a coordinate that is not finite)
+/// \throw InvalidInput "path: line N: ..." when a face refers to a vertex or texture coordinate
+///        that the file has not defined
+TexturedMesh read_textured_obj(const std::string& path);
+
+/// Writes a mesh as OBJ (`v`, `f`), atomically (see write_file_atomically): the OBJ writer behind
+/// write_mesh, for callers that hold a Mesh.
 void write_obj(const std::string& path, const Mesh& mesh);
 
 /// The material an OBJ with texture coordinates refers to: `mtllib LIBRARY` before the vertices
@@ -101,6 +120,45 @@ void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw,
                const ObjMaterial& material = {});
+
+/// Writes a TexturedMesh to `path` (atomically, see write_file_atomically); write_mesh's hook for
+/// a format whose writer lives outside ricci_lib (Glb: glb_writer() of
+/// ricci/render/textured_files.hpp, which needs tinygltf and the picture library).
+using MeshWriter = std::function<void(const std::string& path, const TexturedMesh& mesh)>;
+
+/// Options of write_mesh.
+struct WriteOptions {
+  /// The file format; empty: from the extension of the path (format_from_path).
+  std::optional<MeshFormat> format = std::nullopt;
+  /// Obj: the material the file names (`mtllib`, `usemtl`); an empty library writes none. Only
+  /// with texture coordinates.
+  ObjMaterial material = {};
+  /// Off, Ply, Stl: write a mesh with texture coordinates without them. Unset, such a mesh is
+  /// refused, since those formats cannot hold texture coordinates.
+  bool drop_uv = false;
+  /// Glb: the glTF binary writer (glb_writer() of ricci/render/textured_files.hpp). ricci_lib
+  /// does not link tinygltf; unset, Glb is refused with a message saying where the writer is.
+  MeshWriter glb_writer = {};
+};
+
+/// Writes a mesh, with or without texture coordinates, in the format of options.format or of the
+/// path's extension, atomically (the target is untouched when anything fails):
+/// - Obj: `v`, then (with texture coordinates) `vt` per uv row and `f v/vt`, with
+///   homogeneous coordinates (uv_weights) `vt u*w v*w w`; the bytes write_obj writes.
+/// - Off: ASCII OFF, positions with 17 significant digits (exact).
+/// - Ply: binary little-endian PLY, double positions and int indices (exact).
+/// - Stl: binary STL: positions rounded to float, per-face normals, no vertex sharing (reading
+///   welds corners at equal positions again); vertices without faces are lost.
+/// - Glb: options.glb_writer.
+/// \pre mesh.mesh.triangles index mesh.mesh.positions; with texture coordinates, uv_triangles has
+///      a row per face indexing uv, and uv_weights is empty or has a positive weight per uv row
+/// \throw InvalidInput "write_mesh: path: ..." naming the face, corner or row when an index is out
+///        of range or a coordinate is not finite, when the format cannot hold the texture
+///        coordinates (and options.drop_uv is unset), when a material is given without texture
+///        coordinates, or for Glb without options.glb_writer
+/// \throw IoError naming the file when the extension is unknown or the file cannot be written
+void write_mesh(const std::string& path, const TexturedMesh& mesh,
+                const WriteOptions& options = {});
 
 /// Writes a file through a temporary file in the same folder, renamed into place only when
 /// write succeeded; on any error the temporary is removed and the target is left untouched.

@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/io.hpp"
+#include "ricci/mesh/textured_mesh.hpp"
 #include "ricci/render/image.hpp"
-#include "ricci/render/textured_obj.hpp"
 
 namespace ricci {
 
@@ -33,7 +33,7 @@ struct ObjMaterialFiles {
 ObjMaterialFiles write_obj_material(const std::string& obj_path,
                                     const std::string& texture_path = "");
 
-/// Options of write_glb.
+/// Options of glb_writer.
 struct GlbOptions {
   /// The texture image's file (PNG or JPEG, embedded as it is); empty: the checkerboard.
   std::string texture_path;
@@ -41,17 +41,17 @@ struct GlbOptions {
   bool normals = true;
 };
 
-/// Writes glTF 2.0 binary: one mesh, one primitive, positions, normals, texture coordinates per
-/// corner (vertices split where uv differs across a seam; glTF's t = 1 - v), one material whose
-/// base colour texture is embedded, written through tinygltf, atomically.
-/// \param uv_triangles #F by 3 indices into uv \param uv #UV by 2
-/// \throw InvalidInput when the arrays disagree or hold non-finite values, or the texture is
-///        not PNG or JPEG; IoError when a file cannot be read or written, or ricci was built
-///        without tinygltf
-void write_glb(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-               const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const GlbOptions& options = {});
+/// The glTF 2.0 binary writer that write_mesh calls for MeshFormat::Glb (set it as
+/// WriteOptions::glb_writer; ricci_lib does not link tinygltf): one mesh, one primitive,
+/// positions, normals, texture coordinates per corner (vertices split where uv differs across a
+/// seam; glTF's t = 1 - v; homogeneous uv_weights are not written: uv as divided), one material
+/// whose base colour texture is embedded, written through tinygltf, atomically. write_mesh has
+/// checked the arrays before it calls the writer.
+/// The writer throws InvalidInput when the texture is not PNG or JPEG; IoError when a file cannot
+/// be read or written, or ricci was built without tinygltf (see glb_supported).
+MeshWriter glb_writer(const GlbOptions& options = {});
 
-/// Reads glTF binary back (what write_glb writes, or any .glb whose first mesh has triangles with
+/// Reads glTF binary back (what glb_writer writes, or any .glb whose first mesh has triangles with
 /// TEXCOORD_0): the triangles of every primitive of the first mesh, uv = (s, 1 - t); vertices that
 /// glTF split at seams are welded again where their positions are bit for bit equal, so that
 /// seams read as seams (TexturedMesh as read_textured_obj gives).
@@ -63,7 +63,7 @@ TexturedMesh read_glb(const std::string& path);
 /// `ricci view` open.
 TexturedMesh read_textured_file(const std::string& path);
 
-/// True when write_glb is available (ricci was built with Debian's libtinygltf-dev).
+/// True when glb_writer can write (ricci was built with Debian's libtinygltf-dev).
 bool glb_supported();
 
 }  // namespace ricci

@@ -2,19 +2,27 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
-#include "render_test_support.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/render/textured_obj.hpp"
+#include "support/shared_meshes.hpp"
 
 namespace ricci {
 namespace {
 
+std::filesystem::path textured_tmp_dir() {
+  const std::filesystem::path folder =
+      std::filesystem::path(testing::test_tmp_dir()) / "textured_obj";
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
 std::string write_file(const std::string& name, const std::string& content) {
-  const std::string path = (testing::render_tmp_dir() / name).string();
+  const std::string path = (textured_tmp_dir() / name).string();
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }
@@ -56,7 +64,7 @@ TEST(TexturedObj, ReadsVerticesTextureCoordinatesAndCorners) {
 TEST(TexturedObj, ReadsWhatWriteObjWrites) {
   const Mesh grid = make_grid(3, 2, 1.5, 1.0);
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv = grid.positions.leftCols(2) * 0.25;
-  const std::string path = (testing::render_tmp_dir() / "grid_uv.obj").string();
+  const std::string path = (textured_tmp_dir() / "grid_uv.obj").string();
   write_obj(path, grid, grid.triangles, uv);
   const TexturedMesh t = read_textured_obj(path);
   EXPECT_EQ(t.mesh.positions, grid.positions);
@@ -73,7 +81,7 @@ TEST(TexturedObj, ReadsHomogeneousTextureCoordinates) {
     const double w = 0.5 + v;
     uvw.row(v) << w * grid.positions(v, 0), w * grid.positions(v, 1), w;
   }
-  const std::string path = (testing::render_tmp_dir() / "grid_uvw.obj").string();
+  const std::string path = (textured_tmp_dir() / "grid_uvw.obj").string();
   write_obj(path, grid, grid.triangles, uvw);
   const TexturedMesh t = read_textured_obj(path);
   ASSERT_EQ(t.uv_weights.size(), grid.num_vertices());
@@ -136,7 +144,7 @@ TEST(TexturedObj, RefusesMalformedFilesWithFileAndLine) {
   EXPECT_NE(vertex.find("line 4"), std::string::npos) << vertex;
   EXPECT_NE(vertex.find("vertex 3"), std::string::npos) << vertex;
   EXPECT_NE(error_of<IoError>("no_faces.obj", "v 0 0 0\n").find("no faces"), std::string::npos);
-  EXPECT_THROW(read_textured_obj((testing::render_tmp_dir() / "absent.obj").string()), IoError);
+  EXPECT_THROW(read_textured_obj((textured_tmp_dir() / "absent.obj").string()), IoError);
 }
 
 }  // namespace

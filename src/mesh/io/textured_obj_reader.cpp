@@ -1,5 +1,3 @@
-#include "ricci/render/textured_obj.hpp"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -10,10 +8,14 @@
 #include <string_view>
 #include <vector>
 
+#include "reader_support.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/io.hpp"
 
 namespace ricci {
 namespace {
+
+using io_detail::next_token;
 
 /// Reading position, for messages.
 struct Place {
@@ -31,20 +33,6 @@ std::string quoted(std::string_view token) {
     if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) c = '?';
   }
   return "'" + text + (token.size() > 40 ? "...'" : "'");
-}
-
-bool is_blank(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-std::string_view next_token(std::string_view& rest) {
-  std::size_t i = 0;
-  while (i < rest.size() && is_blank(rest[i])) ++i;
-  std::size_t j = i;
-  while (j < rest.size() && !is_blank(rest[j])) ++j;
-  const std::string_view token = rest.substr(i, j - i);
-  rest.remove_prefix(j);
-  return token;
 }
 
 std::optional<double> parse_number(std::string_view token) {

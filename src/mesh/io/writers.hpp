@@ -1,0 +1,63 @@
+#pragma once
+/// \file
+/// Private to write_mesh: one writer per format that holds positions and triangles only (OBJ's
+/// writer is the public write_obj). Each writes atomically (write_file_atomically); write_mesh has
+/// checked the indices and coordinates before.
+
+#include <Eigen/Core>
+#include <ostream>
+#include <string>
+
+#include "ricci/mesh/mesh.hpp"
+
+namespace ricci::io_detail {
+
+/// A writer's output handed to the stream in blocks of about 1 MiB: one write per block rather
+/// than per line, without holding the whole file in memory.
+class BlockOutput {
+ public:
+  explicit BlockOutput(std::ostream& out) : out_(out) {}
+  BlockOutput(const BlockOutput&) = delete;
+  BlockOutput& operator=(const BlockOutput&) = delete;
+  /// Writes what is left.
+  ~BlockOutput() { write(); }
+
+  /// Appends `count` characters (e.g. what snprintf wrote into a line buffer).
+  void append(const char* data, int count) {
+    bytes_.append(data, static_cast<std::size_t>(count));
+    end_of_item();
+  }
+  /// The block being filled, for binary values appended directly; call end_of_item after each.
+  std::string& bytes() { return bytes_; }
+  /// Writes the block once it is large.
+  void end_of_item() {
+    if (bytes_.size() >= (1u << 20)) write();
+  }
+
+ private:
+  void write() {
+    out_.write(bytes_.data(), static_cast<std::streamsize>(bytes_.size()));
+    bytes_.clear();
+  }
+  std::ostream& out_;
+  std::string bytes_;
+};
+
+/// The checks of the writers before anything is written: every vertex index of a face in range;
+/// with uv_triangles (not null) one row per face, every uv index in range, every uv row finite.
+/// \throw InvalidInput "function: path: ..." naming the face and corner, or the uv row
+void check_faces(const std::string& function, const std::string& path, const Mesh& mesh,
+                 const Triangles* uv_triangles, const Eigen::Ref<const Eigen::MatrixXd>& uv);
+
+/// ASCII OFF: `OFF`, the counts, `x y z` per vertex (17 significant digits: the doubles read back
+/// exactly), `3 a b c` per face (0-based).
+void write_off(const std::string& path, const Mesh& mesh);
+
+/// Binary little-endian PLY: double x, y, z per vertex and a uchar-counted int list per face.
+void write_ply(const std::string& path, const Mesh& mesh);
+
+/// Binary STL: per face its unit normal (zero for a degenerate face) and three corners, as float;
+/// the format has no shared vertices.
+void write_stl(const std::string& path, const Mesh& mesh);
+
+}  // namespace ricci::io_detail

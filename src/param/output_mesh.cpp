@@ -1,0 +1,15 @@
+#include "ricci/param/output_mesh.hpp"
+
+namespace ricci {
+
+TexturedMesh textured_mesh(const ParamResult& result) {
+  TexturedMesh textured;
+  textured.mesh = result.mesh;
+  if (result.uv.rows() > 0) {
+    textured.uv_triangles = result.cut_mesh.triangles;
+    textured.uv = result.uv;
+  }
+  return textured;
+}
+
+}  // namespace ricci
