@@ -14,6 +14,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 
 namespace ricci {
@@ -35,18 +36,21 @@ bool positive_definite_with_one_pin(const Eigen::SparseMatrix<double>& L) {
 
 /// The cotangent Laplacian of the input metric's intrinsic Delaunay triangulation (#V by #V).
 Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Mesh& mesh, const Topology& t) {
-  Topology flipped = t;
   StructureOptions vertex_scaling;
   vertex_scaling.scheme = Scheme::VertexScaling;
   Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
-  ConformalStructure s = make_conformal_structure(t, lengths, vertex_scaling).structure;
+  // (t is copied only when some edge is not Delaunay.)
+  IntrinsicTriangulation intrinsic(t,
+                                   make_conformal_structure(t, lengths, vertex_scaling).structure);
+  const Eigen::VectorXd u = intrinsic.structure().initial_u;
   DelaunayFlipOptions isometric;
   isometric.isometric = true;
-  flip_to_delaunay(flipped, s, s.initial_u, lengths, isometric);
+  intrinsic.flip_to_delaunay(u, lengths, isometric);
+  const Topology& flipped = intrinsic.topology();
   CornerAngles angles;
   corner_angles(flipped, lengths, angles);
   Eigen::VectorXd hw, ew;
-  halfedge_weights(flipped, s, s.initial_u, lengths, angles, hw);
+  halfedge_weights(flipped, intrinsic.structure(), u, lengths, angles, hw);
   edge_weights(flipped, hw, ew);
   return curvature_hessian(flipped, ew);
 }

@@ -242,14 +242,17 @@ ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& op
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  // The flows leave MeshFlowResult::topology to us when they keep t0's triangulation: t0 is
-  // moved there at the end, once the stages below are done with it (no copy of the topology).
+  // The flows' results refer to t0 as their input triangulation: t0 is handed over to them at
+  // the end, once the stages below are done with it (no copy of the topology).
   bool flow_kept_t0 = false;
   auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
     return mesh_flow_internal::flow_mesh_keeping_topology(result.mesh, t0, o, kept);
   };
   auto give_t0_to_flow = [&] {
-    if (flow_kept_t0) result.flow.topology = std::move(t0);
+    if (flow_kept_t0) {
+      mesh_flow_internal::adopt_input_topology(result.flow,
+                                               std::make_shared<const Topology>(std::move(t0)));
+    }
   };
   try {
     result.flow = run_flow(flow_options, flow_kept_t0);
