@@ -47,7 +47,7 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
     const int ew = whole.halfedge_edge[whole_halfedge(h)];
     view.edge_map[e] = ew;
     // The same first halfedge as the whole mesh's edge: flip_edge orients its new faces by it,
-    // so flips replayed on the whole mesh (MeshFlowResult::flipped_edges) give the same faces.
+    // so flips replayed on the whole mesh (MeshFlowResult::intrinsic) give the same faces.
     if (whole.edge_halfedges(ew, 0) != whole_halfedge(h)) {
       std::swap(view.topology.edge_halfedges(e, 0), view.topology.edge_halfedges(e, 1));
     }
