@@ -319,14 +319,17 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   flow_options.target.kind = TargetKind::Flat;
   flow_options.target.cones = cones;
   flow_options.target.boundary = options.boundary;
-  // The flows leave MeshFlowResult::topology to us when they keep the problem's triangulation:
-  // it is moved there at the end, once the stages below are done with it (no copy).
+  // The flows' results refer to the problem's triangulation as their input: it is handed over to
+  // them at the end, once the stages below are done with it (no copy).
   bool flow_kept_topology = false;
   auto run_flow = [&](const MeshFlowOptions& o, bool& kept) {
     return mesh_flow_internal::flow_mesh_keeping_topology(*problem, o, kept);
   };
   auto give_topology_to_flow = [&] {
-    if (flow_kept_topology) result.flow.topology = std::move(problem->topology);
+    if (flow_kept_topology) {
+      mesh_flow_internal::adopt_input_topology(
+          result.flow, std::make_shared<const Topology>(std::move(problem->topology)));
+    }
   };
   try {
     result.flow = run_flow(flow_options, flow_kept_topology);
