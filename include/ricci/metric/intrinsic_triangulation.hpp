@@ -130,6 +130,13 @@ WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
 /// reuses the index of the edge it removes), so that edge_lengths of structure() on topology()
 /// gives the metric's lengths at any u. The flip log lists the flipped edges in order (replayed
 /// on the input it gives topology()), with a flag per flip saying whether it was isometric.
+///
+/// Design: the structure is held here rather than passed to flip_to_delaunay, since its eta is
+/// per intrinsic edge (a structure passed in would carry a second eta, stale after a flip). The
+/// correspondence to the input is the log: how each intrinsic edge crosses the input edges
+/// (normal coordinates, ricci/metric/edge_overlay.hpp) is replayed from it where needed
+/// (ricci/param/common_refinement.hpp). Components of a mesh flow on their own triangulations and
+/// are gathered into the whole mesh's with gather_component.
 class IntrinsicTriangulation {
  public:
   /// Empty: no input, no connectivity (a result not filled in).
