@@ -60,9 +60,9 @@ void run_flow(const Case& c, const char* variant, ricci::Scheme scheme, ricci::E
     const ricci::FlowResult& f = r.components.front().flow;
     std::printf("%s\t%d\t%d\t%s\t%s\t%d\t%.3g\t%d\t%.2f\t%s\n", c.name.c_str(),
                 c.mesh.num_vertices(), c.mesh.num_faces(), variant,
-                ricci::flow_status_name(f.status), f.iterations, f.max_error, f.flips,
+                ricci::flow_status_name(f.status), f.iterations, f.max_error, f.intrinsic.flips(),
                 seconds_since(start),
-                ("isometric " + std::to_string(f.isometric_flips) + ", area " +
+                ("isometric " + std::to_string(f.intrinsic.isometric_flips()) + ", area " +
                  std::to_string(f.total_area))
                     .c_str());
   } catch (const ricci::Error& e) {
@@ -88,7 +88,7 @@ void run_param(const Case& c, const char* variant, ricci::Scheme scheme) {
                   r.development_length_mismatch, r.layout.max_radius);
     std::printf("%s\t%d\t%d\t%s\t%s\t%d\t%.3g\t%d\t%.2f\t%s\n", c.name.c_str(),
                 c.mesh.num_vertices(), c.mesh.num_faces(), variant,
-                ricci::flow_status_name(f.status), f.iterations, f.max_error, f.flips,
+                ricci::flow_status_name(f.status), f.iterations, f.max_error, f.intrinsic.flips(),
                 seconds_since(start), r.converged ? extra : r.message.c_str());
   } catch (const ricci::Error& e) {
     std::printf("%s\t%d\t%d\t%s\terror\t0\tnan\t0\t%.2f\t%s\n", c.name.c_str(),

@@ -326,7 +326,9 @@ int run_flow(const FlowArgs& args) {
       std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
                 << comp.genus << ", " << comp.boundary_loops
                 << " boundary loops): " << comp.flow.iterations << " iterations, "
-                << (comp.flow.flips > 0 ? std::to_string(comp.flow.flips) + " edges flipped, " : "")
+                << (comp.flow.intrinsic.flips() > 0
+                        ? std::to_string(comp.flow.intrinsic.flips()) + " edges flipped, "
+                        : "")
                 << std::fixed << std::setprecision(3) << comp.flow.timings.total
                 << " s: " << comp.flow.message << std::defaultfloat << "\n";
     }
@@ -551,8 +553,8 @@ int run_param_hyperbolic(const ParamArgs& args) {
             << l.max_length_relative_error << ", flipped " << l.num_flipped_faces
             << ", angle distortion mean " << result.distortion.angle_distortion_mean << " max "
             << result.distortion.angle_distortion_max << ", " << result.seconds << " s\n";
-  if (result.flow.flips > 0) {
-    std::cout << "  " << result.flow.flips
+  if (result.flow.intrinsic.flips() > 0) {
+    std::cout << "  " << result.flow.intrinsic.flips()
               << " edges flipped (intrinsic Delaunay); the input's faces developed in the final "
                  "metric agree on their edges to "
               << result.development_length_mismatch << " (relative)\n";
@@ -767,8 +769,8 @@ int run_param(const ParamArgs& args) {
                 << c.max_intrinsic_length_error << ", " << c.seconds << " s\n"
                 << "  wrote " << files.linear << ", " << files.vertex_map << ", " << files.matrix
                 << "\n";
-    } else if (result.flow.flips > 0) {
-      std::cout << "  " << result.flow.flips
+    } else if (result.flow.intrinsic.flips() > 0) {
+      std::cout << "  " << result.flow.intrinsic.flips()
                 << " intrinsic edge flips; the output keeps the input's faces (development "
                    "mismatch "
                 << result.development_length_mismatch

@@ -99,14 +99,14 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
   }
   j["solver"] = flow_solver_name(options.flow.solver);
   j["flips"] = edge_flips_name(options.flow.flips);
-  j["flipped_edges"] = result.flips;
-  j["blocked_flips"] = result.blocked_flips;
+  j["flipped_edges"] = result.intrinsic.flips();
+  j["blocked_flips"] = result.intrinsic.blocked_flips();
   j["target"] = result.target.description;
   j["fit_rms_relative_error"] = result.structure.fit_rms_relative_error;
   j["fit_max_relative_error"] = result.structure.fit_max_relative_error;
-  j["vertices"] = result.topology.num_referenced_vertices();
-  j["edges"] = result.topology.num_edges;
-  j["faces"] = result.topology.num_faces;
+  j["vertices"] = result.intrinsic.topology().num_referenced_vertices();
+  j["edges"] = result.intrinsic.topology().num_edges;
+  j["faces"] = result.intrinsic.topology().num_faces;
   j["setup_seconds"] = result.setup_seconds;
   j["total_seconds"] = result.total_seconds;
   nlohmann::json comps = nlohmann::json::array();
@@ -121,7 +121,7 @@ nlohmann::json flow_summary(const MeshFlowResult& result, const MeshFlowOptions&
                      {"status", flow_status_name(c.flow.status)},
                      {"message", c.flow.message},
                      {"iterations", c.flow.iterations},
-                     {"flipped_edges", c.flow.flips},
+                     {"flipped_edges", c.flow.intrinsic.flips()},
                      {"max_error", c.flow.max_error},
                      {"gauss_bonnet_relative_error", c.flow.gauss_bonnet_relative_error},
                      {"total_area", c.flow.total_area},
@@ -142,15 +142,16 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
   j["target_curvature"] = to_vector(result.target_curvature);
   std::vector<int> fixed(result.target.fixed.begin(), result.target.fixed.end());
   j["fixed"] = fixed;
-  const auto& ev = result.topology.edge_vertices;
+  const auto& ev = result.intrinsic.topology().edge_vertices;
   nlohmann::json edges = nlohmann::json::array();
-  for (int e = 0; e < result.topology.num_edges; ++e) edges.push_back({ev(e, 0), ev(e, 1)});
+  for (int e = 0; e < result.intrinsic.topology().num_edges; ++e)
+    edges.push_back({ev(e, 0), ev(e, 1)});
   j["edges"] = edges;
   j["lengths"] = to_vector(result.lengths);
-  if (result.flips > 0) {
+  if (result.intrinsic.flips() > 0) {
     // The edges above belong to the intrinsic Delaunay triangulation; its faces, in mesh
     // vertex indices (face i replaces input face i).
-    const Triangles& t = result.topology.triangles;
+    const Triangles& t = result.intrinsic.topology().triangles;
     nlohmann::json faces = nlohmann::json::array();
     for (Eigen::Index f = 0; f < t.rows(); ++f) faces.push_back({t(f, 0), t(f, 1), t(f, 2)});
     j["triangles"] = faces;
@@ -213,9 +214,12 @@ nlohmann::json components_json(const ParamResult& r) {
     const MeshFlowResult& flow = comp.param.flow;
     if (comp.method != ComponentMethod::Unfolded && !flow.components.empty()) {
       const FlowResult& f = flow.components.front().flow;
-      j["flow"] = {{"converged", f.converged},   {"status", flow_status_name(f.status)},
-                   {"iterations", f.iterations}, {"max_error", f.max_error},
-                   {"flipped_edges", f.flips},   {"message", f.message}};
+      j["flow"] = {{"converged", f.converged},
+                   {"status", flow_status_name(f.status)},
+                   {"iterations", f.iterations},
+                   {"max_error", f.max_error},
+                   {"flipped_edges", f.intrinsic.flips()},
+                   {"message", f.message}};
     }
     out.push_back(j);
   }

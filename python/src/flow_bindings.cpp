@@ -212,19 +212,32 @@ void bind_flow(py::module_& m) {
       .readonly("curvature", &FlowResult::curvature, "#V final curvature K")
       .readonly("target_curvature", &FlowResult::target_curvature, "#V K-bar")
       .readonly("lengths", &FlowResult::lengths, "#E final edge lengths")
-      .readonly("triangles", &FlowResult::triangles,
-                "#F by 3 final triangulation (the intrinsic Delaunay one after flips)")
-      .readonly("flips", &FlowResult::flips, "edges flipped over the whole flow")
-      .readonly("isometric_flips", &FlowResult::isometric_flips,
-                "the first flips: the input metric retriangulated isometrically")
-      .readonly("eta", &FlowResult::eta, "#E eta on the final triangulation (set by the flips)")
-      .readonly("blocked_flips", &FlowResult::blocked_flips, "non-Delaunay edges left")
+      .computed(
+          "triangles",
+          [](const FlowResult& r) -> const Triangles& { return r.intrinsic.topology().triangles; },
+          "#F by 3 final triangulation (the intrinsic Delaunay one after flips)")
+      .computed(
+          "flips", [](const FlowResult& r) { return r.intrinsic.flips(); },
+          "edges flipped over the whole flow")
+      .computed(
+          "isometric_flips", [](const FlowResult& r) { return r.intrinsic.isometric_flips(); },
+          "the first flips: the input metric retriangulated isometrically")
+      .computed(
+          "eta", [](const FlowResult& r) -> const Eigen::VectorXd& { return r.intrinsic.eta(); },
+          "#E eta on the final triangulation (set by the flips)")
+      .computed(
+          "blocked_flips", [](const FlowResult& r) { return r.intrinsic.blocked_flips(); },
+          "non-Delaunay edges left")
       .readonly("iterations", &FlowResult::iterations, "")
       .readonly("max_error", &FlowResult::max_error, "final max |K-bar - K|")
       .readonly("error_floor", &FlowResult::error_floor,
                 "the smallest max error double arithmetic resolves at the final metric")
-      .readonly("flipped_edges", &FlowResult::flipped_edges,
-                "every accepted flip in order (edge indices of the input topology)")
+      .computed(
+          "flipped_edges",
+          [](const FlowResult& r) -> const std::vector<int>& {
+            return r.intrinsic.flipped_edges();
+          },
+          "every accepted flip in order (edge indices of the input topology)")
       .readonly("history", &FlowResult::history, "IterationRecord list, initial state first")
       .readonly("timings", &FlowResult::timings, "FlowTimings")
       .readonly("analyses", &FlowResult::analyses, "")
@@ -270,17 +283,23 @@ void bind_flow(py::module_& m) {
       .readonly("target_curvature", &MeshFlowResult::target_curvature,
                 "#V target (final curvature where u was fixed)")
       .computed(
-          "edges", [](const MeshFlowResult& r) { return r.topology.edge_vertices; },
+          "edges", [](const MeshFlowResult& r) { return r.intrinsic.topology().edge_vertices; },
           "#E by 2 edge end vertices (topology.edge_vertices), the order of `lengths`")
       .readonly("lengths", &MeshFlowResult::lengths, "#E final lengths")
       .computed(
-          "triangles", [](const MeshFlowResult& r) { return r.topology.triangles; },
+          "triangles", [](const MeshFlowResult& r) { return r.intrinsic.topology().triangles; },
           "#F by 3 final triangulation: the input's, or its intrinsic Delaunay triangulation "
           "after flips (same vertices)")
-      .readonly("flips", &MeshFlowResult::flips, "edges flipped, all components")
-      .readonly("eta", &MeshFlowResult::eta,
-                "#E eta of the structure on the final triangulation (set by the flips)")
-      .readonly("blocked_flips", &MeshFlowResult::blocked_flips, "non-Delaunay edges left")
+      .computed(
+          "flips", [](const MeshFlowResult& r) { return r.intrinsic.flips(); },
+          "edges flipped, all components")
+      .computed(
+          "eta",
+          [](const MeshFlowResult& r) -> const Eigen::VectorXd& { return r.intrinsic.eta(); },
+          "#E eta of the structure on the final triangulation (set by the flips)")
+      .computed(
+          "blocked_flips", [](const MeshFlowResult& r) { return r.intrinsic.blocked_flips(); },
+          "non-Delaunay edges left")
       .computed(
           "history",
           [](const MeshFlowResult& r) {
@@ -302,7 +321,10 @@ void bind_flow(py::module_& m) {
           "structure.fit_rms_relative_error: RMS relative length error of the initial packing")
       .readonly("structure", &MeshFlowResult::structure, "StructureResult")
       .readonly("target", &MeshFlowResult::target, "Target")
-      .readonly("topology", &MeshFlowResult::topology, "Topology")
+      .computed(
+          "topology",
+          [](const MeshFlowResult& r) -> const Topology& { return r.intrinsic.topology(); },
+          "Topology")
       .readonly("components", &MeshFlowResult::components, "ComponentFlow list")
       .readonly("setup_seconds", &MeshFlowResult::setup_seconds, "")
       .readonly("total_seconds", &MeshFlowResult::total_seconds, "")

@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <optional>
 #include <utility>
 
 #include "mesh_flow_internal.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/mesh/doubled_topology.hpp"
 
 namespace ricci {
 namespace {
@@ -45,40 +47,12 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
     const int ew = whole.halfedge_edge[whole_halfedge(h)];
     view.edge_map[e] = ew;
     // The same first halfedge as the whole mesh's edge: flip_edge orients its new faces by it,
-    // so flips replayed on the whole mesh (MeshFlowResult::flipped_edges) give the same faces.
+    // so flips replayed on the whole mesh (MeshFlowResult::intrinsic) give the same faces.
     if (whole.edge_halfedges(ew, 0) != whole_halfedge(h)) {
       std::swap(view.topology.edge_halfedges(e, 0), view.topology.edge_halfedges(e, 1));
     }
   }
   return view;
-}
-
-/// Writes a component's flipped connectivity into the whole mesh's arrays. Flips reuse face and
-/// edge indices, so face f and edge e of the component stay face comp.faces[f] and edge
-/// view.edge_map[e] of the whole mesh; only what they join changes.
-void transplant(const Topology& local, const Component& comp, const ComponentView& view,
-                Topology& whole) {
-  auto halfedge = [&](int h) { return h < 0 ? -1 : 3 * comp.faces[h / 3] + h % 3; };
-  for (int f = 0; f < local.num_faces; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int h = 3 * f + k, hw = halfedge(h), fw = comp.faces[f];
-      whole.triangles(fw, k) = view.vertex_map[local.triangles(f, k)];
-      whole.face_edges(fw, k) = view.edge_map[local.face_edges(f, k)];
-      whole.halfedge_edge[hw] = view.edge_map[local.halfedge_edge[h]];
-      whole.halfedge_twin[hw] = halfedge(local.halfedge_twin[h]);
-    }
-  }
-  for (int e = 0; e < local.num_edges; ++e) {
-    const int ew = view.edge_map[e];
-    // vertex_map is ascending, so the smaller end stays first.
-    whole.edge_vertices(ew, 0) = view.vertex_map[local.edge_vertices(e, 0)];
-    whole.edge_vertices(ew, 1) = view.vertex_map[local.edge_vertices(e, 1)];
-    whole.edge_halfedges(ew, 0) = halfedge(local.edge_halfedges(e, 0));
-    whole.edge_halfedges(ew, 1) = halfedge(local.edge_halfedges(e, 1));
-  }
-  for (int i = 0; i < local.num_vertices; ++i) {
-    whole.vertex_degree[view.vertex_map[i]] = local.vertex_degree[i];
-  }
 }
 
 }  // namespace
@@ -127,117 +101,26 @@ Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengt
 namespace {
 
 /// A component with boundary and its mirror image glued along the boundary: a closed surface on
-/// which interior flips reach every edge (a boundary edge becomes an interior one). Interior
-/// vertices get a mirror copy, boundary vertices are shared; mirrored faces have the reverse
-/// orientation. The doubled target asks the same curvature of both copies of an interior vertex
-/// and twice the boundary curvature of a boundary vertex (both halves' angles meet there).
+/// which interior flips reach every edge (a boundary edge becomes an interior one), see
+/// ricci/mesh/doubled_topology.hpp. The doubled target asks the same curvature of both copies
+/// of an interior vertex and twice the boundary curvature of a boundary vertex (both halves'
+/// angles meet there).
 struct Doubled {
-  Topology topology;
+  std::shared_ptr<const Topology> topology;
   Triangles triangles;
   std::vector<int> original;  // doubled vertex -> local vertex
   ConformalStructure structure;
   Target target;
 };
 
-// Mirrored corner k of face f copies corner kMirror[k]: (a, b, c) becomes (a', c', b').
-constexpr int kMirror[3] = {0, 2, 1};
-
-/// The connectivity of the double, built from the component's own: build_topology cannot, since
-/// an interior edge joining two boundary vertices and its mirror image join the same two
-/// (shared) vertices, a double edge. Original halfedge 3 f + k keeps its index; its mirror image
-/// is halfedge 3 (F + f) + kMirror[k], running the other way. A boundary halfedge becomes the
-/// twin of its own mirror image.
-Topology doubled_topology(const Topology& t, const Triangles& triangles, int num_vertices) {
-  const int nf = t.num_faces, ne = t.num_edges;
-  auto mirrored = [nf](int h) { return 3 * (nf + h / 3) + kMirror[h % 3]; };
-  Topology d;
-  d.num_vertices = num_vertices;
-  d.num_faces = 2 * nf;
-  d.triangles = triangles;
-  d.halfedge_twin.assign(6 * static_cast<std::size_t>(nf), -1);
-  d.halfedge_edge.assign(6 * static_cast<std::size_t>(nf), -1);
-  d.face_edges.resize(2 * nf, 3);
-  int interior_edges = 0;
-  for (int e = 0; e < ne; ++e) interior_edges += !t.is_boundary_edge[e];
-  d.num_edges = ne + interior_edges;
-  d.edge_vertices.resize(d.num_edges, 2);
-  d.edge_halfedges.resize(d.num_edges, 2);
-  std::vector<int> mirror_edge(ne, -1);
-  int next = ne;
-  for (int e = 0; e < ne; ++e) mirror_edge[e] = t.is_boundary_edge[e] ? e : next++;
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int h = 3 * f + k, m = mirrored(h), e = t.halfedge_edge[h];
-      const int twin = t.halfedge_twin[h];
-      d.halfedge_twin[h] = twin >= 0 ? twin : m;
-      d.halfedge_twin[m] = twin >= 0 ? mirrored(twin) : h;
-      d.halfedge_edge[h] = e;
-      d.halfedge_edge[m] = mirror_edge[e];
-      d.face_edges(f, k) = e;
-      d.face_edges(nf + f, kMirror[k]) = mirror_edge[e];
-    }
-  }
-  auto tail = [&](int h) { return d.triangles(h / 3, (h % 3 + 1) % 3); };
-  auto head = [&](int h) { return d.triangles(h / 3, (h % 3 + 2) % 3); };
-  for (int e = 0; e < ne; ++e) {
-    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
-    d.edge_halfedges(e, 0) = h0;
-    d.edge_halfedges(e, 1) = h1 >= 0 ? h1 : mirrored(h0);
-    if (mirror_edge[e] != e) {
-      d.edge_halfedges(mirror_edge[e], 0) = mirrored(h0);
-      d.edge_halfedges(mirror_edge[e], 1) = mirrored(h1);
-    }
-  }
-  for (int e = 0; e < d.num_edges; ++e) {
-    const int h = d.edge_halfedges(e, 0);
-    d.edge_vertices(e, 0) = std::min(tail(h), head(h));
-    d.edge_vertices(e, 1) = std::max(tail(h), head(h));
-  }
-  d.is_boundary_vertex.assign(num_vertices, 0);
-  d.is_boundary_edge.assign(d.num_edges, 0);
-  d.vertex_degree.assign(num_vertices, 0);
-  for (int e = 0; e < d.num_edges; ++e) {
-    ++d.vertex_degree[d.edge_vertices(e, 0)];
-    ++d.vertex_degree[d.edge_vertices(e, 1)];
-  }
-  d.vertex_component.assign(num_vertices, 0);
-  d.face_component.assign(d.num_faces, 0);
-  Component c;
-  c.vertices.resize(num_vertices);
-  for (int v = 0; v < num_vertices; ++v) c.vertices[v] = v;
-  c.faces.resize(d.num_faces);
-  for (int f = 0; f < d.num_faces; ++f) c.faces[f] = f;
-  c.num_edges = d.num_edges;
-  c.num_boundary_loops = 0;
-  c.euler_characteristic = num_vertices - d.num_edges + d.num_faces;
-  c.genus = (2 - c.euler_characteristic) / 2;
-  d.components.push_back(std::move(c));
-  return d;
-}
-
 Doubled double_component(const Topology& t, const ConformalStructure& s, const Target& target) {
+  DoubledTopology connectivity = build_doubled_topology(t);
   Doubled d;
-  const int nv = t.num_vertices, nf = t.num_faces;
-  std::vector<int> mirror(nv, -1);
-  d.original.resize(nv);
-  for (int v = 0; v < nv; ++v) d.original[v] = v;
-  for (int v = 0; v < nv; ++v) {
-    if (t.is_boundary_vertex[v]) {
-      mirror[v] = v;
-    } else {
-      mirror[v] = static_cast<int>(d.original.size());
-      d.original.push_back(v);
-    }
-  }
-  d.triangles.resize(2 * nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      d.triangles(f, k) = t.triangles(f, k);
-      d.triangles(nf + f, k) = mirror[t.triangles(f, kMirror[k])];
-    }
-  }
+  d.triangles = std::move(connectivity.triangles);
+  d.original = std::move(connectivity.original);
+  d.topology = std::make_shared<const Topology>(std::move(connectivity.topology));
+  const int nf = t.num_faces;
   const int n2 = static_cast<int>(d.original.size());
-  d.topology = doubled_topology(t, d.triangles, n2);
   d.structure.scheme = s.scheme;
   d.structure.geometry = s.geometry;
   d.structure.length_scale = s.length_scale;
@@ -253,14 +136,15 @@ Doubled double_component(const Topology& t, const ConformalStructure& s, const T
     d.target.curvature[v] = t.is_boundary_vertex[o] ? 2 * target.curvature[o] : target.curvature[o];
     d.target.fixed[v] = target.fixed[o];
   }
-  d.structure.eta.resize(d.topology.num_edges);
+  const Topology& dt = *d.topology;
+  d.structure.eta.resize(dt.num_edges);
   for (int f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       const double eta = s.eta[t.halfedge_edge[3 * f + k]];
-      d.structure.eta[d.topology.halfedge_edge[3 * f + k]] = eta;
-      // Mirrored halfedge k lies opposite the copy of corner kMirror[k].
-      d.structure.eta[d.topology.halfedge_edge[3 * (nf + f) + k]] =
-          s.eta[t.halfedge_edge[3 * f + kMirror[k]]];
+      d.structure.eta[dt.halfedge_edge[3 * f + k]] = eta;
+      // Mirrored halfedge k lies opposite the copy of corner kMirroredCorner[k].
+      d.structure.eta[dt.halfedge_edge[3 * (nf + f) + k]] =
+          s.eta[t.halfedge_edge[3 * f + kMirroredCorner[k]]];
     }
   }
   return d;
@@ -282,14 +166,14 @@ bool worth_doubling(const Topology& t, const ConformalStructure& s, const FlowOp
 void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& target,
                   const FlowOptions& options, ComponentFlow& out) {
   Doubled d = double_component(t, s, target);
-  FlowResult flow = ricci_flow(d.topology, d.structure, d.target, options);
+  FlowResult flow = ricci_flow(*d.topology, d.structure, d.target, options);
   if (!flow.converged) return;
-  const Development development = develop_input_faces(d.topology, flow.flipped_edges, flow.lengths);
+  flow.intrinsic.adopt_input(d.topology);  // the result owns the doubled connectivity
+  const Development development = flow.intrinsic.develop_input_faces(flow.lengths);
   out.doubled = true;
   out.first_attempt_message = out.flow.message;
   out.flow = std::move(flow);
   out.doubled_triangles = std::move(d.triangles);
-  out.doubled_topology = std::make_shared<const Topology>(std::move(d.topology));
   out.doubled_vertex_original = std::move(d.original);
   out.doubled_shapes.assign(development.shapes.begin(), development.shapes.begin() + t.num_faces);
 }
@@ -298,7 +182,8 @@ void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& 
 /// metric, from the developed faces) into the whole-mesh arrays; the maps are local -> whole
 /// (empty: the component is the whole mesh).
 void gather_doubled(const ComponentFlow& out, const Topology& t, const std::vector<int>& vertex_map,
-                    const std::vector<int>& edge_map, MeshFlowResult& result) {
+                    const std::vector<int>& edge_map, MeshFlowResult& result,
+                    Eigen::VectorXd& eta) {
   auto whole_vertex = [&](int v) { return vertex_map.empty() ? v : vertex_map[v]; };
   auto whole_edge = [&](int e) { return edge_map.empty() ? e : edge_map[e]; };
   for (int v = 0; v < t.num_vertices; ++v) {
@@ -314,7 +199,7 @@ void gather_doubled(const ComponentFlow& out, const Topology& t, const std::vect
       const double l = std::abs(p[(k + 2) % 3] - p[(k + 1) % 3]);
       result.lengths[whole_edge(e)] = l;
       const double ui = out.flow.u[t.edge_vertices(e, 0)], uj = out.flow.u[t.edge_vertices(e, 1)];
-      result.eta[whole_edge(e)] = 0.5 * l * l * std::exp(-(ui + uj));
+      eta[whole_edge(e)] = 0.5 * l * l * std::exp(-(ui + uj));
     }
   }
 }
@@ -342,8 +227,8 @@ Development develop_input_faces(const Topology& input, const MeshFlowResult& flo
       }
     }
   }
-  Development d =
-      develop_input_faces(input, flow.flipped_edges, with_doubled ? doubled_lengths : flow.lengths);
+  Development d = develop_input_faces(input, flow.intrinsic.flipped_edges(),
+                                      with_doubled ? doubled_lengths : flow.lengths);
   bool any_doubled = false;
   for (std::size_t c = 0; c < flow.components.size(); ++c) {
     const ComponentFlow& comp = flow.components[c];
@@ -393,7 +278,7 @@ MeshFlowResult flow_mesh(const Mesh& mesh, const Topology& topology,
   MeshFlowResult result = mesh_flow_internal::flow_mesh_keeping_topology(
       topology, lbar, make_conformal_structure(topology, lbar, options.structure), options,
       kept_input_topology, start);
-  if (kept_input_topology) result.topology = topology;
+  mesh_flow_internal::adopt_input_topology(result, std::make_shared<const Topology>(topology));
   return result;
 }
 
@@ -401,8 +286,21 @@ MeshFlowResult flow_mesh(const FlowProblem& problem, const MeshFlowOptions& opti
   bool kept_input_topology = false;
   MeshFlowResult result =
       mesh_flow_internal::flow_mesh_keeping_topology(problem, options, kept_input_topology);
-  if (kept_input_topology) result.topology = problem.topology;
+  mesh_flow_internal::adopt_input_topology(result,
+                                           std::make_shared<const Topology>(problem.topology));
   return result;
+}
+
+void mesh_flow_internal::adopt_input_topology(MeshFlowResult& result,
+                                              std::shared_ptr<const Topology> topology) {
+  // The one-component flow that was not doubled refers to the same input.
+  for (ComponentFlow& c : result.components) {
+    if (!c.flow.intrinsic.empty() &&
+        c.flow.intrinsic.shared_input().get() == result.intrinsic.shared_input().get()) {
+      c.flow.intrinsic.adopt_input(topology);
+    }
+  }
+  result.intrinsic.adopt_input(std::move(topology));
 }
 
 MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(const FlowProblem& problem,
@@ -417,7 +315,6 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
     const MeshFlowOptions& options, bool& kept_input_topology,
     std::chrono::steady_clock::time_point start) {
   MeshFlowResult result;
-  // result.topology is set at the end when flips changed the triangulation.
   const Topology& whole = topology;
   result.structure = std::move(structure_result);
   const ConformalStructure& structure = result.structure.structure;
@@ -435,20 +332,23 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
   result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   // Starting values, which the components' flows overwrite (a mesh of one component: every
-  // one of them, so no copy is made).
+  // one of them, so no copy is made). `eta` becomes the whole triangulation's at the end.
+  Eigen::VectorXd eta;
   auto start_values = [&] {
     result.u = structure.initial_u;
     result.curvature = Eigen::VectorXd::Zero(whole.num_vertices);
     result.target_curvature = result.target.curvature;
     result.lengths = lbar;
-    result.eta = structure.eta;
+    eta = structure.eta;
   };
   if (whole.components.size() != 1) start_values();
   result.input_lengths = lbar;
   result.converged = true;
 
-  // After flips, the whole mesh's intrinsic triangulation (made from the components' own).
-  std::optional<Topology> flipped;
+  // The whole mesh's intrinsic triangulation, gathered from the components' own (a mesh of one
+  // component whose flow was not doubled: that flow's, shared).
+  IntrinsicTriangulation gathered(whole, structure);
+  bool whole_is_flow = false;
   for (const Component& comp : whole.components) {
     ComponentFlow out;
     out.vertices = comp.vertices;
@@ -462,17 +362,22 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
       }
       if (out.doubled) {
         start_values();
-        gather_doubled(out, whole, std::vector<int>(), std::vector<int>(), result);
+        gather_doubled(out, whole, std::vector<int>(), std::vector<int>(), result, eta);
+        gathered.add_flip_counts(out.flow.intrinsic);
       } else {
         result.u = out.flow.u;
         result.curvature = out.flow.curvature;
         result.target_curvature = out.flow.target_curvature;
         result.lengths = out.flow.lengths;
-        result.eta = out.flow.eta;
+        result.intrinsic = out.flow.intrinsic;
+        whole_is_flow = true;
       }
     } else {
-      const ComponentView view = restrict_to(whole, comp);
-      const int nv = view.topology.num_vertices, ne = view.topology.num_edges;
+      // The component's connectivity stays with its flow's result (its input).
+      ComponentView view = restrict_to(whole, comp);
+      const auto component_topology = std::make_shared<const Topology>(std::move(view.topology));
+      const Topology& t = *component_topology;
+      const int nv = t.num_vertices, ne = t.num_edges;
       ConformalStructure local;
       local.scheme = structure.scheme;
       local.geometry = structure.geometry;
@@ -492,12 +397,14 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
         target.fixed[i] = result.target.fixed[v];
       }
       for (int e = 0; e < ne; ++e) local.eta[e] = structure.eta[view.edge_map[e]];
-      out.flow = ricci_flow(view.topology, local, target, options.flow);
-      if (worth_doubling(view.topology, local, options.flow, out.flow)) {
-        flow_doubled(view.topology, local, target, options.flow, out);
+      out.flow = ricci_flow(t, local, target, options.flow);
+      out.flow.intrinsic.adopt_input(component_topology);
+      if (worth_doubling(t, local, options.flow, out.flow)) {
+        flow_doubled(t, local, target, options.flow, out);
       }
       if (out.doubled) {
-        gather_doubled(out, view.topology, view.vertex_map, view.edge_map, result);
+        gather_doubled(out, t, view.vertex_map, view.edge_map, result, eta);
+        gathered.add_flip_counts(out.flow.intrinsic);
       } else {
         for (int i = 0; i < nv; ++i) {
           const int v = view.vertex_map[i];
@@ -505,29 +412,14 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
           result.curvature[v] = out.flow.curvature[i];
           result.target_curvature[v] = out.flow.target_curvature[i];
         }
+        const Eigen::VectorXd& component_eta = out.flow.intrinsic.eta();
         for (int e = 0; e < ne; ++e) {
           result.lengths[view.edge_map[e]] = out.flow.lengths[e];
-          result.eta[view.edge_map[e]] = out.flow.eta[e];
+          eta[view.edge_map[e]] = component_eta[e];
         }
-        if (out.flow.flips > 0) {
-          if (!flipped) flipped = whole;
-          transplant(*out.flow.intrinsic_topology, comp, view, *flipped);
-          for (int e : out.flow.flipped_edges) result.flipped_edges.push_back(view.edge_map[e]);
-          result.flip_is_isometric.insert(result.flip_is_isometric.end(),
-                                          out.flow.flipped_edges.size(), 0);
-          std::fill_n(result.flip_is_isometric.end() - out.flow.flipped_edges.size(),
-                      out.flow.isometric_flips, 1);
-        }
+        gathered.gather_component(out.flow.intrinsic, comp.faces, view.vertex_map, view.edge_map);
       }
     }
-    if (whole.components.size() == 1 && out.flow.flips > 0 && !out.doubled) {
-      flipped = *out.flow.intrinsic_topology;
-      result.flipped_edges = out.flow.flipped_edges;
-      result.flip_is_isometric.assign(out.flow.flipped_edges.size(), 0);
-      std::fill_n(result.flip_is_isometric.begin(), out.flow.isometric_flips, 1);
-    }
-    result.flips += out.flow.flips;
-    result.blocked_flips += out.flow.blocked_flips;
     result.converged = result.converged && out.flow.converged;
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
@@ -545,10 +437,13 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
           (c ? "; " : "") + std::string("component ") + std::to_string(c) + ": " + flow.message;
     }
   }
-  // Without flips the caller holds the topology (a copy here would cost tens of milliseconds on
-  // a million faces).
-  kept_input_topology = !flipped;
-  if (flipped) result.topology = std::move(*flipped);
+  if (!whole_is_flow) {
+    gathered.set_eta(std::move(eta));
+    result.intrinsic = std::move(gathered);
+  }
+  // The result refers to the caller's topology as its input (a copy here would cost tens of
+  // milliseconds on a million faces): the caller hands it over (adopt_input_topology).
+  kept_input_topology = true;
   result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

@@ -72,14 +72,15 @@ const char* flow_status_name(FlowStatus status) {
 }
 
 struct RicciFlow::State {
-  // The caller's topology is never changed: the first flip the flow needs makes the state's own
-  // copy, which the flips change. `topology` points at that copy, or at the caller's topology
-  // while no flip was needed (a mesh that is Delaunay throughout is never copied).
+  // The caller's topology is never changed: the intrinsic triangulation refers to it until the
+  // first flip the flow needs, which makes its own copy (a mesh that is Delaunay throughout is
+  // never copied). `topology` and `structure` are the triangulation's current connectivity and
+  // conformal structure (eta set by the flips).
   const bool flips;
   const bool hyperbolic;  // hyperbolic background: no gauge, a diagonal term in the Hessian
-  std::optional<Topology> owned_topology;
+  IntrinsicTriangulation intrinsic;
   const Topology* topology;
-  ConformalStructure structure;
+  const ConformalStructure& structure;
   Target target;
   FlowOptions options;
   Clock::time_point start;
@@ -89,16 +90,11 @@ struct RicciFlow::State {
   // Trial buffers of the line search, swapped in on acceptance.
   Eigen::VectorXd trial_u, trial_lengths, trial_curvature;
   CornerAngles trial_angles;
-  // Flipped triangulation of the trial point (only when it needed flips), swapped in on
-  // acceptance.
-  std::optional<Topology> trial_topology;
-  ConformalStructure trial_structure;
+  // The triangulation of the trial point, flipped from the current one (only when it needed
+  // flips), swapped in on acceptance.
+  IntrinsicTriangulation trial;
   bool trial_flipped = false;
-  int trial_flips = 0, trial_blocked = 0;
-  std::vector<int> trial_flipped_edges;
-  int total_flips = 0, blocked_flips = 0;
-  std::vector<int> flipped_edges;  // accepted flips in order (FlowResult::flipped_edges)
-  int isometric_flips = 0;         // the first ones, made isometrically at the input metric
+  int trial_flips = 0;
   // Set by the constructor when `lengths` hold the initial metric's, all valid, and no edge
   // failed the Delaunay test: its own call of set_u(initial u) then neither recomputes nor tests
   // them again (the same computation would give the same values).
@@ -135,28 +131,21 @@ struct RicciFlow::State {
   State(const Topology& t, const ConformalStructure& s, const Target& tg, const FlowOptions& o)
       : flips(uses_edge_flips(s, o)),
         hyperbolic(s.geometry == Geometry::Hyperbolic),
-        topology(&t),
-        structure(s),
+        intrinsic(t, s),
+        topology(&intrinsic.topology()),
+        structure(intrinsic.structure()),
         target(tg),
         options(o),
         start(Clock::now()),
         cholesky(o.use_cholmod) {}
 
-  /// The topology the flips may change: the state's own copy, made at the first call.
-  Topology& own_topology() {
-    if (!owned_topology) {
-      owned_topology = *topology;
-      topology = &*owned_topology;
-    }
-    return *owned_topology;
-  }
-
-  /// Flips the current triangulation to the Delaunay one at u (lengths l, updated), on the
-  /// state's own copy of the topology, which is made only when some edge fails the test.
+  /// Flips the current triangulation to the Delaunay one at u (lengths l, updated); its own copy
+  /// of the topology is made only when some edge fails the test.
   DelaunayFlipResult flip_current_to_delaunay(const Eigen::VectorXd& at, Eigen::VectorXd& l,
                                               const DelaunayFlipOptions& o) {
-    if (count_non_delaunay_edges(*topology, l, o.tolerance, structure.geometry) == 0) return {};
-    return flip_to_delaunay(own_topology(), structure, at, l, o);
+    const DelaunayFlipResult r = intrinsic.flip_to_delaunay(at, l, o);
+    topology = &intrinsic.topology();
+    return r;
   }
 
   /// Lengths, angles and curvature of the current triangulation at u = at (no flips).
@@ -179,24 +168,20 @@ struct RicciFlow::State {
   /// (flipped on a copy when the current one is not Delaunay there).
   Evaluation evaluate_trial() {
     trial_flipped = false;
-    trial_flips = trial_blocked = 0;
+    trial_flips = 0;
     if (!flips) return evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
     if (edge_lengths(*topology, structure, trial_u, trial_lengths) > 0) {
       return Evaluation::BadLength;
     }
     const Topology* t = topology;
     if (count_non_delaunay_edges(*topology, trial_lengths, flip_options().tolerance,
-                                 structure.geometry) > blocked_flips) {
-      trial_topology = *topology;
-      trial_structure = structure;
-      const DelaunayFlipResult r = flip_to_delaunay(*trial_topology, trial_structure, trial_u,
-                                                    trial_lengths, flip_options());
+                                 structure.geometry) > intrinsic.blocked_flips()) {
+      trial = intrinsic;
+      const DelaunayFlipResult r = trial.flip_to_delaunay(trial_u, trial_lengths, flip_options());
       if (!r.complete) return Evaluation::TriangleInequality;
       trial_flipped = r.flips > 0;
       trial_flips = r.flips;
-      trial_flipped_edges = r.flipped_edges;
-      trial_blocked = r.blocked;
-      t = &*trial_topology;
+      t = &trial.topology();
     }
     if (corner_angles(*t, trial_lengths, trial_angles, structure.geometry) >= 0) {
       return Evaluation::TriangleInequality;
@@ -214,18 +199,10 @@ struct RicciFlow::State {
   /// Makes the trial triangulation the current one: a new sparsity pattern, analysed afresh.
   void accept_trial_flips() {
     if (!trial_flipped) return;
-    if (owned_topology) {
-      std::swap(*owned_topology, *trial_topology);
-    } else {
-      owned_topology = std::move(*trial_topology);
-      topology = &*owned_topology;
-      trial_topology.reset();
-    }
-    structure.eta.swap(trial_structure.eta);
-    total_flips += trial_flips;
-    flipped_edges.insert(flipped_edges.end(), trial_flipped_edges.begin(),
-                         trial_flipped_edges.end());
-    blocked_flips = trial_blocked;
+    // (The trial holds the flips before its own in its log: it was copied from the current
+    // triangulation.)
+    std::swap(intrinsic, trial);
+    topology = &intrinsic.topology();
     finish_analysis();
     build_pattern();
     cholesky = SparseCholesky(options.use_cholmod);
@@ -749,10 +726,6 @@ struct RicciFlow::State {
     for (int v = 0; v < topology->num_vertices; ++v) {
       if (target.fixed[v]) r.target_curvature[v] = curvature[v];
     }
-    r.triangles = topology->triangles;
-    r.flips = total_flips;
-    r.isometric_flips = isometric_flips;
-    r.blocked_flips = blocked_flips;
     r.iterations = iteration;
     r.max_error = history.back().max_error;
     r.timings = timings;
@@ -766,21 +739,14 @@ struct RicciFlow::State {
       r.u = std::move(u);
       r.curvature = std::move(curvature);
       r.lengths = std::move(lengths);
-      r.flipped_edges = std::move(flipped_edges);
-      r.eta = std::move(structure.eta);
       r.history = std::move(history);
-      // Flips are made on the state's own copy only: it exists whenever total_flips > 0.
-      if (total_flips > 0) {
-        r.intrinsic_topology = std::make_shared<const Topology>(std::move(own_topology()));
-      }
+      r.intrinsic = std::move(intrinsic);
     } else {
       r.u = u;
       r.curvature = curvature;
       r.lengths = lengths;
-      r.flipped_edges = flipped_edges;
-      r.eta = structure.eta;
       r.history = history;
-      if (total_flips > 0) r.intrinsic_topology = std::make_shared<const Topology>(*topology);
+      r.intrinsic = intrinsic;  // (shares the connectivity until the flow flips again)
     }
     return r;
   }
@@ -835,11 +801,7 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
                                    s.structure.geometry) == 0) {
         s.initial_lengths_delaunay = true;
       } else {
-        const DelaunayFlipResult r = flip_to_delaunay(s.own_topology(), s.structure,
-                                                      s.structure.initial_u, s.lengths, isometric);
-        s.total_flips += r.flips;
-        s.isometric_flips = r.flips;
-        s.flipped_edges = r.flipped_edges;
+        s.flip_current_to_delaunay(s.structure.initial_u, s.lengths, isometric);
       }
     }
   }
@@ -866,17 +828,12 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   if (!pattern_in_hand) s.finish_analysis(/*keep=*/false);  // of the pattern this call replaces
   s.u = u;
   int initial_flips = 0;
-  if (s.flips && lengths_in_hand) {
-    s.blocked_flips = 0;  // no edge failed the test
-  } else if (s.flips) {
+  if (s.flips && !lengths_in_hand) {
     // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
     // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
     if (edge_lengths(*s.topology, s.structure, s.u, s.lengths) == 0) {
       const DelaunayFlipResult r = s.flip_current_to_delaunay(s.u, s.lengths, s.flip_options());
       initial_flips = r.flips;
-      s.total_flips += r.flips;
-      s.flipped_edges.insert(s.flipped_edges.end(), r.flipped_edges.begin(), r.flipped_edges.end());
-      s.blocked_flips = r.blocked;
     }
   }
   // The triangulation is final for this u: its system's pattern, whose symbolic analysis runs

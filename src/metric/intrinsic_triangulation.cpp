@@ -269,3 +269,155 @@ HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
 }
 
 }  // namespace ricci
+
+namespace ricci {
+
+IntrinsicTriangulation::IntrinsicTriangulation(std::shared_ptr<const Topology> input,
+                                               ConformalStructure structure)
+    : input_(std::move(input)), structure_(std::move(structure)) {
+  if (!input_) throw InvalidInput("IntrinsicTriangulation: no input triangulation");
+  if (structure_.eta.size() != input_->num_edges ||
+      structure_.epsilon.size() != input_->num_vertices ||
+      structure_.initial_u.size() != input_->num_vertices) {
+    throw InvalidInput(
+        "IntrinsicTriangulation: the conformal structure does not belong to the "
+        "input triangulation");
+  }
+}
+
+IntrinsicTriangulation::IntrinsicTriangulation(const Topology& input, ConformalStructure structure)
+    // An aliasing pointer with no owner: it refers to `input` and never deletes it.
+    : IntrinsicTriangulation(std::shared_ptr<const Topology>(std::shared_ptr<void>(), &input),
+                             std::move(structure)) {}
+
+namespace {
+const Topology kNoTopology;
+}  // namespace
+
+const Topology& IntrinsicTriangulation::input() const {
+  return input_ ? *input_ : kNoTopology;
+}
+
+const Topology& IntrinsicTriangulation::topology() const {
+  return flipped_ ? *flipped_ : input();
+}
+
+void IntrinsicTriangulation::adopt_input(std::shared_ptr<const Topology> input) {
+  if (!input || (input_ && (input->num_vertices != input_->num_vertices ||
+                            input->num_edges != input_->num_edges ||
+                            input->num_faces != input_->num_faces))) {
+    throw InvalidInput("IntrinsicTriangulation::adopt_input: not the same triangulation");
+  }
+  input_ = std::move(input);
+}
+
+void IntrinsicTriangulation::set_eta(Eigen::VectorXd eta) {
+  if (eta.size() != topology().num_edges) {
+    throw InvalidInput("IntrinsicTriangulation::set_eta: expected " +
+                       std::to_string(topology().num_edges) + " values, got " +
+                       std::to_string(eta.size()));
+  }
+  structure_.eta = std::move(eta);
+}
+
+int IntrinsicTriangulation::isometric_flips() const {
+  return static_cast<int>(
+      std::count(flip_is_isometric_.begin(), flip_is_isometric_.end(), char{1}));
+}
+
+Topology& IntrinsicTriangulation::own_topology() {
+  if (!flipped_) {
+    flipped_ = std::make_shared<Topology>(*input_);
+  } else if (flipped_.use_count() > 1) {
+    flipped_ = std::make_shared<Topology>(*flipped_);
+  }
+  return *flipped_;
+}
+
+DelaunayFlipResult IntrinsicTriangulation::flip_to_delaunay(const Eigen::VectorXd& u,
+                                                            Eigen::VectorXd& lengths,
+                                                            const DelaunayFlipOptions& options) {
+  // A connectivity that would have to be copied first is copied only when some edge fails the
+  // test (ricci::flip_to_delaunay returns at once when none does, as here).
+  if ((!flipped_ || flipped_.use_count() > 1) &&
+      count_non_delaunay_edges(topology(), lengths, options.tolerance, structure_.geometry) == 0) {
+    blocked_ = 0;
+    return {};
+  }
+  DelaunayFlipResult r = ricci::flip_to_delaunay(own_topology(), structure_, u, lengths, options);
+  flips_ += r.flips;
+  flipped_edges_.insert(flipped_edges_.end(), r.flipped_edges.begin(), r.flipped_edges.end());
+  flip_is_isometric_.insert(flip_is_isometric_.end(), r.flipped_edges.size(),
+                            options.isometric ? 1 : 0);
+  blocked_ = r.blocked;
+  return r;
+}
+
+bool IntrinsicTriangulation::is_simplicial() const {
+  return ricci::is_simplicial(topology());
+}
+
+Topology IntrinsicTriangulation::replayed() const {
+  return replay_flips(*input_, flipped_edges_);
+}
+
+Development IntrinsicTriangulation::develop_input_faces(
+    const Eigen::VectorXd& final_lengths) const {
+  return ricci::develop_input_faces(*input_, flipped_edges_, final_lengths);
+}
+
+HyperbolicDevelopment IntrinsicTriangulation::develop_input_faces_hyperbolic(
+    const WideVector& final_lengths) const {
+  return ricci::develop_input_faces_hyperbolic(*input_, flipped_edges_, final_lengths);
+}
+
+void IntrinsicTriangulation::gather_component(const IntrinsicTriangulation& part,
+                                              const std::vector<int>& faces,
+                                              const std::vector<int>& vertex_map,
+                                              const std::vector<int>& edge_map) {
+  const Topology& local = part.topology();
+  if (static_cast<int>(faces.size()) != local.num_faces ||
+      static_cast<int>(vertex_map.size()) != local.num_vertices ||
+      static_cast<int>(edge_map.size()) != local.num_edges) {
+    throw InvalidInput(
+        "IntrinsicTriangulation::gather_component: the maps do not match the "
+        "component's triangulation");
+  }
+  flips_ += part.flips_;
+  blocked_ += part.blocked_;
+  if (part.flipped_edges_.empty()) return;
+  // Flips reuse face and edge indices, so face f and edge e of the component stay face faces[f]
+  // and edge edge_map[e] of the whole mesh; only what they join changes.
+  Topology& whole = own_topology();
+  auto halfedge = [&](int h) { return h < 0 ? -1 : 3 * faces[h / 3] + h % 3; };
+  for (int f = 0; f < local.num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int h = 3 * f + k, hw = halfedge(h), fw = faces[f];
+      whole.triangles(fw, k) = vertex_map[local.triangles(f, k)];
+      whole.face_edges(fw, k) = edge_map[local.face_edges(f, k)];
+      whole.halfedge_edge[hw] = edge_map[local.halfedge_edge[h]];
+      whole.halfedge_twin[hw] = halfedge(local.halfedge_twin[h]);
+    }
+  }
+  for (int e = 0; e < local.num_edges; ++e) {
+    const int ew = edge_map[e];
+    // vertex_map is ascending, so the smaller end stays first.
+    whole.edge_vertices(ew, 0) = vertex_map[local.edge_vertices(e, 0)];
+    whole.edge_vertices(ew, 1) = vertex_map[local.edge_vertices(e, 1)];
+    whole.edge_halfedges(ew, 0) = halfedge(local.edge_halfedges(e, 0));
+    whole.edge_halfedges(ew, 1) = halfedge(local.edge_halfedges(e, 1));
+  }
+  for (int i = 0; i < local.num_vertices; ++i) {
+    whole.vertex_degree[vertex_map[i]] = local.vertex_degree[i];
+  }
+  for (int e : part.flipped_edges_) flipped_edges_.push_back(edge_map[e]);
+  flip_is_isometric_.insert(flip_is_isometric_.end(), part.flip_is_isometric_.begin(),
+                            part.flip_is_isometric_.end());
+}
+
+void IntrinsicTriangulation::add_flip_counts(const IntrinsicTriangulation& part) {
+  flips_ += part.flips_;
+  blocked_ += part.blocked_;
+}
+
+}  // namespace ricci

@@ -184,9 +184,9 @@ FlowInput flow_input(const ParamResult& param) {
   if (doubled == nullptr) {
     in.mesh = param.mesh;
     in.base_topology = build_topology(in.mesh.triangles, in.mesh.num_vertices());
-    in.flipped_edges = flow.flipped_edges;
-    in.flip_is_isometric = flow.flip_is_isometric;
-    in.final_topology = flow.topology;
+    in.flipped_edges = flow.intrinsic.flipped_edges();
+    in.flip_is_isometric = flow.intrinsic.flip_is_isometric();
+    in.final_topology = flow.intrinsic.topology();
     in.final_lengths = flow.lengths;
     in.u = flow.u;
     return in;
@@ -205,12 +205,10 @@ FlowInput flow_input(const ParamResult& param) {
     in.mesh.positions.row(v) = param.mesh.positions.row(whole);
   }
   in.mesh.triangles = doubled->doubled_triangles;
-  in.base_topology = *doubled->doubled_topology;
-  in.flipped_edges = f.flipped_edges;
-  in.flip_is_isometric.assign(f.flipped_edges.size(), 0);
-  std::fill_n(in.flip_is_isometric.begin(),
-              std::min<std::size_t>(f.isometric_flips, f.flipped_edges.size()), 1);
-  in.final_topology = f.intrinsic_topology ? *f.intrinsic_topology : in.base_topology;
+  in.base_topology = f.intrinsic.input();
+  in.flipped_edges = f.intrinsic.flipped_edges();
+  in.flip_is_isometric = f.intrinsic.flip_is_isometric();
+  in.final_topology = f.intrinsic.topology();
   in.final_lengths = f.lengths;
   in.u = f.u;
   return in;

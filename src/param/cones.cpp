@@ -15,6 +15,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 
 namespace ricci {
@@ -35,19 +36,22 @@ bool positive_definite_with_one_pin(const Eigen::SparseMatrix<double>& L) {
 }
 
 /// The cotangent Laplacian of the input metric's intrinsic Delaunay triangulation (#V by #V).
-/// \param vertex_scaling the input lengths' vertex-scaling structure
+/// \param s the input lengths' vertex-scaling structure
 Eigen::SparseMatrix<double> intrinsic_delaunay_laplacian(const Topology& t,
                                                          const Eigen::VectorXd& input_lengths,
                                                          ConformalStructure s) {
-  Topology flipped = t;
   Eigen::VectorXd lengths = input_lengths;
+  const Eigen::VectorXd u = s.initial_u;
+  // (t is copied only when some edge is not Delaunay.)
+  IntrinsicTriangulation intrinsic(t, std::move(s));
   DelaunayFlipOptions isometric;
   isometric.isometric = true;
-  flip_to_delaunay(flipped, s, s.initial_u, lengths, isometric);
+  intrinsic.flip_to_delaunay(u, lengths, isometric);
+  const Topology& flipped = intrinsic.topology();
   CornerAngles angles;
   corner_angles(flipped, lengths, angles);
   Eigen::VectorXd hw, ew;
-  halfedge_weights(flipped, s, s.initial_u, lengths, angles, hw);
+  halfedge_weights(flipped, intrinsic.structure(), u, lengths, angles, hw);
   edge_weights(flipped, hw, ew);
   return curvature_hessian(flipped, ew);
 }

@@ -109,21 +109,19 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
   // 2. The metric refined in long double: the group relation multiplies every misclosure of the
   // layout by the squared norms of long words. With flips the metric lives on the intrinsic
   // Delaunay triangulation (possibly a Delta-complex), with the constants its flips set.
-  ConformalStructure final_structure = result.flow.structure.structure;
-  final_structure.eta = result.flow.eta;
-  result.refinement = refine_hyperbolic_metric(result.flow.topology, final_structure,
+  const IntrinsicTriangulation& intrinsic = result.flow.intrinsic;
+  result.refinement = refine_hyperbolic_metric(intrinsic.topology(), intrinsic.structure(),
                                                result.flow.target, result.flow.u);
 
   // The input's own faces in that metric: without flips their lengths; with flips each face
   // developed into the disk by undoing the flips (long double), so that the cut runs along input
   // edges and the layout, the seams and the written faces are the user's.
   const Topology& topology = problem.topology;
-  const bool flipped = result.flow.flips > 0;
+  const bool flipped = intrinsic.flips() > 0;
   HyperbolicDevelopment development;
   Eigen::VectorXd path_lengths = result.flow.lengths;  // hyperbolic lengths of the input edges
   if (flipped) {
-    development = develop_input_faces_hyperbolic(topology, result.flow.flipped_edges,
-                                                 result.refinement.lengths);
+    development = intrinsic.develop_input_faces_hyperbolic(result.refinement.lengths);
     result.development_length_mismatch = development.max_length_mismatch;
     path_lengths = development.lengths.cast<double>();
   }

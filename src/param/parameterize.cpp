@@ -265,8 +265,8 @@ CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones)
 struct FlowStage {
   FlowProblem* problem = nullptr;
   MeshFlowOptions options;
-  /// The flows leave MeshFlowResult::topology to the pipeline when they keep the problem's
-  /// triangulation: it is moved there at the end, once the stages are done with it (no copy).
+  /// Whether the flow's result refers to the problem's triangulation as its input (handed over
+  /// at the end of the pipeline).
   bool kept_topology = false;
   /// When the flow cannot change the connectivity (no subdivision possible) the cut runs beside
   /// it, on a core the flow's factorisation leaves idle.
@@ -471,7 +471,12 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
     stage.drop_cut_ahead();
     result.message = result.flow.message;
   }
-  if (stage.kept_topology) result.flow.topology = std::move(stage.problem->topology);
+  // The flows' results refer to the problem's triangulation as their input: it is handed over to
+  // them now that the stages are done with it (no copy).
+  if (stage.kept_topology) {
+    mesh_flow_internal::adopt_input_topology(
+        result.flow, std::make_shared<const Topology>(std::move(stage.problem->topology)));
+  }
 }
 
 }  // namespace

@@ -748,8 +748,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     const MeshFlowResult& flow = p.flow;
     result.flow.converged = result.flow.converged && flow.converged;
     result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
-    result.flow.flips += flow.flips;
-    result.flow.blocked_flips += flow.blocked_flips;
+    result.flow.intrinsic.add_flip_counts(flow.intrinsic);
     result.flow.setup_seconds += flow.setup_seconds;
     result.flow.total_seconds += flow.total_seconds;
     for (ComponentFlow cf : flow.components) {

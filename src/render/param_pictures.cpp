@@ -75,8 +75,9 @@ ParamPicturesResult write_parameterization_pictures(const std::string& folder,
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() <
              options.gradient_max_seconds;
     };
-    const FlowResult flow = ricci_flow(result.flow.topology, result.flow.structure.structure,
-                                       result.flow.target, gradient);
+    const FlowResult flow =
+        ricci_flow(result.flow.intrinsic.topology(), result.flow.structure.structure,
+                   result.flow.target, gradient);
     curves.push_back(convergence_curve("gradient flow", flow.history, {0.80, 0.15, 0.10}));
     written.gradient_ran = true;
     written.gradient_iterations = flow.iterations;

@@ -43,8 +43,8 @@ MeshFlowOptions strong_cones(EdgeFlips flips) {
 /// The result's metric, recomputed from its own triangulation and lengths, has its curvature.
 void expect_metric_consistent(const MeshFlowResult& r) {
   CornerAngles angles;
-  ASSERT_EQ(corner_angles(r.topology, r.lengths, angles), -1);
-  const Eigen::VectorXd k = vertex_curvature(r.topology, angles);
+  ASSERT_EQ(corner_angles(r.intrinsic.topology(), r.lengths, angles), -1);
+  const Eigen::VectorXd k = vertex_curvature(r.intrinsic.topology(), angles);
   EXPECT_LT((k - r.curvature).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((r.target_curvature - r.curvature).cwiseAbs().maxCoeff(), 1e-10);
 }
@@ -62,16 +62,16 @@ TEST(EdgeFlips, StrongConesBreakATriangleWithoutFlipsAndConvergeWithThem) {
   const MeshFlowResult with = flow_mesh(sphere, strong_cones(EdgeFlips::Auto));
   ASSERT_TRUE(with.converged) << with.components[0].flow.message;
   EXPECT_LE(with.max_error, 1e-10);
-  EXPECT_GT(with.flips, 0);
+  EXPECT_GT(with.intrinsic.flips(), 0);
   EXPECT_LE(with.components[0].flow.iterations, 20);
   EXPECT_LT(with.components[0].flow.gauss_bonnet_relative_error, 1e-12);
-  EXPECT_EQ(with.topology.euler_characteristic(), 2);
+  EXPECT_EQ(with.intrinsic.topology().euler_characteristic(), 2);
   expect_metric_consistent(with);
   // The final triangulation is Delaunay for the final metric.
-  EXPECT_EQ(count_non_delaunay_edges(with.topology, with.lengths), 0);
+  EXPECT_EQ(count_non_delaunay_edges(with.intrinsic.topology(), with.lengths), 0);
   const FlowResult& flow = with.components[0].flow;
-  ASSERT_TRUE(flow.intrinsic_topology);
-  EXPECT_EQ(flow.triangles, with.topology.triangles);
+  ASSERT_TRUE(flow.intrinsic.owns_topology());
+  EXPECT_EQ(flow.intrinsic.topology().triangles, with.intrinsic.topology().triangles);
 }
 
 TEST(EdgeFlips, NewtonStaysQuadraticAcrossFlips) {
@@ -96,15 +96,15 @@ TEST(EdgeFlips, OffKeepsTheInputTriangulationAndOtherSchemesRefuseDelaunay) {
   options.flow.flips = EdgeFlips::Off;
   const MeshFlowResult off = flow_mesh(sphere, options);
   EXPECT_TRUE(off.converged);
-  EXPECT_EQ(off.flips, 0);
-  EXPECT_EQ(off.topology.triangles, sphere.triangles);
-  EXPECT_FALSE(off.components[0].flow.intrinsic_topology);
+  EXPECT_EQ(off.intrinsic.flips(), 0);
+  EXPECT_EQ(off.intrinsic.topology().triangles, sphere.triangles);
+  EXPECT_FALSE(off.components[0].flow.intrinsic.owns_topology());
 
   options.structure.scheme = Scheme::Thurston;
   options.flow.flips = EdgeFlips::Delaunay;
   EXPECT_THROW(flow_mesh(sphere, options), InvalidInput);
   options.flow.flips = EdgeFlips::Auto;  // auto: no flips for Thurston
-  EXPECT_EQ(flow_mesh(sphere, options).flips, 0);
+  EXPECT_EQ(flow_mesh(sphere, options).intrinsic.flips(), 0);
   EXPECT_EQ(parse_edge_flips("delaunay"), EdgeFlips::Delaunay);
   EXPECT_THROW(parse_edge_flips("sometimes"), InvalidInput);
 }
@@ -131,9 +131,10 @@ TEST(EdgeFlips, EveryComponentOfAMeshFlipsIntoTheWholeMeshTriangulation) {
   }
   const MeshFlowResult r = flow_mesh(both, options);
   ASSERT_TRUE(r.converged);
-  EXPECT_GT(r.components[1].flow.flips, 0);
-  EXPECT_EQ(r.flips, r.components[0].flow.flips + r.components[1].flow.flips);
-  EXPECT_EQ(r.topology.components.size(), 2u);
+  EXPECT_GT(r.components[1].flow.intrinsic.flips(), 0);
+  EXPECT_EQ(r.intrinsic.flips(),
+            r.components[0].flow.intrinsic.flips() + r.components[1].flow.intrinsic.flips());
+  EXPECT_EQ(r.intrinsic.topology().components.size(), 2u);
   expect_metric_consistent(r);
 }
 
@@ -146,9 +147,9 @@ TEST(EdgeFlips, ParameterizationLaysOutTheInputFacesInTheIntrinsicMetric) {
   options.modify_connectivity = false;
   const ParamResult r = parameterize(sphere, options);
   ASSERT_TRUE(r.converged) << r.message;
-  ASSERT_GT(r.flow.flips, 0);
+  ASSERT_GT(r.flow.intrinsic.flips(), 0);
   // The flat metric lives on the intrinsic triangulation; the output is the input's own faces.
-  EXPECT_NE(r.flow.topology.triangles, sphere.triangles);
+  EXPECT_NE(r.flow.intrinsic.topology().triangles, sphere.triangles);
   EXPECT_EQ(r.mesh.positions, sphere.positions);
   EXPECT_EQ(r.mesh.triangles, sphere.triangles);
   EXPECT_LT(r.development_length_mismatch, 1e-12);
@@ -187,15 +188,15 @@ TEST(EdgeFlips, ReplayingTheFlipsReproducesTheTriangulationOfEveryComponent) {
   const MeshFlowResult r = flow_mesh(two, options);
   ASSERT_TRUE(r.converged);
   ASSERT_EQ(r.components.size(), 2u);
-  ASSERT_GT(r.components[1].flow.flips, 0);
-  ASSERT_EQ(r.flipped_edges.size(), static_cast<std::size_t>(r.flips));
+  ASSERT_GT(r.components[1].flow.intrinsic.flips(), 0);
+  ASSERT_EQ(r.intrinsic.flipped_edges().size(), static_cast<std::size_t>(r.intrinsic.flips()));
   const Topology replayed =
-      replay_flips(build_topology(two.triangles, two.num_vertices()), r.flipped_edges);
-  EXPECT_EQ(replayed.triangles, r.topology.triangles);
-  EXPECT_EQ(replayed.face_edges, r.topology.face_edges);
-  EXPECT_EQ(replayed.halfedge_twin, r.topology.halfedge_twin);
-  EXPECT_EQ(replayed.edge_vertices, r.topology.edge_vertices);
-  EXPECT_EQ(replayed.edge_halfedges, r.topology.edge_halfedges);
+      replay_flips(build_topology(two.triangles, two.num_vertices()), r.intrinsic.flipped_edges());
+  EXPECT_EQ(replayed.triangles, r.intrinsic.topology().triangles);
+  EXPECT_EQ(replayed.face_edges, r.intrinsic.topology().face_edges);
+  EXPECT_EQ(replayed.halfedge_twin, r.intrinsic.topology().halfedge_twin);
+  EXPECT_EQ(replayed.edge_vertices, r.intrinsic.topology().edge_vertices);
+  EXPECT_EQ(replayed.edge_halfedges, r.intrinsic.topology().edge_halfedges);
 }
 
 TEST(EdgeFlips, TrianglesBreakingAlongTheBoundaryFlipOnTheDoubledSurface) {

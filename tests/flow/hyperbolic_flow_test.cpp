@@ -170,7 +170,7 @@ TEST(HyperbolicFlow, GivesSurfacesWithBoundaryAGeodesicBoundary) {
     const MeshFlowResult r = uniformize(mesh);
     expect_uniformized(r, 2 - 2 * genus - holes);
     // Boundary vertices reach zero geodesic curvature (pi - angle sum) like the others.
-    const Topology& t = r.topology;
+    const Topology& t = r.intrinsic.topology();
     for (int v = 0; v < t.num_vertices; ++v) {
       if (t.is_boundary_vertex[v]) {
         EXPECT_NEAR(r.curvature[v], 0, 1e-10);
@@ -216,7 +216,7 @@ MeshFlowResult uniformize_vertex_scaling(const Mesh& mesh, EdgeFlips flips) {
 /// The final structure of a flow: the input's constants, eta as the flips left them.
 ConformalStructure final_structure(const MeshFlowResult& r) {
   ConformalStructure s = r.structure.structure;
-  s.eta = r.eta;
+  s.eta = r.intrinsic.eta();
   return s;
 }
 
@@ -245,14 +245,17 @@ TEST(HyperbolicFlips, ConvergeOnValence3SpikesWhereTheFixedTriangulationFails) {
     const MeshFlowResult r = uniformize_vertex_scaling(mesh, EdgeFlips::Auto);
     expect_uniformized(r, 2 - 2 * genus);
     const FlowResult& f = r.components[0].flow;
-    EXPECT_GT(f.isometric_flips, 0);
-    EXPECT_GT(f.flips, f.isometric_flips);  // Ptolemy flips during the flow too
-    EXPECT_EQ(f.blocked_flips, 0);
+    EXPECT_GT(f.intrinsic.isometric_flips(), 0);
+    EXPECT_GT(f.intrinsic.flips(),
+              f.intrinsic.isometric_flips());  // Ptolemy flips during the flow too
+    EXPECT_EQ(f.intrinsic.blocked_flips(), 0);
     // The final triangulation is Delaunay for the final metric, and the structure with the
     // flipped constants reproduces its lengths.
-    EXPECT_EQ(count_non_delaunay_edges(r.topology, r.lengths, 1e-12, Geometry::Hyperbolic), 0);
+    EXPECT_EQ(
+        count_non_delaunay_edges(r.intrinsic.topology(), r.lengths, 1e-12, Geometry::Hyperbolic),
+        0);
     Eigen::VectorXd l;
-    ASSERT_EQ(edge_lengths(r.topology, final_structure(r), r.u, l), 0);
+    ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l), 0);
     EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
   }
 }
@@ -265,7 +268,7 @@ TEST(HyperbolicFlips, ConvergeOnNeedlesAndNoise) {
   for (const Mesh* mesh : {&needles, &noisy}) {
     const MeshFlowResult r = uniformize_vertex_scaling(*mesh, EdgeFlips::Auto);
     expect_uniformized(r, -2);
-    EXPECT_GT(r.flips, 100);
+    EXPECT_GT(r.intrinsic.flips(), 100);
     testing::expect_quadratic_convergence(r.components[0].flow);
   }
 }
@@ -277,14 +280,14 @@ TEST(HyperbolicFlips, HessianMatchesFiniteDifferencesOnTheFlippedTriangulation) 
   const Mesh mesh = testing::with_valence3_spikes(make_closed_surface(2, 6), 3, 1.0);
   const MeshFlowResult r = uniformize_vertex_scaling(mesh, EdgeFlips::Auto);
   ASSERT_TRUE(r.converged);
-  ASSERT_GT(r.flips, 20);
+  ASSERT_GT(r.intrinsic.flips(), 20);
   const ConformalStructure s = final_structure(r);
   std::mt19937 random(13);
   std::uniform_real_distribution<double> jitter(-0.02, 0.02);
   Eigen::VectorXd u = r.u;
   for (int v = 0; v < u.size(); ++v) u[v] += jitter(random);
-  const Eigen::MatrixXd h = assembled_hessian(r.topology, s, u);
-  const Eigen::MatrixXd fd = finite_difference_hessian(r.topology, s, u, 1e-6);
+  const Eigen::MatrixXd h = assembled_hessian(r.intrinsic.topology(), s, u);
+  const Eigen::MatrixXd fd = finite_difference_hessian(r.intrinsic.topology(), s, u, 1e-6);
   EXPECT_LT((h - fd).cwiseAbs().maxCoeff(), 1e-7 * h.cwiseAbs().maxCoeff());
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(h);
   EXPECT_GT(eig.eigenvalues().minCoeff(), 1e-8 * eig.eigenvalues().maxCoeff());
@@ -396,10 +399,10 @@ TEST(HyperbolicFlips, EachComponentOfAMeshFlowsInTheHyperbolicBackground) {
   ASSERT_EQ(r.components.size(), 2u);
   EXPECT_NEAR(r.components[0].flow.total_area, 4 * kPi, 1e-8);
   EXPECT_NEAR(r.components[1].flow.total_area, 8 * kPi, 1e-8);
-  EXPECT_GT(r.components[0].flow.flips, 0);
+  EXPECT_GT(r.components[0].flow.intrinsic.flips(), 0);
   // The whole mesh's final triangulation and constants reproduce the gathered lengths.
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(r.topology, final_structure(r), r.u, l), 0);
+  ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l), 0);
   EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
 }
 

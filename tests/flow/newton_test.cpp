@@ -275,7 +275,7 @@ TEST(MeshFlow, SolvesEveryComponentOnItsOwn) {
       EXPECT_NEAR(r.curvature[v], 0.0, 1e-10);
     }
   }
-  EXPECT_EQ(r.lengths.size(), r.topology.num_edges);
+  EXPECT_EQ(r.lengths.size(), r.intrinsic.topology().num_edges);
   EXPECT_TRUE(r.lengths.allFinite());
 }
 

@@ -4,8 +4,10 @@
 // meshes and on needle fans whose intrinsic Delaunay triangulation is a Delta-complex.
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -225,6 +227,162 @@ TEST(IntrinsicTriangulation, WithoutFlipsTheHyperbolicDevelopmentIsTheFacesThems
     EXPECT_NEAR(static_cast<double>(d.lengths[e] / wide[e]), 1.0, 1e-15);
   }
   EXPECT_THROW(develop_input_faces_hyperbolic(t, {}, wide.head(3)), InvalidInput);
+}
+
+// The IntrinsicTriangulation type: copy-on-write, its log, the gathering of components, and
+// the developments through it.
+
+/// The input triangulation of a mesh with its vertex-scaling structure, as a type.
+struct Input {
+  Topology topology;
+  ConformalStructure structure;
+  Eigen::VectorXd lengths;
+};
+
+Input input_of(const Mesh& mesh) {
+  Input in;
+  in.topology = build_topology(mesh.triangles, mesh.num_vertices());
+  in.lengths = input_edge_lengths(mesh, in.topology);
+  StructureOptions vertex_scaling;
+  vertex_scaling.scheme = Scheme::VertexScaling;
+  in.structure = make_conformal_structure(in.topology, in.lengths, vertex_scaling).structure;
+  return in;
+}
+
+void expect_same_connectivity(const Topology& a, const Topology& b) {
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.face_edges, b.face_edges);
+  EXPECT_EQ(a.halfedge_edge, b.halfedge_edge);
+  EXPECT_EQ(a.halfedge_twin, b.halfedge_twin);
+  EXPECT_EQ(a.edge_vertices, b.edge_vertices);
+  EXPECT_EQ(a.edge_halfedges, b.edge_halfedges);
+  EXPECT_EQ(a.vertex_degree, b.vertex_degree);
+}
+
+TEST(IntrinsicTriangulationType, CopiesTheInputOnlyAtTheFirstFlip) {
+  DelaunayFlipOptions isometric;
+  isometric.isometric = true;
+  // Already Delaunay: the input object itself, throughout.
+  const Input sphere = input_of(make_icosphere(2));
+  IntrinsicTriangulation delaunay(sphere.topology, sphere.structure);
+  EXPECT_EQ(&delaunay.topology(), &sphere.topology);
+  Eigen::VectorXd l = sphere.lengths;
+  EXPECT_EQ(delaunay.flip_to_delaunay(sphere.structure.initial_u, l, isometric).flips, 0);
+  EXPECT_EQ(&delaunay.topology(), &sphere.topology);
+  EXPECT_FALSE(delaunay.owns_topology());
+  EXPECT_EQ(delaunay.flips(), 0);
+
+  // Not Delaunay: its own copy once it flips; the input stays as it was.
+  const Mesh mesh = testing::icosphere_split_near_corners(2, 0.05);
+  const Input in = input_of(mesh);
+  IntrinsicTriangulation t(in.topology, in.structure);
+  EXPECT_EQ(&t.topology(), &in.topology);
+  l = in.lengths;
+  const DelaunayFlipResult r = t.flip_to_delaunay(in.structure.initial_u, l, isometric);
+  ASSERT_GT(r.flips, 0);
+  EXPECT_NE(&t.topology(), &in.topology);
+  EXPECT_EQ(&t.input(), &in.topology);
+  expect_same_connectivity(in.topology, build_topology(mesh.triangles, mesh.num_vertices()));
+  EXPECT_EQ(t.flips(), r.flips);
+  EXPECT_EQ(t.isometric_flips(), r.flips);
+
+  // A copy shares the flipped connectivity until it flips itself.
+  IntrinsicTriangulation copy = t;
+  EXPECT_EQ(&copy.topology(), &t.topology());
+  Eigen::VectorXd u(mesh.num_vertices()), lu;
+  for (int v = 0; v < u.size(); ++v) u[v] = 3 * mesh.positions(v, 0);  // strong: flips again
+  ASSERT_EQ(edge_lengths(copy.topology(), copy.structure(), u, lu), 0);
+  ASSERT_GT(copy.flip_to_delaunay(u, lu).flips, 0);
+  EXPECT_NE(&copy.topology(), &t.topology());
+  expect_same_connectivity(t.topology(), t.replayed());
+  expect_same_connectivity(copy.topology(), copy.replayed());
+  EXPECT_EQ(copy.isometric_flips(), t.flips());
+  EXPECT_GT(copy.flips(), t.flips());
+}
+
+TEST(IntrinsicTriangulationType, FlipsAsTheFreeFunctionAndItsLogReplaysToItsTopology) {
+  const Input in = input_of(testing::cad_strip(100, 0.01));
+  DelaunayFlipOptions isometric;
+  isometric.isometric = true;
+  Topology flipped = in.topology;
+  ConformalStructure s = in.structure;
+  Eigen::VectorXd l_free = in.lengths;
+  const DelaunayFlipResult free = flip_to_delaunay(flipped, s, s.initial_u, l_free, isometric);
+  IntrinsicTriangulation t(std::make_shared<const Topology>(in.topology), in.structure);
+  Eigen::VectorXd l = in.lengths;
+  const DelaunayFlipResult r = t.flip_to_delaunay(in.structure.initial_u, l, isometric);
+  ASSERT_GT(r.flips, 100);
+  EXPECT_EQ(r.flipped_edges, free.flipped_edges);
+  EXPECT_EQ(t.flipped_edges(), free.flipped_edges);
+  EXPECT_EQ(t.blocked_flips(), free.blocked);
+  EXPECT_EQ(l, l_free);
+  EXPECT_EQ(t.eta(), s.eta);
+  expect_same_connectivity(t.topology(), flipped);
+  expect_same_connectivity(t.replayed(), flipped);
+  EXPECT_EQ(t.is_simplicial(), is_simplicial(flipped));
+}
+
+TEST(IntrinsicTriangulationType, DevelopsTheInputFacesAsTheFreeFunctions) {
+  const Mesh mesh = testing::icosphere_split_near_corners(2, 0.05);
+  const Input in = input_of(mesh);
+  IntrinsicTriangulation t(in.topology, in.structure);
+  Eigen::VectorXd u(mesh.num_vertices()), l;
+  for (int v = 0; v < u.size(); ++v) u[v] = 0.3 * std::sin(3 * mesh.positions(v, 0));
+  ASSERT_EQ(edge_lengths(in.topology, in.structure, u, l), 0);
+  ASSERT_GT(t.flip_to_delaunay(u, l).flips, 0);
+  const Development a = t.develop_input_faces(l);
+  const Development b = develop_input_faces(in.topology, t.flipped_edges(), l);
+  EXPECT_EQ(a.shapes, b.shapes);
+  EXPECT_EQ(a.lengths, b.lengths);
+  EXPECT_EQ(a.max_length_mismatch, b.max_length_mismatch);
+  EXPECT_EQ(a.flipped_faces, b.flipped_faces);
+
+  const WideVector wide = l.cast<long double>();
+  const HyperbolicDevelopment ha = t.develop_input_faces_hyperbolic(wide * 0.01L);
+  const HyperbolicDevelopment hb =
+      develop_input_faces_hyperbolic(in.topology, t.flipped_edges(), wide * 0.01L);
+  EXPECT_EQ(ha.shapes, hb.shapes);
+  EXPECT_EQ(ha.lengths, hb.lengths);
+}
+
+TEST(IntrinsicTriangulationType, GatheredComponentsEqualTheirFlipsReplayedOnTheWholeMesh) {
+  // Two copies of a mesh far from Delaunay, each flipped on its own topology (at different
+  // scale factors), gathered into the whole mesh's triangulation.
+  const Mesh one = testing::icosphere_split_near_corners(2, 0.05);
+  Mesh two;
+  two.positions.resize(2 * one.num_vertices(), 3);
+  two.positions << one.positions, one.positions.array() + 3.0;
+  two.triangles.resize(2 * one.num_faces(), 3);
+  two.triangles << one.triangles, one.triangles.array() + one.num_vertices();
+  const Input whole = input_of(two);
+  ASSERT_EQ(whole.topology.components.size(), 2u);
+  IntrinsicTriangulation gathered(whole.topology, whole.structure);
+  std::vector<int> expected_log;
+  for (int c = 0; c < 2; ++c) {
+    const Component& comp = whole.topology.components[c];
+    const Input part = input_of(one);
+    // Faces keep their corner order: local halfedge 3 f + k is whole halfedge
+    // 3 faces[f] + k, which gives the edge map; both meshes' edges start at the same halfedge.
+    std::vector<int> edge_map(part.topology.num_edges);
+    for (int e = 0; e < part.topology.num_edges; ++e) {
+      const int h = part.topology.edge_halfedges(e, 0);
+      const int hw = 3 * comp.faces[h / 3] + h % 3;
+      edge_map[e] = whole.topology.halfedge_edge[hw];
+      ASSERT_EQ(whole.topology.edge_halfedges(edge_map[e], 0), hw);
+    }
+    IntrinsicTriangulation t(part.topology, part.structure);
+    Eigen::VectorXd u(one.num_vertices()), l;
+    for (int v = 0; v < u.size(); ++v) u[v] = 0.2 * (c + 1) * std::cos(2 * one.positions(v, 1));
+    ASSERT_EQ(edge_lengths(part.topology, part.structure, u, l), 0);
+    ASSERT_GT(t.flip_to_delaunay(u, l).flips, 0);
+    for (int e : t.flipped_edges()) expected_log.push_back(edge_map[e]);
+    gathered.gather_component(t, comp.faces, comp.vertices, edge_map);
+  }
+  EXPECT_EQ(gathered.flipped_edges(), expected_log);
+  EXPECT_EQ(gathered.flips(), static_cast<int>(expected_log.size()));
+  expect_same_connectivity(gathered.topology(), replay_flips(whole.topology, expected_log));
+  // The whole input is untouched.
+  expect_same_connectivity(whole.topology, build_topology(two.triangles, two.num_vertices()));
 }
 
 }  // namespace

@@ -43,10 +43,11 @@ Flattened flatten(const Mesh& mesh, const std::vector<Cone>& cones = {}) {
   EXPECT_TRUE(f.flow.converged) << f.flow.max_error;
   CutGraphOptions cut_options;
   for (const Cone& cone : cones) cut_options.cones.push_back(cone.vertex);
-  f.cut = cut_graph(f.flow.topology, input_edge_lengths(mesh, f.flow.topology), cut_options);
-  f.cut_mesh = slice(f.flow.topology, f.cut);
-  f.layout = layout_flat(f.flow.topology, f.flow.lengths, f.cut, f.cut_mesh);
-  f.atlas = affine_atlas(f.flow.topology, f.cut, f.cut_mesh, f.layout);
+  f.cut = cut_graph(f.flow.intrinsic.topology(),
+                    input_edge_lengths(mesh, f.flow.intrinsic.topology()), cut_options);
+  f.cut_mesh = slice(f.flow.intrinsic.topology(), f.cut);
+  f.layout = layout_flat(f.flow.intrinsic.topology(), f.flow.lengths, f.cut, f.cut_mesh);
+  f.atlas = affine_atlas(f.flow.intrinsic.topology(), f.cut, f.cut_mesh, f.layout);
   return f;
 }
 
@@ -62,7 +63,7 @@ Complex uv_of(const Layout& layout, int v) {
 /// Checks every chart of an atlas; `expect_unflipped` where no cone lies inside a chart.
 void expect_valid_atlas(const Flattened& f, bool expect_unflipped, const std::string& what) {
   SCOPED_TRACE(what);
-  const Topology& topology = f.flow.topology;
+  const Topology& topology = f.flow.intrinsic.topology();
   const AffineAtlas& atlas = f.atlas;
   ASSERT_FALSE(f.cut.segments.empty());
   ASSERT_EQ(atlas.boundary_charts.size(), f.cut.segments.size());
@@ -194,7 +195,7 @@ TEST(Atlas, RejectsALayoutOfAnotherCut) {
   const Flattened f = flatten(make_torus(12, 8));
   Layout other = f.layout;
   other.segment_transitions.pop_back();
-  EXPECT_THROW(affine_atlas(f.flow.topology, f.cut, f.cut_mesh, other), InvalidInput);
+  EXPECT_THROW(affine_atlas(f.flow.intrinsic.topology(), f.cut, f.cut_mesh, other), InvalidInput);
 }
 
 }  // namespace

@@ -85,8 +85,8 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
   // The final triangulation: the flow's, or that of the doubled surface it ran on.
   const FlowResult& component = p.flow.components.front().flow;
   const FaceShapes final_shapes =
-      r.doubled ? face_shapes_from_lengths(*component.intrinsic_topology, component.lengths)
-                : face_shapes_from_lengths(p.flow.topology, p.flow.lengths);
+      r.doubled ? face_shapes_from_lengths(component.intrinsic.topology(), component.lengths)
+                : face_shapes_from_lengths(p.flow.intrinsic.topology(), p.flow.lengths);
 
   // The input vertices come first, unchanged, with the default output's texture coordinates,
   // or, where the angle polish moved them, with the flat metric's own positions (the layout
@@ -227,7 +227,7 @@ TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMin
   const Mesh sphere = make_icosphere(3);
   const ParamResult p = param_vertex_scaling(sphere, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
   ASSERT_TRUE(p.converged) << p.message;
-  ASSERT_EQ(p.flow.flips, 0);
+  ASSERT_EQ(p.flow.intrinsic.flips(), 0);
   const CommonRefinement r = common_refinement(p);
   EXPECT_EQ(r.positions.rows(), sphere.num_vertices());
   EXPECT_EQ(r.triangles.rows(), sphere.num_faces());

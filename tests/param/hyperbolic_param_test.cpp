@@ -72,7 +72,7 @@ void expect_flipped_parameterization_on_input_faces(const Mesh& mesh,
                                                     const HyperbolicParamResult& r, int genus,
                                                     double refined = 1e-16) {
   ASSERT_TRUE(r.converged) << r.message;
-  EXPECT_GT(r.flow.flips, 0);
+  EXPECT_GT(r.flow.intrinsic.flips(), 0);
   // Faces, cut and uv are the input's: every cut-mesh corner copies the input corner.
   ASSERT_EQ(r.cut_mesh.triangles.rows(), mesh.triangles.rows());
   for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -135,7 +135,7 @@ TEST(HyperbolicLayout, FromFaceShapesIsTheLayoutFromLengths) {
   thurston.structure.scheme = Scheme::Thurston;
   const HyperbolicParamResult r = parameterize_hyperbolic(make_closed_surface(3, 10), thurston);
   ASSERT_TRUE(r.converged);
-  const Topology& t = r.flow.topology;
+  const Topology& t = r.flow.intrinsic.topology();
   const HyperbolicLayout from_lengths =
       layout_hyperbolic(t, r.refinement.lengths, r.cut, r.cut_mesh);
   const HyperbolicLayout from_shapes = layout_hyperbolic(

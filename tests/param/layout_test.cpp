@@ -140,8 +140,8 @@ TEST(Layout, FlatDiskIsReproducedUpToARigidMotion) {
   const Mesh mesh = make_disk(12, 0.0);
   const MeshFlowResult flow = flat_flow(mesh, BoundaryMode::Free, Scheme::VertexScaling);
   EXPECT_EQ(flow.u.cwiseAbs().maxCoeff(), 0.0);
-  const Uncut u = uncut(flow.topology);
-  const Layout layout = layout_flat(flow.topology, flow.lengths, u.cut, u.cut_mesh);
+  const Uncut u = uncut(flow.intrinsic.topology());
+  const Layout layout = layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
   EXPECT_LE(layout.max_length_relative_error, 1e-12);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_TRUE(layout.transitions.empty());
@@ -197,19 +197,19 @@ TEST(Layout, CurvedDiskWithFreeAndDiskBoundaries) {
   const Mesh mesh = make_disk(16, 0.8);
   for (BoundaryMode boundary : {BoundaryMode::Free, BoundaryMode::DiskUniform}) {
     const MeshFlowResult flow = flat_flow(mesh, boundary);
-    const Uncut u = uncut(flow.topology);
-    const Layout layout = layout_flat(flow.topology, flow.lengths, u.cut, u.cut_mesh);
+    const Uncut u = uncut(flow.intrinsic.topology());
+    const Layout layout = layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
     EXPECT_LE(layout.max_length_relative_error, 1e-9);
-    EXPECT_NEAR(length_error(flow.topology, u.cut_mesh, flow.lengths, layout),
+    EXPECT_NEAR(length_error(flow.intrinsic.topology(), u.cut_mesh, flow.lengths, layout),
                 layout.max_length_relative_error, 1e-15);
     EXPECT_EQ(layout.num_flipped_faces, 0);
     EXPECT_GT(min_signed_area(u.cut_mesh, layout), 0.0);
     // The curvature the flow reached reads back from the layout: at every vertex, the uv
     // angles around all its copies sum to 2 pi - K (pi - K on the boundary), within the flow's
     // tolerance (1e-10) plus rounding.
-    const Eigen::VectorXd sums = uv_angle_sums(flow.topology, u.cut_mesh, layout);
-    for (int v = 0; v < flow.topology.num_vertices; ++v) {
-      const double full = flow.topology.is_boundary_vertex[v] ? kPi : 2 * kPi;
+    const Eigen::VectorXd sums = uv_angle_sums(flow.intrinsic.topology(), u.cut_mesh, layout);
+    for (int v = 0; v < flow.intrinsic.topology().num_vertices; ++v) {
+      const double full = flow.intrinsic.topology().is_boundary_vertex[v] ? kPi : 2 * kPi;
       EXPECT_NEAR(sums[v], full - flow.target_curvature[v], 1e-8) << "vertex " << v;
     }
   }
@@ -225,11 +225,11 @@ TEST(Layout, EachComponentFromItsOwnRoot) {
   both.triangles.resize(small.num_faces() + large.num_faces(), 3);
   both.triangles << small.triangles, large.triangles.array() + small.num_vertices();
   const MeshFlowResult flow = flat_flow(both, BoundaryMode::Free, Scheme::VertexScaling);
-  const Uncut u = uncut(flow.topology);
-  const Layout layout = layout_flat(flow.topology, flow.lengths, u.cut, u.cut_mesh);
+  const Uncut u = uncut(flow.intrinsic.topology());
+  const Layout layout = layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
   EXPECT_LE(layout.max_length_relative_error, 1e-12);
   EXPECT_EQ(layout.num_flipped_faces, 0);
-  for (const Component& c : flow.topology.components) {
+  for (const Component& c : flow.intrinsic.topology().components) {
     std::vector<Complex> points, reference;
     for (int v : c.vertices) {
       points.push_back(uv_of(layout, v));
@@ -289,9 +289,10 @@ Flattened flatten(const Mesh& mesh, BoundaryMode boundary, const std::vector<Con
   out.flow = flat_flow(mesh, boundary, scheme, cones);
   CutGraphOptions cut_options;
   for (const Cone& cone : cones) cut_options.cones.push_back(cone.vertex);
-  out.cut = cut_graph(out.flow.topology, input_edge_lengths(mesh, out.flow.topology), cut_options);
-  out.cut_mesh = slice(out.flow.topology, out.cut);
-  out.layout = layout_flat(out.flow.topology, out.flow.lengths, out.cut, out.cut_mesh);
+  out.cut = cut_graph(out.flow.intrinsic.topology(),
+                      input_edge_lengths(mesh, out.flow.intrinsic.topology()), cut_options);
+  out.cut_mesh = slice(out.flow.intrinsic.topology(), out.cut);
+  out.layout = layout_flat(out.flow.intrinsic.topology(), out.flow.lengths, out.cut, out.cut_mesh);
   return out;
 }
 
@@ -310,7 +311,7 @@ Complex apply(const SeamTransition& t, Complex z) {
 ///   them close up without overlap.
 void expect_valid_layout(const Flattened& f, const std::string& what) {
   SCOPED_TRACE(what);
-  const Topology& topology = f.flow.topology;
+  const Topology& topology = f.flow.intrinsic.topology();
   const Layout& layout = f.layout;
   EXPECT_LE(layout.max_length_relative_error, 1e-9);
   EXPECT_NEAR(length_error(topology, f.cut_mesh, f.flow.lengths, layout),
@@ -384,7 +385,7 @@ TEST(Layout, FlatTorusTilesThePlanePeriodically) {
   // The fundamental domain has the flat torus's area: the lattice is the whole period lattice,
   // not a sublattice. The area of the flat metric, face by face (Heron, from the uv sides).
   double area = 0;
-  for (int face = 0; face < f.flow.topology.num_faces; ++face) {
+  for (int face = 0; face < f.flow.intrinsic.topology().num_faces; ++face) {
     area += signed_area(f.cut_mesh, f.layout, face);
   }
   EXPECT_NEAR(covolume, area, 1e-9 * area);
@@ -473,7 +474,7 @@ TEST(Layout, Genus2WithOneConeOfTwoPiChi) {
   // The cone angle 6 pi reads back from the uv angles around the cone's copies. (The segments'
   // rotations are the holonomy of non-contractible loops, which a flat metric with cones leaves
   // free: nothing to assert about them.)
-  const Eigen::VectorXd sums = uv_angle_sums(f.flow.topology, f.cut_mesh, f.layout);
+  const Eigen::VectorXd sums = uv_angle_sums(f.flow.intrinsic.topology(), f.cut_mesh, f.layout);
   EXPECT_NEAR(sums[0], 6 * kPi, 1e-8);
 }
 

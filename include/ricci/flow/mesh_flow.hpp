@@ -73,11 +73,9 @@ struct ComponentFlow {
   /// component's (local indices) followed by the mirror copies of the interior vertices.
   bool doubled = false;
   std::string first_attempt_message;  ///< why the flow on the component itself failed
-  Triangles doubled_triangles;        ///< the doubled surface before flips
-  /// Its connectivity (made directly: an interior edge between two boundary vertices and its
-  /// mirror image are a double edge, which build_topology cannot pair); the flip log replays on
-  /// it.
-  std::shared_ptr<const Topology> doubled_topology;
+  /// The doubled surface before flips (build_doubled_topology; its connectivity is
+  /// flow.intrinsic.input(), on which the flow's flip log replays).
+  Triangles doubled_triangles;
   std::vector<int> doubled_vertex_original;  ///< doubled vertex -> local vertex
   FaceShapes doubled_shapes;                 ///< the component's faces developed in the metric
 };
@@ -93,27 +91,23 @@ struct MeshFlowResult {
   double max_error = 0;       ///< over all components
   StructureResult structure;  ///< whole-mesh structure and fit error
   Target target;              ///< whole-mesh target
-  /// Whole-mesh connectivity after the flow (edges for `lengths`): the input's, or its intrinsic
-  /// Delaunay triangulation when edges were flipped (same vertices and face count).
-  Topology topology;
-  int flips = 0;  ///< edges flipped, all components together
-  /// The flips in whole-mesh edge indices, component after component: flip_edge applied to them
-  /// in order on build_topology(mesh) reproduces `topology` exactly. Doubled components (see
-  /// ComponentFlow::doubled) keep the input's triangulation in `topology` and add no entries;
-  /// develop_input_faces(mesh, result) covers every component.
-  std::vector<int> flipped_edges;
-  /// Per entry of flipped_edges: 1 for an isometric flip (a component's initial retriangulation
-  /// of the input metric), 0 for a Ptolemy flip (FlowResult::isometric_flips).
-  std::vector<char> flip_is_isometric;
-  int blocked_flips = 0;             ///< non-Delaunay edges left (see FlowResult::blocked_flips)
+  /// The whole mesh's triangulation after the flow (edges for `lengths`): its input, or its
+  /// intrinsic Delaunay triangulation when edges were flipped (same vertices and face count),
+  /// with the structure on it (intrinsic.eta(): structure.structure.eta but on flipped edges;
+  /// with it the structure gives `lengths` at `u` on intrinsic.topology()). Its log holds the
+  /// flips in whole-mesh edge indices, component after component, each flagged isometric (a
+  /// component's initial retriangulation of the input metric) or Ptolemy: replayed on the
+  /// input it reproduces intrinsic.topology() exactly. Doubled components (see
+  /// ComponentFlow::doubled) keep the input's triangulation here and add no entries, only their
+  /// counts (intrinsic.flips(), intrinsic.blocked_flips()); develop_input_faces(mesh, result)
+  /// covers every component.
+  IntrinsicTriangulation intrinsic;
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature
   Eigen::VectorXd target_curvature;  ///< #V target (final curvature where u was fixed)
-  Eigen::VectorXd lengths;           ///< #E final lengths, edges as topology.edge_vertices
-  Eigen::VectorXd input_lengths;     ///< #E lengths of the input mesh, its own edges
-  /// #E eta of the structure on `topology`: structure.structure.eta but on flipped edges
-  /// (FlowResult::eta); with it the structure gives `lengths` at `u` on `topology`.
-  Eigen::VectorXd eta;
+  /// #E final lengths, edges as intrinsic.topology().edge_vertices
+  Eigen::VectorXd lengths;
+  Eigen::VectorXd input_lengths;  ///< #E lengths of the input mesh, its own edges
   std::vector<ComponentFlow> components;
   double setup_seconds = 0;  ///< topology, structure, target, checks
   double total_seconds = 0;

@@ -14,6 +14,7 @@
 
 #include "ricci/flow/target.hpp"
 #include "ricci/metric/angles.hpp"
+#include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -155,31 +156,20 @@ struct FlowResult {
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature K
   Eigen::VectorXd target_curvature;  ///< #V K-bar (the final K where the vertex is fixed)
-  /// #E final edge lengths, edges as in the input topology, or as in intrinsic_topology after
-  /// flips (a flip reuses the index of the edge it replaces).
+  /// #E final edge lengths, edges as in intrinsic.topology() (the input's, or after flips those
+  /// of the intrinsic Delaunay triangulation: a flip reuses the index of the edge it replaces).
   Eigen::VectorXd lengths;
-  /// The final triangulation (#F by 3): the input's faces, or its intrinsic Delaunay
-  /// triangulation after flips (the same vertices, face count and Euler characteristic; possibly
-  /// a Delta-complex, see ricci/metric/delaunay_flips.hpp).
-  Triangles triangles;
-  /// After flips: the whole final connectivity (edges for `lengths`); null without flips.
-  std::shared_ptr<const Topology> intrinsic_topology;
-  /// #E the conformal structure's eta on the final triangulation: the structure's own, but on
-  /// flipped edges (whose constants the flips set), so that edge_lengths of the structure with
-  /// this eta on intrinsic_topology gives `lengths` at u.
-  Eigen::VectorXd eta;
-  int flips = 0;  ///< edges flipped over the whole flow (initial Delaunay flips included)
-  /// Every accepted flip in order (edge indices of the topology the flow was given): flip_edge
-  /// applied to them one after the other on that topology reproduces intrinsic_topology exactly
-  /// (replay_flips in ricci/metric/intrinsic_triangulation.hpp).
-  std::vector<int> flipped_edges;
-  /// The first isometric_flips of flipped_edges retriangulate the input metric isometrically
-  /// into its intrinsic Delaunay triangulation (the new edge is the diagonal of the developed
-  /// quad, Euclidean or hyperbolic); the others are Ptolemy flips of the flow (the same discrete
-  /// conformal class).
-  int isometric_flips = 0;
-  int blocked_flips = 0;  ///< non-Delaunay edges left unflipped at the end (see
-                          ///< DelaunayFlipResult::blocked)
+  /// The final triangulation: the input topology itself (shared, not copied, referred to as the
+  /// flow was given it: the caller keeps it alive) or, after flips, its intrinsic Delaunay
+  /// triangulation (the same vertices, face count and Euler characteristic; possibly a
+  /// Delta-complex, see ricci/metric/delaunay_flips.hpp), with the structure's eta on it
+  /// (intrinsic.eta(): edge_lengths of intrinsic.structure() on intrinsic.topology() gives
+  /// `lengths` at u), every accepted flip in order (intrinsic.flipped_edges(), edge indices of
+  /// the topology the flow was given; the first intrinsic.isometric_flips() retriangulate the
+  /// input metric isometrically into its intrinsic Delaunay triangulation, the others are the
+  /// flow's Ptolemy flips), the count of flips and of non-Delaunay edges left unflipped at the
+  /// end (intrinsic.blocked_flips(), see DelaunayFlipResult::blocked).
+  IntrinsicTriangulation intrinsic;
   int iterations = 0;
   double max_error = 0;  ///< final max |K-bar - K| over vertices with a target
   /// The smallest max error double arithmetic resolves at the final metric (rounding of the

@@ -23,15 +23,25 @@
 /// Poincare disk, with hyperbolic isometries (Moebius maps of the disk) in place of rigid motions,
 /// in long double: the hyperbolic layout and the Fuchsian group it leads to amplify every rounding
 /// error (ricci/flow/hyperbolic_refinement.hpp).
+///
+/// IntrinsicTriangulation is the one home of such a triangulation: the input connectivity, the
+/// current (flipped) one, the conformal structure carried onto it (eta per intrinsic edge) and
+/// the flip log that is its correspondence to the input. The flow (RicciFlow) flips it, and the
+/// flow's and the mesh flow's results (FlowResult::intrinsic, MeshFlowResult::intrinsic), the
+/// refinement, the layouts and the writers read it; only this module writes Topology arrays of a
+/// flipped triangulation.
 
 #include <array>
 #include <complex>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "ricci/mesh/topology.hpp"
+#include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hyperbolic.hpp"
+#include "ricci/metric/scheme.hpp"
 
 namespace ricci {
 
@@ -105,5 +115,123 @@ HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
 /// \throw InvalidInput naming the face when its lengths break a triangle inequality
 WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
                                                    const WideVector& lengths);
+
+/// A triangulation of the input surface with the input's vertices, reached from the input
+/// triangulation by edge flips (see the file comment): its connectivity, the conformal structure
+/// on it, and the flips that made it.
+///
+/// Copy-on-write: it starts as the input itself, shared and never copied, and makes its own copy
+/// of the connectivity at the first flip, so a mesh that is Delaunay already (the usual case, on
+/// a million faces too) costs no copy. Copies of an IntrinsicTriangulation share their
+/// connectivity until one of them flips. The input is held by a shared pointer: owned (shared),
+/// or only referred to (the constructor from a reference; adopt_input hands it over later).
+///
+/// The structure is the input's, except that eta on flipped edges is what the flips set (a flip
+/// reuses the index of the edge it removes), so that edge_lengths of structure() on topology()
+/// gives the metric's lengths at any u. The flip log lists the flipped edges in order (replayed
+/// on the input it gives topology()), with a flag per flip saying whether it was isometric.
+///
+/// Design: the structure is held here rather than passed to flip_to_delaunay, since its eta is
+/// per intrinsic edge (a structure passed in would carry a second eta, stale after a flip). The
+/// correspondence to the input is the log: how each intrinsic edge crosses the input edges
+/// (normal coordinates, ricci/metric/edge_overlay.hpp) is replayed from it where needed
+/// (ricci/param/common_refinement.hpp). Components of a mesh flow on their own triangulations and
+/// are gathered into the whole mesh's with gather_component.
+class IntrinsicTriangulation {
+ public:
+  /// Empty: no input, no connectivity (a result not filled in).
+  IntrinsicTriangulation() = default;
+  /// The input triangulation itself, not copied, with its conformal structure.
+  /// \pre structure belongs to *input (#V epsilon and initial_u, #E eta)
+  /// \throw InvalidInput when input is null or the structure's sizes do not match
+  IntrinsicTriangulation(std::shared_ptr<const Topology> input, ConformalStructure structure);
+  /// The same, referring to `input` without owning it: the caller keeps it alive while this
+  /// object or a copy reads it (or hands it over with adopt_input).
+  IntrinsicTriangulation(const Topology& input, ConformalStructure structure);
+
+  /// Hands over the input: `input` replaces the one referred to (e.g. an owned copy, or the same
+  /// connectivity moved elsewhere), and topology() reads it while no edge is flipped.
+  /// \throw InvalidInput when its vertex, edge or face count differs from the current input's
+  void adopt_input(std::shared_ptr<const Topology> input);
+
+  bool empty() const { return input_ == nullptr; }
+  /// The input triangulation (before any flip); an empty Topology when empty().
+  const Topology& input() const;
+  const std::shared_ptr<const Topology>& shared_input() const { return input_; }
+  /// The current connectivity: the input's object itself until the first flip, then this
+  /// triangulation's own; an empty Topology when empty().
+  const Topology& topology() const;
+  /// Whether topology() is a connectivity of its own (some edge was flipped).
+  bool owns_topology() const { return flipped_ != nullptr; }
+  /// The conformal structure on topology(): the input's, eta set by the flips on flipped edges.
+  const ConformalStructure& structure() const { return structure_; }
+  /// #E eta per intrinsic edge (structure().eta).
+  const Eigen::VectorXd& eta() const { return structure_.eta; }
+  /// Replaces eta (the whole mesh's, gathered from its components' flows).
+  /// \throw InvalidInput when the size is not #E
+  void set_eta(Eigen::VectorXd eta);
+
+  /// Edges flipped, counting the flips of parts whose connectivity is not kept here (see
+  /// add_flip_counts); flipped_edges().size() otherwise.
+  int flips() const { return flips_; }
+  /// The flip log: flip_edge applied to these edges in order on input() gives topology().
+  const std::vector<int>& flipped_edges() const { return flipped_edges_; }
+  /// Per entry of flipped_edges(): 1 for an isometric flip (the input metric retriangulated into
+  /// its intrinsic Delaunay triangulation), 0 for a Ptolemy flip (the same conformal class).
+  const std::vector<char>& flip_is_isometric() const { return flip_is_isometric_; }
+  /// How many flips of the log were isometric (in a flow: the first ones).
+  int isometric_flips() const;
+  /// Non-Delaunay edges left unflipped by the last flip_to_delaunay (DelaunayFlipResult::blocked),
+  /// summed over the parts gathered.
+  int blocked_flips() const { return blocked_; }
+
+  /// flip_to_delaunay (ricci/metric/delaunay_flips.hpp) on this triangulation at log radii u,
+  /// its flips appended to the log (flagged isometric when options.isometric) and blocked_flips
+  /// set to the result's. The connectivity is copied first only when some edge fails the
+  /// Delaunay test and none is owned yet (or it is shared with a copy).
+  /// \param[in,out] lengths #E current lengths l(u), updated on flipped edges
+  /// \throw InvalidInput when the structure is not vertex scaling
+  DelaunayFlipResult flip_to_delaunay(const Eigen::VectorXd& u, Eigen::VectorXd& lengths,
+                                      const DelaunayFlipOptions& options = {});
+
+  /// Whether topology() is a simplicial complex (ricci::is_simplicial).
+  bool is_simplicial() const;
+  /// The log replayed on the input (replay_flips): equal to topology(), array by array.
+  /// \throw InvalidInput as replay_flips
+  Topology replayed() const;
+
+  /// Every input face developed in the final metric (ricci::develop_input_faces with this log).
+  /// \param final_lengths #E lengths of topology()'s edges
+  Development develop_input_faces(const Eigen::VectorXd& final_lengths) const;
+  /// The same in a hyperbolic metric (ricci::develop_input_faces_hyperbolic).
+  HyperbolicDevelopment develop_input_faces_hyperbolic(const WideVector& final_lengths) const;
+
+  /// Gathers the flows of a whole mesh's components: writes a component's triangulation into
+  /// this one, the whole mesh's (the component's faces and edges keep their whole-mesh indices,
+  /// only what they join changes), appends its log in whole-mesh edge indices and adds its
+  /// counts. eta is left to set_eta. Components gathered one after the other give the log that,
+  /// replayed on the whole input, reproduces topology().
+  /// \param part the component's triangulation, in component-local indices
+  /// \param faces, vertex_map, edge_map component-local face, vertex and edge -> whole mesh;
+  ///        part.input()'s faces keep their corner order and its edges their first halfedge
+  ///        (as the whole mesh's), vertex_map ascending
+  /// \throw InvalidInput when the maps do not match the part's sizes
+  void gather_component(const IntrinsicTriangulation& part, const std::vector<int>& faces,
+                        const std::vector<int>& vertex_map, const std::vector<int>& edge_map);
+  /// Adds a part's flip and blocked counts only (its connectivity and log stay with it: a
+  /// component flowed on its double, or a separately parameterized component).
+  void add_flip_counts(const IntrinsicTriangulation& part);
+
+ private:
+  /// The connectivity the next flip may change: owned and not shared with a copy.
+  Topology& own_topology();
+
+  std::shared_ptr<const Topology> input_;
+  std::shared_ptr<Topology> flipped_;  // null until the first flip; shared by copies until then
+  ConformalStructure structure_;
+  int flips_ = 0, blocked_ = 0;
+  std::vector<int> flipped_edges_;
+  std::vector<char> flip_is_isometric_;
+};
 
 }  // namespace ricci

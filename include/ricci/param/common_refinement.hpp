@@ -95,7 +95,7 @@ struct CommonRefinement {
   Eigen::VectorXd delaunay_lengths;
   /// The flow ran on the mesh glued to its mirror image along the boundary
   /// (ComponentFlow::doubled): delaunay_topology, delaunay_face and intrinsic_face then refer to
-  /// that doubled surface (its final triangulation is the component's flow.intrinsic_topology),
+  /// that doubled surface (its final triangulation is the component's flow.intrinsic.topology()),
   /// whose first #F faces are the mesh's; the refinement is that of the mesh's half.
   bool doubled = false;
 

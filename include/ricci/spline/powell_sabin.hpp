@@ -64,7 +64,7 @@ struct SplineDomain {
 };
 
 /// Builds the domain from a flat metric laid out in charts.
-/// \param topology the mesh's connectivity (e.g. MeshFlowResult::topology)
+/// \param topology the mesh's connectivity (e.g. MeshFlowResult::intrinsic.topology())
 /// \param chart_triangles #F by 3 indices into uv, same faces and corner order (CutMesh::triangles)
 /// \param uv chart positions (Layout::uv): every face's corners in one chart; faces across an edge
 ///        whose ends have the same chart indices share the chart, otherwise the two charts differ
