@@ -16,11 +16,11 @@
 #include <string>
 
 #include "bench_support.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 #include "ricci/param/hyperbolic_param.hpp"
 
 namespace {

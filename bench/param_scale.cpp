@@ -36,13 +36,13 @@
 #endif
 
 #include "bench_support.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace {

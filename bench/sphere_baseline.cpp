@@ -39,9 +39,9 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/topology.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 #include "ricci/param/sphere.hpp"
 
 namespace {

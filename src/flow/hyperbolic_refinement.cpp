@@ -10,9 +10,9 @@
 #include <Eigen/SparseCore>
 
 #include "ricci/errors.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
 

@@ -13,13 +13,13 @@
 
 #include "../mesh/parallel.hpp"
 #include "ricci/errors.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/background.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
 namespace {

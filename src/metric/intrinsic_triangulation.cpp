@@ -12,6 +12,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/numerics/mobius.hpp"
 #include "triangle_terms.hpp"
 
 namespace ricci {
@@ -72,11 +73,6 @@ void undo_flips(const std::vector<FlipRecord>& records, std::vector<std::array<P
     settle(p0);
     settle(p1);
   }
-}
-
-/// The isometry of the Poincare disk moving p to the centre, z -> (z - p) / (1 - conj(p) z).
-WideComplex to_frame(WideComplex p, WideComplex z) {
-  return (z - p) / (Wide{1} - std::conj(p) * z);
 }
 
 /// Hyperbolic distance of two points of the disk.

@@ -10,13 +10,13 @@
 #include <numbers>
 
 #include "ricci/errors.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/mesh/build_counts.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
 namespace {

@@ -217,36 +217,22 @@ struct NormalForm {
 /// segment maps with 60 more bits than double. The relation multiplies some 4 g words of up to
 /// a dozen maps of norm up to 1e3: in long double its rounding alone reached 1e-7 (a generated
 /// genus-3 surface) and 5e-6 (fertility.off), in quad it is far below the consistency of the
-/// input maps, which the residual then measures.
-#if defined(__SIZEOF_FLOAT128__)
+/// input maps, which the residual then measures. std::complex<__float128> is libstdc++'s generic
+/// template (the textbook products and sums, no library calls), hence the test of __GLIBCXX__;
+/// only the algebra of ricci/numerics/mobius.hpp is used on it, and the square root and
+/// magnitudes below go through long double.
+#if defined(__SIZEOF_FLOAT128__) && defined(__GLIBCXX__)
 using Extended = __float128;
 #else
 using Extended = long double;
 #endif
+using ExtendedComplex = std::complex<Extended>;
+using ExtendedMobius = BasicMobius<Extended>;
 
-/// A complex number in Extended (std::complex is not specified for __float128).
-struct ExtendedComplex {
-  Extended re = 0, im = 0;
-};
-ExtendedComplex operator*(ExtendedComplex x, ExtendedComplex y) {
-  return {x.re * y.re - x.im * y.im, x.re * y.im + x.im * y.re};
+/// |x|^2 as x.re^2 + x.im^2 (std::norm could take the square root of the squared modulus).
+Extended squared_modulus(ExtendedComplex x) {
+  return x.real() * x.real() + x.imag() * x.imag();
 }
-ExtendedComplex operator+(ExtendedComplex x, ExtendedComplex y) {
-  return {x.re + y.re, x.im + y.im};
-}
-ExtendedComplex scaled(ExtendedComplex x, Extended s) {
-  return {x.re * s, x.im * s};
-}
-ExtendedComplex conj(ExtendedComplex x) {
-  return {x.re, -x.im};
-}
-Extended norm(ExtendedComplex x) {
-  return x.re * x.re + x.im * x.im;
-}
-
-struct ExtendedMobius {
-  ExtendedComplex a{1, 0}, b{0, 0};
-};
 
 /// 1 / sqrt(x) to the precision of Extended: the long double root refined by one Newton step.
 Extended inverse_sqrt(Extended x) {
@@ -254,32 +240,25 @@ Extended inverse_sqrt(Extended x) {
   return s * (Extended{1.5} - Extended{0.5} * x * s * s);
 }
 
-/// Scaled to determinant 1 (unchanged when the determinant is not positive and finite).
+/// Scaled to determinant 1 (unchanged when the determinant is not positive and finite). Not
+/// `normalized`: the determinant from the squared moduli (no quad hypot), no sign fixed.
 ExtendedMobius normalized_extended(const ExtendedMobius& m) {
-  const Extended det = norm(m.a) - norm(m.b);
+  const Extended det = squared_modulus(m.a) - squared_modulus(m.b);
   if (!(det > 0) || !std::isfinite(static_cast<long double>(det))) return m;
   const Extended s = inverse_sqrt(det);
-  return {scaled(m.a, s), scaled(m.b, s)};
+  return {m.a * s, m.b * s};
 }
 
-ExtendedMobius extend(const Mobius& m) {
-  return normalized_extended({{m.a.real(), m.a.imag()}, {m.b.real(), m.b.imag()}});
+/// A double or long double map in Extended, normalised there.
+template <class T>
+ExtendedMobius extend(const BasicMobius<T>& m) {
+  return normalized_extended(mobius_cast<Extended>(m));
 }
 
-ExtendedMobius extend(const std::array<std::complex<long double>, 2>& m) {
-  return normalized_extended({{m[0].real(), m[0].imag()}, {m[1].real(), m[1].imag()}});
-}
-
-ExtendedMobius compose(const ExtendedMobius& f, const ExtendedMobius& g) {
-  return {f.a * g.a + f.b * conj(g.b), f.a * g.b + f.b * conj(g.a)};
-}
-
-ExtendedMobius inverse(const ExtendedMobius& m) {
-  return {conj(m.a), scaled(m.b, -1)};
-}
-
-ExtendedMobius evaluate_extended(const SegmentWord& word, const std::vector<ExtendedMobius>& maps) {
-  ExtendedMobius m;
+/// The product of a word's letters, left to right (no check of the letters).
+template <class T>
+BasicMobius<T> word_product(const SegmentWord& word, const std::vector<BasicMobius<T>>& maps) {
+  BasicMobius<T> m;
   for (const auto& [segment, sign] : word) {
     m = compose(m, sign > 0 ? maps[segment] : inverse(maps[segment]));
   }
@@ -289,9 +268,8 @@ ExtendedMobius evaluate_extended(const SegmentWord& word, const std::vector<Exte
 /// Scaled to determinant 1, Re a >= 0, rounded to double.
 Mobius round_to_double(const ExtendedMobius& m) {
   ExtendedMobius n = normalized_extended(m);
-  if (n.a.re < 0) n = {scaled(n.a, -1), scaled(n.b, -1)};
-  return {{static_cast<double>(n.a.re), static_cast<double>(n.a.im)},
-          {static_cast<double>(n.b.re), static_cast<double>(n.b.im)}};
+  if (n.a.real() < 0) n = {-n.a, -n.b};
+  return mobius_cast<double>(n);
 }
 
 /// distance_to_identity in Extended, rounded.
@@ -300,9 +278,9 @@ double extended_distance_to_identity(const ExtendedMobius& m) {
   auto magnitude = [](Extended re, Extended im) {
     return std::hypot(static_cast<long double>(re), static_cast<long double>(im));
   };
-  const long double off = magnitude(n.b.re, n.b.im);
-  const long double minus = magnitude(n.a.re - 1, n.a.im);
-  const long double plus = magnitude(n.a.re + 1, n.a.im);
+  const long double off = magnitude(n.b.real(), n.b.imag());
+  const long double minus = magnitude(n.a.real() - 1, n.a.imag());
+  const long double plus = magnitude(n.a.real() + 1, n.a.imag());
   return static_cast<double>(std::min(std::max(minus, off), std::max(plus, off)));
 }
 
@@ -381,7 +359,6 @@ void explore(const NormalForm& form, std::vector<std::pair<int, int>>& blocks, i
 }  // namespace
 
 Mobius evaluate(const SegmentWord& word, const std::vector<Mobius>& segment_maps) {
-  Mobius m;
   for (const auto& [segment, sign] : word) {
     if (segment < 0 || segment >= static_cast<int>(segment_maps.size()) ||
         (sign != 1 && sign != -1)) {
@@ -389,9 +366,8 @@ Mobius evaluate(const SegmentWord& word, const std::vector<Mobius>& segment_maps
                          " is not (segment in [0, " + std::to_string(segment_maps.size()) +
                          "), +-1)");
     }
-    m = compose(m, sign > 0 ? segment_maps[segment] : inverse(segment_maps[segment]));
   }
-  return normalized(m);
+  return normalized(word_product(word, segment_maps));
 }
 
 SegmentWord inverse(const SegmentWord& word) {
@@ -500,8 +476,8 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
                        " wide segment maps for " + std::to_string(num_segments) + " segments");
   }
   for (const SegmentWord& w : relations.node_words) {
-    group.node_residual = std::max(group.node_residual,
-                                   extended_distance_to_identity(evaluate_extended(w, extended)));
+    group.node_residual =
+        std::max(group.node_residual, extended_distance_to_identity(word_product(w, extended)));
   }
 
   // Spanning tree of nodes (vertices) and segments (edges), breadth first from node 0.
@@ -600,8 +576,8 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
   // The generators evaluated afresh from their words, and the relation, in long double.
   ExtendedMobius relation;
   for (int k = 0; k < group.genus; ++k) {
-    const ExtendedMobius a = evaluate_extended(group.a_words[k], extended);
-    const ExtendedMobius b = evaluate_extended(group.b_words[k], extended);
+    const ExtendedMobius a = word_product(group.a_words[k], extended);
+    const ExtendedMobius b = word_product(group.b_words[k], extended);
     relation = compose(relation, compose(compose(a, b), compose(inverse(a), inverse(b))));
     group.a.push_back(round_to_double(a));
     group.b.push_back(round_to_double(b));

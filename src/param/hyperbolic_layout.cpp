@@ -10,47 +10,27 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/hyperbolic_refinement.hpp"
 #include "ricci/metric/angles.hpp"
+#include "ricci/numerics/mobius.hpp"
 
 namespace ricci {
 
 namespace {
 
-using Complex = std::complex<double>;
 // Positions and deck transformations are computed in long double: near the rim of the disk
 // (|z| = 0.998 on the shared genus-4 mesh) 1 - conj(p) z cancels to 1e-3 and a double layout
 // loses three digits there, which the Fuchsian relation amplifies through long words.
 using Wide = long double;
 using WideComplex = std::complex<Wide>;
 
-/// The isometry moving p to the centre, z -> (z - p) / (1 - conj(p) z), and its inverse.
-WideComplex to_frame(WideComplex p, WideComplex z) {
-  return (z - p) / (Wide{1} - std::conj(p) * z);
-}
-WideComplex from_frame(WideComplex p, WideComplex w) {
-  return (w + p) / (Wide{1} + std::conj(p) * w);
-}
-
-/// The matrix [[a, b], [conj b, conj a]] (determinant 1) of the orientation-preserving isometry
-/// taking z1 to w1 and the direction towards z2 to the direction towards w2, in long double.
-struct WideMobius {
-  WideComplex a{1}, b{0};
-};
-WideMobius wide_compose(const WideMobius& f, const WideMobius& g) {
-  return {f.a * g.a + f.b * std::conj(g.b), f.a * g.b + f.b * std::conj(g.a)};
-}
-WideMobius wide_translation_to_origin(WideComplex p) {
-  const Wide scale = Wide{1} / std::sqrt((Wide{1} - std::abs(p)) * (Wide{1} + std::abs(p)));
-  return {WideComplex{scale}, -p * scale};
-}
+/// The orientation-preserving isometry taking z1 to w1 and the direction towards z2 to the
+/// direction towards w2, in long double (the directions compared in the frames of z1 and w1).
 WideMobius wide_isometry(WideComplex z1, WideComplex z2, WideComplex w1, WideComplex w2) {
   const Wide turn = std::arg(to_frame(w1, w2)) - std::arg(to_frame(z1, z2));
-  const WideMobius rotate{std::polar(Wide{1}, Wide{0.5} * turn), WideComplex{0}};
-  WideMobius back = wide_translation_to_origin(w1);
-  back.b = -back.b;  // inverse of the translation of w1 to the origin
-  return wide_compose(back, wide_compose(rotate, wide_translation_to_origin(z1)));
-}
-WideComplex wide_apply(const WideMobius& m, WideComplex z) {
-  return (m.a * z + m.b) / (std::conj(m.b) * z + std::conj(m.a));
+  WideMobius back = translation_to_origin<Wide>(w1);
+  // Its inverse: a is real, so only b changes sign (inverse() would also conjugate a, turning
+  // its imaginary 0 into -0).
+  back.b = -back.b;
+  return compose(back, compose(rotation<Wide>(turn), translation_to_origin<Wide>(z1)));
 }
 
 /// The deck transformation of one segment, fitted at two of its vertices far apart (the first
@@ -79,23 +59,20 @@ SegmentIsometry fit_segment(const Topology& topology, const Topology& cut_topolo
     if (std::abs(to_frame(from[0], from[i])) > std::abs(to_frame(from[0], from[far]))) far = i;
   }
   const WideMobius map = wide_isometry(from[0], from[far], to[0], to[far]);
-  result.wide_map = {map.a, map.b};
+  result.wide_map = map;
   // Normalised in long double before rounding to double: far out in the disk (high genus) |a|
   // and |b| agree to more digits than double has, so the determinant of the rounded map is
   // noise (0 or negative) and normalizing it there would fail.
-  const Wide p = std::abs(map.a), q = std::abs(map.b);
-  const Wide det = (p - q) * (p + q);
-  const Wide unit = det > 0 ? (map.a.real() < 0 ? Wide{-1} : Wide{1}) / std::sqrt(det) : Wide{1};
-  result.map = Mobius{
-      Complex(static_cast<double>(unit * map.a.real()), static_cast<double>(unit * map.a.imag())),
-      Complex(static_cast<double>(unit * map.b.real()), static_cast<double>(unit * map.b.imag()))};
+  const Wide det = determinant(map);
+  const WideMobius unit = det > 0 && std::isfinite(det) ? normalized(map) : map;
+  result.map = mobius_cast<double>(unit);
   for (std::size_t i = 0; i < from.size(); ++i) {
     // Hyperbolic distance 2 atanh(|to_frame(a, b)|) of the image from its target.
-    const Wide d = 2 * std::atanh(std::abs(to_frame(to[i], wide_apply(map, from[i]))));
+    const Wide d = 2 * std::atanh(std::abs(to_frame(to[i], apply_mobius(map, from[i]))));
     result.mismatch = std::max(result.mismatch, static_cast<double>(d) / scale[i]);
   }
   // From the long double map, for the reason above.
-  const Wide half_trace = std::abs(unit * map.a.real());
+  const Wide half_trace = std::abs(unit.a.real());
   result.translation_length =
       half_trace > 1 ? static_cast<double>(2 * std::acosh(half_trace)) : 0.0;
   return result;

@@ -18,8 +18,8 @@
 #include "../metric/complex_length.hpp"
 #include "layout_support.hpp"
 #include "ricci/errors.hpp"
-#include "ricci/flow/cholesky.hpp"
 #include "ricci/metric/angles.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
 

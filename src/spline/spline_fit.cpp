@@ -8,7 +8,7 @@
 #include <Eigen/SparseCore>
 
 #include "ricci/errors.hpp"
-#include "ricci/flow/cholesky.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
 namespace {

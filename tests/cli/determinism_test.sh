@@ -3,12 +3,13 @@
 # across runs and across BLAS thread counts. Each case runs twice with one BLAS thread and twice
 # with two (OPENBLAS_NUM_THREADS and OMP_NUM_THREADS); every run must equal the first.
 #
-# Across thread counts this holds because src/flow/cholesky.cpp holds OpenBLAS at one thread while
-# CHOLMOD's supernodal factorisation and solves run: OpenBLAS's threaded kernels sum in an order
-# that depends on the thread count (before the pinning, 1 and 2 threads gave the same iteration
-# counts but u differing by ~1e-14, curvatures by ~5e-15 and uv and seam transitions by ~1e-13,
-# and a transition rotation of 180 degrees could print as -180). OMP_NUM_THREADS alone changes
-# nothing. A threaded BLAS other than OpenBLAS (BLIS, MKL) is not pinned: there this test fails.
+# Across thread counts this holds because src/numerics/sparse_cholesky.cpp holds OpenBLAS at one
+# thread while CHOLMOD's supernodal factorisation and solves run: OpenBLAS's threaded kernels sum
+# in an order that depends on the thread count (before the pinning, 1 and 2 threads gave the same
+# iteration counts but u differing by ~1e-14, curvatures by ~5e-15 and uv and seam transitions by
+# ~1e-13, and a transition rotation of 180 degrees could print as -180). OMP_NUM_THREADS alone
+# changes nothing. A threaded BLAS other than OpenBLAS (BLIS, MKL) is not pinned: there this test
+# fails.
 #
 # JSON outputs are compared after removing their timing fields (keys named *seconds* and
 # `timings`), OBJ outputs byte for byte.

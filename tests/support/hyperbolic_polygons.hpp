@@ -8,8 +8,8 @@
 #include <numbers>
 #include <vector>
 
+#include "ricci/numerics/mobius.hpp"
 #include "ricci/param/fuchsian.hpp"
-#include "ricci/param/mobius.hpp"
 
 namespace ricci::testing {
 

@@ -14,12 +14,10 @@
 /// z y z^-1 y^-1 E D C B with y = b C B and z = (D C B)^-1 a B, g times. Every new letter is kept
 /// both as a matrix (products of the current letters' matrices) and as a word in the segments.
 
-#include <array>
-#include <complex>
 #include <utility>
 #include <vector>
 
-#include "ricci/param/mobius.hpp"
+#include "ricci/numerics/mobius.hpp"
 
 namespace ricci {
 
@@ -38,11 +36,11 @@ struct SegmentRelations {
   /// +-identity. Every segment occurs exactly twice over all words, with opposite signs (once
   /// at each end; a segment that is a loop occurs twice in its node's word).
   std::vector<SegmentWord> node_words;
-  /// Optional: the same maps as entries (a, b) in long double (one per segment, or none). The
-  /// residuals and the final generators are then evaluated from these: rounded to double, a map
-  /// of norm N loses about 1e-16 N of consistency (and its determinant 1e-16 N^2), which the
-  /// relation multiplies through its long words.
-  std::vector<std::array<std::complex<long double>, 2>> wide_segment_maps{};
+  /// Optional: the same maps in long double (one per segment, or none). The residuals and the
+  /// final generators are then evaluated from these: rounded to double, a map of norm N loses
+  /// about 1e-16 N of consistency (and its determinant 1e-16 N^2), which the relation
+  /// multiplies through its long words.
+  std::vector<WideMobius> wide_segment_maps{};
 };
 
 /// Canonical generators of the Fuchsian group and how they were found.

@@ -7,8 +7,6 @@
 /// cut graph, the deck transformations of the segments crossed compose to the identity. These
 /// are the data of the surface's Fuchsian group (ricci/param/fuchsian.hpp).
 
-#include <array>
-#include <complex>
 #include <utility>
 #include <vector>
 
@@ -16,8 +14,8 @@
 
 #include "ricci/flow/hyperbolic_refinement.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/numerics/mobius.hpp"
 #include "ricci/param/cut_graph.hpp"
-#include "ricci/param/mobius.hpp"
 
 namespace ricci {
 
@@ -40,9 +38,8 @@ struct SegmentIsometry {
   /// Takes the positions of side B of the segment onto those of side A (the sides as in
   /// layout_support: the same side of the path along the whole segment).
   Mobius map;
-  /// The same map's entries (a, b) as computed, in long double (map is them rounded).
-  std::array<std::complex<long double>, 2> wide_map{std::complex<long double>{1.0L},
-                                                    std::complex<long double>{0.0L}};
+  /// The same map as computed, in long double (map is it normalised and rounded).
+  WideMobius wide_map;
   /// max over the ends of the segment's edges of the hyperbolic distance between the image of
   /// the side-B copy and the side-A copy, relative to the edge's length.
   double mismatch = 0;

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
-#include "ricci/param/mobius.hpp"
+#include "ricci/numerics/mobius.hpp"
 #include "ricci/render/image.hpp"
 
 namespace ricci {

@@ -1,4 +1,4 @@
-#include "ricci/flow/cholesky.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 #include <Eigen/SparseCholesky>
 

@@ -1,7 +1,7 @@
 // Moebius maps of the Poincare disk: group laws, isometry, disk_isometry, the distance's
-// accuracy for close points and near the boundary.
+// accuracy for close points and near the boundary; the long double maps and the frames.
 
-#include "ricci/param/mobius.hpp"
+#include "ricci/numerics/mobius.hpp"
 
 #include <gtest/gtest.h>
 
@@ -181,6 +181,62 @@ TEST(Mobius, DistanceNearTheBoundary) {
     EXPECT_NEAR(disk_distance(Complex(0, z), Complex(0, -z)), across, 1e-15 * across);
   }
   EXPECT_TRUE(std::isinf(disk_distance(1.0, 0.0)));
+}
+
+/// As random_map, in long double (the angles and radius drawn in double, then widened).
+WideMobius random_wide_map(std::mt19937& random) {
+  std::uniform_real_distribution<double> angle(-kPi, kPi), radius(0.0, 0.9);
+  const std::complex<long double> w = std::polar<long double>(radius(random), angle(random));
+  return compose(inverse(translation_to_origin<long double>(w)),
+                 rotation<long double>(angle(random)));
+}
+
+TEST(WideMobius, GroupLawsToLongDoublePrecision) {
+  // Bounds a thousandfold below the double ones above: the same arithmetic, 11 more bits.
+  std::mt19937 random(8);
+  using WideComplex = std::complex<long double>;
+  for (int trial = 0; trial < 200; ++trial) {
+    const WideMobius f = random_wide_map(random), g = random_wide_map(random);
+    const Complex z0 = random_point(random);
+    const WideComplex z(z0.real(), z0.imag());
+    EXPECT_LT(std::abs(apply_mobius(compose(f, g), z) - apply_mobius(f, apply_mobius(g, z))),
+              1e-16L);
+    EXPECT_LT(std::abs(determinant(compose(f, g)) - 1.0L), 1e-16L);
+    EXPECT_LT(distance_to_identity(compose(f, inverse(f))), 1e-16L);
+    EXPECT_LT(distance_to_identity(compose(compose(inverse(g), inverse(f)), compose(f, g))),
+              1e-15L);
+    // The translation of z to the origin, and the frame centred at z, agree.
+    const WideMobius t = translation_to_origin<long double>(z);
+    EXPECT_LT(std::abs(apply_mobius(t, z)), 1e-19L);
+    const WideComplex w = apply_mobius(g, WideComplex{0.25L, -0.5L});
+    EXPECT_LT(std::abs(to_frame(z, w) - apply_mobius(t, w)), 1e-17L);
+    EXPECT_LT(std::abs(from_frame(z, to_frame(z, w)) - w), 1e-17L);
+  }
+  EXPECT_THROW(translation_to_origin<long double>({1.0L, 0.0L}), InvalidInput);
+  EXPECT_THROW(normalized(WideMobius{0.5L, 1.0L}), InvalidInput);
+}
+
+TEST(Mobius, CastRoundsEachPart) {
+  const WideMobius wide = translation_to_origin<long double>({0.3L, -0.4L});
+  const Mobius rounded = mobius_cast<double>(wide);
+  const Mobius direct = translation_to_origin({0.3, -0.4});
+  EXPECT_EQ(rounded.a.real(), static_cast<double>(wide.a.real()));
+  EXPECT_EQ(rounded.b.imag(), static_cast<double>(wide.b.imag()));
+  // Widening is exact, so the round trip gives the double map back bit for bit.
+  const Mobius back = mobius_cast<double>(mobius_cast<long double>(direct));
+  EXPECT_EQ(back.a, direct.a);
+  EXPECT_EQ(back.b, direct.b);
+  EXPECT_LT(std::abs(rounded.a - direct.a) + std::abs(rounded.b - direct.b), 1e-15);
+}
+
+TEST(Mobius, FramesAreTheTranslationToTheOrigin) {
+  std::mt19937 random(9);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Complex p = random_point(random), z = random_point(random);
+    EXPECT_LT(std::abs(to_frame(p, z) - apply_mobius(translation_to_origin(p), z)), 1e-13);
+    EXPECT_LT(std::abs(from_frame(p, to_frame(p, z)) - z), 1e-13);
+    EXPECT_EQ(to_frame(p, p), Complex(0.0));  // p - p is exact
+  }
 }
 
 }  // namespace

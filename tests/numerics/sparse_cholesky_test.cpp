@@ -1,4 +1,4 @@
-#include "ricci/flow/cholesky.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 
 #include <dlfcn.h>
 
@@ -56,8 +56,8 @@ TEST(SparseCholesky, RefusesAnIndefiniteMatrix) {
 }
 
 // OpenBLAS's threaded kernels sum in a thread-count-dependent order: without the pinning in
-// cholesky.cpp, CHOLMOD's supernodal solution of this system differs by ~1e-13 between 1 and 2
-// OpenBLAS threads (measured). With it, the results must be bit-identical and the caller's thread
+// sparse_cholesky.cpp, CHOLMOD's supernodal solution of this system differs by ~1e-13 between 1 and
+// 2 OpenBLAS threads (measured). With it, the results must be bit-identical and the caller's thread
 // count must be back in place afterwards.
 TEST(SparseCholesky, BitIdenticalAcrossBlasThreadCounts) {
   if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
