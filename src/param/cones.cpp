@@ -503,7 +503,7 @@ ConeModel build_cone_model(const Mesh& mesh, const ConeSelectionOptions& options
       make_conformal_structure(t, input_edge_lengths(mesh, t), options.structure).structure;
   Eigen::VectorXd lengths, hw, ew;
   edge_lengths(t, s, s.initial_u, lengths);
-  if (corner_angles(t, lengths, model.angles) >= 0) {
+  if (!corner_angles(t, lengths, model.angles).ok()) {
     throw InvalidInput("select_cones: the initial metric breaks a triangle inequality");
   }
   vertex_curvature(t, model.angles, model.curvature);
