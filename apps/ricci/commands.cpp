@@ -650,6 +650,9 @@ void inject_fault(const std::string& fault) {
     std::abort();
   } else if (fault == "hang") {
     for (;;) ::pause();
+  } else if (fault == "solver") {
+    // What main makes of the library's SolverError (a numerical breakdown): exit 3.
+    throw SolverError("--fault solver: an injected breakdown of the linear algebra");
   } else if (fault == "alloc") {
     // Grows until an allocation fails (under a memory limit) or the kernel steps in.
     std::vector<std::unique_ptr<char[]>> blocks;
@@ -659,7 +662,7 @@ void inject_fault(const std::string& fault) {
       std::memset(blocks.back().get(), 1, kBlock);
     }
   }
-  throw InvalidInput("--fault: unknown fault '" + fault + "' (segv, abort, hang, alloc)");
+  throw InvalidInput("--fault: unknown fault '" + fault + "' (segv, abort, hang, alloc, solver)");
 }
 
 int run_param(const ParamArgs& args) {

@@ -18,9 +18,11 @@ namespace ricci::cli {
 /// Exit codes of the `ricci` program (documented in README.md).
 enum ExitCode : int {
   kOk = 0,
-  kBadInput = 2,       ///< unreadable or defective mesh, inadmissible target, bad option
-  kNotConverged = 3,   ///< the flow stopped before reaching the tolerance
-  kInternalError = 4,  ///< a numerical breakdown or a bug
+  kBadInput = 2,  ///< unreadable or defective mesh, inadmissible target, bad option
+  /// the flow stopped before reaching the tolerance, including a numerical breakdown (the
+  /// linear algebra failed on a degenerating metric: FlowStatus::SolverFailed or SolverError)
+  kNotConverged = 3,
+  kInternalError = 4,  ///< a bug: an exception no other code covers
   kOutOfMemory = 5,    ///< an allocation failed (a memory limit, or the machine's memory)
   kSomeFailed = 6,     ///< batch: at least one mesh did not end Ok (the summary lists them)
 };

@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
   install_interrupt_handlers();
   CLI::App app{
       "ricci: discrete surface Ricci flow and conformal metrics on triangle meshes.\n"
-      "Reads OBJ, OFF, PLY and STL. Exit codes: 0 ok, 2 bad input, 3 not converged, 4 internal "
-      "error, 5 out of memory, 6 (batch) some mesh failed."};
+      "Reads OBJ, OFF, PLY and STL. Exit codes: 0 ok, 2 bad input, 3 not converged (or a "
+      "numerical breakdown), 4 internal error, 5 out of memory, 6 (batch) some mesh failed."};
   app.set_version_flag("--version", std::string("ricci ") + RICCI_VERSION);
   app.require_subcommand(1);
 

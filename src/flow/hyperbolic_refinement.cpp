@@ -55,8 +55,8 @@ HyperbolicRefinement refine_hyperbolic_metric(const Topology& t, const Conformal
   WideAngles angles;
   WideVector r;
   auto evaluate = [&]() {
-    if (hyperbolic_edge_lengths_wide(t, s, result.u, result.lengths) > 0 ||
-        hyperbolic_corner_angles_wide(t, result.lengths, angles) >= 0) {
+    if (!hyperbolic_edge_lengths_wide(t, s, result.u, result.lengths).ok() ||
+        !hyperbolic_corner_angles_wide(t, result.lengths, angles).ok()) {
       throw InvalidInput("refine_hyperbolic_metric: the metric is not valid at these log radii");
     }
     return curvature_error(t, target, angles, r);

@@ -151,13 +151,13 @@ struct RicciFlow::State {
   /// Lengths, angles and curvature of the current triangulation at u = at (no flips).
   Evaluation evaluate(const Eigen::VectorXd& at, Eigen::VectorXd& l, CornerAngles& a,
                       Eigen::VectorXd& k) const {
-    if (edge_lengths(*topology, structure, at, l) > 0) return Evaluation::BadLength;
+    if (!edge_lengths(*topology, structure, at, l).ok()) return Evaluation::BadLength;
     return evaluate_angles(l, a, k);
   }
 
   /// The same from lengths l in hand (valid ones).
   Evaluation evaluate_angles(const Eigen::VectorXd& l, CornerAngles& a, Eigen::VectorXd& k) const {
-    if (corner_angles(*topology, l, a, structure.geometry) >= 0) {
+    if (!corner_angles(*topology, l, a, structure.geometry).ok()) {
       return Evaluation::TriangleInequality;
     }
     vertex_curvature(*topology, a, k);
@@ -170,7 +170,7 @@ struct RicciFlow::State {
     trial_flipped = false;
     trial_flips = 0;
     if (!flips) return evaluate(trial_u, trial_lengths, trial_angles, trial_curvature);
-    if (edge_lengths(*topology, structure, trial_u, trial_lengths) > 0) {
+    if (!edge_lengths(*topology, structure, trial_u, trial_lengths).ok()) {
       return Evaluation::BadLength;
     }
     const Topology* t = topology;
@@ -183,7 +183,7 @@ struct RicciFlow::State {
       trial_flips = r.flips;
       t = &trial.topology();
     }
-    if (corner_angles(*t, trial_lengths, trial_angles, structure.geometry) >= 0) {
+    if (!corner_angles(*t, trial_lengths, trial_angles, structure.geometry).ok()) {
       return Evaluation::TriangleInequality;
     }
     vertex_curvature(*t, trial_angles, trial_curvature);
@@ -794,7 +794,7 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
     // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
     // distortion on the input faces went from 1.029 to 1.068.
-    if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths) == 0) {
+    if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths).ok()) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
       if (count_non_delaunay_edges(*s.topology, s.lengths, isometric.tolerance,
@@ -831,7 +831,7 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
   if (s.flips && !lengths_in_hand) {
     // Start on the intrinsic Delaunay triangulation of the initial metric: the same metric, the
     // triangulation on which the flow's energy is defined (and a broken triangle gets repaired).
-    if (edge_lengths(*s.topology, s.structure, s.u, s.lengths) == 0) {
+    if (edge_lengths(*s.topology, s.structure, s.u, s.lengths).ok()) {
       const DelaunayFlipResult r = s.flip_current_to_delaunay(s.u, s.lengths, s.flip_options());
       initial_flips = r.flips;
     }
@@ -855,7 +855,8 @@ void RicciFlow::set_u(const Eigen::VectorXd& u) {
     throw InvalidInput("RicciFlow: the initial metric has an edge of non-positive squared length");
   }
   if (ev == Evaluation::TriangleInequality) {
-    const int f = corner_angles(*s.topology, s.lengths, s.angles, s.structure.geometry);
+    const int f =
+        corner_angles(*s.topology, s.lengths, s.angles, s.structure.geometry).first_bad_face;
     throw InvalidInput("RicciFlow: face " + std::to_string(f) +
                        " of the initial metric breaks a triangle inequality");
   }

@@ -44,10 +44,10 @@ using triangle_terms::hyperbolic_edge;
 
 /// Lengths 2 asinh(sqrt(q)) in any precision (NaN where no length exists).
 template <class T, class Vector>
-int lengths_in(const Topology& topology, const ConformalStructure& structure, const Vector& u,
-               Vector& lengths) {
+LengthsCheck lengths_in(const Topology& topology, const ConformalStructure& structure,
+                        const Vector& u, Vector& lengths) {
   lengths.resize(topology.num_edges);
-  int invalid = 0;
+  LengthsCheck check;
   for (int e = 0; e < topology.num_edges; ++e) {
     const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
     const auto t = hyperbolic_edge<T>(u[i], u[j], structure.epsilon[i], structure.epsilon[j],
@@ -56,10 +56,10 @@ int lengths_in(const Topology& topology, const ConformalStructure& structure, co
       lengths[e] = 2 * std::asinh(std::sqrt(t.q));
     } else {
       lengths[e] = std::numeric_limits<T>::quiet_NaN();
-      ++invalid;
+      if (check.invalid_edges++ == 0) check.first_edge = e;
     }
   }
-  return invalid;
+  return check;
 }
 
 /// cosh(x) - 1 without cancellation.
@@ -70,20 +70,21 @@ double cosh_minus_one(double x) {
 
 }  // namespace
 
-int hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
-                            const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
+LengthsCheck hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                                     const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
   return lengths_in<double>(topology, structure, u, lengths);
 }
 
-int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
-                                 const WideVector& u, WideVector& lengths) {
+LengthsCheck hyperbolic_edge_lengths_wide(const Topology& topology,
+                                          const ConformalStructure& structure, const WideVector& u,
+                                          WideVector& lengths) {
   return lengths_in<long double>(topology, structure, u, lengths);
 }
 
-int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
-                                  WideAngles& angles) {
-  return triangle_terms::corner_angles_with<long double>(
-      topology, lengths, angles, triangle_terms::hyperbolic_angles<long double>);
+AnglesCheck hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
+                                          WideAngles& angles) {
+  return {triangle_terms::corner_angles_with<long double>(
+      topology, lengths, angles, triangle_terms::hyperbolic_angles<long double>)};
 }
 
 Eigen::Vector2d hyperbolic_length_derivatives(double u_i, double u_j, double epsilon_i,

@@ -195,7 +195,7 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
 WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
                                                    const WideVector& lengths) {
   WideAngles angles;
-  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
+  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles).first_bad_face;
   if (bad >= 0) {
     throw InvalidInput("hyperbolic_face_shapes_from_lengths: face " + std::to_string(bad) +
                        " breaks a triangle inequality");

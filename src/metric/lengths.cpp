@@ -8,8 +8,8 @@
 
 namespace ricci {
 
-int edge_lengths(const Topology& topology, const ConformalStructure& structure,
-                 const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
+LengthsCheck edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                          const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
   if (structure.geometry == Geometry::Hyperbolic) {
     return hyperbolic_edge_lengths(topology, structure, u, lengths);
   }
@@ -32,7 +32,15 @@ int edge_lengths(const Topology& topology, const ConformalStructure& structure,
     lengths[e] = std::numeric_limits<double>::quiet_NaN();
     return true;
   });
-  return static_cast<int>(invalid);
+  LengthsCheck check;
+  check.invalid_edges = static_cast<int>(invalid);
+  if (invalid > 0) {
+    // Found after the parallel count so that it is the lowest such edge on any thread count.
+    for (int e = 0; e < ne && check.first_edge < 0; ++e) {
+      if (std::isnan(lengths[e])) check.first_edge = e;
+    }
+  }
+  return check;
 }
 
 }  // namespace ricci

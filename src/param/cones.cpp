@@ -527,7 +527,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   };
   Eigen::VectorXd lengths, hw, ew;
   edge_lengths(t, s, s.initial_u, lengths);
-  if (corner_angles(t, lengths, model.angles) >= 0) {
+  if (!corner_angles(t, lengths, model.angles).ok()) {
     throw InvalidInput("select_cones: the initial metric breaks a triangle inequality");
   }
   vertex_curvature(t, model.angles, model.curvature);

@@ -222,7 +222,7 @@ HyperbolicLayout layout_hyperbolic(const Topology& topology, const WideVector& l
   layout_support::check_inputs("layout_hyperbolic", topology, double_lengths, cut, cut_mesh,
                                options.root_face);
   WideAngles angles;
-  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles);
+  const int bad = hyperbolic_corner_angles_wide(topology, lengths, angles).first_bad_face;
   if (bad >= 0) {
     throw InvalidInput("layout_hyperbolic: face " + std::to_string(bad) + ": its lengths " +
                        std::to_string(double_lengths[topology.face_edges(bad, 0)]) + ", " +

@@ -418,7 +418,7 @@ Layout layout_flat(const Topology& topology, const Eigen::VectorXd& lengths, con
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
   // Corner angles of the original faces are those of the cut mesh's: same faces, same corners.
   CornerAngles angles;
-  const int bad = corner_angles(topology, lengths, angles);
+  const int bad = corner_angles(topology, lengths, angles).first_bad_face;
   if (bad >= 0) {
     throw InvalidInput(face_message(
         "its lengths " + std::to_string(lengths[topology.face_edges(bad, 0)]) + ", " +

@@ -343,6 +343,13 @@ expect_rc "not converged" 3
 cp "$WORK/out.txt" not_converged.json
 expect_json "not converged" not_converged.json 'd["converged"] is False and d["max_error"] > 1e-10'
 
+# A numerical breakdown (the library's SolverError, injected with param's hidden --fault) is a
+# computation that did not converge, not a bug: exit 3, saying so, and no output.
+RICCI_FAULT_INJECTION=1 ricci param meshes/torus.obj -o breakdown.obj --fault solver
+expect_rc "numerical breakdown" 3
+expect_err "numerical breakdown" "error: numerical breakdown: --fault solver"
+expect_no_file "numerical breakdown" breakdown.obj
+
 # --- bad meshes --------------------------------------------------------------------------------
 mkdir -p bad
 : >bad/empty.obj

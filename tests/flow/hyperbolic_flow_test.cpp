@@ -36,8 +36,8 @@ struct Metric {
 
 Metric evaluate(const Topology& t, const ConformalStructure& s, const Eigen::VectorXd& u) {
   Metric m;
-  EXPECT_EQ(edge_lengths(t, s, u, m.lengths), 0);
-  EXPECT_EQ(corner_angles(t, m.lengths, m.angles, s.geometry), -1);
+  EXPECT_EQ(edge_lengths(t, s, u, m.lengths).invalid_edges, 0);
+  EXPECT_EQ(corner_angles(t, m.lengths, m.angles, s.geometry).first_bad_face, -1);
   vertex_curvature(t, m.angles, m.curvature);
   return m;
 }
@@ -255,7 +255,7 @@ TEST(HyperbolicFlips, ConvergeOnValence3SpikesWhereTheFixedTriangulationFails) {
         count_non_delaunay_edges(r.intrinsic.topology(), r.lengths, 1e-12, Geometry::Hyperbolic),
         0);
     Eigen::VectorXd l;
-    ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l), 0);
+    ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l).invalid_edges, 0);
     EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
   }
 }
@@ -326,7 +326,7 @@ TEST(HyperbolicFlips, TheHessianIsContinuousAcrossAFlip) {
     for (int i = 0; i < 100; ++i) (margin_at(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
     const Eigen::VectorXd u = scaled(lo);
     Eigen::VectorXd l;
-    ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+    ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
     Topology flipped = t;
     ConformalStructure s_flipped = s;
     ptolemy_flip(flipped, s_flipped, u, l, e);
@@ -355,7 +355,7 @@ TEST(HyperbolicFlips, FlowAndRefinementWorkOnADeltaComplex) {
   ConformalStructure s = hyperbolic_structure(t, mesh, Scheme::VertexScaling).structure;
   Eigen::VectorXd u = s.initial_u, l;
   u[0] = u[10] = -2.0;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   const DelaunayFlipResult flips = flip_to_delaunay(t, s, u, l);
   ASSERT_GT(flips.flips, 20);
   ASSERT_FALSE(is_simplicial(t));
@@ -402,7 +402,7 @@ TEST(HyperbolicFlips, EachComponentOfAMeshFlowsInTheHyperbolicBackground) {
   EXPECT_GT(r.components[0].flow.intrinsic.flips(), 0);
   // The whole mesh's final triangulation and constants reproduce the gathered lengths.
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l), 0);
+  ASSERT_EQ(edge_lengths(r.intrinsic.topology(), final_structure(r), r.u, l).invalid_edges, 0);
   EXPECT_LT(((l - r.lengths).array() / r.lengths.array()).abs().maxCoeff(), 1e-14);
 }
 

@@ -47,13 +47,13 @@ TEST(CornerAngles, ReportsTheFirstBrokenFaceAndSumsToPi) {
   const Topology t = build_topology(tris, 4);
   Eigen::VectorXd lengths = Eigen::VectorXd::Constant(t.num_edges, 1.0);
   CornerAngles angles;
-  EXPECT_EQ(corner_angles(t, lengths, angles), -1);
+  EXPECT_EQ(corner_angles(t, lengths, angles).first_bad_face, -1);
   for (int f = 0; f < 2; ++f) EXPECT_NEAR(angles.row(f).sum(), kPi, 1e-15);
   // Stretch the edge only face 1 has: (1, 3).
   for (int e = 0; e < t.num_edges; ++e) {
     if (t.edge_vertices(e, 0) == 1 && t.edge_vertices(e, 1) == 3) lengths[e] = 2.5;
   }
-  EXPECT_EQ(corner_angles(t, lengths, angles), 1);
+  EXPECT_EQ(corner_angles(t, lengths, angles).first_bad_face, 1);
   EXPECT_TRUE(std::isnan(angles(1, 0)));
   EXPECT_NEAR(angles.row(0).sum(), kPi, 1e-15);
 }

@@ -200,7 +200,7 @@ TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   Eigen::VectorXd u(mesh.num_vertices());
   for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   ASSERT_GT(r.flips, 10);
   EXPECT_TRUE(r.complete);
@@ -214,7 +214,7 @@ TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   // Every triangle of a Delaunay triangulation of a closed surface satisfies the triangle
   // inequality: a broken triangle's long edge would need a broken neighbour with a longer one.
   CornerAngles angles;
-  EXPECT_EQ(corner_angles(t, l, angles), -1);
+  EXPECT_EQ(corner_angles(t, l, angles).first_bad_face, -1);
 }
 
 TEST(FlipToDelaunay, RepairsBrokenTrianglesOfAStrongScaling) {
@@ -225,14 +225,15 @@ TEST(FlipToDelaunay, RepairsBrokenTrianglesOfAStrongScaling) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
   u[0] = -3.0;
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   CornerAngles angles;
-  ASSERT_GE(corner_angles(t, l, angles), 0) << "the test needs broken triangles to start with";
+  ASSERT_GE(corner_angles(t, l, angles).first_bad_face, 0)
+      << "the test needs broken triangles to start with";
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   EXPECT_GT(r.flips, 0);
   EXPECT_EQ(r.blocked, 0);
   EXPECT_EQ(count_non_delaunay_edges(t, l), 0);
-  EXPECT_EQ(corner_angles(t, l, angles), -1);
+  EXPECT_EQ(corner_angles(t, l, angles).first_bad_face, -1);
   expect_consistent(t, is_simplicial(t));
 }
 
@@ -390,8 +391,8 @@ TEST(HyperbolicPtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
     Topology ta = t0, tb = t0;
     ConformalStructure sa = s0, sb = s0;
     Eigen::VectorXd la, lb;
-    ASSERT_EQ(edge_lengths(ta, sa, u, la), 0);
-    ASSERT_EQ(edge_lengths(tb, sb, zero, lb), 0);
+    ASSERT_EQ(edge_lengths(ta, sa, u, la).invalid_edges, 0);
+    ASSERT_EQ(edge_lengths(tb, sb, zero, lb).invalid_edges, 0);
     const double cd = ptolemy_flip(ta, sa, u, la, e);
     ptolemy_flip(tb, sb, zero, lb, e);
     EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-13) << "edge " << e;
@@ -413,9 +414,9 @@ TEST(HyperbolicFlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   Eigen::VectorXd u(mesh.num_vertices());
   for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   CornerAngles angles;
-  ASSERT_GE(corner_angles(t, l, angles, Geometry::Hyperbolic), 0)
+  ASSERT_GE(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, 0)
       << "the test needs broken triangles to start with";
   const int before = count_non_delaunay_edges(t, l, 1e-12, Geometry::Hyperbolic);
   ASSERT_GT(before, 10);
@@ -429,7 +430,7 @@ TEST(HyperbolicFlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   edge_lengths(t, s, u, check);
   EXPECT_LT(((check - l).array() / l.array()).abs().maxCoeff(), 1e-13);
   // Delaunay in the lambdas: every hyperbolic triangle exists.
-  EXPECT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  EXPECT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, -1);
 }
 
 TEST(HyperbolicFlipToDelaunay, IsometricFlipsKeepTheCurvatureAndTheArea) {
@@ -441,16 +442,16 @@ TEST(HyperbolicFlipToDelaunay, IsometricFlipsKeepTheCurvatureAndTheArea) {
   ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
   const Eigen::VectorXd u = s.initial_u;
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   CornerAngles angles;
-  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, -1);
   const Eigen::VectorXd k_before = vertex_curvature(t, angles);
   const double area_before = hyperbolic_total_area(angles);
   DelaunayFlipOptions isometric;
   isometric.isometric = true;
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l, isometric);
   ASSERT_GT(r.flips, 50);
-  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, -1);
   EXPECT_LT((vertex_curvature(t, angles) - k_before).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_NEAR(hyperbolic_total_area(angles), area_before, 1e-12 * area_before);
   EXPECT_EQ(count_non_delaunay_edges(t, l, 1e-12, Geometry::Hyperbolic), 0);

@@ -79,7 +79,7 @@ TEST(HyperbolicUnifiedForm, MeshLengthsAgreeWithTheCoshFormForCirclePackings) {
     u[v] = hyperbolic_log_radius(r[v]);
   }
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   for (int e = 0; e < t.num_edges; ++e) {
     const double expected =
         hyperbolic_edge_length(r[t.edge_vertices(e, 0)], r[t.edge_vertices(e, 1)], s.eta[e]);
@@ -87,7 +87,7 @@ TEST(HyperbolicUnifiedForm, MeshLengthsAgreeWithTheCoshFormForCirclePackings) {
   }
   CornerAngles angles;
   // Circles meeting at angles up to pi/2 always make triangles (Thurston).
-  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, -1);
   for (int f = 0; f < t.num_faces; ++f) {
     for (int k = 0; k < 3; ++k) {
       const double expected = hyperbolic_angle_from_lengths(

@@ -141,7 +141,7 @@ void expect_hyperbolic_input_faces_recovered(const Mesh& mesh, int min_flips) {
   Topology t = input;
   ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
   Eigen::VectorXd input_lengths, l;
-  ASSERT_EQ(edge_lengths(t, s, s.initial_u, input_lengths), 0);
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, input_lengths).invalid_edges, 0);
   l = input_lengths;
   DelaunayFlipOptions isometric;
   isometric.isometric = true;
@@ -177,11 +177,11 @@ TEST(IntrinsicTriangulation, HyperbolicDevelopmentAfterPtolemyFlipsKeepsTheVerte
   ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
   Eigen::VectorXd u(mesh.num_vertices()), l;
   for (int v = 0; v < u.size(); ++v) u[v] = 0.3 * std::sin(3 * mesh.positions(v, 0));
-  ASSERT_EQ(edge_lengths(t, s, u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   ASSERT_GT(r.flips, 100);
   CornerAngles angles;
-  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic), -1);
+  ASSERT_EQ(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, -1);
   const Eigen::VectorXd angle_sum = 2 * std::numbers::pi - vertex_curvature(t, angles).array();
   const HyperbolicDevelopment d =
       develop_input_faces_hyperbolic(input, r.flipped_edges, l.cast<long double>());
@@ -216,7 +216,7 @@ TEST(IntrinsicTriangulation, WithoutFlipsTheHyperbolicDevelopmentIsTheFacesThems
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   const ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
   Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, s.initial_u, l), 0);
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, l).invalid_edges, 0);
   const WideVector wide = l.cast<long double>();
   const HyperbolicDevelopment d = develop_input_faces_hyperbolic(t, {}, wide);
   const WideFaceShapes shapes = hyperbolic_face_shapes_from_lengths(t, wide);

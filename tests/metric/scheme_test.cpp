@@ -27,10 +27,10 @@ TEST(Scheme, TutorialFigure5Tetrahedron) {
   s.eta = Eigen::VectorXd::Ones(t.num_edges);  // cos(Phi) with Phi = 0
   s.initial_u = Eigen::VectorXd::Constant(4, std::log(0.5));
   Eigen::VectorXd lengths;
-  ASSERT_EQ(edge_lengths(t, s, s.initial_u, lengths), 0);
+  ASSERT_EQ(edge_lengths(t, s, s.initial_u, lengths).invalid_edges, 0);
   for (int e = 0; e < t.num_edges; ++e) EXPECT_NEAR(lengths[e], 1.0, 1e-15);
   CornerAngles angles;
-  ASSERT_EQ(corner_angles(t, lengths, angles), -1);
+  ASSERT_EQ(corner_angles(t, lengths, angles).first_bad_face, -1);
   const Eigen::VectorXd k = vertex_curvature(t, angles);
   for (int v = 0; v < 4; ++v) EXPECT_NEAR(k[v], kPi, 1e-14);
   // The Thurston fit of the regular tetrahedron finds an exact packing.
@@ -48,11 +48,37 @@ TEST(Scheme, ExactSchemesReproduceTheInputLengths) {
       options.scheme = scheme;
       const StructureResult r = make_conformal_structure(t, lbar, options);
       Eigen::VectorXd l;
-      ASSERT_EQ(edge_lengths(t, r.structure, r.structure.initial_u, l), 0);
+      ASSERT_EQ(edge_lengths(t, r.structure, r.structure.initial_u, l).invalid_edges, 0);
       EXPECT_LT(((l - lbar).array() / lbar.array()).abs().maxCoeff(), 1e-13)
           << name << " " << scheme_name(scheme);
       EXPECT_LT(r.fit_rms_relative_error, 1e-13);
     }
+  }
+}
+
+// edge_lengths says how many edges have no length and which is the first, in either geometry.
+TEST(Scheme, EdgeLengthsReportsTheEdgesWithoutALength) {
+  const Mesh mesh = make_tetrahedron(1.0);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  ConformalStructure s;
+  s.scheme = Scheme::InversiveDistance;
+  s.epsilon = Eigen::VectorXd::Ones(4);
+  s.eta = Eigen::VectorXd::Ones(t.num_edges);
+  s.initial_u = Eigen::VectorXd::Constant(4, std::log(0.5));
+  Eigen::VectorXd l;
+  const LengthsCheck valid = edge_lengths(t, s, s.initial_u, l);
+  EXPECT_TRUE(valid.ok());
+  EXPECT_EQ(valid.invalid_edges, 0);
+  EXPECT_EQ(valid.first_edge, -1);
+  // eta = -2 with equal radii: l^2 = 2 r^2 - 4 r^2 < 0 (and cosh l < 1 in the hyperbolic form).
+  s.eta[4] = s.eta[2] = -2.0;
+  for (Geometry g : {Geometry::Euclidean, Geometry::Hyperbolic}) {
+    s.geometry = g;
+    const LengthsCheck bad = edge_lengths(t, s, s.initial_u, l);
+    EXPECT_FALSE(bad.ok());
+    EXPECT_EQ(bad.invalid_edges, 2);
+    EXPECT_EQ(bad.first_edge, 2);
+    EXPECT_TRUE(std::isnan(l[2]) && std::isnan(l[4]));
   }
 }
 

@@ -15,7 +15,7 @@ inline Eigen::VectorXd curvature_at(const Topology& t, const ConformalStructure&
                                     const Eigen::VectorXd& u) {
   Eigen::VectorXd l;
   CornerAngles a;
-  if (edge_lengths(t, s, u, l) > 0 || corner_angles(t, l, a) >= 0) return {};
+  if (!edge_lengths(t, s, u, l).ok() || !corner_angles(t, l, a).ok()) return {};
   return vertex_curvature(t, a);
 }
 

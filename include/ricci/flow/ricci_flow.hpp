@@ -201,7 +201,9 @@ class RicciFlow {
 
   /// Starts the flow from these log radii instead of structure.initial_u.
   void set_u(const Eigen::VectorXd& u);
-  /// One iteration; returns false once the flow has stopped (converged or failed).
+  /// One iteration; returns false once the flow has stopped (converged or failed). A failed
+  /// factorisation stops it with FlowStatus::SolverFailed (no exception).
+  /// \throw SolverError as ricci_flow
   bool step();
   bool finished() const;
   const Eigen::VectorXd& u() const;
@@ -221,9 +223,11 @@ class RicciFlow {
   std::unique_ptr<State> state_;
 };
 
-/// Runs the flow to convergence or failure.
+/// Runs the flow to convergence or failure. A Hessian that cannot be factorised (no longer
+/// positive definite in floating point: the metric is degenerating) is no exception: the result
+/// has FlowStatus::SolverFailed and a message naming the iteration and the span of the log radii.
 /// \throw InvalidInput as RicciFlow's constructor
-/// \throw SolverError when the linear algebra breaks down (not positive definite, NaN)
+/// \throw SolverError when a factorised Newton system still gives a non-finite step
 FlowResult ricci_flow(const Topology& topology, const ConformalStructure& structure,
                       const Target& target, const FlowOptions& options = {});
 

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "ricci/metric/angles.hpp"
+#include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -35,9 +36,9 @@ double hyperbolic_angle_from_lengths(double a, double b, double c);
 /// computed as l = 2 asinh(sqrt(q)) with q = sinh^2(l / 2), accurate for short edges.
 /// \param[out] lengths #E (resized); NaN where q is not positive or a circle packing's radius is
 ///        infinite (eps t^2 >= 1)
-/// \return the number of such edges (0 for a valid metric)
-int hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
-                            const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
+/// \return those edges (none for a valid metric)
+LengthsCheck hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                                     const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
 
 /// Vectors and corner angles in long double (x87 extended precision on x86-64; plain double
 /// elsewhere), for the extended-precision refinement and layout of a hyperbolic metric.
@@ -45,13 +46,14 @@ using WideVector = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
 using WideAngles = Eigen::Matrix<long double, Eigen::Dynamic, 3>;
 
 /// hyperbolic_edge_lengths in long double (the same formula, evaluated with more bits).
-int hyperbolic_edge_lengths_wide(const Topology& topology, const ConformalStructure& structure,
-                                 const WideVector& u, WideVector& lengths);
+LengthsCheck hyperbolic_edge_lengths_wide(const Topology& topology,
+                                          const ConformalStructure& structure, const WideVector& u,
+                                          WideVector& lengths);
 
 /// Corner angles of hyperbolic triangles in long double (as corner_angles with
-/// Geometry::Hyperbolic). \return the first face that breaks a triangle inequality, or -1
-int hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
-                                  WideAngles& angles);
+/// Geometry::Hyperbolic). \return the first face that breaks a triangle inequality, if any
+AnglesCheck hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
+                                          WideAngles& angles);
 
 /// d l_ij / d u_i and d l_ij / d u_j of one edge of the hyperbolic form.
 Eigen::Vector2d hyperbolic_length_derivatives(double u_i, double u_j, double epsilon_i,

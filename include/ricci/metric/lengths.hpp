@@ -8,11 +8,21 @@
 
 namespace ricci {
 
+/// What edge_lengths found: which edges have no length at u (their squared length, or the
+/// hyperbolic form's sinh^2(l / 2), is not positive, or a circle packing's radius is infinite).
+/// Those edges hold NaN in the output.
+struct LengthsCheck {
+  int invalid_edges = 0;  ///< how many edges have no length (0 for a valid metric)
+  int first_edge = -1;    ///< the lowest such edge, -1 when there is none
+  /// True when every edge has a length.
+  bool ok() const { return invalid_edges == 0; }
+};
+
 /// Computes l_ij from the unified form. Edges whose squared length is not positive get NaN.
 /// \param u #V log radii
 /// \param[out] lengths #E edge lengths (resized)
-/// \return number of edges whose squared length is not positive (0 for a valid metric)
-int edge_lengths(const Topology& topology, const ConformalStructure& structure,
-                 const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
+/// \return the edges that have no length (none for a valid metric)
+LengthsCheck edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                          const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
 
 }  // namespace ricci
