@@ -50,11 +50,11 @@ void BM_FlatTorusNewton(benchmark::State& state) {
     ricci::CornerAngles angles;
     Eigen::VectorXd lengths;
     const auto& s = r.structure.structure;
-    ricci::edge_lengths(r.topology, s, r.u, lengths);
-    ricci::corner_angles(r.topology, lengths, angles);
-    ricci::halfedge_weights(r.topology, s, r.u, lengths, angles, hw);
-    ricci::edge_weights(r.topology, hw, ew);
-    const Eigen::SparseMatrix<double> L = ricci::curvature_hessian(r.topology, ew);
+    ricci::edge_lengths(r.intrinsic.topology(), s, r.u, lengths);
+    ricci::corner_angles(r.intrinsic.topology(), lengths, angles);
+    ricci::halfedge_weights(r.intrinsic.topology(), s, r.u, lengths, angles, hw);
+    ricci::edge_weights(r.intrinsic.topology(), hw, ew);
+    const Eigen::SparseMatrix<double> L = ricci::curvature_hessian(r.intrinsic.topology(), ew);
     const Eigen::Index n = L.rows() - 1;
     const Eigen::SparseMatrix<double> H = L.bottomRightCorner(n, n);
     ricci::SparseCholesky alone;

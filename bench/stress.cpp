@@ -108,7 +108,7 @@ void run_flow_case(Row row, const ricci::Mesh& mesh, ricci::MeshFlowOptions opti
     row.status = first_failure(r);
     row.iterations = total_iterations(r);
     row.max_error = r.max_error;
-    row.flips = r.flips;
+    row.flips = r.intrinsic.flips();
     for (const auto& c : r.components) {
       if (!c.flow.converged) row.note += (row.note.empty() ? "" : " ") + c.flow.message;
     }
@@ -186,7 +186,7 @@ void param_case(const std::string& name, const ricci::Mesh& mesh, ricci::Scheme 
     row.status = r.converged ? "converged" : first_failure(r.flow);
     row.iterations = total_iterations(r.flow);
     row.max_error = r.flow.max_error;
-    row.flips = r.flow.flips;
+    row.flips = r.flow.intrinsic.flips();
     std::ostringstream note;
     note << r.cones.size() << " cones, " << r.edge_splits << " edge splits"
          << (r.subdivided ? " (subdivided)" : "") << ", " << r.distortion.flipped_faces
