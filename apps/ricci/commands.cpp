@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 
+#include "fixes.hpp"
 #include "json_output.hpp"
 #include "progress.hpp"
 #include "ricci/errors.hpp"
@@ -330,7 +331,8 @@ int run_flow(const FlowArgs& args) {
                         ? std::to_string(comp.flow.intrinsic.flips()) + " edges flipped, "
                         : "")
                 << std::fixed << std::setprecision(3) << comp.flow.timings.total
-                << " s: " << comp.flow.message << std::defaultfloat << "\n";
+                << " s: " << cli::message_with_fixes(comp.flow.message, comp.flow.fixes)
+                << std::defaultfloat << "\n";
     }
     if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
   }
@@ -727,7 +729,9 @@ int run_param(const ParamArgs& args) {
                                      {"interpolation_matrix", files.matrix}};
   }
   if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
-                     several ? result.message : "the flow did not converge: " + result.message) &&
+                     several ? result.message
+                             : "the flow did not converge: " +
+                                   cli::message_with_fixes(result.message, result.flow.fixes)) &&
       !several) {
     return kNotConverged;
   }

@@ -5,6 +5,7 @@
 
 #include "batch_command.hpp"
 #include "commands.hpp"
+#include "fixes.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 #ifdef RICCI_HAVE_RENDER
@@ -257,11 +258,7 @@ int main(int argc, char** argv) {
   } catch (const ricci::InvalidInput& e) {
     std::cerr << "error: " << e.what() << "\n";
     // The options that would have worked, as flags: "try: --cones auto, or --cones one".
-    for (std::size_t i = 0; i < e.fixes().size(); ++i) {
-      std::cerr << (i == 0 ? "  try: " : ", or ") << "--" << e.fixes()[i].option << " "
-                << e.fixes()[i].value;
-    }
-    if (!e.fixes().empty()) std::cerr << "\n";
+    if (!e.fixes().empty()) std::cerr << "  " << ricci::cli::phrase_fixes(e.fixes()) << "\n";
     return kBadInput;
   } catch (const ricci::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -23,6 +23,11 @@ class Error : public std::runtime_error {
 /// value to give it ("natural", "auto", "disk", "vertex-scaling", "euclidean"). The command line
 /// prints it as `--target natural`, Python as `target="natural"`; in C++ it names the field of
 /// the options struct the message mentions.
+///
+/// The library's messages never name a flag of one front end: they name the option field
+/// ("FlowOptions::flips = Delaunay") and carry the fix as an OptionFix (InvalidInput::fixes for
+/// refusals, FlowResult::fixes for a flow that stopped short), which apps/ricci/fixes.hpp and
+/// python/src/bindings.hpp phrase.
 struct OptionFix {
   std::string option;
   std::string value;

@@ -32,6 +32,34 @@ void bind_sphere(py::module_& m);
 void bind_spline(py::module_& m);
 void bind_batch(py::module_& m);
 
+/// Option fixes (ricci/errors.hpp) phrased as Python keywords: 'try: cones="auto", or
+/// flips="delaunay"' (numbers unquoted); empty when there are none. The one place Python phrases
+/// the library's OptionFix, for exceptions and for results' messages alike.
+inline std::string phrase_fixes(const std::vector<OptionFix>& fixes) {
+  std::string out;
+  for (std::size_t i = 0; i < fixes.size(); ++i) {
+    const OptionFix& fix = fixes[i];
+    const bool number =
+        !fix.value.empty() && fix.value.find_first_not_of("0123456789") == std::string::npos;
+    out += (i == 0 ? "try: " : ", or ") + fix.option + "=" +
+           (number ? fix.value : "\"" + fix.value + "\"");
+  }
+  return out;
+}
+
+/// A result's message with its fixes phrased on a line of their own.
+inline std::string message_with_fixes(const std::string& message,
+                                      const std::vector<OptionFix>& fixes) {
+  return fixes.empty() ? message : message + "\n" + phrase_fixes(fixes);
+}
+
+/// The fixes as (keyword, value) pairs.
+inline py::list fix_pairs(const std::vector<OptionFix>& fixes) {
+  py::list out;
+  for (const OptionFix& fix : fixes) out.append(py::make_tuple(fix.option, fix.value));
+  return out;
+}
+
 /// Gives a bound enum the names ricci prints and parses, from its EnumNames table, as the class
 /// attribute `names` (a tuple, in the order of the table): what the pure-Python layer checks
 /// strings against instead of a copy of the list.

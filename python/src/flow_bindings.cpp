@@ -207,7 +207,12 @@ void bind_flow(py::module_& m) {
   StructBinding<FlowResult>(m, "FlowResult", "The flow on one component.")
       .readonly("converged", &FlowResult::converged, "")
       .readonly("status", &FlowResult::status, "FlowStatus")
-      .readonly("message", &FlowResult::message, "why it stopped, in words")
+      .computed(
+          "message", [](const FlowResult& r) { return message_with_fixes(r.message, r.fixes); },
+          "why it stopped, in words (with the keywords that may help, when it stopped short)")
+      .computed(
+          "fixes", [](const FlowResult& r) { return fix_pairs(r.fixes); },
+          "(keyword, value) pairs that may let the flow converge, best first")
       .readonly("u", &FlowResult::u, "#V final log radii")
       .readonly("curvature", &FlowResult::curvature, "#V final curvature K")
       .readonly("target_curvature", &FlowResult::target_curvature, "#V K-bar")
@@ -276,7 +281,12 @@ void bind_flow(py::module_& m) {
       .readonly("converged", &MeshFlowResult::converged, "every component converged")
       .readonly("status", &MeshFlowResult::status,
                 "Converged, or the FlowStatus of the first component that did not converge")
-      .readonly("message", &MeshFlowResult::message, "why each component stopped, in words")
+      .computed(
+          "message", [](const MeshFlowResult& r) { return message_with_fixes(r.message, r.fixes); },
+          "why each component stopped, in words (with the keywords that may help)")
+      .computed(
+          "fixes", [](const MeshFlowResult& r) { return fix_pairs(r.fixes); },
+          "(keyword, value) pairs that may let the flow converge, best first")
       .readonly("max_error", &MeshFlowResult::max_error, "over all components")
       .readonly("u", &MeshFlowResult::u, "#V final log radii")
       .readonly("curvature", &MeshFlowResult::curvature, "#V final curvature")

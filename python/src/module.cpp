@@ -33,18 +33,9 @@ ExceptionClasses exception_classes;
 /// ('try: cones="auto", or cones="one"'), and the fixes as `exc.fixes`, a list of
 /// (keyword, value) pairs.
 void set_invalid_input(const py::handle& type, const InvalidInput& e) {
-  std::string message = e.what();
-  py::list fixes;
-  for (std::size_t i = 0; i < e.fixes().size(); ++i) {
-    const OptionFix& fix = e.fixes()[i];
-    const bool number =
-        !fix.value.empty() && fix.value.find_first_not_of("0123456789") == std::string::npos;
-    message += (i == 0 ? "\ntry: " : ", or ") + fix.option + "=" +
-               (number ? fix.value : "\"" + fix.value + "\"");
-    fixes.append(py::make_tuple(fix.option, fix.value));
-  }
-  py::object exc = py::reinterpret_borrow<py::object>(type)(message);
-  exc.attr("fixes") = fixes;
+  py::object exc =
+      py::reinterpret_borrow<py::object>(type)(message_with_fixes(e.what(), e.fixes()));
+  exc.attr("fixes") = fix_pairs(e.fixes());
   PyErr_SetObject(type.ptr(), exc.ptr());
 }
 

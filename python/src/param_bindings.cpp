@@ -249,7 +249,10 @@ void bind_param(py::module_& m) {
   StructBinding<ParamResult>(m, "ParamResult", "What parameterize returns.")
       .readonly("converged", &ParamResult::converged,
                 "the flow reached its tolerance (several components: every one in one chart)")
-      .readonly("message", &ParamResult::message, "why not, when it did not")
+      .computed(
+          "message",
+          [](const ParamResult& r) { return message_with_fixes(r.message, r.flow.fixes); },
+          "why not, when it did not (with the keywords that may help)")
       .computed(
           "vertices", [](const ParamResult& r) { return r.mesh.positions; },
           "#V by 3 positions of the mesh parameterized (mesh.positions)")

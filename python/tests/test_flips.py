@@ -23,6 +23,10 @@ def test_flips_reach_what_the_input_triangulation_cannot(sphere):
     off = ricci.flow(V, F, scheme="vertex-scaling", cones=STRONG, flips="off")
     assert not off.converged
     assert off.flips == 0
+    # The library names the option field; Python phrases the fix as its own keyword.
+    assert off.fixes == [("flips", "delaunay")]
+    assert 'try: flips="delaunay"' in off.message
+    assert "--flips" not in off.message
     on = ricci.flow(V, F, scheme="vertex-scaling", cones=STRONG)  # flips="auto"
     assert on.converged and on.max_error <= 1e-10
     assert on.flips > 0

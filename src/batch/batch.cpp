@@ -249,7 +249,7 @@ MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std:
     case ChildEnd::TimedOut: {
       record.outcome = MeshOutcome::TimedOut;
       std::ostringstream text;
-      text << "stopped after " << options.limits.timeout_seconds << " s (--timeout)";
+      text << "stopped after " << options.limits.timeout_seconds << " s (the timeout)";
       record.message = text.str();
       break;
     }
@@ -285,7 +285,7 @@ MeshRecord run_mesh(const BatchJob& job, const BatchOptions& options, const std:
   }
   if (record.outcome == MeshOutcome::OutOfMemory && options.limits.memory_limit_mb > 0) {
     std::ostringstream text;
-    text << " (--memory-limit " << options.limits.memory_limit_mb << " MB)";
+    text << " (the memory limit, " << options.limits.memory_limit_mb << " MB)";
     record.message += text.str();
   }
   if (child.end == ChildEnd::Signaled || child.end == ChildEnd::TimedOut) {

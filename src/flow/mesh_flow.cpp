@@ -430,6 +430,11 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
   for (std::size_t c = 0; c < result.components.size(); ++c) {
     const FlowResult& flow = result.components[c].flow;
     if (!flow.converged && result.status == FlowStatus::Converged) result.status = flow.status;
+    for (const OptionFix& fix : flow.fixes) {
+      if (std::find(result.fixes.begin(), result.fixes.end(), fix) == result.fixes.end()) {
+        result.fixes.push_back(fix);
+      }
+    }
     if (result.components.size() == 1) {
       result.message = flow.message;
     } else {

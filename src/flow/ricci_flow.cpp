@@ -124,6 +124,7 @@ struct RicciFlow::State {
   bool finished = false;
   FlowStatus status = FlowStatus::MaxIterations;
   std::string message;
+  std::vector<OptionFix> fixes;  // FlowResult::fixes
   std::vector<IterationRecord> history;
   FlowTimings timings;
   int analyses = 0, factorizations = 0, cg_iterations = 0;
@@ -310,6 +311,14 @@ struct RicciFlow::State {
     finished = true;
     status = s;
     message = why;
+  }
+
+  /// The fix for triangles that break without flips: flips where the scheme keeps its class
+  /// through them, else the scheme that does (whose default, EdgeFlips::Auto, flips).
+  void suggest_flips() {
+    fixes = scheme_traits(structure.scheme).ptolemy_flips
+                ? fixes_of({{"flips", "delaunay"}})
+                : fixes_of({{"scheme", "vertex-scaling"}});
   }
 
   /// The reduced system's rows and H's sparsity pattern (values zero).
@@ -663,7 +672,9 @@ struct RicciFlow::State {
               << (flips ? " trial steps broke a triangle inequality next to the boundary, which "
                           "interior flips cannot repair)"
                         : " trial steps broke a triangle inequality: the target may need edge "
-                          "flips (--flips delaunay with vertex-scaling) or another scheme)");
+                          "flips (FlowOptions::flips = Delaunay, with the vertex-scaling scheme) "
+                          "or another scheme)");
+          if (!flips) suggest_flips();
         }
         if (length_failures > 0) {
           why << " (" << length_failures
@@ -700,13 +711,15 @@ struct RicciFlow::State {
     // repaired dragon crept at steps of 4e-12 for 200 iterations (190 s) before this.
     blocked_steps = alpha < 1e-6 && triangle_failures > 0 ? blocked_steps + 1 : 0;
     if (newton && blocked_steps >= 3) {
-      finish(FlowStatus::LineSearchFailed,
-             "the Newton steps are blocked by triangles that break a triangle inequality" +
-                 std::string(flips ? " next to the boundary (whose edges cannot flip)"
-                                   : " (the target may need edge flips: --flips delaunay with "
-                                     "vertex-scaling, or another scheme)") +
-                 ": steps of " + format(alpha) + " for " + std::to_string(blocked_steps) +
-                 " iterations at max |K-bar - K| = " + format(max0));
+      if (!flips) suggest_flips();
+      finish(
+          FlowStatus::LineSearchFailed,
+          "the Newton steps are blocked by triangles that break a triangle inequality" +
+              std::string(flips ? " next to the boundary (whose edges cannot flip)"
+                                : " (the target may need edge flips: FlowOptions::flips = "
+                                  "Delaunay with the vertex-scaling scheme, or another scheme)") +
+              ": steps of " + format(alpha) + " for " + std::to_string(blocked_steps) +
+              " iterations at max |K-bar - K| = " + format(max0));
     }
     record(alpha, backtracks, triangle_failures + length_failures, flipped);
   }
@@ -718,6 +731,7 @@ struct RicciFlow::State {
     r.status = status;
     r.converged = finished && status == FlowStatus::Converged;
     r.message = finished ? message : "running";
+    if (finished && status != FlowStatus::Converged) r.fixes = fixes;
     r.error_floor = error_floor();
     r.total_area = gauss_bonnet_area(structure.geometry, angles);
     r.gauss_bonnet_relative_error =

@@ -84,7 +84,7 @@ ObjMaterialFiles write_obj_material(const std::string& obj_path, const std::stri
   } else {
     std::error_code error;
     if (!fs::is_regular_file(texture_path, error)) {
-      throw IoError(texture_path + ": no such texture image (--texture)");
+      throw IoError(texture_path + ": no such texture image");
     }
     files.texture = texture_path;
     const fs::path folder = fs::absolute(obj).parent_path();

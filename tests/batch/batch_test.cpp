@@ -138,7 +138,7 @@ TEST(RunBatch, OutcomesComeFromTheExitStatusSignalAndLimit) {
   EXPECT_EQ(record_of(r, "crash.obj").outcome, MeshOutcome::Crashed);
   EXPECT_EQ(record_of(r, "crash.obj").message, "killed by SIGSEGV");
   EXPECT_EQ(record_of(r, "hang.obj").outcome, MeshOutcome::TimedOut);
-  EXPECT_EQ(record_of(r, "hang.obj").message, "stopped after 0.5 s (--timeout)");
+  EXPECT_EQ(record_of(r, "hang.obj").message, "stopped after 0.5 s (the timeout)");
   EXPECT_EQ(record_of(r, "fine.obj").outcome, MeshOutcome::Ok);
   const auto& counts = r.summary.counts;
   EXPECT_EQ(counts[0], (std::pair<std::string, int>{"ok", 1}));

@@ -58,7 +58,12 @@ TEST(EdgeFlips, StrongConesBreakATriangleWithoutFlipsAndConvergeWithThem) {
     triangle_failures += r.triangle_failures;
   }
   EXPECT_GT(triangle_failures, 0);
-
+  // The message names the option field, never a flag of one front end; the fix says which value
+  // (the CLI phrases it as --flips delaunay, Python as flips="delaunay").
+  EXPECT_NE(without.message.find("FlowOptions::flips"), std::string::npos) << without.message;
+  EXPECT_EQ(without.message.find("--"), std::string::npos) << without.message;
+  EXPECT_EQ(without.fixes, fixes_of({{"flips", "delaunay"}}));
+  EXPECT_EQ(without.components[0].flow.fixes, without.fixes);
   const MeshFlowResult with = flow_mesh(sphere, strong_cones(EdgeFlips::Auto));
   ASSERT_TRUE(with.converged) << with.components[0].flow.message;
   EXPECT_LE(with.max_error, 1e-10);

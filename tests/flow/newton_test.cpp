@@ -281,3 +281,35 @@ TEST(MeshFlow, SolvesEveryComponentOnItsOwn) {
 
 }  // namespace
 }  // namespace ricci
+
+namespace ricci {
+namespace {
+
+// The contract of ricci_flow.hpp: a Hessian that cannot be factorised (the metric degenerating)
+// ends the flow with FlowStatus::SolverFailed and a message, never an exception. Inversive
+// distances below 0 lose the energy's convexity: with eta = -0.9 on every edge the Hessian of an
+// icosphere is indefinite at once.
+TEST(Newton, AFactorisationThatFailsIsAStatusNotAnException) {
+  const Mesh mesh = make_icosphere(2);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  StructureOptions scheme;
+  scheme.scheme = Scheme::InversiveDistance;
+  ConformalStructure s = make_conformal_structure(t, input_edge_lengths(mesh, t), scheme).structure;
+  s.eta.setConstant(-0.9);
+  for (int v = 0; v < t.num_vertices; ++v) s.initial_u[v] = 0.3 * std::sin(7.0 * v);
+  FlowOptions options;
+  options.flips = EdgeFlips::Off;
+  FlowResult r;
+  ASSERT_NO_THROW(r = ricci_flow(t, s, uniform_target(t), options));
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.status, FlowStatus::SolverFailed);
+  EXPECT_NE(r.message.find("not positive definite"), std::string::npos) << r.message;
+  // Step by step the same.
+  RicciFlow flow(t, s, uniform_target(t), options);
+  while (flow.step()) {
+  }
+  EXPECT_EQ(flow.result().status, FlowStatus::SolverFailed);
+}
+
+}  // namespace
+}  // namespace ricci

@@ -88,6 +88,8 @@ struct MeshFlowResult {
   /// Why each component stopped, in words (prefixed by the component's index when there are
   /// several).
   std::string message;
+  /// The components' FlowResult::fixes, each once, in component order.
+  std::vector<OptionFix> fixes;
   double max_error = 0;       ///< over all components
   StructureResult structure;  ///< whole-mesh structure and fit error
   Target target;              ///< whole-mesh target

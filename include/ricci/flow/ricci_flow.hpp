@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/errors.hpp"
 #include "ricci/flow/target.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/intrinsic_triangulation.hpp"
@@ -152,7 +153,11 @@ struct FlowTimings {
 struct FlowResult {
   bool converged = false;
   FlowStatus status = FlowStatus::MaxIterations;
-  std::string message;               ///< why it stopped, in words
+  std::string message;  ///< why it stopped, in words
+  /// Option settings that may let a flow that stopped short converge (e.g. {flips, delaunay}
+  /// when triangles break without flips); the message names them as option fields, and each
+  /// front end phrases them in its own terms (`--flips delaunay`, `flips="delaunay"`).
+  std::vector<OptionFix> fixes;
   Eigen::VectorXd u;                 ///< #V final log radii
   Eigen::VectorXd curvature;         ///< #V final curvature K
   Eigen::VectorXd target_curvature;  ///< #V K-bar (the final K where the vertex is fixed)
