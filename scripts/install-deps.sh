@@ -3,6 +3,8 @@
 set -euo pipefail
 packages=(
   cmake g++ make clang-format
+  # .ci/run's static analysis (.clang-tidy; run-clang-tidy comes with it).
+  clang-tidy
   libeigen3-dev libsuitesparse-dev
   # CHOLMOD's supernodal factorisation runs its dense kernels through BLAS: OpenBLAS makes it
   # about twice as fast as the reference BLAS on a 500k-vertex Hessian.
