@@ -7,7 +7,7 @@
 // comes from one invocation of each binary on the same machine (docs/architecture.md).
 //
 //   build/bench/ricci_param_setup                     # generated genus-3 surface, about 102k faces
-//   build/bench/ricci_param_setup MESH.obj [runs]
+//   build/bench/ricci_param_setup MESH.obj [runs] [scheme]   # MESH "-": the generated one
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,6 +18,7 @@
 #include "ricci/mesh/build_counts.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/metric/scheme.hpp"
 #include "ricci/param/parameterize.hpp"
 
 int main(int argc, char** argv) {
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   const int runs = argc > 2 ? std::atoi(argv[2]) : 3;
   ricci::ParamOptions options;
   options.cone_mode = ricci::ConeMode::Auto;
+  if (argc > 3) options.structure.scheme = ricci::parse_scheme(argv[3]);
   std::printf("mesh: %d vertices, %d faces; %d runs (medians)\n", mesh.num_vertices(),
               mesh.num_faces(), runs);
   std::vector<double> setup, total;
