@@ -131,14 +131,11 @@ bool finish_report(const std::string& mesh, const std::string& output,
 /// --cones of param and spline: auto, N, none, one, or 'V:K,...' / a file (file vertex indices).
 void apply_cones_option(const std::string& c, const std::string& mesh, const ReadResult& read,
                         ParamOptions& options) {
-  if (c == "needed") {
-    options.cone_mode = ConeMode::Needed;
-  } else if (c == "auto") {
-    options.cone_mode = ConeMode::Auto;
-  } else if (c == "none") {
-    options.cone_mode = ConeMode::None;
-  } else if (c == "one") {
-    options.cone_mode = ConeMode::OneCone;
+  // The modes by name, from their one table (param/parameterize.hpp); "user" is not a name
+  // here: the user's cones are given as a list or a file.
+  const std::optional<ConeMode> named = find_enum<ConeMode>(c);
+  if (named && *named != ConeMode::User) {
+    options.cone_mode = *named;
   } else if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos) {
     options.cone_mode = ConeMode::Auto;
     options.auto_cones.count = std::stoi(c);

@@ -20,12 +20,8 @@
 namespace ricci {
 namespace {
 
-using mesh_detail::DisjointSets;
-using mesh_detail::edge_name;
-using mesh_detail::OrientationComponent;
-using mesh_detail::OrientationSearch;
-using mesh_detail::search_orientation;
-using mesh_detail::sorted_face_keys;
+// The module's shared helpers (disjoint sets, edge names, the orientation search, face keys).
+using namespace mesh_detail;
 
 constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
 

@@ -17,15 +17,22 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+/// The tutorial's fig. 5 structure on a tetrahedron: circles of radius 0.5 (epsilon = 1) meeting
+/// at Phi = 0 (eta = cos Phi = 1), so that every edge has length 1.
+ConformalStructure tangent_circles(const Topology& t, Scheme scheme) {
+  ConformalStructure s;
+  s.scheme = scheme;
+  s.epsilon = Eigen::VectorXd::Ones(t.num_vertices);
+  s.eta = Eigen::VectorXd::Ones(t.num_edges);
+  s.initial_u = Eigen::VectorXd::Constant(t.num_vertices, std::log(0.5));
+  return s;
+}
+
 // The tutorial's fig. 5: a tetrahedron with radii 0.5 and Phi = 0 has every edge 1 and K = pi.
 TEST(Scheme, TutorialFigure5Tetrahedron) {
   const Mesh mesh = make_tetrahedron(1.0);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  ConformalStructure s;
-  s.scheme = Scheme::Thurston;
-  s.epsilon = Eigen::VectorXd::Ones(4);
-  s.eta = Eigen::VectorXd::Ones(t.num_edges);  // cos(Phi) with Phi = 0
-  s.initial_u = Eigen::VectorXd::Constant(4, std::log(0.5));
+  const ConformalStructure s = tangent_circles(t, Scheme::Thurston);
   Eigen::VectorXd lengths;
   ASSERT_EQ(edge_lengths(t, s, s.initial_u, lengths).invalid_edges, 0);
   for (int e = 0; e < t.num_edges; ++e) EXPECT_NEAR(lengths[e], 1.0, 1e-15);
@@ -60,11 +67,7 @@ TEST(Scheme, ExactSchemesReproduceTheInputLengths) {
 TEST(Scheme, EdgeLengthsReportsTheEdgesWithoutALength) {
   const Mesh mesh = make_tetrahedron(1.0);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  ConformalStructure s;
-  s.scheme = Scheme::InversiveDistance;
-  s.epsilon = Eigen::VectorXd::Ones(4);
-  s.eta = Eigen::VectorXd::Ones(t.num_edges);
-  s.initial_u = Eigen::VectorXd::Constant(4, std::log(0.5));
+  ConformalStructure s = tangent_circles(t, Scheme::InversiveDistance);
   Eigen::VectorXd l;
   const LengthsCheck valid = edge_lengths(t, s, s.initial_u, l);
   EXPECT_TRUE(valid.ok());
