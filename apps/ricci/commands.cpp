@@ -482,7 +482,7 @@ void write_refinement(const std::string& output, const std::string& input, const
           auto found = std::find_if(row.begin(), row.end(),
                                     [col = col](const auto& e) { return e.first == col; });
           if (found == row.end()) {
-            row.push_back({col, w * it.value()});
+            row.emplace_back(col, w * it.value());
           } else {
             found->second += w * it.value();
           }

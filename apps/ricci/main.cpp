@@ -1,6 +1,7 @@
 // The `ricci` command line: discrete surface Ricci flow on triangle meshes.
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <cstdio>
 #include <iostream>
 
 #include "batch_command.hpp"
@@ -43,7 +44,9 @@ void install_interrupt_handlers() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   using namespace ricci::cli;
   install_interrupt_handlers();
   CLI::App app{
@@ -276,4 +279,16 @@ int main(int argc, char** argv) {
     return kInternalError;
   }
   return kInternalError;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // What escapes run_main's own handlers (building the option parser, say) is a bug too.
+  try {
+    return run_main(argc, argv);
+  } catch (...) {
+    std::fputs("internal error: an exception escaped the command line\n", stderr);
+    return ricci::cli::kInternalError;
+  }
 }

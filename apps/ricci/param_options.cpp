@@ -129,6 +129,7 @@ void check_param_options(const std::vector<std::string>& options, const std::str
   std::vector<std::string> words = {"ricci", "param", "MESH", "-o", "OUT.obj"};
   words.insert(words.end(), options.begin(), options.end());
   std::vector<const char*> argv;
+  argv.reserve(words.size());
   for (const std::string& w : words) argv.push_back(w.c_str());
   try {
     app.parse(static_cast<int>(argv.size()), argv.data());

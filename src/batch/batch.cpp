@@ -396,6 +396,7 @@ BatchResult run_batch(const std::vector<BatchJob>& jobs, const std::string& out_
   std::stable_sort(pending.begin(), pending.end(),
                    [&](std::size_t a, std::size_t b) { return jobs[a].bytes > jobs[b].bytes; });
   std::vector<const BatchJob*> to_clean;
+  to_clean.reserve(pending.size());
   for (const std::size_t j : pending) to_clean.push_back(&jobs[j]);
   remove_temporaries(to_clean);
 

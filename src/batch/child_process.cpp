@@ -45,12 +45,14 @@ std::vector<std::string> child_environment(const std::vector<std::string>& overr
     }
   }
   std::vector<std::string> result;
+  result.reserve(variables.size());
   for (const auto& [name, value] : variables) result.push_back(name + "=" + value);
   return result;
 }
 
 std::vector<char*> pointers(std::vector<std::string>& strings) {
   std::vector<char*> p;
+  p.reserve(strings.size() + 1);
   for (std::string& s : strings) p.push_back(s.data());
   p.push_back(nullptr);
   return p;

@@ -123,9 +123,9 @@ std::vector<Entry> read_manifest(const fs::path& manifest) {
     const std::string where = manifest.string() + " line " + std::to_string(number);
     const std::size_t tab = line.find('\t');
     std::string path = line.substr(0, tab);
-    const std::size_t first = path.find_first_not_of(" ");
+    const std::size_t first = path.find_first_not_of(' ');
     if (first == std::string::npos || path[first] == '#') continue;
-    path = path.substr(first, path.find_last_not_of(" ") + 1 - first);
+    path = path.substr(first, path.find_last_not_of(' ') + 1 - first);
     Entry entry;
     entry.input = absolute_normal(fs::path(path).is_absolute() ? fs::path(path) : folder / path);
     entry.where = where;

@@ -144,7 +144,7 @@ struct RicciFlow::State {
   /// of the topology is made only when some edge fails the test.
   DelaunayFlipResult flip_current_to_delaunay(const Eigen::VectorXd& at, Eigen::VectorXd& l,
                                               const DelaunayFlipOptions& o) {
-    const DelaunayFlipResult r = intrinsic.flip_to_delaunay(at, l, o);
+    DelaunayFlipResult r = intrinsic.flip_to_delaunay(at, l, o);
     topology = &intrinsic.topology();
     return r;
   }
@@ -241,16 +241,16 @@ struct RicciFlow::State {
     r.chord = chord_step;
     r.seconds = seconds_since(start);
     history.push_back(r);
-    if (finished) {
-      // status already set (a failed line search)
-    } else if (max_error <= options.tolerance) {
-      finish(FlowStatus::Converged,
-             "reached max |K-bar - K| = " + format(max_error) + " <= " + format(options.tolerance));
-    } else if (history.size() >= 2 && max_error > 0.5 * history[history.size() - 2].max_error &&
-               finish_at_floor(max_error)) {
-      // stagnating within the floor: done
-    } else if (iteration >= options.max_iterations) {
-      if (!finish_at_floor(max_error)) {
+    // A finished flow has its status already (a failed line search). Otherwise: converged; or
+    // stagnating within the floor (finish_at_floor ends it there); or out of iterations.
+    if (!finished) {
+      const bool stagnating =
+          history.size() >= 2 && max_error > 0.5 * history[history.size() - 2].max_error;
+      if (max_error <= options.tolerance) {
+        finish(FlowStatus::Converged, "reached max |K-bar - K| = " + format(max_error) +
+                                          " <= " + format(options.tolerance));
+      } else if (!(stagnating && finish_at_floor(max_error)) &&
+                 iteration >= options.max_iterations && !finish_at_floor(max_error)) {
         finish(FlowStatus::MaxIterations,
                "stopped after " + std::to_string(iteration) +
                    " iterations at max |K-bar - K| = " + format(max_error));

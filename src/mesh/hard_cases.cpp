@@ -96,7 +96,8 @@ Mesh split_faces_near_corner(const Mesh& mesh, double weight, double lift, int s
         "finite lift");
   }
   std::vector<Eigen::Vector3d> points;
-  for (int v = 0; v < mesh.num_vertices(); ++v) points.push_back(mesh.positions.row(v));
+  points.reserve(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) points.emplace_back(mesh.positions.row(v));
   std::vector<std::array<int, 3>> faces;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const int a = mesh.triangles(f, 0), b = mesh.triangles(f, 1), c = mesh.triangles(f, 2);

@@ -53,7 +53,7 @@ ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
       const int a = t.tail(h), b = t.head(h);
       const int m = static_cast<int>(positions.size());
       positions.push_back(0.5 * (positions[a] + positions[b]));
-      result.new_vertex_parents.push_back({a, b});
+      result.new_vertex_parents.push_back(std::array<int, 2>{a, b});
       // (vertex, a, b) -> (vertex, a, m) + (vertex, m, b)
       touched[f] = 1;
       faces[f] = {vertex, a, m};

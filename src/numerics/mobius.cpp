@@ -118,7 +118,9 @@ T translation_length(const BasicMobius<T>& m) {
   return t > T{1} ? T{2} * std::acosh(t) : T{0};
 }
 
-// The scalars with a standard library of square roots and hyperbolic functions.
+// The scalars with a standard library of square roots and hyperbolic functions. (T is a type
+// here: it cannot be parenthesised.)
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define RICCI_INSTANTIATE_MOBIUS(T)                                                           \
   template T determinant(const BasicMobius<T>&);                                              \
   template BasicMobius<T> normalized(const BasicMobius<T>&);                                  \
@@ -134,6 +136,7 @@ T translation_length(const BasicMobius<T>& m) {
 
 RICCI_INSTANTIATE_MOBIUS(double)
 RICCI_INSTANTIATE_MOBIUS(long double)
+// NOLINTEND(bugprone-macro-parentheses)
 
 #undef RICCI_INSTANTIATE_MOBIUS
 

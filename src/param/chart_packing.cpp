@@ -813,7 +813,7 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
   double scale = low;
   std::vector<Placement> placement(num_charts);
   for (int c = 0; c < num_charts; ++c) {
-    placement[c].turns = best_turned[c];
+    placement[c].turns = static_cast<unsigned char>(best_turned[c]);  // 0..3 quarter turns
     placement[c].box = scale * (shapes[c].hi - shapes[c].lo);
     placement[c].corner = Eigen::Vector2d(best_placed[c].x0, best_placed[c].y0) +
                           Eigen::Vector2d::Constant(gutter / 2);

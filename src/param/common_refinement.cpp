@@ -42,7 +42,7 @@ void place_input_crossings(Context& c, const std::vector<CurvePath>& paths,
     for (const CurveCrossing& x : p.crossings) {
       const int k = x.halfedge % 3;
       const Complex a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-      sides.push_back({a, b});
+      sides.emplace_back(a, b);
       const int twin = c.t1.halfedge_twin[x.halfedge], k2 = twin % 3;
       const auto& next = shapes[twin / 3];
       const Rigid m = segment_motion(next[(k2 + 2) % 3], next[(k2 + 1) % 3], a, b);
@@ -547,6 +547,7 @@ CommonRefinement common_refinement(const ParamResult& param,
     }
   }
   std::vector<int> raw_of;  // output vertex -> raw index
+  raw_of.reserve(out_index.size());
   for (int v = 0; v < nv_out; ++v) raw_of.push_back(v);
   for (int r = nv; r < static_cast<int>(out_index.size()); ++r) {
     if (out_index[r] < 0) continue;
@@ -571,6 +572,7 @@ CommonRefinement common_refinement(const ParamResult& param,
   }
   if (options.interpolation_matrix) {
     std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(nv_out);
     for (int v = 0; v < nv_out; ++v) triplets.emplace_back(v, v, 1.0);
     for (int r = nv_out; r < nr; ++r) {
       for (const auto& [v, w] : row_of(r)) {

@@ -560,7 +560,8 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
     form.expansion.push_back({{segment, 1}});
     form.finished.push_back(0);
   }
-  for (const auto& [segment, sign] : group.relator) form.word.push_back({symbol_of[segment], sign});
+  for (const auto& [segment, sign] : group.relator)
+    form.word.emplace_back(symbol_of[segment], sign);
   // A small search over the cut-and-paste choices (the cheapest few at each step, about 512
   // finished forms in all), keeping the canonical generators of least total size.
   if (group.genus > 0) {

@@ -332,6 +332,7 @@ void flow_to_flat(ParamRun& run, FlowStage& stage) {
     return;
   }
   std::vector<int> vertices;
+  vertices.reserve(cones.size());
   for (const Cone& c : cones) vertices.push_back(c.vertex);
   result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
   for (int round = 0; round < kConeRounds; ++round) {

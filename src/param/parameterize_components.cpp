@@ -515,7 +515,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
           if (copy < 0) {
             copy = static_cast<int>(vertex.size());
             vertex.push_back(piece.cut_vertex[v]);
-            positions.push_back(piece.layout.row(v));
+            positions.emplace_back(piece.layout.row(v));
           }
           piece.cut_triangles(f, k) = copy;
         }

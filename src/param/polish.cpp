@@ -304,7 +304,7 @@ PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, cons
           if (!usable) break;
           const double height_3d = (pa - pv).cross(pb - pv).norm() / edge_3d;
           // v left of a -> b: cross(b - a, v - a) > 0, i.e. n . v > n . a, n = i (b - a).
-          normals.push_back(Eigen::Vector2d(-edge.imag(), edge.real()) / magnitude(edge));
+          normals.emplace_back(Eigen::Vector2d(-edge.imag(), edge.real()) / magnitude(edge));
           heights.push_back(height_3d * magnitude(edge) / edge_3d);
           offsets.push_back(normals.back().dot(Eigen::Vector2d(a.real(), a.imag())));
         }

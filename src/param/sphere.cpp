@@ -305,7 +305,8 @@ SphereResult sphere_map(const Mesh& mesh, const SphereOptions& options) {
   result.layout_length_error = layout.max_length_relative_error;
   const std::vector<int>& loop = disk_topology.boundary_loops[0];
   std::vector<Eigen::Vector2d> boundary;
-  for (int v : loop) boundary.push_back(layout.uv.row(v).transpose());
+  boundary.reserve(loop.size());
+  for (int v : loop) boundary.emplace_back(layout.uv.row(v).transpose());
   Eigen::Vector2d centre;
   double radius = 0;
   fit_circle(boundary, centre, radius);

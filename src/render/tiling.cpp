@@ -267,6 +267,7 @@ void draw(cairo_t* cr, const TilingDrawing& d, const DiskPoints& positions,
   std::vector<std::vector<Eigen::Vector2d>> domain;
   for (const auto& loop : d.loops) {
     std::vector<Eigen::Vector2d> pixels;
+    pixels.reserve(loop.size());
     for (int v : loop) pixels.push_back(d.to_pixel({positions(v, 0), positions(v, 1)}));
     domain.push_back(std::move(pixels));
   }

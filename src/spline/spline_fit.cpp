@@ -40,7 +40,9 @@ class Assembler {
   }
   Eigen::SparseMatrix<double> finish() {
     flush();
-    return std::move(matrix_);
+    Eigen::SparseMatrix<double> out;
+    out.swap(matrix_);  // (the conversion would copy a moved member)
+    return out;
   }
 
  private:
