@@ -52,7 +52,9 @@ ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
       if (twin >= 0 && touched[twin / 3]) continue;
       const int a = t.tail(h), b = t.head(h);
       const int m = static_cast<int>(positions.size());
-      positions.push_back(0.5 * (positions[a] + positions[b]));
+      // Evaluated before the push: the sum reads elements a reallocation may move.
+      const Eigen::Vector3d midpoint = 0.5 * (positions[a] + positions[b]);
+      positions.push_back(midpoint);
       result.new_vertex_parents.push_back(std::array<int, 2>{a, b});
       // (vertex, a, b) -> (vertex, a, m) + (vertex, m, b)
       touched[f] = 1;
