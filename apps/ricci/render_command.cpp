@@ -212,7 +212,7 @@ CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args) {
                   "colouring when the page opens: checker, area (ln of the area ratio) or angle "
                   "(sigma_max / sigma_min)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"checker", "area", "angle"}));
+      ->check(CLI::IsMember(enum_primary_names<ViewerColouring>()));
   return cmd;
 }
 
@@ -229,9 +229,7 @@ int run_view(const ViewArgs& args) {
       args.title.empty() ? std::filesystem::path(args.mesh).filename().string() : args.title;
   options.uv_weights = textured.uv_weights;
   options.checker = args.checker;
-  options.colouring = args.colouring == "area"    ? ViewerColouring::Area
-                      : args.colouring == "angle" ? ViewerColouring::Angle
-                                                  : ViewerColouring::Checker;
+  options.colouring = parse_enum<ViewerColouring>(args.colouring, "--colour");
   const WebViewerInfo info =
       write_web_viewer(args.output, textured.mesh, textured.uv_triangles, textured.uv, options);
   std::cout << args.mesh << " -> " << args.output << " (" << (info.bytes + 512 * 1024) / (1 << 20)

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "ricci/errors.hpp"
 
@@ -55,6 +56,17 @@ constexpr const char* enum_name(E value, const char* fallback = "unknown") {
     if (entry.value == value && entry.role == NameRole::Primary) return entry.name;
   }
   return fallback;
+}
+
+/// The primary names in the order of the table: what a command line's choice check and Python's
+/// `names` list.
+template <class E>
+std::vector<std::string> enum_primary_names() {
+  std::vector<std::string> names;
+  for (const EnumName<E>& entry : EnumNames<E>::names) {
+    if (entry.role == NameRole::Primary) names.emplace_back(entry.name);
+  }
+  return names;
 }
 
 /// The listed names as a parse error spells them: "a, b (or b2) or c".

@@ -66,9 +66,7 @@ inline py::list fix_pairs(const std::vector<OptionFix>& fixes) {
 template <class E>
 void bind_enum_names(py::enum_<E>& e) {
   py::list names;
-  for (const EnumName<E>& entry : EnumNames<E>::names) {
-    if (entry.role == NameRole::Primary) names.append(entry.name);
-  }
+  for (const std::string& name : enum_primary_names<E>()) names.append(name);
   e.attr("names") = py::tuple(names);
 }
 

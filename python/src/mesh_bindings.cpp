@@ -72,8 +72,8 @@ void bind_mesh(py::module_& m) {
       .value("Stl", MeshFormat::Stl)
       .value("Glb", MeshFormat::Glb);
 
-  py::enum_<DefectKind>(m, "DefectKind", "The kinds of mesh defect.")
-      .value("NonFiniteCoordinate", DefectKind::NonFiniteCoordinate)
+  py::enum_<DefectKind> defect_kind(m, "DefectKind", "The kinds of mesh defect.");
+  defect_kind.value("NonFiniteCoordinate", DefectKind::NonFiniteCoordinate)
       .value("IndexOutOfRange", DefectKind::IndexOutOfRange)
       .value("RepeatedVertex", DefectKind::RepeatedVertex)
       .value("ZeroAreaFace", DefectKind::ZeroAreaFace)
@@ -83,6 +83,7 @@ void bind_mesh(py::module_& m) {
       .value("InconsistentOrientation", DefectKind::InconsistentOrientation)
       .value("NonOrientable", DefectKind::NonOrientable)
       .value("UnreferencedVertex", DefectKind::UnreferencedVertex);
+  bind_enum_names(defect_kind);
   m.def("defect_name", &defect_name, py::arg("kind"),
         "Short stable name of a defect kind, e.g. 'non-manifold-edge'.");
 

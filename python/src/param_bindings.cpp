@@ -303,11 +303,12 @@ void bind_param(py::module_& m) {
       .readonly("packing", &ParamResult::packing, "several components: ChartPacking")
       .repr();
 
-  py::enum_<ComponentMethod>(m, "ComponentMethod",
-                             "How a component of a mesh of several was parameterized.")
-      .value("Flow", ComponentMethod::Flow)
+  py::enum_<ComponentMethod> component_method(
+      m, "ComponentMethod", "How a component of a mesh of several was parameterized.");
+  component_method.value("Flow", ComponentMethod::Flow)
       .value("Unfolded", ComponentMethod::Unfolded)
       .value("Patches", ComponentMethod::Patches);
+  bind_enum_names(component_method);
   m.def("component_method_name", &component_method_name, py::arg("method"));
 
   StructBinding<ComponentParam>(m, "ComponentParam",

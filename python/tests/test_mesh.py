@@ -81,6 +81,11 @@ def test_info_reports_defects_without_raising(non_manifold):
     assert "non-manifold-edge" in names
     assert info.genus == -1 and info.euler_characteristic == -1
     assert not info.validation.ok
+    # The kind's name is a row of the table the enum carries (C++ EnumNames<DefectKind>).
+    kinds = ricci.DefectKind.names
+    assert len(kinds) == len(ricci.DefectKind.__members__) and "non-manifold-edge" in kinds
+    assert all(d.name == ricci._ricci.defect_name(d.kind) for d in info.defects)
+    assert ricci.ComponentMethod.names == ("flow", "unfolded", "patches")
 
 
 def test_generators_counts():

@@ -99,29 +99,7 @@ int prev_corner(int h) {
 }  // namespace
 
 const char* defect_name(DefectKind kind) {
-  switch (kind) {
-    case DefectKind::NonFiniteCoordinate:
-      return "non-finite-coordinate";
-    case DefectKind::IndexOutOfRange:
-      return "index-out-of-range";
-    case DefectKind::RepeatedVertex:
-      return "repeated-vertex";
-    case DefectKind::ZeroAreaFace:
-      return "zero-area-face";
-    case DefectKind::DuplicateFace:
-      return "duplicate-face";
-    case DefectKind::NonManifoldEdge:
-      return "non-manifold-edge";
-    case DefectKind::NonManifoldVertex:
-      return "non-manifold-vertex";
-    case DefectKind::InconsistentOrientation:
-      return "inconsistent-orientation";
-    case DefectKind::NonOrientable:
-      return "non-orientable";
-    case DefectKind::UnreferencedVertex:
-      return "unreferenced-vertex";
-  }
-  return "unknown";
+  return enum_name(kind);
 }
 
 int ValidationReport::count(DefectKind kind) const {

@@ -794,15 +794,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
 }  // namespace
 
 const char* component_method_name(ComponentMethod method) {
-  switch (method) {
-    case ComponentMethod::Flow:
-      return "flow";
-    case ComponentMethod::Unfolded:
-      return "unfolded";
-    case ComponentMethod::Patches:
-      return "patches";
-  }
-  return "unknown";
+  return enum_name(method);
 }
 
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {

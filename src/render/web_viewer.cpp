@@ -155,18 +155,6 @@ std::string json_number(double x) {
   return text;
 }
 
-const char* colouring_name(ViewerColouring colouring) {
-  switch (colouring) {
-    case ViewerColouring::Area:
-      return "area";
-    case ViewerColouring::Angle:
-      return "angle";
-    case ViewerColouring::Checker:
-      break;
-  }
-  return "checker";
-}
-
 /// Everything the page shows, computed once from the mesh.
 struct ViewerData {
   FaceDistortion distortion;
@@ -274,7 +262,7 @@ void write_data(std::ostream& out, const Mesh& mesh, const Triangles& uv_triangl
       << json_number(d.view.z()) << "], \"up\": [" << json_number(d.up.x()) << ", "
       << json_number(d.up.y()) << ", " << json_number(d.up.z()) << "]";
   out << ",\n\"checker\": " << json_number(options.checker) << ", \"colouring\": \""
-      << colouring_name(options.colouring) << "\"";
+      << enum_name(options.colouring, "checker") << "\"";
   out << ",\n\"log_area_range\": " << json_number(info.log_area_range)
       << ", \"angle_range\": " << json_number(info.angle_range);
 

@@ -10,6 +10,7 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/flow/target.hpp"
+#include "ricci/mesh/validate.hpp"
 #include "ricci/metric/geometry.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/parameterize.hpp"
@@ -37,6 +38,15 @@ void expect_round_trip() {
   }
 }
 
+// Every value from the first to `last` has a primary name: a value added to an enum without its
+// row would print "unknown".
+template <class E>
+void expect_every_value_named(E last) {
+  for (int i = 0; i <= static_cast<int>(last); ++i) {
+    EXPECT_STRNE(enum_name(static_cast<E>(i)), "unknown") << EnumNames<E>::noun << " " << i;
+  }
+}
+
 TEST(EnumNames, EveryTableRoundTrips) {
   expect_round_trip<Scheme>();
   expect_round_trip<PackingInit>();
@@ -47,6 +57,24 @@ TEST(EnumNames, EveryTableRoundTrips) {
   expect_round_trip<EdgeFlips>();
   expect_round_trip<FlowStatus>();
   expect_round_trip<ConeMode>();
+  expect_round_trip<DefectKind>();
+  expect_round_trip<ComponentMethod>();
+}
+
+TEST(EnumNames, EveryValueHasAName) {
+  expect_every_value_named(FlowStatus::Cancelled);
+  expect_every_value_named(ConeMode::OneCone);
+  expect_every_value_named(DefectKind::UnreferencedVertex);
+  expect_every_value_named(ComponentMethod::Patches);
+}
+
+TEST(EnumNames, ReportNamesComeFromTheTables) {
+  EXPECT_STREQ(defect_name(DefectKind::InconsistentOrientation), "inconsistent-orientation");
+  EXPECT_STREQ(component_method_name(ComponentMethod::Unfolded), "unfolded");
+  EXPECT_STREQ(defect_name(static_cast<DefectKind>(99)), "unknown");
+  const std::vector<std::string> listed = enum_primary_names<Scheme>();
+  EXPECT_EQ(listed.size(), 5u);  // yamabe is an alias of vertex-scaling, not a sixth name
+  EXPECT_EQ(listed.front(), "tangential");
 }
 
 TEST(EnumNames, ParseErrorsKeepTheirWording) {

@@ -4,9 +4,11 @@
 /// manifold surface with non-degenerate faces. find_defects lists them all (for `ricci info`);
 /// validate_mesh throws on the first one.
 
+#include <array>
 #include <string>
 #include <vector>
 
+#include "ricci/enum_names.hpp"
 #include "ricci/mesh/mesh.hpp"
 
 namespace ricci {
@@ -25,7 +27,24 @@ enum class DefectKind {
   UnreferencedVertex,       ///< no face uses it (a warning, not an error); element: vertex
 };
 
-/// Short stable name of a defect kind, e.g. "non-manifold-edge".
+template <>
+struct EnumNames<DefectKind> {
+  static constexpr const char* noun = "defect kind";
+  static constexpr std::array<EnumName<DefectKind>, 10> names{{
+      {DefectKind::NonFiniteCoordinate, "non-finite-coordinate"},
+      {DefectKind::IndexOutOfRange, "index-out-of-range"},
+      {DefectKind::RepeatedVertex, "repeated-vertex"},
+      {DefectKind::ZeroAreaFace, "zero-area-face"},
+      {DefectKind::DuplicateFace, "duplicate-face"},
+      {DefectKind::NonManifoldEdge, "non-manifold-edge"},
+      {DefectKind::NonManifoldVertex, "non-manifold-vertex"},
+      {DefectKind::InconsistentOrientation, "inconsistent-orientation"},
+      {DefectKind::NonOrientable, "non-orientable"},
+      {DefectKind::UnreferencedVertex, "unreferenced-vertex"},
+  }};
+};
+
+/// Short stable name of a defect kind, e.g. "non-manifold-edge" (its EnumNames row).
 const char* defect_name(DefectKind kind);
 
 /// One defect.

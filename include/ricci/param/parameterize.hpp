@@ -165,7 +165,17 @@ enum class ComponentMethod {
   Patches,
 };
 
-/// "flow", "unfolded", "patches".
+template <>
+struct EnumNames<ComponentMethod> {
+  static constexpr const char* noun = "component method";
+  static constexpr std::array<EnumName<ComponentMethod>, 3> names{{
+      {ComponentMethod::Flow, "flow"},
+      {ComponentMethod::Unfolded, "unfolded"},
+      {ComponentMethod::Patches, "patches"},
+  }};
+};
+
+/// "flow", "unfolded" or "patches" (its EnumNames row), as reports print it.
 const char* component_method_name(ComponentMethod method);
 
 /// One component of a mesh of several components (ParamResult::components).

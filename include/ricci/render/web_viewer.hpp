@@ -8,11 +8,13 @@
 /// needs no network; the mesh travels as base64 typed arrays in a JSON block (one draw call per
 /// view, about 60 bytes of file per face).
 
+#include <array>
 #include <cstddef>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "ricci/enum_names.hpp"
 #include "ricci/mesh/mesh.hpp"
 
 namespace ricci {
@@ -22,6 +24,17 @@ enum class ViewerColouring {
   Checker,  ///< the checkerboard of the texture coordinates
   Area,     ///< ln(A_uv / A_3d), both normalised to total 1: blue (shrunk) .. white .. red
   Angle,    ///< sigma_max / sigma_min of the map from the 3D triangle to its layout: white .. red
+};
+
+/// "checker", "area", "angle": what `ricci view --colour` parses and the page's menu shows.
+template <>
+struct EnumNames<ViewerColouring> {
+  static constexpr const char* noun = "colouring";
+  static constexpr std::array<EnumName<ViewerColouring>, 3> names{{
+      {ViewerColouring::Checker, "checker"},
+      {ViewerColouring::Area, "area"},
+      {ViewerColouring::Angle, "angle"},
+  }};
 };
 
 /// Options of web_viewer_html and write_web_viewer.
