@@ -19,13 +19,6 @@ double angle_from_lengths(double a, double b, double c) {
 }
 
 AnglesCheck corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
-                          CornerAngles& angles, Geometry geometry) {
-  if (geometry == Geometry::Euclidean) return corner_angles(topology, lengths, angles);
-  return {triangle_terms::corner_angles_with<double>(topology, lengths, angles,
-                                                     triangle_terms::hyperbolic_angles<double>)};
-}
-
-AnglesCheck corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
                           CornerAngles& angles) {
   // tan(theta_k / 2) = sqrt((s - l_{k+1})(s - l_{k+2}) / (s (s - l_k))) keeps full relative
   // accuracy for tiny and for near-pi angles.

@@ -4,6 +4,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
+#include "ricci/metric/lengths.hpp"
 
 namespace ricci {
 
@@ -20,6 +21,28 @@ const char* geometry_name(Geometry geometry) {
 
 Geometry parse_geometry(const std::string& name) {
   return parse_enum<Geometry>(name, "parse_geometry");
+}
+
+LengthsCheck edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                          const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
+  switch (structure.geometry) {
+    case Geometry::Euclidean:
+      return euclidean_edge_lengths(topology, structure, u, lengths);
+    case Geometry::Hyperbolic:
+      return hyperbolic_edge_lengths(topology, structure, u, lengths);
+  }
+  throw InvalidInput("edge_lengths: unknown geometry");
+}
+
+AnglesCheck corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
+                          CornerAngles& angles, Geometry geometry) {
+  switch (geometry) {
+    case Geometry::Euclidean:
+      return corner_angles(topology, lengths, angles);
+    case Geometry::Hyperbolic:
+      return hyperbolic_corner_angles(topology, lengths, angles);
+  }
+  throw InvalidInput("corner_angles: unknown geometry");
 }
 
 void hessian_terms(const Topology& topology, const ConformalStructure& structure,

@@ -185,11 +185,16 @@ void set_flipped_edge(Topology& t, ConformalStructure& structure, const Eigen::V
   structure.eta[e] = 0.5 * std::exp(2.0 * std::log(lambda) - u[q.c] - u[q.d]);
 }
 
-/// The Delaunay margin of edge e in the given background.
+/// The Delaunay margin of the quad's edge ab in the given background (the flips' one test of the
+/// background besides lambda_length and the isometric diagonal).
+double margin_in(Geometry geometry, double ab, double ca, double cb, double da, double db) {
+  return geometry == Geometry::Hyperbolic ? hyperbolic_delaunay_margin(ab, ca, cb, da, db)
+                                          : delaunay_margin(ab, ca, cb, da, db);
+}
+
+/// The Delaunay margin of edge e.
 double margin_of(const Eigen::VectorXd& l, int e, const Quad& q, Geometry geometry) {
-  return geometry == Geometry::Hyperbolic
-             ? hyperbolic_delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db])
-             : delaunay_margin(l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]);
+  return margin_in(geometry, l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]);
 }
 
 /// An interior edge whose Delaunay margin is below -tolerance.
@@ -203,10 +208,7 @@ bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double 
   const double ab = l[e];
   const double cb = l[t.face_edges(f0, (k0 + 1) % 3)], ca = l[t.face_edges(f0, (k0 + 2) % 3)];
   const double da = l[t.face_edges(f1, (k1 + 1) % 3)], db = l[t.face_edges(f1, (k1 + 2) % 3)];
-  const double margin = geometry == Geometry::Hyperbolic
-                            ? hyperbolic_delaunay_margin(ab, ca, cb, da, db)
-                            : delaunay_margin(ab, ca, cb, da, db);
-  return margin < -tolerance;
+  return margin_in(geometry, ab, ca, cb, da, db) < -tolerance;
 }
 
 }  // namespace

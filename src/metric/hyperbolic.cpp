@@ -81,6 +81,12 @@ LengthsCheck hyperbolic_edge_lengths_wide(const Topology& topology,
   return lengths_in<long double>(topology, structure, u, lengths);
 }
 
+AnglesCheck hyperbolic_corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
+                                     CornerAngles& angles) {
+  return {triangle_terms::corner_angles_with<double>(topology, lengths, angles,
+                                                     triangle_terms::hyperbolic_angles<double>)};
+}
+
 AnglesCheck hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
                                           WideAngles& angles) {
   return {triangle_terms::corner_angles_with<long double>(

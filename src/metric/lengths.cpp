@@ -4,15 +4,11 @@
 #include <limits>
 
 #include "../mesh/parallel.hpp"
-#include "ricci/metric/hyperbolic.hpp"
 
 namespace ricci {
 
-LengthsCheck edge_lengths(const Topology& topology, const ConformalStructure& structure,
-                          const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
-  if (structure.geometry == Geometry::Hyperbolic) {
-    return hyperbolic_edge_lengths(topology, structure, u, lengths);
-  }
+LengthsCheck euclidean_edge_lengths(const Topology& topology, const ConformalStructure& structure,
+                                    const Eigen::VectorXd& u, Eigen::VectorXd& lengths) {
   const int ne = topology.num_edges;
   lengths.resize(ne);
   // e^u once per vertex (the same values an evaluation per edge end would give).

@@ -33,9 +33,9 @@ double angle_from_lengths(double a, double b, double c);
 AnglesCheck corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
                           CornerAngles& angles);
 
-/// The same in a chosen background geometry: hyperbolic triangles by the half-angle form of the
-/// hyperbolic law of cosines, tan(theta_k / 2) = sqrt(sinh(s - l_{k+1}) sinh(s - l_{k+2}) /
-/// (sinh s sinh(s - l_k))).
+/// The same in a chosen background geometry: the Euclidean corner_angles above, or
+/// hyperbolic_corner_angles (ricci/metric/hyperbolic.hpp). The switch is defined in
+/// background.cpp beside the background's other dispatches (ricci/metric/background.hpp).
 AnglesCheck corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
                           CornerAngles& angles, Geometry geometry);
 

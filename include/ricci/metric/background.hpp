@@ -1,10 +1,14 @@
 #pragma once
 /// \file
 /// The dispatch on the background geometry (ricci/metric/geometry.hpp) of everything the flow
-/// computes from a metric besides lengths and angles: the Hessian's terms and Gauss-Bonnet, one
-/// switch each, here. Lengths dispatch in edge_lengths (on ConformalStructure::geometry), angles
-/// in the Geometry overload of corner_angles; what a caller decides by the background (the gauge,
-/// the form of Gauss-Bonnet) it reads from geometry_traits instead of testing the enum.
+/// computes from a metric: one switch each, all defined in background.cpp. Lengths and angles
+/// keep their declarations where callers look for them (edge_lengths in lengths.hpp on
+/// ConformalStructure::geometry, the Geometry overload of corner_angles in angles.hpp); the
+/// Hessian's terms and Gauss-Bonnet are declared here. What a caller decides by the background
+/// (the gauge, the form of Gauss-Bonnet) it reads from geometry_traits instead of testing the
+/// enum. Adding a background means a row of kGeometryTraits, its formulas in a file of its own
+/// (as hyperbolic.hpp), and a case in each switch of background.cpp; the Delaunay flips' Ptolemy
+/// quantity (lambda_length in delaunay_flips.hpp) is the one other place that names it.
 
 #include <Eigen/Core>
 

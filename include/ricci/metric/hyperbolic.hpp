@@ -40,6 +40,13 @@ double hyperbolic_angle_from_lengths(double a, double b, double c);
 LengthsCheck hyperbolic_edge_lengths(const Topology& topology, const ConformalStructure& structure,
                                      const Eigen::VectorXd& u, Eigen::VectorXd& lengths);
 
+/// Corner angles of hyperbolic triangles by the half-angle form of the hyperbolic law of cosines,
+/// tan(theta_k / 2) = sqrt(sinh(s - l_{k+1}) sinh(s - l_{k+2}) / (sinh s sinh(s - l_k))).
+/// \param[out] angles #F by 3 (resized)
+/// \return the first face that breaks a triangle inequality (its angles are NaN), if any
+AnglesCheck hyperbolic_corner_angles(const Topology& topology, const Eigen::VectorXd& lengths,
+                                     CornerAngles& angles);
+
 /// Vectors and corner angles in long double (x87 extended precision on x86-64; plain double
 /// elsewhere), for the extended-precision refinement and layout of a hyperbolic metric.
 using WideVector = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
@@ -50,8 +57,8 @@ LengthsCheck hyperbolic_edge_lengths_wide(const Topology& topology,
                                           const ConformalStructure& structure, const WideVector& u,
                                           WideVector& lengths);
 
-/// Corner angles of hyperbolic triangles in long double (as corner_angles with
-/// Geometry::Hyperbolic). \return the first face that breaks a triangle inequality, if any
+/// Corner angles of hyperbolic triangles in long double (as hyperbolic_corner_angles). \return the
+/// first face that breaks a triangle inequality, if any
 AnglesCheck hyperbolic_corner_angles_wide(const Topology& topology, const WideVector& lengths,
                                           WideAngles& angles);
 
