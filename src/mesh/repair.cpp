@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "corner_fans.hpp"
 #include "disjoint_sets.hpp"
 #include "face_keys.hpp"
 #include "orientation.hpp"
@@ -32,15 +33,6 @@ std::uint64_t edge_key(int a, int b) {
   const auto lo = static_cast<std::uint64_t>(std::min(a, b));
   const auto hi = static_cast<std::uint64_t>(std::max(a, b));
   return (lo << 32) | hi;
-}
-
-/// Halfedge h = 3 i + k of the i-th kept face lies opposite its corner k and runs from corner
-/// (k+1)%3 to corner (k+2)%3, as in topology.hpp.
-int next_corner(int h) {
-  return h % 3 == 2 ? h - 2 : h + 1;
-}
-int prev_corner(int h) {
-  return h % 3 == 0 ? h + 2 : h - 1;
 }
 
 /// Union-find that also keeps each element's parity (flipped or not) relative to its root: the
@@ -292,14 +284,7 @@ Split split_and_orient(const Positions& P, const Triangles& T, const std::vector
     if (options.split_non_manifold) {
       for (std::size_t i = 0; i < glue.size(); ++i) {
         if (!glue_active[i]) continue;
-        const int h = glue[i].h, g = glue[i].g;
-        if (tail(h) == head(g)) {
-          fans.unite(next_corner(h), prev_corner(g));
-          fans.unite(prev_corner(h), next_corner(g));
-        } else {  // same direction: corners at the same vertex sit at the same relative place
-          fans.unite(next_corner(h), next_corner(g));
-          fans.unite(prev_corner(h), prev_corner(g));
-        }
+        unite_fans_across(fans, glue[i].h, glue[i].g, tail, head);
       }
     } else {
       std::vector<int> first_corner(nv, -1);

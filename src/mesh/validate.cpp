@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "corner_fans.hpp"
 #include "disjoint_sets.hpp"
 #include "face_keys.hpp"
 #include "orientation.hpp"
@@ -86,14 +87,6 @@ std::string format_number(double x) {
 bool is_topological(DefectKind kind) {
   return kind == DefectKind::NonManifoldEdge || kind == DefectKind::NonManifoldVertex ||
          kind == DefectKind::InconsistentOrientation || kind == DefectKind::NonOrientable;
-}
-
-// Halfedge h = 3 f + k of face f runs from corner (k+1)%3 to corner (k+2)%3 (as in topology.hpp).
-int next_corner(int h) {
-  return h % 3 == 2 ? h - 2 : h + 1;
-}
-int prev_corner(int h) {
-  return h % 3 == 0 ? h + 2 : h - 1;
 }
 
 }  // namespace
@@ -238,13 +231,7 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
     for (int h = 0; h < nh; ++h) {
       const int g = twin[h];
       if (g < h) continue;
-      if (tail(h) == head(g)) {
-        fans.unite(next_corner(h), prev_corner(g));
-        fans.unite(prev_corner(h), next_corner(g));
-      } else {  // same direction: corners at the same vertex sit at the same relative place
-        fans.unite(next_corner(h), next_corner(g));
-        fans.unite(prev_corner(h), prev_corner(g));
-      }
+      unite_fans_across(fans, h, g, tail, head);
     }
     std::vector<int> fan_count(nv, 0), first_fan_face(nv, -1), second_fan_face(nv, -1);
     for (int c = 0; c < nh; ++c) {
