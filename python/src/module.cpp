@@ -39,7 +39,8 @@ void set_invalid_input(const py::handle& type, const InvalidInput& e) {
   PyErr_SetObject(type.ptr(), exc.ptr());
 }
 
-void translate_exception(std::exception_ptr p) {
+// By value: pybind11's ExceptionTranslator is void (*)(std::exception_ptr).
+void translate_exception(std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
   const ExceptionClasses& c = exception_classes;
   try {
     if (p) std::rethrow_exception(p);

@@ -25,8 +25,7 @@ struct Fixture {
 
 Fixture make_fixture(const std::string& name) {
   Fixture f;
-  f.root = fs::path(testing::test_tmp_dir()) / name;
-  fs::remove_all(f.root);
+  f.root = testing::fresh_tmp_dir(name);
   f.in = f.root / "in";
   f.out = f.root / "out";
   f.program = f.root / "fake-ricci";
@@ -54,8 +53,7 @@ Fixture make_fixture(const std::string& name) {
 }
 
 void write(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
+  testing::write_text_file(path, text);
 }
 
 std::vector<std::string> lines(const fs::path& path) {

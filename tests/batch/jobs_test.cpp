@@ -16,19 +16,16 @@ namespace fs = std::filesystem;
 
 /// A fresh folder for one test.
 fs::path test_temp_dir(const std::string& name) {
-  const fs::path dir = fs::path(testing::test_tmp_dir()) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return testing::fresh_tmp_dir(name);
 }
 
 void touch(const fs::path& path, const std::string& text = "v 0 0 0\n") {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
+  testing::write_text_file(path, text);
 }
 
 std::vector<std::string> keys(const std::vector<BatchJob>& jobs) {
   std::vector<std::string> k;
+  k.reserve(jobs.size());
   for (const BatchJob& j : jobs) k.push_back(j.key);
   return k;
 }

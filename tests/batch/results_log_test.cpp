@@ -16,10 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::path(testing::test_tmp_dir()) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return testing::fresh_tmp_dir(name);
 }
 
 MeshRecord sample(const std::string& key, MeshOutcome outcome) {
@@ -105,7 +102,7 @@ TEST(ResultsLog, FileHashesTellContentsApart) {
   const fs::path dir = fresh("results_log_hash");
   std::ofstream(dir / "a") << "v 0 0 0\n";
   std::ofstream(dir / "b") << "v 0 0 1\n";
-  std::ofstream(dir / "empty");
+  testing::write_text_file(dir / "empty", "");
   const std::string a = hash_file((dir / "a").string());
   EXPECT_EQ(a.size(), 8u + 16u);
   EXPECT_EQ(a, hash_file((dir / "a").string()));

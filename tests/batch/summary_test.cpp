@@ -142,6 +142,7 @@ TEST(BatchSummary, SlowestFirstTiesByKey) {
 
 TEST(BatchSummary, SlowestKeepsTen) {
   std::vector<MeshRecord> records;
+  records.reserve(25);
   for (int i = 0; i < 25; ++i) {
     records.push_back(record("m" + std::to_string(100 + i), MeshOutcome::Ok, i % 5, 1024, 1.0));
   }

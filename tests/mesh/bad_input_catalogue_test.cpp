@@ -49,9 +49,7 @@ struct Row {
 };
 
 fs::path catalogue_dir() {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "bad_input_catalogue";
-  fs::create_directories(folder);
-  return folder;
+  return testing::suite_tmp_dir("bad_input_catalogue");
 }
 
 const char* thrown_name(Thrown thrown) {

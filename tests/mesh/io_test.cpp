@@ -31,17 +31,12 @@ namespace fs = std::filesystem;
 /// This file's own folder under the shared test folder, so that names cannot clash with other
 /// suites running at the same time.
 fs::path io_tmp_dir() {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "mesh_io";
-  fs::create_directories(folder);
-  return folder;
+  return testing::suite_tmp_dir("mesh_io");
 }
 
 /// Writes `content` to a fresh file of the given name in the test folder; returns its path.
 std::string write_test_file(const std::string& name, const std::string& content) {
-  const std::string path = (io_tmp_dir() / name).string();
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  return path;
+  return testing::write_text_file(io_tmp_dir() / name, content);
 }
 
 /// Runs `action`, which must throw exactly E (not a subclass), and returns the message.

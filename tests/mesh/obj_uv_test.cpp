@@ -29,9 +29,7 @@ namespace fs = std::filesystem;
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 
 fs::path uv_tmp_dir() {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "mesh_obj_uv";
-  fs::create_directories(folder);
-  return folder;
+  return testing::suite_tmp_dir("mesh_obj_uv");
 }
 
 std::string file_content(const std::string& path) {

@@ -15,16 +15,11 @@ namespace ricci {
 namespace {
 
 std::filesystem::path textured_tmp_dir() {
-  const std::filesystem::path folder =
-      std::filesystem::path(testing::test_tmp_dir()) / "textured_obj";
-  std::filesystem::create_directories(folder);
-  return folder;
+  return testing::suite_tmp_dir("textured_obj");
 }
 
 std::string write_file(const std::string& name, const std::string& content) {
-  const std::string path = (textured_tmp_dir() / name).string();
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
+  return testing::write_text_file(textured_tmp_dir() / name, content);
 }
 
 /// The message of the exception E that reading `content` throws (fails when none is thrown).

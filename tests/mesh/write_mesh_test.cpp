@@ -20,9 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_tmp_dir() {
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "write_mesh";
-  fs::create_directories(folder);
-  return folder;
+  return testing::suite_tmp_dir("write_mesh");
 }
 
 std::string path_of(const std::string& name) {

@@ -84,7 +84,7 @@ void expect_straight_lines(const Tracked& r) {
       const int k = x.halfedge % 3;
       ASSERT_EQ(x.halfedge / 3, current);
       const Complex a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-      sides.push_back({a, b});
+      sides.emplace_back(a, b);
       const int twin = r.host.halfedge_twin[x.halfedge], f2 = twin / 3, k2 = twin % 3;
       const auto& s2 = shapes[f2];
       // twin runs b -> a in f2.

@@ -25,24 +25,24 @@ struct Layout {
   std::vector<int> face_chart;
 
   /// A w x h rectangle (two triangles) turned by `angle` and moved to `at`.
-  void rectangle(double w, double h, double angle, Eigen::Vector2d at, int chart) {
+  void rectangle(double w, double h, double angle, const Eigen::Vector2d& at, int chart) {
     const Eigen::Rotation2Dd turn(angle);
     const int base = static_cast<int>(points.size());
     for (const Eigen::Vector2d& p : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0),
                                      Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
-      points.push_back(turn * p + at);
+      points.emplace_back(turn * p + at);
     }
     triangles.push_back({base, base + 1, base + 2});
     triangles.push_back({base, base + 2, base + 3});
     face_chart.insert(face_chart.end(), {chart, chart});
   }
   /// A regular n-gon of radius r around `at` (a fan).
-  void polygon(int n, double r, Eigen::Vector2d at, int chart) {
+  void polygon(int n, double r, const Eigen::Vector2d& at, int chart) {
     const int centre = static_cast<int>(points.size());
     points.push_back(at);
     for (int i = 0; i < n; ++i) {
-      points.push_back(at +
-                       r * Eigen::Vector2d(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n)));
+      points.emplace_back(
+          at + r * Eigen::Vector2d(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n)));
     }
     for (int i = 0; i < n; ++i) {
       triangles.push_back({centre, centre + 1 + i, centre + 1 + (i + 1) % n});
@@ -276,7 +276,7 @@ TEST(PackCharts, ShapesNestWhereRectanglesCannot) {
     const int base = static_cast<int>(input.points.size());
     for (const Eigen::Vector2d& p :
          {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}) {
-      input.points.push_back(p + Eigen::Vector2d(2.0 * c, 0));
+      input.points.emplace_back(p + Eigen::Vector2d(2.0 * c, 0));
     }
     input.triangles.push_back({base, base + 1, base + 2});
     input.face_chart.push_back(c);

@@ -346,6 +346,7 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
 TEST(CommonRefinement, IsTheSameWithAndWithoutTheAnglePolish) {
   const Mesh mesh = make_icosphere(2);
   std::vector<Cone> cones;
+  cones.reserve(4);
   for (int v = 0; v < 4; ++v) cones.push_back({3 * v, kPi});
   ParamResult polished = param_vertex_scaling(mesh, cones);
   ASSERT_TRUE(polished.converged) << polished.message;

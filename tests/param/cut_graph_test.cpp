@@ -40,6 +40,7 @@ Case make_case(Mesh mesh) {
 /// k vertices spread over the index range (generated meshes number their vertices by position).
 std::vector<int> spread_cones(int num_vertices, int k) {
   std::vector<int> cones;
+  cones.reserve(k);
   for (int i = 0; i < k; ++i)
     cones.push_back(static_cast<int>((static_cast<long long>(2 * i + 1) * num_vertices) / (2 * k)));
   return cones;
@@ -213,7 +214,7 @@ void expect_valid_cut(const Case& c, const CutGraphOptions& options, const CutGr
 }
 
 CutGraph check(const Case& c, const CutGraphOptions& options, const std::string& what) {
-  const CutGraph cut = cut_graph(c.topology, c.lengths, options);
+  CutGraph cut = cut_graph(c.topology, c.lengths, options);
   expect_valid_cut(c, options, cut, what);
   return cut;
 }

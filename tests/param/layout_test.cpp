@@ -525,6 +525,7 @@ TEST(Layout, SharedGenus3WithEightCones) {
         (mesh->positions.rowwise() - mesh->positions.row(farthest)).rowwise().norm());
   }
   std::vector<Cone> cones;
+  cones.reserve(picked.size());
   for (int v : picked) cones.push_back({v, -kPi});
   const Flattened f = flatten(*mesh, BoundaryMode::Free, cones);
   expect_valid_layout(f, "3holes.off");

@@ -43,8 +43,7 @@ TEST(OutputMesh, TorusCornersIndexTheCutMeshUv) {
     }
   }
 
-  const fs::path folder = fs::path(testing::test_tmp_dir()) / "output_mesh";
-  fs::create_directories(folder);
+  const fs::path folder = testing::suite_tmp_dir("output_mesh");
   write_mesh((folder / "torus.obj").string(), textured);
   // The bytes the CLI wrote before write_mesh: write_obj of the same arrays.
   write_obj((folder / "torus_write_obj.obj").string(), result.mesh, result.cut_mesh.triangles,

@@ -341,16 +341,17 @@ TEST(ParameterizeComponents, ManyTinyComponents) {
   for (int i = 0; i < 60; ++i) {
     const double s = std::pow(10.0, -1 + 2 * unit(rng));
     if (i % 3 == 0) {
-      parts.push_back(
-          {testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {unit(rng), 0.2 + unit(rng), unit(rng)}},
-                              {{0, 1, 2}}),
-           s});
+      parts.emplace_back(
+          testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {unit(rng), 0.2 + unit(rng), unit(rng)}},
+                             {{0, 1, 2}}),
+          s);
     } else if (i % 3 == 1) {
-      parts.push_back({testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {1.5, 1, unit(rng)}},
-                                          {{0, 1, 2}, {1, 3, 2}}),
-                       s});
+      parts.emplace_back(
+          testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {1.5, 1, unit(rng)}},
+                             {{0, 1, 2}, {1, 3, 2}}),
+          s);
     } else {
-      parts.push_back({testing::tetrahedron(), s});
+      parts.emplace_back(testing::tetrahedron(), s);
     }
   }
   const ParamResult r = parameterize(combine(parts), vertex_scaling());
@@ -507,7 +508,7 @@ TEST(ParameterizeComponents, DragonAfterRepairWithoutItsLargestComponent) {
   ASSERT_EQ(t.components.size(), 820u);
   std::vector<std::pair<Mesh, double>> small;
   for (Submesh& s : split_components(*mesh, t)) {
-    if (s.mesh.num_faces() < 1000) small.push_back({std::move(s.mesh), 1.0});
+    if (s.mesh.num_faces() < 1000) small.emplace_back(std::move(s.mesh), 1.0);
   }
   ASSERT_EQ(small.size(), 819u);
   Mesh rest;

@@ -52,7 +52,9 @@ DomainMesh mesh_polygon(const std::vector<Complex>& corners, int per_side, int r
     }
   }
   auto vertex = [&](int ring, int q) { return ring == 0 ? 0 : 1 + (ring - 1) * m + (q % m); };
+  // (No reserve: g++ cannot bound m (2 rings - 1) and warns of an allocation beyond the maximum.)
   std::vector<Eigen::Vector3i> faces;
+  // NOLINTNEXTLINE(performance-inefficient-vector-operation)
   for (int q = 0; q < m; ++q) faces.emplace_back(0, vertex(1, q), vertex(1, q + 1));
   for (int ring = 1; ring < rings; ++ring) {
     for (int q = 0; q < m; ++q) {

@@ -88,7 +88,7 @@ std::vector<std::string> external_references(const std::string& page) {
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::vector<std::string> found;
   for (const char* element : {"<link", "<img", "<iframe", "<script src", "@import", "import("}) {
-    if (lower.find(element) != std::string::npos) found.push_back(element);
+    if (lower.find(element) != std::string::npos) found.emplace_back(element);
   }
   for (const std::string key : {"src", "href", "url("}) {
     for (std::size_t at = lower.find(key); at != std::string::npos; at = lower.find(key, at + 1)) {

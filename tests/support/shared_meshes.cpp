@@ -54,4 +54,24 @@ std::string test_tmp_dir() {
   return dir.string();
 }
 
+std::filesystem::path suite_tmp_dir(const std::string& name) {
+  std::filesystem::path dir = std::filesystem::path(test_tmp_dir()) / name;
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path fresh_tmp_dir(const std::string& name) {
+  std::filesystem::path dir = std::filesystem::path(test_tmp_dir()) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string write_text_file(const std::filesystem::path& path, const std::string& content) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  return path.string();
+}
+
 }  // namespace ricci::testing

@@ -2,6 +2,7 @@
 /// \file
 /// Access to the real meshes of ../shared/meshes for tests that run only where it exists.
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,17 @@ std::vector<SharedMesh> shared_meshes();
 
 /// A folder for test outputs ($RICCI_TEST_TMP or the system temporary folder), created on demand.
 std::string test_tmp_dir();
+
+/// The folder `name` under test_tmp_dir(), created on demand: one per suite, so that file names
+/// cannot clash with suites that ctest runs at the same time.
+std::filesystem::path suite_tmp_dir(const std::string& name);
+
+/// The same folder emptied first: a fresh folder for one test.
+std::filesystem::path fresh_tmp_dir(const std::string& name);
+
+/// Writes `content` to `path` (bytes as given, the file truncated), creating its folder; returns
+/// the path as a string.
+std::string write_text_file(const std::filesystem::path& path, const std::string& content);
 
 }  // namespace ricci::testing
 
