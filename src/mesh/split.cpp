@@ -1,6 +1,8 @@
 #include "ricci/mesh/split.hpp"
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ricci/errors.hpp"
@@ -12,6 +14,22 @@ ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
   if (vertex < 0 || vertex >= mesh.num_vertices()) {
     throw InvalidInput("raise_valence: vertex " + std::to_string(vertex) + " is out of range [0, " +
                        std::to_string(mesh.num_vertices()) + ")");
+  }
+  return raise_valence(mesh, build_topology(mesh.triangles, mesh.num_vertices()), vertex,
+                       min_valence);
+}
+
+ValenceResult raise_valence(const Mesh& mesh, const Topology& topology, int vertex,
+                            int min_valence) {
+  if (vertex < 0 || vertex >= mesh.num_vertices()) {
+    throw InvalidInput("raise_valence: vertex " + std::to_string(vertex) + " is out of range [0, " +
+                       std::to_string(mesh.num_vertices()) + ")");
+  }
+  if (topology.num_vertices != mesh.num_vertices() || topology.num_faces != mesh.num_faces()) {
+    throw InvalidInput("raise_valence: the topology has " + std::to_string(topology.num_vertices) +
+                       " vertices and " + std::to_string(topology.num_faces) + " faces, the mesh " +
+                       std::to_string(mesh.num_vertices()) + " and " +
+                       std::to_string(mesh.num_faces()) + " (build_topology of another mesh)");
   }
   ValenceResult result;
   std::vector<Eigen::Vector3d> positions(mesh.num_vertices());
@@ -31,9 +49,11 @@ ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
     return out;
   };
 
+  // The connectivity of the current faces: the caller's before the first split, then built after
+  // each round (the last build is the result's).
+  std::optional<Topology> built;
   for (;;) {
-    const Mesh current = to_mesh();
-    const Topology t = build_topology(current.triangles, current.num_vertices());
+    const Topology& t = built ? *built : topology;
     result.final_valence = t.vertex_degree[vertex];
     if (t.vertex_component[vertex] < 0) {
       throw InvalidInput("raise_valence: vertex " + std::to_string(vertex) + " is in no face");
@@ -74,8 +94,15 @@ ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
       if (t.vertex_degree[vertex] + round_splits >= min_valence) break;
     }
     if (round_splits == 0) break;  // cannot happen on a valid mesh; guards an endless loop
+    result.mesh = to_mesh();
+    built = build_topology(result.mesh.triangles, result.mesh.num_vertices());
   }
-  result.mesh = to_mesh();
+  if (built) {
+    result.topology = std::move(*built);
+  } else {
+    result.mesh = mesh;
+    result.topology = topology;
+  }
   return result;
 }
 

@@ -211,14 +211,14 @@ void raise_cone_valence(ParamRun& run) {
                                         : run.input_topology;
       const int needed = required_valence(cone.curvature, run.options.structure.scheme);
       if (t.vertex_degree[cone.vertex] >= needed) continue;
-      ValenceResult r = raise_valence(result.mesh, cone.vertex, needed);
+      ValenceResult r = raise_valence(result.mesh, t, cone.vertex, needed);
       result.mesh = std::move(r.mesh);
       result.edge_splits += r.splits;
       for (const auto& parents : r.new_vertex_parents) {
         result.added_vertex_parents.push_back(parents);
         result.vertex_origin.push_back(-1);
       }
-      raised = build_topology(result.mesh.triangles, result.mesh.num_vertices());
+      raised = std::move(r.topology);
     }
     if (raised) {
       run.cone_model.reset();

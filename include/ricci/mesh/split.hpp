@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/topology.hpp"
 
 namespace ricci {
 
@@ -17,6 +18,9 @@ struct ValenceResult {
   std::vector<std::array<int, 2>> new_vertex_parents;
   int splits = 0;         ///< edges split
   int final_valence = 0;  ///< valence of the vertex afterwards
+  /// The connectivity of `mesh`, built once after the last round of splits (the caller's when
+  /// there were none): the next stage needs it, and building it again would repeat the work.
+  Topology topology;
 };
 
 /// Splits the edges opposite `vertex` in its faces at their midpoints (each split adds one
@@ -24,6 +28,12 @@ struct ValenceResult {
 /// \pre mesh is manifold and consistently oriented
 /// \throw InvalidInput when the vertex is out of range or used by no face
 ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence);
+
+/// The same on a mesh whose connectivity the caller already holds (build_topology of mesh): no
+/// build before the first round. Each round of splits builds the connectivity once, and the last
+/// such build is ValenceResult::topology.
+ValenceResult raise_valence(const Mesh& mesh, const Topology& topology, int vertex,
+                            int min_valence);
 
 }  // namespace ricci
 
