@@ -50,25 +50,46 @@ def repair(V, F, **options):
     return V2, F2, result
 
 
-def write_obj(path, V, F, uv=None, uv_triangles=None):
-    """Writes a mesh as OBJ atomically; with ``uv`` (k, 2) and ``uv_triangles`` (m, 3, indices
-    into uv per corner) also its texture coordinates."""
+_WRITTEN_FORMATS = tuple(name for name in _ricci.MeshFormat.names if name != "glb")
+
+
+def write_mesh(path, V, F, uv=None, uv_triangles=None, *, format=None, drop_uv=False):
+    """Writes a mesh atomically (the target is untouched when anything fails), in ``format``
+    ("obj", "off", "ply" or "stl") or, when it is None, the format of the path's extension.
+
+    With ``uv`` (k, 2) and ``uv_triangles`` (m, 3, indices into uv per corner) also its texture
+    coordinates: OBJ holds them (``vt`` and ``f v/vt``); OFF, PLY and STL cannot, and refuse
+    them unless ``drop_uv=True``. OFF and PLY keep positions exactly; STL rounds them to float and
+    writes no shared vertices (reading welds them again). glTF binary needs a texture and is
+    written by ``ricci param -o x.glb``.
+    """
     m = _arrays.mesh(V, F)
     if (uv is None) != (uv_triangles is None):
-        raise ValueError("write_obj needs both uv and uv_triangles, or neither")
+        raise ValueError("write_mesh needs both uv and uv_triangles, or neither")
+    if format is not None and format not in _WRITTEN_FORMATS:
+        raise ValueError(f"write_mesh: unknown format {format!r}; expected "
+                         + ", ".join(_WRITTEN_FORMATS[:-1]) + f" or {_WRITTEN_FORMATS[-1]}")
     if uv is None:
-        _ricci.write_obj(os.fspath(path), m)
-        return
-    uv = np.asarray(uv)
-    if uv.ndim != 2 or uv.shape[1] != 2 or uv.dtype.kind not in "fiu":
-        raise ValueError(f"uv must be a (k, 2) float array, got shape {uv.shape} "
-                         f"and dtype {uv.dtype}")
-    uv_triangles = _arrays.triangles(uv_triangles, "uv_triangles")
-    if uv_triangles.shape[0] != m.num_faces:
-        raise ValueError(f"uv_triangles must have one row per face ({m.num_faces}), "
-                         f"got shape {uv_triangles.shape}")
-    _ricci.write_obj(os.fspath(path), m, uv_triangles,
-                     np.ascontiguousarray(uv, dtype=np.float64))
+        uv = np.zeros((0, 2))
+        uv_triangles = np.zeros((0, 3), dtype=np.int32)
+    else:
+        uv = np.asarray(uv)
+        if uv.ndim != 2 or uv.shape[1] != 2 or uv.dtype.kind not in "fiu":
+            raise ValueError(f"uv must be a (k, 2) float array, got shape {uv.shape} "
+                             f"and dtype {uv.dtype}")
+        uv_triangles = _arrays.triangles(uv_triangles, "uv_triangles")
+        if uv_triangles.shape[0] != m.num_faces:
+            raise ValueError(f"uv_triangles must have one row per face ({m.num_faces}), "
+                             f"got shape {uv_triangles.shape}")
+    _ricci.write_mesh(os.fspath(path), m, uv_triangles,
+                      np.ascontiguousarray(uv, dtype=np.float64), format or "", bool(drop_uv))
+
+
+def write_obj(path, V, F, uv=None, uv_triangles=None):
+    """Writes a mesh as OBJ atomically; with ``uv`` (k, 2) and ``uv_triangles`` (m, 3, indices
+    into uv per corner) also its texture coordinates. The same as
+    ``write_mesh(path, V, F, uv, uv_triangles, format="obj")``."""
+    write_mesh(path, V, F, uv, uv_triangles, format="obj")
 
 
 def info(V, F):

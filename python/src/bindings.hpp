@@ -41,8 +41,11 @@ inline std::string phrase_fixes(const std::vector<OptionFix>& fixes) {
     const OptionFix& fix = fixes[i];
     const bool number =
         !fix.value.empty() && fix.value.find_first_not_of("0123456789") == std::string::npos;
+    const bool boolean = fix.value == "true" || fix.value == "false";
     out += (i == 0 ? "try: " : ", or ") + fix.option + "=" +
-           (number ? fix.value : "\"" + fix.value + "\"");
+           (boolean  ? (fix.value == "true" ? "True" : "False")
+            : number ? fix.value
+                     : "\"" + fix.value + "\"");
   }
   return out;
 }

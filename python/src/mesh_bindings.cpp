@@ -63,14 +63,16 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("num_vertices", &Mesh::num_vertices)
       .def_property_readonly("num_faces", &Mesh::num_faces);
 
-  py::enum_<MeshFormat>(m, "MeshFormat",
-                        "Mesh file formats: read_mesh reads Obj, Off, Ply and Stl; Glb (glTF "
-                        "binary) is written by `ricci param -o x.glb`.")
-      .value("Obj", MeshFormat::Obj)
+  py::enum_<MeshFormat> mesh_format(
+      m, "MeshFormat",
+      "Mesh file formats: read_mesh reads and write_mesh writes Obj, Off, Ply and Stl; Glb (glTF "
+      "binary) is written by `ricci param -o x.glb`.");
+  mesh_format.value("Obj", MeshFormat::Obj)
       .value("Off", MeshFormat::Off)
       .value("Ply", MeshFormat::Ply)
       .value("Stl", MeshFormat::Stl)
       .value("Glb", MeshFormat::Glb);
+  bind_enum_names(mesh_format);
 
   py::enum_<DefectKind> defect_kind(m, "DefectKind", "The kinds of mesh defect.");
   defect_kind.value("NonFiniteCoordinate", DefectKind::NonFiniteCoordinate)
@@ -180,16 +182,23 @@ void bind_mesh(py::module_& m) {
         "TopologyError (defects, when options.validate).",
         py::call_guard<py::gil_scoped_release>());
   m.def(
-      "write_obj", [](const std::string& path, const Mesh& mesh) { write_obj(path, mesh); },
-      py::arg("path"), py::arg("mesh"), "Writes a mesh as OBJ, atomically.");
-  m.def(
-      "write_obj",
+      "write_mesh",
       [](const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-         const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
-        write_obj(path, mesh, uv_triangles, uv);
+         const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const std::string& format,
+         bool drop_uv) {
+        TexturedMesh textured;
+        textured.mesh = mesh;
+        textured.uv_triangles = uv_triangles;
+        textured.uv = uv;
+        WriteOptions options;
+        if (!format.empty()) options.format = parse_enum<MeshFormat>(format, "write_mesh");
+        options.drop_uv = drop_uv;
+        write_mesh(path, textured, options);
       },
       py::arg("path"), py::arg("mesh"), py::arg("uv_triangles"), py::arg("uv"),
-      "Writes a mesh with per-corner texture coordinates (uv_triangles index uv) as OBJ.");
+      py::arg("format") = "", py::arg("drop_uv") = false,
+      "Writes a mesh (empty uv_triangles and uv: without texture coordinates) in the format of "
+      "`format` or of the path's extension, atomically (C++ write_mesh).");
   m.def("validate_mesh", &validate_mesh, py::arg("mesh"), py::arg("context"),
         py::arg("options") = ValidationOptions{},
         "Raises on the first defect other than an unreferenced vertex (TopologyError for "

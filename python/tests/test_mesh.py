@@ -54,6 +54,38 @@ def test_write_obj_round_trip(tmp_path, torus):
     np.testing.assert_array_equal(F2, F)
 
 
+@pytest.mark.parametrize("extension", ["obj", "off", "ply", "stl"])
+def test_write_mesh_round_trip_in_every_format(tmp_path, torus, extension):
+    V, F = torus
+    path = tmp_path / f"torus.{extension}"
+    ricci.write_mesh(path, V, F)
+    V2, F2, info = ricci.read_mesh(path)
+    assert info.format.name.lower() == extension
+    # STL rounds positions to float and numbers vertices as the faces first use them; the others
+    # keep positions and numbering exactly. Corner by corner, all four give the same faces.
+    np.testing.assert_allclose(V2[F2], V[F], rtol=0, atol=2e-7 if extension == "stl" else 0)
+    if extension != "stl":
+        np.testing.assert_array_equal(F2, F)
+
+
+def test_write_mesh_format_overrides_the_extension_and_uv_needs_obj(tmp_path, torus):
+    V, F = torus
+    path = tmp_path / "torus.dat"
+    ricci.write_mesh(path, V, F, format="ply")
+    assert path.read_bytes().startswith(b"ply\n")
+    uv = V[:, :2]
+    with pytest.raises(ValueError, match="texture coordinates") as refused:
+        ricci.write_mesh(tmp_path / "t.off", V, F, uv, F)
+    assert "try: drop_uv=True" in str(refused.value)
+    assert refused.value.fixes == [("drop_uv", "true")]
+    assert not (tmp_path / "t.off").exists()  # nothing written
+    ricci.write_mesh(tmp_path / "t.off", V, F, uv, F, drop_uv=True)
+    with pytest.raises(ValueError, match="expected obj, off, ply or stl"):
+        ricci.write_mesh(tmp_path / "t.x", V, F, format="vrml")
+    ricci.write_mesh(tmp_path / "t.obj", V, F, uv, F)
+    assert b"\nvt " in (tmp_path / "t.obj").read_bytes()
+
+
 def test_info_tetrahedron(tetrahedron):
     info = ricci.info(*tetrahedron)
     assert (info.vertices, info.edges, info.faces) == (4, 6, 4)

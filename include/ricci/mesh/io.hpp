@@ -7,12 +7,14 @@
 /// readers silently drop faces on non-manifold edges and on bad indices, which is why ricci parses
 /// these simple formats itself.)
 
+#include <array>
 #include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ricci/enum_names.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/repair.hpp"
 #include "ricci/mesh/textured_mesh.hpp"
@@ -23,6 +25,19 @@ namespace ricci {
 /// Mesh file formats: read_mesh reads Obj, Off, Ply and Stl; write_mesh writes those and Glb
 /// (glTF 2.0 binary, through the writer of the picture library: WriteOptions::glb_writer).
 enum class MeshFormat { Obj, Off, Ply, Stl, Glb };
+
+/// The formats by their usual extension: what Python's write_mesh(format=...) parses.
+template <>
+struct EnumNames<MeshFormat> {
+  static constexpr const char* noun = "mesh format";
+  static constexpr std::array<EnumName<MeshFormat>, 5> names{{
+      {MeshFormat::Obj, "obj"},
+      {MeshFormat::Off, "off"},
+      {MeshFormat::Ply, "ply"},
+      {MeshFormat::Stl, "stl"},
+      {MeshFormat::Glb, "glb"},
+  }};
+};
 
 /// Options of read_mesh.
 struct ReadOptions {

@@ -97,9 +97,10 @@ void write_mesh(const std::string& path, const TexturedMesh& mesh, const WriteOp
   }
   if (mesh.has_uv() && !options.drop_uv &&
       (format == MeshFormat::Off || format == MeshFormat::Ply || format == MeshFormat::Stl)) {
-    invalid(std::string(format_name(format)) +
-            " cannot hold texture coordinates: write OBJ or glTF binary, or set "
-            "WriteOptions::drop_uv to write the mesh without them");
+    throw InvalidInput("write_mesh: " + path + ": " + format_name(format) +
+                           " cannot hold texture coordinates: write OBJ or glTF binary, or set "
+                           "WriteOptions::drop_uv to write the mesh without them",
+                       fixes_of({{"drop_uv", "true"}}));
   }
   switch (format) {
     case MeshFormat::Obj:
