@@ -49,7 +49,7 @@ inline Mesh with_valence3_spikes(const Mesh& mesh, int stride, double push) {
                              pc = mesh.positions.row(c);
     const double longest = std::max({(pb - pa).norm(), (pc - pb).norm(), (pa - pc).norm()});
     const int p = mesh.num_vertices() + static_cast<int>(added.size());
-    added.push_back(0.8 * pa + 0.1 * pb + 0.1 * pc + push * longest * face_normal(mesh, f));
+    added.emplace_back(0.8 * pa + 0.1 * pb + 0.1 * pc + push * longest * face_normal(mesh, f));
     faces.emplace_back(a, b, p);
     faces.emplace_back(b, c, p);
     faces.emplace_back(c, a, p);
@@ -82,7 +82,7 @@ inline Mesh with_needles(const Mesh& mesh, int stride, double t) {
     face_split[h0 / 3] = face_split[h1 / 3] = 1;
     const int a = topology.edge_vertices(e, 0), b = topology.edge_vertices(e, 1);
     split_vertex[e] = mesh.num_vertices() + static_cast<int>(added.size());
-    added.push_back((1 - t) * mesh.positions.row(a) + t * mesh.positions.row(b));
+    added.emplace_back((1 - t) * mesh.positions.row(a) + t * mesh.positions.row(b));
   }
   std::vector<Eigen::Vector3i> faces;
   for (int f = 0; f < mesh.num_faces(); ++f) {
