@@ -9,7 +9,6 @@
 #include <deque>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -20,6 +19,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "triangle_grid.hpp"
 
 namespace ricci {
 namespace {
@@ -109,21 +109,11 @@ PatchLayout develop_patches(const Mesh& mesh) {
         (mesh.positions.row(t.edge_vertices(e, 0)) - mesh.positions.row(t.edge_vertices(e, 1)))
             .norm();
   }
-  const double cell = 2 * mean_length / std::max(1, t.num_edges);
-  std::unordered_map<long long, std::vector<int>> grid;
-  auto for_cells = [&](const std::array<Eigen::Vector2d, 3>& p, auto visit) {
-    const Eigen::Vector2d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]) / cell;
-    const Eigen::Vector2d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]) / cell;
-    for (auto i = static_cast<long long>(std::floor(lo.x())); i <= std::floor(hi.x()); ++i) {
-      for (auto j = static_cast<long long>(std::floor(lo.y())); j <= std::floor(hi.y()); ++j) {
-        visit((i << 32) ^ (j & 0xffffffffLL));
-      }
-    }
-  };
+  param_detail::TriangleGrid grid(2 * mean_length / std::max(1, t.num_edges));
   std::deque<int> frontier;  // halfedges of patch faces whose other face may join
   auto add = [&](int f, int patch) {
     out.face_patch[f] = patch;
-    for_cells(triangle(f), [&](long long key) { grid[key].push_back(f); });
+    grid.insert(f, triangle(f));
     for (int k = 0; k < 3; ++k) {
       const int twin = t.halfedge_twin[3 * f + k];
       if (twin >= 0 && out.face_patch[Topology::face_of(twin)] < 0) frontier.push_back(3 * f + k);
@@ -171,19 +161,8 @@ PatchLayout develop_patches(const Mesh& mesh) {
         shape[kg] = corner[c_apex];
         glue[side - 1] = {c_apex, c_shared};
       }
-      bool overlaps = false;
-      for_cells(shape, [&](long long key) {
-        if (overlaps) return;
-        const auto it = grid.find(key);
-        if (it == grid.end()) return;
-        for (int other : it->second) {
-          if (triangles_overlap(shape, triangle(other))) {
-            overlaps = true;
-            return;
-          }
-        }
-      });
-      if (overlaps) continue;  // g may still join from another side, or seed a patch
+      // g may still join from another side, or seed a patch
+      if (grid.overlaps(shape, triangle)) continue;
       for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
       unite(3 * g + (kg + 1) % 3, cq);
       unite(3 * g + (kg + 2) % 3, cp);
@@ -278,17 +257,7 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
     const auto p = triangle(f);
     mean += (p[0].cwiseMax(p[1]).cwiseMax(p[2]) - p[0].cwiseMin(p[1]).cwiseMin(p[2])).maxCoeff();
   }
-  const double cell = std::max(2 * mean / std::max(1, nf), 1e-300);
-  std::unordered_map<long long, std::vector<int>> grid;
-  auto for_cells = [&](const std::array<Eigen::Vector2d, 3>& p, auto visit) {
-    const Eigen::Vector2d lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]) / cell;
-    const Eigen::Vector2d hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]) / cell;
-    for (auto i = static_cast<long long>(std::floor(lo.x())); i <= std::floor(hi.x()); ++i) {
-      for (auto j = static_cast<long long>(std::floor(lo.y())); j <= std::floor(hi.y()); ++j) {
-        visit((i << 32) ^ (j & 0xffffffffLL));
-      }
-    }
-  };
+  param_detail::TriangleGrid grid(std::max(2 * mean / std::max(1, nf), 1e-300));
   std::deque<int> frontier;
   count = 0;
   for (int seed = 0; seed < nf; ++seed) {
@@ -300,20 +269,10 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
       frontier.pop_front();
       if (piece[f] >= 0) continue;
       const auto shape = triangle(f);
-      bool overlaps = false;
-      for_cells(shape, [&](long long key) {
-        const auto it = grid.find(key);
-        if (overlaps || it == grid.end()) return;
-        for (int other : it->second) {
-          if (triangles_overlap(shape, triangle(other))) {
-            overlaps = true;
-            return;
-          }
-        }
-      });
-      if (overlaps) continue;  // it may still join from another side, or seed a piece
+      // f may still join from another side, or seed a piece
+      if (grid.overlaps(shape, triangle)) continue;
       piece[f] = count;
-      for_cells(shape, [&](long long key) { grid[key].push_back(f); });
+      grid.insert(f, shape);
       for (int k = 0; k < 3; ++k) {
         const int twin = t.halfedge_twin[3 * f + k];
         if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
