@@ -498,6 +498,28 @@ void write_refinement(const std::string& output, const std::string& input, const
   });
 }
 
+/// What a hyperbolic layout leaves to say on stderr, JSON or not: input faces reversed in it, and
+/// vertices so close to the rim of the disk that double precision no longer keeps points apart
+/// (a surface of large hyperbolic area spans that far; docs/hyperbolic.md, "Not done").
+void warn_about_hyperbolic_layout(const std::string& mesh, const HyperbolicParamResult& result) {
+  const HyperbolicLayout& l = result.layout;
+  if (l.num_flipped_faces > 0) {
+    std::cerr << "warning: " << mesh << ": " << l.num_flipped_faces
+              << " faces come out reversed in the layout (docs/hyperbolic.md)\n";
+  }
+  // Beyond 1 - 1e-12 a unit of hyperbolic distance is below 1e-12 * 1e-4 of the disk near the
+  // rim, where the corners of small faces round together.
+  if (l.max_radius > 1 - 1e-12) {
+    std::cerr
+        << "warning: " << mesh << ": the layout reaches |z| = 1 - " << 1 - l.max_radius
+        << " in the Poincare disk, where double precision cannot keep points apart (hyperbolic "
+           "area "
+        << result.flow.components.front().flow.total_area
+        << "); the texture coordinates near the rim are unreliable (layout length error "
+        << l.max_length_relative_error << "; docs/hyperbolic.md)\n";
+  }
+}
+
 int run_param_hyperbolic(const ParamArgs& args) {
   HyperbolicParamOptions options;
   if (args.faces != "input") {
@@ -536,6 +558,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
   textured.uv_triangles = result.cut_mesh.triangles;
   textured.uv = result.uv;
   write_textured_output(args, textured);
+  warn_about_hyperbolic_layout(args.mesh, result);
 #ifdef RICCI_HAVE_RENDER
   write_hyperbolic_pictures(args.pictures, result);
 #endif

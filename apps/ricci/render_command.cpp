@@ -248,7 +248,16 @@ void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamR
   TilingInfo info;
   const std::string svg = (std::filesystem::path(folder) / "tiling.svg").string();
   const std::string png = (std::filesystem::path(folder) / "tiling.png").string();
-  write_svg(svg, draw_tiling_svg(result.uv, result.cut_mesh.triangles, generators, {}, &info));
+  std::string drawing;
+  try {
+    drawing = draw_tiling_svg(result.uv, result.cut_mesh.triangles, generators, {}, &info);
+  } catch (const InvalidInput& e) {
+    // The parameterization is written; only its picture is out of reach (segment maps whose
+    // determinant double precision cannot resolve, far out in the disk).
+    std::cerr << "warning: pictures: the tiling is not drawn: " << e.what() << "\n";
+    return;
+  }
+  write_svg(svg, drawing);
   write_png(png, draw_tiling(result.uv, result.cut_mesh.triangles, generators));
   std::cerr << "pictures: " << svg << " " << png << " (fundamental domain and " << info.images_drawn
             << " of its images)\n";

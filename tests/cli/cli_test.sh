@@ -858,6 +858,21 @@ if (( ${#pictures[@]} )); then
     fi
   done
 fi
+if grep -q "warning" "$WORK/err.txt"; then
+  fail "param genus 2 hyperbolic: no warning" "$(first_error)"
+else ok; fi
+# A genus-3 surface with 60 holes (hyperbolic area 402): its layout reaches the rim of the disk
+# further than double precision resolves. The OBJ is written, with a warning that says so (and,
+# with --pictures, that the tiling cannot be drawn) instead of a silent answer or a failure.
+ricci generate surface --genus 3 --holes 60 --resolution 48 -o hyperbolic/holes60.obj
+ricci param hyperbolic/holes60.obj --geometry hyperbolic -o hyperbolic/holes60_uv.obj "${pictures[@]/pics/pics60}"
+expect_rc "param hyperbolic beyond double precision" 0
+expect_file "param hyperbolic beyond double precision writes the OBJ" hyperbolic/holes60_uv.obj
+expect_err "param hyperbolic beyond double precision" "warning: hyperbolic/holes60.obj: the layout reaches |z| = 1 - " \
+  "where double precision cannot keep points apart"
+if (( ${#pictures[@]} )); then
+  expect_err "param hyperbolic beyond double precision --pictures" "warning: pictures: the tiling is not drawn"
+fi
 ricci param meshes/small_torus.obj --geometry hyperbolic -o hyperbolic/x.obj
 expect_rc "param hyperbolic torus" 2
 expect_err "param hyperbolic torus" "chi"
