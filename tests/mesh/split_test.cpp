@@ -9,18 +9,12 @@
 #include "ricci/mesh/build_counts.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/topology.hpp"
+#include "support/topology_checks.hpp"
 
 namespace ricci {
 namespace {
 
-void expect_same_topology(const Topology& a, const Topology& b) {
-  EXPECT_EQ(a.num_vertices, b.num_vertices);
-  EXPECT_EQ(a.num_edges, b.num_edges);
-  EXPECT_EQ(a.num_faces, b.num_faces);
-  EXPECT_EQ(a.halfedge_twin, b.halfedge_twin);
-  EXPECT_EQ(a.vertex_degree, b.vertex_degree);
-  EXPECT_TRUE(a.edge_vertices == b.edge_vertices);
-}
+using testing::expect_same_connectivity;
 
 TEST(RaiseValence, ReturnsTheRefinedMeshsOwnConnectivity) {
   const Mesh mesh = make_closed_surface(2, 10);
@@ -31,7 +25,7 @@ TEST(RaiseValence, ReturnsTheRefinedMeshsOwnConnectivity) {
   EXPECT_EQ(r.topology.vertex_degree[0], r.final_valence);
   EXPECT_EQ(r.mesh.num_vertices(), mesh.num_vertices() + r.splits);
   EXPECT_TRUE(r.mesh.positions.topRows(mesh.num_vertices()) == mesh.positions);
-  expect_same_topology(r.topology, build_topology(r.mesh.triangles, r.mesh.num_vertices()));
+  expect_same_connectivity(r.topology, build_topology(r.mesh.triangles, r.mesh.num_vertices()));
   // The overload that builds the connectivity itself refines the same way.
   const ValenceResult same = raise_valence(mesh, 0, before + 9);
   EXPECT_TRUE(same.mesh.triangles == r.mesh.triangles);
@@ -51,7 +45,7 @@ TEST(RaiseValence, BuildsTheConnectivityOncePerRoundOfSplits) {
   const ValenceResult kept = raise_valence(mesh, topology, 0, before);
   EXPECT_EQ((build_counts() - again).topologies, 0);
   EXPECT_EQ(kept.splits, 0);
-  expect_same_topology(kept.topology, topology);
+  expect_same_connectivity(kept.topology, topology);
 }
 
 TEST(RaiseValence, RefusesAConnectivityOfAnotherMesh) {

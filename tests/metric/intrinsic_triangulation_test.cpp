@@ -20,6 +20,7 @@
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "support/hard_meshes.hpp"
+#include "support/topology_checks.hpp"
 
 namespace ricci {
 namespace {
@@ -249,15 +250,7 @@ Input input_of(const Mesh& mesh) {
   return in;
 }
 
-void expect_same_connectivity(const Topology& a, const Topology& b) {
-  EXPECT_EQ(a.triangles, b.triangles);
-  EXPECT_EQ(a.face_edges, b.face_edges);
-  EXPECT_EQ(a.halfedge_edge, b.halfedge_edge);
-  EXPECT_EQ(a.halfedge_twin, b.halfedge_twin);
-  EXPECT_EQ(a.edge_vertices, b.edge_vertices);
-  EXPECT_EQ(a.edge_halfedges, b.edge_halfedges);
-  EXPECT_EQ(a.vertex_degree, b.vertex_degree);
-}
+using testing::expect_same_connectivity;
 
 TEST(IntrinsicTriangulationType, CopiesTheInputOnlyAtTheFirstFlip) {
   DelaunayFlipOptions isometric;
