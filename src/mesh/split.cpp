@@ -11,10 +11,7 @@
 namespace ricci {
 
 ValenceResult raise_valence(const Mesh& mesh, int vertex, int min_valence) {
-  if (vertex < 0 || vertex >= mesh.num_vertices()) {
-    throw InvalidInput("raise_valence: vertex " + std::to_string(vertex) + " is out of range [0, " +
-                       std::to_string(mesh.num_vertices()) + ")");
-  }
+  // (The vertex is checked by the overload; build_topology does not read it.)
   return raise_valence(mesh, build_topology(mesh.triangles, mesh.num_vertices()), vertex,
                        min_valence);
 }
