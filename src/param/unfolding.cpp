@@ -1,0 +1,249 @@
+#include "unfolding.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numeric>
+
+#include <Eigen/Geometry>
+
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/curvature.hpp"
+#include "ricci/metric/lengths.hpp"
+#include "triangle_grid.hpp"
+
+namespace ricci::param_detail {
+namespace {
+
+/// An interior vertex whose 3D angle sum is within this of 2 pi is flat, not a cone, in an
+/// unfolded component: angle sums inside planar regions round to a few 1e-15.
+constexpr double kFlatCurvature = 1e-9;
+/// A face developed next to an already developed one lands within rounding of where that one
+/// put their shared vertex when the vertex between them is flat: closer than this (relative to
+/// the face's longest edge) it takes that position exactly and the two faces are glued.
+constexpr double kSnap = 1e-9;
+
+}  // namespace
+
+void fit_unit_square(ParamResult& r) {
+  const Eigen::Vector2d lo = r.layout.uv.colwise().minCoeff().transpose();
+  const Eigen::Vector2d hi = r.layout.uv.colwise().maxCoeff().transpose();
+  const double extent = (hi - lo).maxCoeff();
+  r.uv_offset = lo;
+  r.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
+  r.uv = (r.layout.uv.rowwise() - lo.transpose()) * r.uv_scale;
+}
+
+PatchLayout develop_patches(const Mesh& mesh) {
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const int nf = t.num_faces;
+  PatchLayout out;
+  out.face_patch.assign(nf, -1);
+  std::vector<Eigen::Vector2d> corner(3 * nf);  // position of corner 3 f + k
+  std::vector<int> parent(3 * nf);              // union-find of corners glued together
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int c) {
+    while (parent[c] != c) c = parent[c] = parent[parent[c]];
+    return c;
+  };
+  auto unite = [&](int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  auto position = [&](int f, int k) -> Eigen::Vector3d {
+    return mesh.positions.row(t.triangles(f, k % 3)).transpose();
+  };
+  // Where the corner k of face f goes, given where corners k + 1 and k + 2 went: its offset from
+  // corner k + 1 along and across that edge, taken from the 3D triangle (no angle formula, so a
+  // needle face cannot produce NaN).
+  auto apex = [&](int f, int k, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    const Eigen::Vector3d e = position(f, k + 2) - position(f, k + 1);
+    const Eigen::Vector3d d = position(f, k) - position(f, k + 1);
+    const double l = e.norm();
+    const Eigen::Vector2d u = (to - from).normalized();
+    return Eigen::Vector2d(from + d.dot(e) / l * u +
+                           e.cross(d).norm() / l * Eigen::Vector2d(-u.y(), u.x()));
+  };
+  auto triangle = [&](int f) {
+    return std::array<Eigen::Vector2d, 3>{corner[3 * f], corner[3 * f + 1], corner[3 * f + 2]};
+  };
+  // The faces of the current patch by grid cell, cells twice the mean edge length.
+  double mean_length = 0;
+  for (int e = 0; e < t.num_edges; ++e) {
+    mean_length +=
+        (mesh.positions.row(t.edge_vertices(e, 0)) - mesh.positions.row(t.edge_vertices(e, 1)))
+            .norm();
+  }
+  TriangleGrid grid(2 * mean_length / std::max(1, t.num_edges));
+  std::deque<int> frontier;  // halfedges of patch faces whose other face may join
+  auto add = [&](int f, int patch) {
+    out.face_patch[f] = patch;
+    grid.insert(f, triangle(f));
+    for (int k = 0; k < 3; ++k) {
+      const int twin = t.halfedge_twin[3 * f + k];
+      if (twin >= 0 && out.face_patch[Topology::face_of(twin)] < 0) frontier.push_back(3 * f + k);
+    }
+  };
+  for (int seed = 0; seed < nf; ++seed) {
+    if (out.face_patch[seed] >= 0) continue;
+    const int patch = out.num_patches++;
+    grid.clear();
+    corner[3 * seed] = Eigen::Vector2d::Zero();
+    corner[3 * seed + 1] = Eigen::Vector2d((position(seed, 1) - position(seed, 0)).norm(), 0);
+    corner[3 * seed + 2] = apex(seed, 2, corner[3 * seed], corner[3 * seed + 1]);
+    add(seed, patch);
+    while (!frontier.empty()) {
+      const int h = frontier.front();
+      frontier.pop_front();
+      const int twin = t.halfedge_twin[h];
+      const int g = Topology::face_of(twin);
+      if (out.face_patch[g] >= 0) continue;
+      // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
+      // apex) lies on its left.
+      const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
+      const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
+      std::array<Eigen::Vector2d, 3> shape;
+      shape[kg] = apex(g, kg, corner[cq], corner[cp]);
+      shape[(kg + 1) % 3] = corner[cq];
+      shape[(kg + 2) % 3] = corner[cp];
+      // Across g's other two edges: a face of the patch that already holds the shared end at
+      // exactly this position and the apex within rounding (the vertex between them is flat)
+      // gives the apex its position, and g is glued to it too.
+      const double snap = kSnap * (corner[cq] - corner[cp]).norm();
+      std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};
+      for (int side = 1; side <= 2; ++side) {
+        const int other = t.halfedge_twin[3 * g + (kg + side) % 3];
+        if (other < 0) continue;
+        const int g2 = Topology::face_of(other), k2 = other % 3;
+        if (out.face_patch[g2] != patch) continue;
+        // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
+        // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
+        const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
+        const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
+        const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
+        if (corner[c_shared] != shape[shared]) continue;
+        if ((corner[c_apex] - shape[kg]).norm() > snap) continue;
+        shape[kg] = corner[c_apex];
+        glue[side - 1] = {c_apex, c_shared};
+      }
+      // g may still join from another side, or seed a patch
+      if (grid.overlaps(shape, triangle)) continue;
+      for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
+      unite(3 * g + (kg + 1) % 3, cq);
+      unite(3 * g + (kg + 2) % 3, cp);
+      for (int side = 1; side <= 2; ++side) {
+        if (glue[side - 1][0] < 0) continue;
+        // A snapped apex keeps its position only if the shared end also matched.
+        if (corner[3 * g + kg] != corner[glue[side - 1][0]]) continue;
+        unite(3 * g + kg, glue[side - 1][0]);
+        unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), glue[side - 1][1]);
+      }
+      add(g, patch);
+    }
+  }
+  // Cut-mesh vertices: one per class of glued corners, numbered in order of first corner.
+  std::vector<int> id(3 * nf, -1);
+  out.triangles.resize(nf, 3);
+  std::vector<Eigen::Vector2d> positions;
+  for (int c = 0; c < 3 * nf; ++c) {
+    int& v = id[find(c)];
+    if (v < 0) {
+      v = static_cast<int>(out.vertex.size());
+      out.vertex.push_back(t.triangles(c / 3, c % 3));
+      positions.push_back(corner[find(c)]);
+    }
+    out.triangles(c / 3, c % 3) = v;
+  }
+  out.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    out.layout.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
+  }
+  // An edge is glued when its two faces share both ends' copies.
+  out.is_glued_edge.assign(t.num_edges, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+    if (h0 < 0 || h1 < 0) continue;
+    auto copy = [&](int h, bool tail) {
+      const int f = Topology::face_of(h);
+      return out.triangles(f, (h % 3 + (tail ? 1 : 2)) % 3);
+    };
+    out.is_glued_edge[e] = copy(h0, true) == copy(h1, false) && copy(h0, false) == copy(h1, true);
+  }
+  return out;
+}
+
+ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches) {
+  ParamResult r;
+  r.converged = true;
+  r.mesh = mesh;
+  r.vertex_origin.resize(mesh.num_vertices());
+  std::iota(r.vertex_origin.begin(), r.vertex_origin.end(), 0);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  CornerAngles angles;
+  corner_angles(t, lengths, angles);  // a needle face's NaN angles only hide a cone
+  const Eigen::VectorXd curvature = vertex_curvature(t, angles);
+  for (int v = 0; v < t.num_vertices; ++v) {
+    if (t.vertex_component[v] < 0 || t.is_boundary_vertex[v]) continue;
+    if (std::abs(curvature[v]) > kFlatCurvature) r.cones.push_back({v, curvature[v]});
+  }
+  r.cut.is_cut_edge.assign(t.num_edges, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (t.is_boundary_edge[e] || patches.is_glued_edge[e]) continue;
+    r.cut.is_cut_edge[e] = 1;
+    r.cut.length += lengths[e];
+  }
+  r.seam_length = r.cut.length;
+  r.cut_mesh.triangles = patches.triangles;
+  r.cut_mesh.to_original = patches.vertex;
+  r.cut_mesh.topology = build_topology(patches.triangles, static_cast<int>(patches.vertex.size()));
+  r.layout.uv = patches.layout;
+  r.distortion = measure_distortion(mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.layout.num_flipped_faces = r.distortion.flipped_faces;
+  fit_unit_square(r);
+  return r;
+}
+
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count) {
+  const int nf = static_cast<int>(triangles.rows());
+  const Topology t = build_topology(triangles, static_cast<int>(uv.rows()));
+  std::vector<int> piece(nf, -1);
+  auto triangle = [&](int f) {
+    std::array<Eigen::Vector2d, 3> out;
+    for (int k = 0; k < 3; ++k) out[k] = uv.row(triangles(f, k)).transpose();
+    return out;
+  };
+  double mean = 0;
+  for (int f = 0; f < nf; ++f) {
+    const auto p = triangle(f);
+    mean += (p[0].cwiseMax(p[1]).cwiseMax(p[2]) - p[0].cwiseMin(p[1]).cwiseMin(p[2])).maxCoeff();
+  }
+  TriangleGrid grid(std::max(2 * mean / std::max(1, nf), 1e-300));
+  std::deque<int> frontier;
+  count = 0;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (piece[seed] >= 0) continue;
+    grid.clear();
+    frontier.assign(1, seed);
+    while (!frontier.empty()) {
+      const int f = frontier.front();
+      frontier.pop_front();
+      if (piece[f] >= 0) continue;
+      const auto shape = triangle(f);
+      // f may still join from another side, or seed a piece
+      if (grid.overlaps(shape, triangle)) continue;
+      piece[f] = count;
+      grid.insert(f, shape);
+      for (int k = 0; k < 3; ++k) {
+        const int twin = t.halfedge_twin[3 * f + k];
+        if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
+          frontier.push_back(Topology::face_of(twin));
+        }
+      }
+    }
+    ++count;
+  }
+  return piece;
+}
+
+}  // namespace ricci::param_detail

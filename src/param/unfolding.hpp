@@ -1,0 +1,48 @@
+#pragma once
+// Private to the param module: a mesh laid out in its own 3D shape (patches grown face by face
+// across edges, none overlapping another), and a layout split into pieces in none of which two
+// faces overlap. parameterize_components.cpp lays out components this way when the flow fails or
+// distorts them; charts.cpp lays out the faces its charts give up; both split overlapping
+// layouts into pieces.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/mesh/mesh.hpp"
+#include "ricci/param/parameterize.hpp"
+
+namespace ricci::param_detail {
+
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+/// A mesh developed in its own 3D shape, as patches: each patch grows breadth first from a
+/// seed face, every new face laid out across an edge of a face already in the patch (so with its
+/// exact 3D shape) unless it would overlap a face of the patch (exact test); faces left over
+/// seed further patches. One patch is an unfolding of the whole mesh: cut wherever its faces
+/// were not glued, which includes every curved vertex's wedge of faces unless it closes up, and
+/// no distortion at all.
+struct PatchLayout {
+  Triangles triangles;              ///< #F by 3: cut-mesh vertex of each corner
+  std::vector<int> vertex;          ///< per cut-mesh vertex: the mesh vertex it copies
+  Points layout;                    ///< per cut-mesh vertex
+  std::vector<int> face_patch;      ///< #F
+  std::vector<char> is_glued_edge;  ///< #E: its two faces are laid out side by side
+  int num_patches = 0;
+};
+
+/// \pre mesh is manifold and oriented (build_topology succeeds)
+PatchLayout develop_patches(const Mesh& mesh);
+
+/// The ParamResult of a mesh that unfolded into one patch (ComponentMethod::Unfolded).
+ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches);
+
+/// A layout cut into pieces in none of which two faces overlap: each piece grows breadth first
+/// from a seed face across the layout's shared edges, a face joining only when it overlaps no
+/// face of the piece (exact test). Returns the piece of each face; `count` pieces.
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count);
+
+/// ParamResult::uv from the layout: the unit square, aspect ratio kept (as the pipeline does).
+void fit_unit_square(ParamResult& r);
+
+}  // namespace ricci::param_detail
