@@ -270,10 +270,30 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   j["log_scale_spread"] = r.log_scale_spread;
   j["cone_rounds"] = r.cone_rounds;
   j["cone_selection_area_energy"] = r.cone_selection.area_energy;
-  j["timings"] = {{"cones", r.timings.cones},   {"flow", r.timings.flow},
-                  {"cut", r.timings.cut},       {"development", r.timings.development},
-                  {"layout", r.timings.layout}, {"polish", r.timings.polish},
-                  {"atlas", r.timings.atlas},   {"distortion", r.timings.distortion}};
+  j["timings"] = {{"cones", r.timings.cones},       {"flow", r.timings.flow},
+                  {"cut", r.timings.cut},           {"development", r.timings.development},
+                  {"layout", r.timings.layout},     {"polish", r.timings.polish},
+                  {"atlas", r.timings.atlas},       {"distortion", r.timings.distortion},
+                  {"untangle", r.timings.untangle}, {"charts", r.timings.charts}};
+  j["untangle"] = {{"enabled", options.fold_free.untangle},
+                   {"flipped_before", r.untangle.flipped_before},
+                   {"flipped_after", r.untangle.flipped_after},
+                   {"stuck_faces", r.untangle.stuck_faces},
+                   {"moved_vertices", r.untangle.moved_vertices},
+                   {"region_faces", r.untangle.region_faces},
+                   {"rounds", r.untangle.rounds},
+                   {"newton_iterations", r.untangle.newton_iterations},
+                   {"seconds", r.untangle.seconds}};
+  nlohmann::json routes = nlohmann::json::array();
+  for (const ComponentRoute& route : r.routes) {
+    routes.push_back({{"method", component_method_name(route.method)},
+                      {"charts", route.charts},
+                      {"seam_length", route.seam_length},
+                      {"flipped_before", route.flipped_before},
+                      {"flipped", route.flipped},
+                      {"why", route.why}});
+  }
+  j["routes"] = routes;
   j["polish"] = {{"enabled", options.polish.enabled},
                  {"free_vertices", r.polish.free_vertices},
                  {"moved_vertices", r.polish.moved_vertices},

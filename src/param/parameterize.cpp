@@ -377,6 +377,18 @@ void flow_to_flat(ParamRun& run, FlowStage& stage) {
   }
 }
 
+/// Faces of a layout with signed area <= 0.
+int count_flipped(const Triangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  int n = 0;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector2d a = uv.row(triangles(f, 0)).transpose();
+    const Eigen::Vector2d b = uv.row(triangles(f, 1)).transpose() - a;
+    const Eigen::Vector2d c = uv.row(triangles(f, 2)).transpose() - a;
+    n += !(b.x() * c.y() - b.y() * c.x() > 0);
+  }
+  return n;
+}
+
 /// Stage 4: cut graph through the cones, slicing, layout, angle polish, atlas and distortion,
 /// all on the mesh's own faces. After Delaunay flips the flat metric lives on the intrinsic
 /// triangulation; each input face is developed in it (its corners at their exact images), so the
@@ -403,6 +415,38 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
     // The layout takes the polished positions; polish.uv keeps the flat metric's own.
     std::swap(result.layout.uv, result.polish.uv);
     lap(result.timings.polish);
+  }
+  if (run.options.fold_free.untangle && result.layout.uv.allFinite() &&
+      result.layout.max_length_relative_error <= run.options.fold_free.max_length_error) {
+    // (A layout that does not close up is no map to untangle: parameterize replaces it.)
+    // Faces drawn flipped (needles whose vertices' exact images come out in clockwise order)
+    // untangled: cones and the boundary stay, seam vertices move with all their copies.
+    UntangleOptions untangle;
+    // A free boundary's shape is the flat metric's but nothing asks for it; a disk's is.
+    untangle.move_boundary = run.options.boundary == BoundaryMode::Free;
+    // With the charts to fall back on, a layout that cannot come out fold-free is left as is.
+    untangle.give_up_when_stuck = run.options.fold_free.charts;
+    untangle.fixed.assign(result.mesh.num_vertices(), 0);
+    // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
+    // whatever else moves: no untangling is tried then.
+    bool overloaded = false;
+    for (const Cone& c : result.cones) {
+      if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
+      untangle.fixed[c.vertex] = 1;
+      const int faces = topology.vertex_degree[c.vertex] - topology.is_boundary_vertex[c.vertex];
+      overloaded = overloaded || 2 * kPi - c.curvature >= faces * kPi;
+    }
+    if (overloaded) {
+      result.untangle = {};
+      result.untangle.flipped_before = count_flipped(result.cut_mesh.triangles, result.layout.uv);
+      result.untangle.flipped_after = result.untangle.stuck_faces = result.untangle.flipped_before;
+    } else {
+      result.untangle =
+          untangle_layout(result.mesh, result.cut_mesh.triangles, result.layout.uv, untangle);
+      if (result.untangle.moved_vertices > 0) result.layout.uv = std::move(result.untangle.uv);
+      result.untangle.uv.resize(0, 2);
+    }
+    lap(result.timings.untangle);
   }
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   lap(result.timings.atlas);

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "charts.hpp"
 #include "parameterize_component.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/components.hpp"
@@ -24,9 +25,13 @@
 namespace ricci {
 namespace {
 
+using param_detail::charts_result;
+using param_detail::ChartsLayout;
 using param_detail::develop_patches;
 using param_detail::embedded_pieces;
+using param_detail::lay_out_charts;
 using param_detail::PatchLayout;
+using param_detail::split_at_charts;
 using param_detail::unfolded_result;
 
 using Clock = std::chrono::steady_clock;
@@ -51,6 +56,7 @@ struct Piece {
   std::vector<int> face_chart;  ///< #F of info.param.mesh: its own chart (one chart: empty)
   int num_charts = 1;
   std::vector<char> cut_edges;  ///< Patches: #E of its mesh, the edges between patches' faces
+  int exact_flipped = 0;        ///< faces the exact map drew flipped, before untangling
 };
 
 /// The rigid motion z -> a z + b of a chart, seen after the chart moved by w = m z + s (m: the
@@ -66,8 +72,40 @@ std::string describe(const ComponentParam& c, int index) {
          " boundary loops)";
 }
 
+/// The exact map's own checks (FoldFreeOptions): converged, closes up, finite, no face flipped or
+/// degenerate. `why` says which failed.
+bool passes_checks(const ParamResult& p, const ParamOptions& options, std::string& why) {
+  if (!p.converged) {
+    why = p.message.empty() ? "the flow did not converge" : p.message;
+    return false;
+  }
+  if (!(p.layout.max_length_relative_error <= options.fold_free.max_length_error) ||
+      !p.layout.uv.allFinite()) {
+    why = "the layout does not close up (relative length error " +
+          std::to_string(p.layout.max_length_relative_error) +
+          "): the flat metric's scale spans more than double precision lays out";
+    return false;
+  }
+  const int folded = p.distortion.flipped_faces + p.distortion.degenerate_faces;
+  if (folded > 0) {
+    why = std::to_string(folded) + " faces stay flipped or degenerate after untangling (" +
+          std::to_string(p.untangle.stuck_faces) + " with no vertex free to move)";
+    return false;
+  }
+  return true;
+}
+
+/// Whether an exception of the exact map gives way to the other routes: automatic cones that
+/// cannot carry the curvature; the user's own choices (their cones, no cones, one cone) are
+/// refused as they are.
+bool may_replace_refusal(const ParamOptions& options) {
+  return options.fold_free.charts &&
+         (options.cone_mode == ConeMode::Needed || options.cone_mode == ConeMode::Auto);
+}
+
 ParamResult parameterize_components(const Mesh& input, const Topology& topology,
-                                    const ParamOptions& options) {
+                                    const ParamOptions& options, ParamResult* first_attempt,
+                                    const std::string& first_why) {
   const auto start = Clock::now();
   const int num_components = static_cast<int>(topology.components.size());
   const int nv_in = input.num_vertices();
@@ -117,14 +155,31 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
           return go;
         };
       }
-      try {
-        info.param = parameterize_one_component(sub, component_options);
-        if (!info.param.converged) info.message = info.param.message;
-      } catch (const Error& e) {
-        info.param = ParamResult{};
-        info.message = e.what();
+      if (c == 0 && first_attempt != nullptr) {
+        info.param = std::move(*first_attempt);  // a single component's exact map, done already
+      } else if (c == 0 && !first_why.empty()) {
+        info.message = first_why;  // ... which was refused
+      } else {
+        try {
+          info.param = parameterize_one_component(sub, component_options);
+        } catch (const InvalidInput& e) {
+          if (num_components == 1 && !may_replace_refusal(options)) throw;
+          info.param = ParamResult{};
+          info.message = e.what();
+        } catch (const Error& e) {
+          info.param = ParamResult{};
+          info.message = e.what();
+        }
       }
-      info.parameterized = info.param.converged;
+      std::string why;
+      info.parameterized = info.message.empty() && passes_checks(info.param, options, why);
+      if (info.message.empty()) info.message = why;
+      if (info.parameterized) {
+        info.method = info.param.untangle.moved_vertices > 0 ? ComponentMethod::Untangled
+                                                             : ComponentMethod::Flow;
+        info.message.clear();
+      }
+      piece.exact_flipped = info.param.untangle.flipped_before;
       if (cancelled) {
         // The progress callback asked to stop: no other component is started, no atlas made.
         ParamResult stopped;
@@ -157,6 +212,23 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         info.method = ComponentMethod::Unfolded;
         info.parameterized = true;
         info.param = unfolded_result(sub, patches);
+      } else if (options.fold_free.charts) {
+        // Charts cut through the failed map's cones (its cut relieved the curvature there).
+        const auto charts_start = Clock::now();
+        std::vector<int> cut_through;
+        for (const Cone& cone : info.param.cones) {
+          if (cone.vertex < sub.num_vertices()) cut_through.push_back(cone.vertex);
+        }
+        ParamOptions chart_options = options;
+        chart_options.flow.progress = {};
+        ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
+        info.param = charts_result(sub, charts);
+        info.param.timings.charts = seconds_since(charts_start);
+        info.method = ComponentMethod::Charts;
+        info.parameterized = true;
+        info.message += "; laid out as " + charts.message;
+        piece.face_chart = std::move(charts.face_chart);
+        piece.num_charts = charts.num_charts;
       } else {
         info.method = ComponentMethod::Patches;
         if (!info.message.empty()) info.message += "; ";
@@ -192,8 +264,11 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
       piece.layout = p.layout.uv * info.area_scale;
       info.distortion = p.distortion;
       info.seam_length = p.seam_length;
+      // (Charts are laid out as pieces that do not overlap, on top of each other.)
       info.overlapping_face_pairs =
-          find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
+          info.method == ComponentMethod::Charts
+              ? 0
+              : find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
       if (info.overlapping_face_pairs > 0) {
         // The layout overlaps itself (a flat metric cut open into one disk can wind over
         // itself): cut it into pieces that do not, each its own chart, the pieces' shared
@@ -201,45 +276,17 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         int count = 0;
         piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count);
         piece.num_charts = count;
-        // Corners stay together across the edges of the layout inside one piece; each class of
-        // corners is one vertex (a piece touching itself at a vertex gets a copy per fan).
-        const Topology t =
-            build_topology(piece.cut_triangles, static_cast<int>(piece.layout.rows()));
-        std::vector<int> parent(3 * t.num_faces);
-        std::iota(parent.begin(), parent.end(), 0);
-        auto find = [&](int x) {
-          while (parent[x] != x) x = parent[x] = parent[parent[x]];
-          return x;
-        };
-        for (int h = 0; h < 3 * t.num_faces; ++h) {
-          const int twin = t.halfedge_twin[h];
-          if (twin < h || piece.face_chart[h / 3] != piece.face_chart[twin / 3]) continue;
-          // h runs tail -> head in its face, the twin head -> tail: corner k + 1 is the tail.
-          for (const auto& [a, b] :
-               {std::pair{3 * (h / 3) + (h % 3 + 1) % 3, 3 * (twin / 3) + (twin % 3 + 2) % 3},
-                std::pair{3 * (h / 3) + (h % 3 + 2) % 3, 3 * (twin / 3) + (twin % 3 + 1) % 3}}) {
-            const int ra = find(a), rb = find(b);
-            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-          }
-        }
-        std::vector<int> id(3 * t.num_faces, -1);
-        std::vector<int> vertex;
-        std::vector<Eigen::RowVector2d> positions;
-        for (int corner = 0; corner < 3 * t.num_faces; ++corner) {
-          const int f = corner / 3, k = corner % 3, v = piece.cut_triangles(f, k);
-          int& copy = id[find(corner)];
-          if (copy < 0) {
-            copy = static_cast<int>(vertex.size());
-            vertex.push_back(piece.cut_vertex[v]);
-            positions.emplace_back(piece.layout.row(v));
-          }
-          piece.cut_triangles(f, k) = copy;
+        // The pieces' shared vertices copied, one per fan of each piece.
+        const std::vector<int> source = split_at_charts(
+            piece.cut_triangles, static_cast<int>(piece.layout.rows()), piece.face_chart);
+        std::vector<int> vertex(source.size());
+        Points positions(static_cast<Eigen::Index>(source.size()), 2);
+        for (std::size_t v = 0; v < source.size(); ++v) {
+          vertex[v] = piece.cut_vertex[source[v]];
+          positions.row(static_cast<Eigen::Index>(v)) = piece.layout.row(source[v]);
         }
         piece.cut_vertex = std::move(vertex);
-        piece.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
-        for (std::size_t v = 0; v < positions.size(); ++v) {
-          piece.layout.row(static_cast<Eigen::Index>(v)) = positions[v];
-        }
+        piece.layout = std::move(positions);
       }
     }
     info.seconds = seconds_since(component_start);
@@ -442,12 +489,21 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         std::max(result.atlas.max_transition_error, p.atlas.max_transition_error);
     segment_offset += static_cast<int>(p.cut.segments.size());
 
-    if (info.method != ComponentMethod::Flow) continue;
+    result.timings.charts += p.timings.charts;
+    result.untangle.flipped_before += p.untangle.flipped_before;
+    result.untangle.flipped_after += p.untangle.flipped_after;
+    result.untangle.stuck_faces += p.untangle.stuck_faces;
+    result.untangle.moved_vertices += p.untangle.moved_vertices;
+    result.untangle.region_faces += p.untangle.region_faces;
+    result.untangle.rounds += p.untangle.rounds;
+    result.untangle.newton_iterations += p.untangle.newton_iterations;
+    result.untangle.seconds += p.untangle.seconds;
+    if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) continue;
     const ParamTimings& t = p.timings;
     result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
     result.timings.development += t.development, result.timings.layout += t.layout;
     result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
-    result.timings.polish += t.polish;
+    result.timings.polish += t.polish, result.timings.untangle += t.untangle;
     // The polish over all components: counts and seconds add up, the face means are weighted by
     // the components' face counts (and divided at the end).
     const double faces_here = static_cast<double>(p.mesh.num_faces());
@@ -501,6 +557,19 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         " components failed (laid out as patches of their own shape): " + result.message +
         (failed > 5 ? "; ..." : "");
   }
+  for (const Piece& piece : pieces) {
+    const ComponentParam& info = piece.info;
+    ComponentRoute route;
+    route.method = info.method;
+    route.charts = static_cast<int>(info.charts.size());
+    route.seam_length = info.seam_length;
+    route.flipped_before = piece.exact_flipped;
+    route.flipped = info.distortion.flipped_faces;
+    if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) {
+      route.why = info.message;
+    }
+    result.routes.push_back(std::move(route));
+  }
   result.components.reserve(num_components);
   for (Piece& piece : pieces) result.components.push_back(std::move(piece.info));
   result.seconds = seconds_since(start);
@@ -515,10 +584,35 @@ const char* component_method_name(ComponentMethod method) {
 
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
   Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
-  if (topology.components.size() <= 1) {
-    return parameterize_one_component(mesh, options, std::move(topology));
+  if (topology.components.size() > 1) {
+    return parameterize_components(mesh, topology, options, nullptr, {});
   }
-  return parameterize_components(mesh, topology, options);
+  // One component: the exact map, kept when it passes its checks (or when nothing else may
+  // replace it); otherwise the components' path tries the other routes on it.
+  ParamResult first;
+  std::string why;
+  try {
+    first = parameterize_one_component(mesh, options, topology);
+  } catch (const InvalidInput& e) {
+    if (!may_replace_refusal(options)) throw;
+    why = e.what();
+  }
+  if (why.empty() && (passes_checks(first, options, why) || !options.fold_free.charts)) {
+    ComponentRoute route;
+    route.method =
+        first.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;
+    route.seam_length = first.seam_length;
+    route.flipped_before = first.untangle.flipped_before;
+    route.flipped = first.distortion.flipped_faces;
+    if (!why.empty() && first.converged) route.why = why;
+    first.routes = {route};
+    return first;
+  }
+  const double first_seconds = first.seconds;
+  ParamResult result =
+      parameterize_components(mesh, topology, options, why.empty() ? &first : nullptr, why);
+  result.seconds += first_seconds;
+  return result;
 }
 
 }  // namespace ricci

@@ -246,4 +246,38 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
   return piece;
 }
 
+std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
+                                 const std::vector<int>& face_chart) {
+  const Topology t = build_topology(triangles, num_layout_vertices);
+  std::vector<int> parent(3 * t.num_faces);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (int h = 0; h < 3 * t.num_faces; ++h) {
+    const int twin = t.halfedge_twin[h];
+    if (twin < h || face_chart[h / 3] != face_chart[twin / 3]) continue;
+    // h runs tail -> head in its face, the twin head -> tail: corner k + 1 is the tail.
+    for (const auto& [a, b] :
+         {std::pair{3 * (h / 3) + (h % 3 + 1) % 3, 3 * (twin / 3) + (twin % 3 + 2) % 3},
+          std::pair{3 * (h / 3) + (h % 3 + 2) % 3, 3 * (twin / 3) + (twin % 3 + 1) % 3}}) {
+      const int ra = find(a), rb = find(b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
+  std::vector<int> id(3 * t.num_faces, -1);
+  std::vector<int> source;
+  for (int corner = 0; corner < 3 * t.num_faces; ++corner) {
+    const int f = corner / 3, k = corner % 3;
+    int& copy = id[find(corner)];
+    if (copy < 0) {
+      copy = static_cast<int>(source.size());
+      source.push_back(triangles(f, k));
+    }
+    triangles(f, k) = copy;
+  }
+  return source;
+}
+
 }  // namespace ricci::param_detail

@@ -42,6 +42,15 @@ ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches);
 /// face of the piece (exact test). Returns the piece of each face; `count` pieces.
 std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count);
 
+/// The vertices of a layout split into charts: the corners of one layout vertex stay one vertex
+/// across the layout's edges between faces of the same chart, and each class of corners becomes
+/// a vertex of its own (a chart touching itself at a vertex gets a copy per fan).
+/// \param triangles #F by 3 layout vertex of each corner, rewritten to the new vertices
+/// \param face_chart #F: chart of each face
+/// \return per new vertex, the layout vertex it copies
+std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
+                                 const std::vector<int>& face_chart);
+
 /// ParamResult::uv from the layout: the unit square, aspect ratio kept (as the pipeline does).
 void fit_unit_square(ParamResult& r);
 

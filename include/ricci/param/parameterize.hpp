@@ -18,6 +18,7 @@
 #include "ricci/param/distortion.hpp"
 #include "ricci/param/layout.hpp"
 #include "ricci/param/polish.hpp"
+#include "ricci/param/untangle.hpp"
 
 namespace ricci {
 
@@ -49,6 +50,24 @@ struct EnumNames<ConeMode> {
 ConeMode parse_cone_mode(const std::string& name);
 const char* cone_mode_name(ConeMode mode);
 
+/// What parameterize does about a component whose layout fails its own checks: faces drawn
+/// flipped on the input's own faces, a layout that does not close up (a flat metric whose log
+/// scale spans more than double precision can lay out), a flow that does not converge or that
+/// refuses the component's cones.
+struct FoldFreeOptions {
+  /// Untangle flipped faces (untangle.hpp): the vertices around them move, a seam vertex with
+  /// all its copies, so that cones, congruent seams and the boundary stay exact.
+  bool untangle = true;
+  /// Where the exact map still fails: the component cut along a cut graph into a disk flattened
+  /// with a free boundary (u = 0 on the cut, so both sides of every seam keep their 3D length),
+  /// faces that still fold laid out in their own 3D shape, overlapping layouts split into
+  /// pieces: ComponentMethod::Charts, never a flipped face. Off: the failing layout is returned
+  /// as it is (converged false when it does not close up or folds).
+  bool charts = true;
+  /// A layout whose largest relative edge length error exceeds this does not close up.
+  double max_length_error = 1e-6;
+};
+
 /// Options of parameterize.
 struct ParamOptions {
   ConeMode cone_mode = ConeMode::Needed;
@@ -76,6 +95,7 @@ struct ParamOptions {
   /// the discrete conformal map itself (every edge as long as the flat metric says), which
   /// common_refinement needs.
   PolishOptions polish;
+  FoldFreeOptions fold_free;  ///< untangling, and the charts where the exact map fails
 };
 
 /// Wall time of each stage of parameterize, seconds.
@@ -86,8 +106,62 @@ struct ParamTimings {
   double development = 0;  ///< the input's faces developed in the flow's metric
   double layout = 0;       ///< planar layout (with its least-squares refinement)
   double polish = 0;       ///< angle polish of the layout's interior
+  double untangle = 0;     ///< untangling of flipped faces
+  double charts = 0;       ///< the charts route (components whose exact map failed its checks)
   double atlas = 0;        ///< affine atlas
   double distortion = 0;   ///< distortion figures
+};
+
+/// How a component was laid out: the route its layout took (ParamResult::routes; for a mesh of
+/// several components also ComponentParam::method).
+enum class ComponentMethod {
+  /// The pipeline's exact map: cones, flow, cut, layout (every vertex at its image under the flat
+  /// metric with cones, polished), fold-free as it came.
+  Flow,
+  /// The pipeline's exact map with the faces it drew flipped untangled (untangle.hpp): cones,
+  /// congruent seams and the boundary as the flat metric has them.
+  Untangled,
+  /// The exact map failed its checks (FoldFreeOptions): the component cut along a cut graph into
+  /// a disk flattened with a free boundary (both sides of every seam at their 3D length), faces
+  /// that still folded laid out in their own shape, overlapping layouts split: several charts,
+  /// no cone singularities (the seams carry the curvature), never a flipped face.
+  Charts,
+  /// Its own faces laid out in their 3D shapes as one chart (an unfolding: each face developed
+  /// across an edge of one already placed, none overlapping another): components of one or two
+  /// faces, and, when this works, components whose pipeline failed or whose flow layout distorts
+  /// angles by more than a factor 10 somewhere (tiny closed parts with the few cones their
+  /// topology needs). No distortion at all; its cones are its curved interior vertices (3D angle
+  /// sum not 2 pi), and its cut runs between faces that were not laid out side by side.
+  Unfolded,
+  /// The pipeline failed, the charts were not allowed or failed too, and the unfolding needed
+  /// several patches not to overlap: each patch its own chart, as above. The component counts
+  /// as failed.
+  Patches,
+};
+
+template <>
+struct EnumNames<ComponentMethod> {
+  static constexpr const char* noun = "component method";
+  static constexpr std::array<EnumName<ComponentMethod>, 5> names{{
+      {ComponentMethod::Flow, "flow"},
+      {ComponentMethod::Untangled, "untangled"},
+      {ComponentMethod::Charts, "charts"},
+      {ComponentMethod::Unfolded, "unfolded"},
+      {ComponentMethod::Patches, "patches"},
+  }};
+};
+
+/// The route one component's layout took, and what it cost (ParamResult::routes).
+struct ComponentRoute {
+  ComponentMethod method = ComponentMethod::Flow;
+  int charts = 1;          ///< charts of its layout in the atlas
+  double seam_length = 0;  ///< 3D length of its seams (cut edges, edges between charts)
+  /// Faces the exact map drew flipped, before untangling (0 when it did not get that far).
+  int flipped_before = 0;
+  int flipped = 0;  ///< faces flipped in its final layout
+  /// Why the exact map gave way (its refusal, non-convergence, length error or folds left
+  /// after untangling); empty for Flow and Untangled.
+  std::string why;
 };
 
 struct ComponentParam;
@@ -133,6 +207,10 @@ struct ParamResult {
   /// positions (layout.uv holds the polished ones; common_refinement reads these); empty when
   /// the polish did not run, and on a mesh of several components (see components[c].param).
   PolishResult polish;
+  /// The untangling of the faces the layout drew flipped (FoldFreeOptions::untangle): its uv is
+  /// moved into the layout (empty here); flipped_before 0 when there was nothing to do. Several
+  /// components: summed.
+  UntangleResult untangle;
   AffineAtlas atlas;
   Distortion distortion;
   double seam_length = 0;  ///< 3D length of the cut edges
@@ -144,38 +222,20 @@ struct ParamResult {
   double seconds = 0;
   ParamTimings timings;  ///< several components: summed over the components
   /// Several components: one entry per connected component of the input, in the order of
-  /// Topology::components. Empty for a mesh of one component.
+  /// Topology::components. Empty for a mesh of one component, unless its exact map failed its
+  /// checks and another route laid it out (then one entry).
   std::vector<ComponentParam> components;
   /// Several components: how the charts were packed (its uv moved into `uv`, so empty here).
   ChartPacking packing;
+  /// Per component, in the order of Topology::components (one entry for a mesh of one
+  /// component): the route its layout took. A component whose exact map fails its own checks
+  /// (FoldFreeOptions) goes through the components' path (components[c], packing) even when it
+  /// is the only one.
+  std::vector<ComponentRoute> routes;
 };
 
-/// How one component of a mesh of several components was parameterized.
-enum class ComponentMethod {
-  Flow,  ///< the pipeline: cones, flow, cut, layout (as for a mesh of one component)
-  /// Its own faces laid out in their 3D shapes as one chart (an unfolding: each face developed
-  /// across an edge of one already placed, none overlapping another): components of one or two
-  /// faces, and, when this works, components whose pipeline failed or whose flow layout distorts
-  /// angles by more than a factor 10 somewhere (tiny closed parts with the few cones their
-  /// topology needs). No distortion at all; its cones are its curved interior vertices (3D angle
-  /// sum not 2 pi), and its cut runs between faces that were not laid out side by side.
-  Unfolded,
-  /// The pipeline failed and the unfolding needed several patches not to overlap: each patch
-  /// its own chart, as above. The component counts as failed.
-  Patches,
-};
-
-template <>
-struct EnumNames<ComponentMethod> {
-  static constexpr const char* noun = "component method";
-  static constexpr std::array<EnumName<ComponentMethod>, 3> names{{
-      {ComponentMethod::Flow, "flow"},
-      {ComponentMethod::Unfolded, "unfolded"},
-      {ComponentMethod::Patches, "patches"},
-  }};
-};
-
-/// "flow", "unfolded" or "patches" (its EnumNames row), as reports print it.
+/// "flow", "untangled", "charts", "unfolded" or "patches" (its EnumNames row), as reports print
+/// it.
 const char* component_method_name(ComponentMethod method);
 
 /// One component of a mesh of several components (ParamResult::components).
@@ -184,7 +244,9 @@ struct ComponentParam {
   std::vector<int> faces;     ///< input faces of the component, ascending
   int euler_characteristic = 0, genus = 0, boundary_loops = 0;
   ComponentMethod method = ComponentMethod::Flow;
-  bool parameterized = false;  ///< in one chart: Flow or Unfolded (false for Patches)
+  /// Laid out without a flipped face by one of the routes (false for Patches: the failed
+  /// pipeline's component laid out as patches of its own shape).
+  bool parameterized = false;
   /// Why the pipeline failed (its message, or the exception it threw), also when the unfolding
   /// then served, or why its layout gave way to the unfolding; empty when the flow served.
   std::string message;
