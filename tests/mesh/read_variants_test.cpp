@@ -1,0 +1,119 @@
+// Valid variants of the formats that writers in the wild produce (docs/mesh-input.md, "Formats
+// and their variants"): each test writes the variant from generated data and reads it back,
+// positions and faces exactly.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/io.hpp"
+#include "support/byte_writer.hpp"
+#include "support/shared_meshes.hpp"
+
+namespace ricci {
+namespace {
+
+using testing::ByteWriter;
+
+std::string write_test_file(const std::string& name, const std::string& content) {
+  return testing::write_text_file(testing::suite_tmp_dir("mesh_read_variants") / name, content);
+}
+
+/// Runs `action`, which must throw exactly E (not a subclass), and returns the message.
+template <class E>
+std::string message_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(typeid(e).name()), std::string(typeid(E).name()))
+        << "wrong exception class, message: " << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "no exception thrown";
+  return "";
+}
+
+void expect_mentions(const std::string& message, std::initializer_list<std::string> pieces) {
+  for (const std::string& piece : pieces) {
+    EXPECT_NE(message.find(piece), std::string::npos)
+        << "message lacks \"" << piece << "\": " << message;
+  }
+}
+
+using Rows = std::vector<std::vector<double>>;
+using Faces = std::vector<std::vector<int>>;
+
+/// Expects the mesh to hold exactly these positions and triangles, in this order.
+void expect_mesh(const Mesh& mesh, const Rows& positions, const Faces& triangles) {
+  ASSERT_EQ(mesh.num_vertices(), static_cast<int>(positions.size()));
+  ASSERT_EQ(mesh.num_faces(), static_cast<int>(triangles.size()));
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.positions(v, k), positions[v][k]) << "vertex " << v;
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.triangles(f, k), triangles[f][k]) << "face " << f;
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+// STL
+
+/// A regular tetrahedron's four triangles as ASCII STL facets.
+const Rows kTetrahedron = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1.25}};
+const Faces kTetrahedronFaces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+
+std::string ascii_stl_facets() {
+  std::string text;
+  for (const auto& face : kTetrahedronFaces) {
+    text += "facet normal 0 0 0\n outer loop\n";
+    for (int v : face) {
+      text += "  vertex " + std::to_string(kTetrahedron[v][0]) + " " +
+              std::to_string(kTetrahedron[v][1]) + " " + std::to_string(kTetrahedron[v][2]) + "\n";
+    }
+    text += " endloop\nendfacet\n";
+  }
+  return text;
+}
+
+TEST(ReadVariants, AsciiStlWithoutASolidName) {
+  // "solid" alone, followed by blanks, with CRLF; the name's absence made the first bytes read as
+  // a binary header ("the header declares 1919252000 triangles").
+  for (const std::string solid : {"solid\n", "solid   \t\n", "solid\r\n", "  solid\n"}) {
+    const std::string path =
+        write_test_file("unnamed.stl", solid + ascii_stl_facets() + "endsolid\n");
+    const ReadResult result = read_mesh(path);
+    SCOPED_TRACE(solid);
+    expect_mesh(result.mesh, kTetrahedron, kTetrahedronFaces);
+  }
+  // A broken one is still ASCII: its error names the line.
+  const std::string broken = write_test_file(
+      "unnamed_broken.stl", "solid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertx 1 0 0\n");
+  expect_mentions(message_of<IoError>([&] { read_mesh(broken); }),
+                  {"unnamed_broken.stl", "line 5", "'vertx'"});
+}
+
+TEST(ReadVariants, BinaryStlWhoseHeaderReadsLikeAsciiIsBinary) {
+  // The 80-byte comment says "solid", ends its line and even starts a facet: the size and the
+  // binary count still make it binary.
+  std::string header = "solid tetra\nfacet normal 0 0 1\n";
+  header.resize(80, ' ');
+  ByteWriter out(false);
+  out.text(header).put<std::uint32_t>(4);
+  for (const auto& face : kTetrahedronFaces) {
+    out.put(0.0F).put(0.0F).put(0.0F);
+    for (int v : face) {
+      for (double x : kTetrahedron[v]) out.put(static_cast<float>(x));
+    }
+    out.put<std::uint16_t>(0);
+  }
+  const ReadResult result = read_mesh(write_test_file("header_like_ascii.stl", out.data()));
+  expect_mesh(result.mesh, kTetrahedron, kTetrahedronFaces);
+}
+
+}  // namespace
+}  // namespace ricci
