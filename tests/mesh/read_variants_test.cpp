@@ -115,5 +115,100 @@ TEST(ReadVariants, BinaryStlWhoseHeaderReadsLikeAsciiIsBinary) {
   expect_mesh(result.mesh, kTetrahedron, kTetrahedronFaces);
 }
 
+// ------------------------------------------------------------------------------------------
+// PLY triangle strips
+
+/// A 4 by 2 grid: vertices 0-3 along y = 1, 4-7 along y = 0.
+const Rows kGrid = {{0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {3, 1, 0},
+                    {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+/// The strip 4 0 5 1 6 2 7 3 over the whole grid, every other triangle turned.
+const Faces kGridStrip = {{4, 0, 5}, {5, 0, 1}, {5, 1, 6}, {6, 1, 2}, {6, 2, 7}, {7, 2, 3}};
+
+/// The grid as a PLY: its strips as one tristrips item, after a face element with `faces` when
+/// that is not empty.
+std::string grid_ply(const std::string& format, const std::vector<std::int64_t>& strips,
+                     const Faces& faces, bool unsigned_strips = false) {
+  const bool big = format == "binary_big_endian";
+  const bool ascii = format == "ascii";
+  ByteWriter out(big);
+  out.text("ply\nformat " + format + " 1.0\nelement vertex 8\n");
+  out.text("property float x\nproperty float y\nproperty float z\n");
+  if (!faces.empty()) {
+    out.text("element face " + std::to_string(faces.size()) +
+             "\nproperty list uchar int vertex_indices\n");
+  }
+  out.text("element tristrips 1\nproperty list int " +
+           std::string(unsigned_strips ? "uint" : "int") + " vertex_indices\nend_header\n");
+  for (const auto& p : kGrid) {
+    if (ascii) {
+      out.text(std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) +
+               "\n");
+    } else {
+      for (double x : p) out.put(static_cast<float>(x));
+    }
+  }
+  for (const auto& face : faces) {
+    if (ascii) {
+      out.text(std::to_string(face.size()));
+      for (int v : face) out.text(" " + std::to_string(v));
+      out.text("\n");
+    } else {
+      out.put(static_cast<std::uint8_t>(face.size()));
+      for (int v : face) out.put<std::int32_t>(v);
+    }
+  }
+  if (ascii) {
+    out.text(std::to_string(strips.size()));
+    for (std::int64_t v : strips) out.text(" " + std::to_string(v));
+    out.text("\n");
+  } else {
+    out.put(static_cast<std::int32_t>(strips.size()));
+    for (std::int64_t v : strips) {
+      if (unsigned_strips) {
+        out.put(static_cast<std::uint32_t>(v));
+      } else {
+        out.put(static_cast<std::int32_t>(v));
+      }
+    }
+  }
+  return out.data();
+}
+
+TEST(ReadVariants, PlyTriangleStripsAlone) {
+  for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+    SCOPED_TRACE(format);
+    // One strip; the same split in two by -1; a trailing repeated vertex (a degenerate triangle,
+    // as strips are joined) that is skipped.
+    for (const std::vector<std::int64_t>& strips :
+         {std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, 7, 3},
+          std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, -1, 6, 2, 7, 3},
+          std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, 7, 3, 3}}) {
+      const std::string path = write_test_file("strips.ply", grid_ply(format, strips, {}));
+      expect_mesh(read_mesh(path).mesh, kGrid, kGridStrip);
+    }
+  }
+  // An unsigned index type stores -1 as its largest value.
+  const std::string path = write_test_file(
+      "unsigned_strips.ply",
+      grid_ply("binary_little_endian", {4, 0, 5, 1, 6, 2, -1, 6, 2, 7, 3}, {}, true));
+  expect_mesh(read_mesh(path).mesh, kGrid, kGridStrip);
+}
+
+TEST(ReadVariants, PlyTriangleStripsBesideFaces) {
+  // The last column a quad of the face element, the first two a strip.
+  const Faces quad = {{6, 2, 3, 7}};
+  const Faces expected = {{6, 2, 3}, {6, 3, 7}, {4, 0, 5}, {5, 0, 1}, {5, 1, 6}, {6, 1, 2}};
+  for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+    SCOPED_TRACE(format);
+    const std::string path =
+        write_test_file("strips_and_faces.ply", grid_ply(format, {4, 0, 5, 1, 6, 2}, quad));
+    expect_mesh(read_mesh(path).mesh, kGrid, expected);
+  }
+  const std::string bad =
+      write_test_file("strip_range.ply", grid_ply("ascii", {4, 0, 5, 1, 6, 12}, quad));
+  expect_mentions(message_of<InvalidInput>([&] { read_mesh(bad); }),
+                  {"strip_range.ply", "line 21", "index 12", "tristrips 0"});
+}
+
 }  // namespace
 }  // namespace ricci
