@@ -210,5 +210,103 @@ TEST(ReadVariants, PlyTriangleStripsBesideFaces) {
                   {"strip_range.ply", "line 21", "index 12", "tristrips 0"});
 }
 
+// ------------------------------------------------------------------------------------------
+// Binary OFF
+
+// A square pyramid: the base a quad (facing down), four triangles up to the apex; coordinates
+// exact in float.
+const Rows kPyramid = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1.25}};
+const Faces kPyramidFaces = {{0, 3, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+/// The pyramid's triangles as read: the base fanned from its first corner.
+const Faces kPyramidTriangles = {{0, 3, 2}, {0, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+
+/// The pyramid as `OFF BINARY` (or `COFF BINARY`, a colour of 4 floats per vertex): big-endian
+/// with a colour count per face as Geomview documents it, or as pmp-library writes it
+/// (little-endian, no colour count), or the two other combinations.
+std::string binary_off(bool big_endian, bool face_colours, bool vertex_colours) {
+  ByteWriter out(big_endian);
+  out.text(vertex_colours ? "COFF BINARY\n" : "OFF BINARY\n");
+  out.put<std::int32_t>(5).put<std::int32_t>(5).put<std::int32_t>(8);
+  for (const auto& p : kPyramid) {
+    for (double x : p) out.put(static_cast<float>(x));
+    if (vertex_colours) out.put(1.0F).put(0.5F).put(0.25F).put(1.0F);
+  }
+  static constexpr int kColours[] = {0, 4, 3, 0, 4};  // floats per face
+  for (std::size_t f = 0; f < kPyramidFaces.size(); ++f) {
+    out.put(static_cast<std::int32_t>(kPyramidFaces[f].size()));
+    for (int v : kPyramidFaces[f]) out.put<std::int32_t>(v);
+    if (!face_colours) continue;
+    const int colours = kColours[f];
+    out.put<std::int32_t>(colours);
+    for (int k = 0; k < colours; ++k) out.put(0.5F);
+  }
+  return out.data();
+}
+
+TEST(ReadVariants, BinaryOffInEitherByteOrderWithOrWithoutFaceColours) {
+  for (const bool big_endian : {true, false}) {
+    for (const bool face_colours : {true, false}) {
+      for (const bool vertex_colours : {false, true}) {
+        SCOPED_TRACE(std::string(big_endian ? "big" : "little") + "-endian" +
+                     (face_colours ? ", face colours" : "") +
+                     (vertex_colours ? ", vertex colours" : ""));
+        const std::string path =
+            write_test_file("binary.off", binary_off(big_endian, face_colours, vertex_colours));
+        expect_mesh(read_mesh(path).mesh, kPyramid, kPyramidTriangles);
+      }
+    }
+  }
+}
+
+TEST(ReadVariants, BadBinaryOffNamesTheByte) {
+  std::string cut = binary_off(false, false, false);
+  cut.resize(cut.size() - 2);
+  expect_mentions(message_of<IoError>([&] { read_mesh(write_test_file("cut_binary.off", cut)); }),
+                  {"cut_binary.off", "byte ", "truncated"});
+  // Index 9 for the second corner of the last face (little-endian, no colours): after the
+  // header line, the counts, 5 vertices, the quad, 3 triangles and the last one's count. Only
+  // this reading keeps the file's structure, so its error is the one reported.
+  std::string range = binary_off(false, false, false);
+  const std::size_t at = 11 + 12 + 5 * 12 + 20 + 3 * 16 + 4 + 4;
+  range[at] = 9;
+  expect_mentions(
+      message_of<InvalidInput>([&] { read_mesh(write_test_file("range_binary.off", range)); }),
+      {"range_binary.off", "byte " + std::to_string(at), "face 4", "index 9", "little-endian"});
+}
+
+// ------------------------------------------------------------------------------------------
+// OFF records over several lines
+
+TEST(ReadVariants, OffRecordsSpreadOverLines) {
+  const std::string path = write_test_file(
+      "wrapped.off",
+      "OFF\n5\n5 8\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # comment\n0.5 0.5\n1.25\n"
+      "4\n0 3 2 1\n"              // the corner count alone on its line
+      "3 0\n# between\n1\n\n4\n"  // a face over three lines, a comment and a blank among them
+      "3 1 2 4 0.5 0.5 0.5\n"     // on one line, with a colour
+      "3\n2 3 4\n3 3 0 4\n");
+  const ReadResult result = read_mesh(path);
+  expect_mesh(result.mesh, kPyramid, kPyramidTriangles);
+}
+
+TEST(ReadVariants, OffRecordErrorsNameTheLine) {
+  // Face 0 lists 2 of its 3 corners; read on, it would take the next face's count: the data left
+  // on that line gives it away.
+  const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n";
+  expect_mentions(message_of<IoError>([&] {
+                    read_mesh(write_test_file("short_face.off", head + "3 0 1\n3 1 3 2\n"));
+                  }),
+                  {"short_face.off", "line 8", "face 0 continues from line 7", "'1'"});
+  // An index out of range on a continuation line: that line.
+  expect_mentions(message_of<InvalidInput>([&] {
+                    read_mesh(write_test_file("wrapped_range.off", head + "3\n0 1\n7\n3 0 2 1\n"));
+                  }),
+                  {"wrapped_range.off", "line 9", "face 0", "index 7"});
+  expect_mentions(message_of<IoError>([&] {
+                    read_mesh(write_test_file("wrapped_cut.off", head + "3 0 1 2\n4 0\n1\n"));
+                  }),
+                  {"wrapped_cut.off", "line 9", "ends inside face 1", "begun at line 8"});
+}
+
 }  // namespace
 }  // namespace ricci
