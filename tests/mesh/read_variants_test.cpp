@@ -308,5 +308,43 @@ TEST(ReadVariants, OffRecordErrorsNameTheLine) {
                   {"wrapped_cut.off", "line 9", "ends inside face 1", "begun at line 8"});
 }
 
+// ------------------------------------------------------------------------------------------
+// OBJ continuation lines
+
+TEST(ReadVariants, ObjStatementsContinuedByABackslash) {
+  const std::string path =
+      write_test_file("continued.obj",
+                      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 \\\n 0.5 1.25\n"
+                      "f 1 4 \\\r\n3 2\r\n"  // CRLF, as in trimesh's wallhole.obj
+                      "f 1 2\\\n5\n"         // no blank before the backslash
+                      "# a comment that ends in a backslash continues nothing \\\n"
+                      "f 2 \\   \n3 \\\n 5\nf 3 4 5\nf 4 1 5\n");
+  const ReadResult result = read_mesh(path);
+  expect_mesh(result.mesh, kPyramid, kPyramidTriangles);
+
+  // Errors name the line where the statement starts.
+  const std::string bad =
+      write_test_file("continued_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\n4\nf 1 2 3\n");
+  expect_mentions(message_of<InvalidInput>([&] { read_mesh(bad); }),
+                  {"continued_bad.obj", "line 4", "face 0", "index 4"});
+}
+
+TEST(ReadVariants, TexturedObjStatementsContinuedByABackslash) {
+  const std::string path = write_test_file(
+      "continued_textured.obj",
+      "v 0 0 0\nv 1 0 0\nv 1 1 \\\n0\nv 0 1 0\nvt 0 0\nvt 1 \\\n 0\nvt 1 1\nvt 0 1\n"
+      "f 1/1 2/2 \\\n3/3\nf 1/1 \\\r\n3/3 4/4\r\n");
+  const TexturedMesh read = read_textured_obj(path);
+  expect_mesh(read.mesh, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
+  ASSERT_EQ(read.uv.rows(), 4);
+  EXPECT_EQ(read.uv(1, 0), 1.0);
+  EXPECT_EQ(read.uv(1, 1), 0.0);
+  EXPECT_EQ(read.uv_triangles(1, 2), 3);
+  const std::string bad =
+      write_test_file("continued_textured_bad.obj", "v 0 0 0\nvt 0 0\nf 1/1 \\\n1/1 1/x\n");
+  expect_mentions(message_of<IoError>([&] { read_textured_obj(bad); }),
+                  {"continued_textured_bad.obj", "line 3", "'1/x'"});
+}
+
 }  // namespace
 }  // namespace ricci
