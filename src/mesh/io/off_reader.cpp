@@ -111,21 +111,23 @@ class OffRecords {
   std::int64_t line_;
 };
 
-/// Checks what follows a record (`what`: "vertex 3") on its last line: numbers on the record's
-/// own line; nothing after a record that continued onto further lines, where a record that lists
-/// too few numbers would otherwise swallow the start of the next one unnoticed.
-void check_record_extras(const std::string& path, OffRecords& records, const std::string& what) {
+/// Checks what follows a record (the `index`-th `kind`: "vertex", 3) on its last line: numbers on
+/// the record's own line; nothing after a record that continued onto further lines, where a
+/// record that lists too few numbers would otherwise swallow the start of the next one unnoticed.
+void check_record_extras(const std::string& path, OffRecords& records, const char* kind,
+                         int index) {
   for (std::string_view token = records.next_on_line(); !token.empty();
        token = records.next_on_line()) {
+    auto what = [&] { return kind + (" " + std::to_string(index)); };
     if (records.wrapped()) {
       io_error(path, records.here(),
-               what + " continues from " + describe(records.first()) +
+               what() + " continues from " + describe(records.first()) +
                    " onto this line, which holds more after it: " + quote(token) +
                    " (a record spread over several lines must end its last line; does " +
                    describe(records.first()) + " list too few numbers?)");
     }
     if (!parse_double(token)) {
-      io_error(path, records.here(), "malformed number " + quote(token) + " after " + what);
+      io_error(path, records.here(), "malformed number " + quote(token) + " after " + what());
     }
   }
 }
@@ -181,7 +183,7 @@ void add_off_vertex(const std::string& path, const LineReader& lines, OffRecords
     }
     coordinate = *value;
   }
-  check_record_extras(path, records, "vertex " + std::to_string(v));
+  check_record_extras(path, records, "vertex", v);
   raw.add_vertex(x[0], x[1], x[2], records.first().value);
 }
 
@@ -214,7 +216,7 @@ void add_off_face(const std::string& path, const LineReader& lines, OffRecords& 
     }
     raw.corners.push_back(static_cast<int>(*index));
   }
-  check_record_extras(path, records, "face " + std::to_string(f));  // a colour
+  check_record_extras(path, records, "face", f);  // a colour
   raw.end_polygon(records.first().value);
 }
 
@@ -325,17 +327,18 @@ std::optional<BinaryOffFailure> read_off_binary(std::string_view data, std::size
   }
   for (std::int64_t f = 0; f < nf; ++f) {
     const std::size_t face_start = pos;
-    const std::string face = "face " + std::to_string(f);
+    auto face = [f] { return "face " + std::to_string(f); };
     if (size - pos < 4) {
-      return fail(pos, "truncated: the file ends before " + face + " of " + std::to_string(nf));
+      return fail(pos, "truncated: the file ends before " + face() + " of " + std::to_string(nf));
     }
     const std::int64_t count = int_at(pos);
     pos += 4;
     if (count < 3) {
-      return fail(face_start, face + " has " + std::to_string(count) + " corners, need at least 3");
+      return fail(face_start,
+                  face() + " has " + std::to_string(count) + " corners, need at least 3");
     }
     if ((size - pos) / 4 < static_cast<std::uint64_t>(count)) {
-      return fail(face_start, "truncated: the file ends inside " + face + " (" +
+      return fail(face_start, "truncated: the file ends inside " + face() + " (" +
                                   std::to_string(count) + " corners)");
     }
     for (std::int64_t k = 0; k < count; ++k, pos += 4) {
@@ -348,15 +351,16 @@ std::optional<BinaryOffFailure> read_off_binary(std::string_view data, std::size
       raw.corners.push_back(static_cast<int>(index));
     }
     if (layout.face_colours) {
-      if (size - pos < 4) return fail(pos, "truncated: the file ends before the colour of " + face);
+      if (size - pos < 4)
+        return fail(pos, "truncated: the file ends before the colour of " + face());
       const std::int64_t colours = int_at(pos);
       if (colours < 0 || colours > 4) {
-        return fail(
-            pos, face + " has a colour count of " + std::to_string(colours) + " (0 to 4 expected)");
+        return fail(pos, face() + " has a colour count of " + std::to_string(colours) +
+                             " (0 to 4 expected)");
       }
       pos += 4;
       if ((size - pos) / 4 < static_cast<std::uint64_t>(colours)) {
-        return fail(pos, "truncated: the file ends inside the colour of " + face);
+        return fail(pos, "truncated: the file ends inside the colour of " + face());
       }
       pos += 4 * static_cast<std::size_t>(colours);
     }

@@ -221,10 +221,10 @@ PlyRoles find_ply_roles(const std::string& path, const PlyHeader& header, RawMes
   if (items(roles.face_element) == 0 && items(roles.strip_element) == 0) {
     io_error(path, "no faces (the PLY header declares no face or tristrips element, or 0 items)");
   }
-  if (roles.face_element >= 0 && roles.corners < 0) {
+  if (items(roles.face_element) > 0 && roles.corners < 0) {
     io_error(path, "PLY face element has no vertex_indices property");
   }
-  if (roles.strip_element >= 0 && roles.strip_corners < 0) {
+  if (items(roles.strip_element) > 0 && roles.strip_corners < 0) {
     io_error(path, "PLY tristrips element has no vertex_indices property");
   }
   return roles;
