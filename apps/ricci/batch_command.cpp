@@ -116,9 +116,11 @@ CLI::App* add_batch_subcommand(CLI::App& app, BatchArgs& args) {
       "Parameterize many meshes: `ricci param` on every mesh of INPUT, each in a child process "
       "of its own (a crash, a timeout or a memory blow-up is that mesh's result), local workers "
       "by default, or one scheduler and many workers under `mpirun -n K ricci batch ...`. "
-      "Writes OUTDIR/KEY.obj and KEY.json per mesh, OUTDIR/results.jsonl (one line per mesh), "
-      "summary.json and summary.png. Rerunning the same command skips what is done. Options "
-      "not listed here are passed to `ricci param` (see ricci param --help). docs/batch.md");
+      "Writes OUTDIR/KEY.obj and KEY.json per mesh (KEY: the mesh's path under INPUT less its "
+      "extension; pig_off and pig_stl for a pig.off beside a pig.stl), OUTDIR/results.jsonl "
+      "(one line per mesh), summary.json and summary.png. Rerunning the same command skips "
+      "what is done. Options not listed here are passed to `ricci param` (see ricci param "
+      "--help). docs/batch.md");
   cmd->add_option("INPUT", args.input,
                   "a folder (every .obj .off .ply .stl under it) or a manifest: one mesh path per "
                   "line, optionally a TAB and options of ricci param for that mesh")

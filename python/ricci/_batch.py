@@ -89,8 +89,9 @@ def batch(paths, out_dir, *, jobs=None, timeout=0, memory_limit=0, threads=0, re
     paths: a list of mesh files (keys relative to their common folder), or one str / path: a
       folder (every .obj .off .ply .stl under it) or a manifest (a mesh path per line,
       optionally a TAB and options of ricci param for that mesh).
-    out_dir: receives KEY.obj (the UV OBJ) and KEY.json (the report) per mesh, results.jsonl
-      (a line per mesh) and summary.json. A second call with the same meshes and options skips
+    out_dir: receives KEY.obj (the UV OBJ) and KEY.json (the report) per mesh (KEY: the
+      mesh's key less its extension; pig_off and pig_stl for a pig.off beside a pig.stl),
+      results.jsonl (a line per mesh) and summary.json. A second call with the same meshes and options skips
       every mesh already recorded there (a failed one too, unless retry_failed=True), so an
       interrupted batch resumes where it stopped.
     jobs: meshes at once (None or 0: os.cpu_count()). timeout: seconds per mesh (0: none).

@@ -51,6 +51,28 @@ struct Entry {
   std::string where;  // "manifest line N" or the path, for messages
 };
 
+/// Where each entry's outputs go, relative to the output folder and without their extension:
+/// its path relative to `root` less the extension, or, where two entries share that (a.off and
+/// a.stl), with the extension's dot turned into '_' (a_off, a_stl). An entry whose name is unique
+/// keeps the name it always had, so a resumed batch finds its outputs. Depends only on the set
+/// of inputs, not on their order.
+std::vector<fs::path> output_stems(const std::vector<Entry>& entries, const fs::path& root) {
+  std::vector<fs::path> stems;
+  stems.reserve(entries.size());
+  std::map<fs::path, int> sharing;
+  for (const Entry& entry : entries) {
+    stems.push_back(entry.input.lexically_relative(root).replace_extension());
+    ++sharing[stems.back()];
+  }
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const std::string extension = entries[i].input.extension().string();
+    if (sharing[stems[i]] > 1 && !extension.empty()) {
+      stems[i] += "_" + extension.substr(1);
+    }
+  }
+  return stems;
+}
+
 /// Keys relative to root; outputs under out_dir; the checks every source of jobs shares.
 std::vector<BatchJob> make_jobs(const std::vector<Entry>& entries, const fs::path& root,
                                 const std::string& out_dir,
@@ -60,12 +82,13 @@ std::vector<BatchJob> make_jobs(const std::vector<Entry>& entries, const fs::pat
   std::vector<BatchJob> jobs;
   std::map<std::string, std::size_t> by_output;
   std::map<std::string, std::size_t> by_input;
-  for (const Entry& entry : entries) {
+  const std::vector<fs::path> stems = output_stems(entries, root);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const Entry& entry = entries[i];
     BatchJob job;
     job.input = entry.input.string();
     job.key = entry.input.lexically_relative(root).generic_string();
-    fs::path stem = out / fs::path(job.key);
-    stem.replace_extension();
+    const fs::path stem = out / stems[i];
     job.options = options;
     job.options.insert(job.options.end(), entry.options.begin(), entry.options.end());
     job.output = stem.string() + (asks_for_glb(job.options) ? ".glb" : ".obj");

@@ -74,15 +74,50 @@ TEST(BatchJobs, AManifestGivesPerMeshOptionsAfterTheBatchsOwn) {
       (root / "o/sub/b.glb").string());
 }
 
+TEST(BatchJobs, KeysThatDifferOnlyInTheExtensionWriteDistinctOutputs) {
+  const fs::path root = test_temp_dir("batch_jobs_shared_stems");
+  touch(root / "in/pig.off");
+  touch(root / "in/pig.stl");
+  touch(root / "in/cow.ply");
+  touch(root / "in/sub/pig.obj");  // another output folder: keeps its name
+  const std::vector<BatchJob> jobs =
+      list_batch_jobs((root / "in").string(), (root / "o").string(), {});
+  ASSERT_EQ(keys(jobs), (std::vector<std::string>{"cow.ply", "pig.off", "pig.stl", "sub/pig.obj"}));
+  EXPECT_EQ(jobs[0].output, (root / "o/cow.obj").string());  // unique: today's name
+  EXPECT_EQ(jobs[1].output, (root / "o/pig_off.obj").string());
+  EXPECT_EQ(jobs[1].report, (root / "o/pig_off.json").string());
+  EXPECT_EQ(jobs[2].output, (root / "o/pig_stl.obj").string());
+  EXPECT_EQ(jobs[2].report, (root / "o/pig_stl.json").string());
+  EXPECT_EQ(jobs[3].output, (root / "o/sub/pig.obj").string());
+
+  // A manifest: the names do not depend on the order of its lines, and --format glb on one line
+  // changes only that mesh's extension.
+  std::ofstream(root / "in/forward.tsv") << "pig.off\npig.stl\t--format glb\ncow.ply\n";
+  std::ofstream(root / "in/backward.tsv") << "cow.ply\npig.stl\t--format glb\npig.off\n";
+  for (const char* manifest : {"forward.tsv", "backward.tsv"}) {
+    SCOPED_TRACE(manifest);
+    for (const BatchJob& job :
+         list_batch_jobs((root / "in" / manifest).string(), (root / "o").string(), {})) {
+      const std::string expected = job.key == "pig.off"   ? "pig_off.obj"
+                                   : job.key == "pig.stl" ? "pig_stl.glb"
+                                                          : "cow.obj";
+      EXPECT_EQ(job.output, (root / "o" / expected).string()) << job.key;
+    }
+  }
+}
+
 TEST(BatchJobs, RefusalsNameTheProblem) {
   const fs::path root = test_temp_dir("batch_jobs_refusals");
-  touch(root / "x/a.obj");
+  // a.off and a.ply write a_off.obj and a_ply.obj, one of which a_off.obj writes too.
+  touch(root / "x/a.off");
   touch(root / "x/a.ply");
+  touch(root / "x/a_off.obj");
   try {
     list_batch_jobs((root / "x").string(), (root / "o").string(), {});
     FAIL() << "two meshes writing one output";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("would both write"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a_off.obj"), std::string::npos) << e.what();
   }
   // Outputs into the input folder would overwrite a.obj.
   touch(root / "y/a.obj");

@@ -232,4 +232,18 @@ check_log resume-scheduler-log out_s "$(echo "$normal_keys" | wc -l)"
 # shellcheck disable=SC2086
 same_as_single resume-scheduler-identical out_s $normal_keys
 
+# 5. Meshes whose keys differ only in the extension write KEY_ext outputs, a unique one its own.
+mkdir -p twins
+"$RICCI" generate disk -o twins/twin.obj >/dev/null
+awk '/^v /{v[n++]=$2" "$3" "$4} /^f /{f[m++]="3 "$2-1" "$3-1" "$4-1}
+  END{print "OFF"; print n, m, 0; for(i=0;i<n;i++) print v[i]; for(i=0;i<m;i++) print f[i]}' \
+  twins/twin.obj >twins/twin.off
+cp twins/twin.obj twins/single.obj
+batch twins -o out_t >twins.txt 2>&1
+status=$?
+[[ $status == 0 ]] && ok || fail twins "exit $status: $(tail -3 twins.txt)"
+for f in twin_obj.obj twin_obj.json twin_off.obj twin_off.json single.obj single.json; do
+  [[ -s "out_t/$f" ]] || fail twins-outputs "$f missing"
+done
+
 finish

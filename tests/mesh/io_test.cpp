@@ -3,10 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -21,6 +19,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/info.hpp"
+#include "support/byte_writer.hpp"
 #include "support/shared_meshes.hpp"
 
 namespace ricci {
@@ -61,29 +60,7 @@ void expect_mentions(const std::string& message, std::initializer_list<std::stri
   }
 }
 
-/// Appends binary values in a chosen byte order, to build PLY and STL files in tests.
-class ByteWriter {
- public:
-  explicit ByteWriter(bool big_endian)
-      : swap_(big_endian != (std::endian::native == std::endian::big)) {}
-  template <class T>
-  ByteWriter& put(T value) {
-    char bytes[sizeof(T)];
-    std::memcpy(bytes, &value, sizeof(T));
-    if (swap_) std::reverse(bytes, bytes + sizeof(T));
-    data_.append(bytes, sizeof(T));
-    return *this;
-  }
-  ByteWriter& text(const std::string& s) {
-    data_ += s;
-    return *this;
-  }
-  const std::string& data() const { return data_; }
-
- private:
-  bool swap_;
-  std::string data_;
-};
+using testing::ByteWriter;
 
 // ------------------------------------------------------------------------------------------
 // Reading good files

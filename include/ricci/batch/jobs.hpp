@@ -18,10 +18,11 @@ struct BatchJob {
   /// common folder of a list of paths), with '/' separators: names the mesh in the results log,
   /// in the summary and in the outputs.
   std::string key;
-  /// The UV OBJ: OUTDIR/<key without its extension>.obj (.glb when the options ask for
-  /// `--format glb`).
+  /// The UV OBJ: OUTDIR/<name>.obj (.glb when the options ask for `--format glb`), where <name>
+  /// is the key without its extension, or with the extension's dot turned into '_' when another
+  /// mesh of the batch has the same key without extension (a.off and a.stl: a_off, a_stl).
   std::string output;
-  /// The JSON report of `ricci param`: OUTDIR/<key without its extension>.json.
+  /// The JSON report of `ricci param`: OUTDIR/<name>.json.
   std::string report;
   /// `ricci param` options for this mesh: the batch's own, then the manifest line's.
   std::vector<std::string> options;
@@ -41,8 +42,9 @@ const std::vector<std::string>& batch_mesh_extensions();
 ///   are relative to the manifest's folder.
 /// \param options `ricci param` options for every mesh (before each line's own)
 /// \throw InvalidInput when INPUT does not exist, a manifest line names a missing file or has
-///        unbalanced quotes (with file and line), two meshes would write the same output (naming
-///        both), an output would overwrite an input, or no mesh is found
+///        unbalanced quotes (with file and line), two meshes would still write the same output
+///        (naming both: a.off, a.stl and an a_off.obj), an output would overwrite an input, or no
+///        mesh is found
 std::vector<BatchJob> list_batch_jobs(const std::string& input, const std::string& out_dir,
                                       const std::vector<std::string>& options);
 

@@ -65,11 +65,10 @@ void add_obj_face(const std::string& path, Where here, std::string_view rest, Ra
 RawMesh parse_obj(const std::string& path, std::string_view data) {
   RawMesh raw;
   raw.index_base = 1;
-  LineReader lines(data);
-  std::string_view line;
-  while (lines.next(line)) {
-    const Where here{lines.line_number(), false};
-    std::string_view rest = strip_comment(line);
+  ObjStatementReader statements(data);
+  std::string_view rest;
+  while (statements.next(rest)) {
+    const Where here{statements.line_number(), false};
     const std::string_view keyword = next_token(rest);
     if (keyword.empty()) continue;
     if (keyword == "v") {

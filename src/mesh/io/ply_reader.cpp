@@ -162,12 +162,28 @@ PlyHeader parse_ply_header(const std::string& path, std::string_view data) {
   return header;
 }
 
-/// Which properties of the vertex and face elements carry the mesh.
+/// Which properties of the vertex, face and tristrips elements carry the mesh.
 struct PlyRoles {
-  int vertex_element = -1, face_element = -1;
+  int vertex_element = -1, face_element = -1, strip_element = -1;
   int coordinate[3] = {-1, -1, -1};  ///< property indices of x, y, z in the vertex element
   int corners = -1;                  ///< property index of vertex_indices in the face element
+  int strip_corners = -1;            ///< property index of vertex_indices in the tristrips element
 };
+
+/// The property of `element` that lists its corners (vertex_indices or vertex_index), or -1.
+/// \throw IoError when that property is not a list of integers
+int corner_property(const std::string& path, const PlyElement& element) {
+  int found = -1;
+  for (std::size_t p = 0; p < element.properties.size(); ++p) {
+    const PlyProperty& property = element.properties[p];
+    if (property.name != "vertex_indices" && property.name != "vertex_index") continue;
+    if (!property.is_list || !ply_is_integer(property.type)) {
+      io_error(path, element.name + " property " + property.name + " must be a list of integers");
+    }
+    found = static_cast<int>(p);
+  }
+  return found;
+}
 
 PlyRoles find_ply_roles(const std::string& path, const PlyHeader& header, RawMesh& raw) {
   PlyRoles roles;
@@ -185,14 +201,10 @@ PlyRoles find_ply_roles(const std::string& path, const PlyHeader& header, RawMes
       }
     } else if (element.name == "face" && roles.face_element < 0) {
       roles.face_element = static_cast<int>(e);
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        const PlyProperty& property = element.properties[p];
-        if (property.name != "vertex_indices" && property.name != "vertex_index") continue;
-        if (!property.is_list || !ply_is_integer(property.type)) {
-          io_error(path, "face property " + property.name + " must be a list of integers");
-        }
-        roles.corners = static_cast<int>(p);
-      }
+      roles.corners = corner_property(path, element);
+    } else if (element.name == "tristrips" && roles.strip_element < 0) {
+      roles.strip_element = static_cast<int>(e);
+      roles.strip_corners = corner_property(path, element);
     } else if (element.count > 0) {
       raw.warnings.push_back(path + ": skipped PLY element '" + element.name + "' (" +
                              std::to_string(element.count) + " items)");
@@ -205,10 +217,16 @@ PlyRoles find_ply_roles(const std::string& path, const PlyHeader& header, RawMes
                std::string("PLY vertex element has no property ") + static_cast<char>('x' + axis));
     }
   }
-  if (roles.face_element < 0 || header.elements[roles.face_element].count == 0) {
-    io_error(path, "no faces (the PLY header declares no face element or 0 faces)");
+  auto items = [&](int element) { return element < 0 ? 0 : header.elements[element].count; };
+  if (items(roles.face_element) == 0 && items(roles.strip_element) == 0) {
+    io_error(path, "no faces (the PLY header declares no face or tristrips element, or 0 items)");
   }
-  if (roles.corners < 0) io_error(path, "PLY face element has no vertex_indices property");
+  if (items(roles.face_element) > 0 && roles.corners < 0) {
+    io_error(path, "PLY face element has no vertex_indices property");
+  }
+  if (items(roles.strip_element) > 0 && roles.strip_corners < 0) {
+    io_error(path, "PLY tristrips element has no vertex_indices property");
+  }
   return roles;
 }
 
@@ -243,6 +261,54 @@ void check_ply_corner(const std::string& path, Where here, int face, double inde
   }
 }
 
+/// Whether a tristrips list value separates two strips: -1, which an unsigned list type stores
+/// as its largest value.
+bool is_strip_separator(PlyType type, double value) {
+  if (value == -1) return true;
+  switch (type) {
+    case PlyType::UInt8:
+      return value == 0xff;
+    case PlyType::UInt16:
+      return value == 0xffff;
+    case PlyType::UInt32:
+      return value == 0xffffffffU;
+    default:
+      return false;
+  }
+}
+
+/// Adds the triangles of one tristrips item (`strips`: its vertex_indices list, strips separated
+/// by -1) to `raw`. Triangle i of a strip s is (s_i, s_i+1, s_i+2), its first two corners swapped
+/// when i is odd so that every triangle turns like the first; triangles with a repeated corner
+/// (the degenerate ones that join strips) are skipped.
+/// \throw InvalidInput naming the item when an index is out of range
+void add_triangle_strips(const std::string& path, Where here, const PlyElement& element,
+                         std::int64_t item, PlyType type, const std::vector<double>& strips, int nv,
+                         RawMesh& raw) {
+  std::size_t begin = 0;
+  for (std::size_t end = 0; end <= strips.size(); ++end) {
+    if (end < strips.size() && !is_strip_separator(type, strips[end])) {
+      if (strips[end] < 0 || strips[end] >= nv) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%.0f", strips[end]);
+        bad_vertex_index(path, here, raw.num_polygons(), buffer,
+                         "outside [0, " + std::to_string(nv) + ") (in " + item_name(element, item) +
+                             ", value " + std::to_string(end) + " of its list)");
+      }
+      continue;
+    }
+    for (std::size_t i = begin; i + 2 < end; ++i) {
+      int a = static_cast<int>(strips[i]), b = static_cast<int>(strips[i + 1]);
+      const int c = static_cast<int>(strips[i + 2]);
+      if (a == b || b == c || a == c) continue;
+      if ((i - begin) % 2 == 1) std::swap(a, b);
+      raw.corners.insert(raw.corners.end(), {a, b, c});
+      raw.end_polygon(here.value);
+    }
+    begin = end + 1;
+  }
+}
+
 void read_ply_binary(const std::string& path, std::string_view data, const PlyHeader& header,
                      const PlyRoles& roles, RawMesh& raw) {
   raw.binary = true;
@@ -250,10 +316,12 @@ void read_ply_binary(const std::string& path, std::string_view data, const PlyHe
   const bool swap = file_big != native_big_endian;
   std::size_t pos = header.data_start;
   const auto nv = static_cast<int>(header.elements[roles.vertex_element].count);
+  std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
     const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
     const bool is_face = static_cast<int>(e) == roles.face_element;
+    const bool is_strip = static_cast<int>(e) == roles.strip_element;
     auto need = [&](std::size_t bytes, std::int64_t item) {
       if (data.size() - pos < bytes) {
         ends_inside(path, Where{static_cast<std::int64_t>(pos), true}, element, item);
@@ -298,6 +366,14 @@ void read_ply_binary(const std::string& path, std::string_view data, const PlyHe
             raw.corners.push_back(static_cast<int>(index));
           }
         }
+        if (is_strip && roles.strip_corners == static_cast<int>(p)) {
+          strips.resize(static_cast<std::size_t>(count));
+          for (std::size_t k = 0; k < strips.size(); ++k) {
+            strips[k] = ply_load(property.type, data.data() + pos + k * size, swap);
+          }
+          add_triangle_strips(path, Where{static_cast<std::int64_t>(item_start), true}, element,
+                              item, property.type, strips, nv, raw);
+        }
         pos += static_cast<std::size_t>(count) * size;
       }
       if (is_vertex) raw.add_vertex(x[0], x[1], x[2], static_cast<std::int64_t>(item_start));
@@ -314,10 +390,12 @@ void read_ply_ascii(const std::string& path, std::string_view data, const PlyHea
                     const PlyRoles& roles, RawMesh& raw) {
   TokenReader tokens(data, header.data_start, header.data_line);
   const auto nv = static_cast<int>(header.elements[roles.vertex_element].count);
+  std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
     const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
     const bool is_face = static_cast<int>(e) == roles.face_element;
+    const bool is_strip = static_cast<int>(e) == roles.strip_element;
     std::int64_t item = 0;
     std::string_view token;
     auto next_number = [&](bool integer) {
@@ -352,14 +430,18 @@ void read_ply_ascii(const std::string& path, std::string_view data, const PlyHea
         const Where here{item_line, false};
         check_list_length(path, here, element, item, count);
         const bool corners = is_face && roles.corners == static_cast<int>(p);
+        const bool strip = is_strip && roles.strip_corners == static_cast<int>(p);
         if (corners) check_ply_corner_count(path, here, static_cast<int>(item), count);
+        strips.clear();
         for (std::int64_t k = 0; k < static_cast<std::int64_t>(count); ++k) {
           const double value = next_number(ply_is_integer(property.type));
           if (corners) {
             check_ply_corner(path, Where{tokens.line(), false}, static_cast<int>(item), value, nv);
             raw.corners.push_back(static_cast<int>(value));
           }
+          if (strip) strips.push_back(value);
         }
+        if (strip) add_triangle_strips(path, here, element, item, property.type, strips, nv, raw);
       }
       if (is_vertex) raw.add_vertex(x[0], x[1], x[2], item_line);
       if (is_face) raw.end_polygon(item_line);

@@ -88,6 +88,41 @@ std::optional<std::int64_t> parse_integer(std::string_view token) {
   return value;
 }
 
+namespace {
+
+/// Strips a trailing backslash (and the blanks around it) from `line`; true when there was one.
+bool strip_continuation(std::string_view& line) {
+  std::string_view trimmed = line;
+  while (!trimmed.empty() && is_space(trimmed.back())) trimmed.remove_suffix(1);
+  if (trimmed.empty() || trimmed.back() != '\\') return false;
+  trimmed.remove_suffix(1);
+  line = trimmed;
+  return true;
+}
+
+}  // namespace
+
+bool ObjStatementReader::next(std::string_view& statement) {
+  std::string_view line;
+  if (!lines_.next(line)) return false;
+  first_line_ = lines_.line_number();
+  line = strip_comment(line);
+  if (!strip_continuation(line)) {
+    statement = line;
+    return true;
+  }
+  joined_.assign(line);
+  bool more = true;
+  while (more && lines_.next(line)) {
+    line = strip_comment(line);
+    more = strip_continuation(line);
+    joined_ += ' ';
+    joined_ += line;
+  }
+  statement = joined_;
+  return true;
+}
+
 void add_text_vertex(const std::string& path, Where here, std::string_view rest, RawMesh& raw) {
   double x[3];
   int count = 0;

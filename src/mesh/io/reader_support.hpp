@@ -107,6 +107,24 @@ class LineReader {
   std::int64_t line_number_ = 0;
 };
 
+/// Iterates the statements of an OBJ file (read_mesh's and read_textured_obj's one tokenizer):
+/// its lines without comments, where a line whose content ends with a backslash continues on the
+/// next line (the backslash and the line break read as a space). A '#' comment ends its physical
+/// line only, so a backslash inside a comment continues nothing.
+class ObjStatementReader {
+ public:
+  explicit ObjStatementReader(std::string_view data) : lines_(data) {}
+  /// False at the end of the data. `statement` stays valid until the next call.
+  bool next(std::string_view& statement);
+  /// The physical line where the last statement returned starts (error messages name it).
+  std::int64_t line_number() const { return first_line_; }
+
+ private:
+  LineReader lines_;
+  std::string joined_;  ///< a continued statement, its lines joined
+  std::int64_t first_line_ = 0;
+};
+
 /// Iterates whitespace-separated tokens across lines, knowing the line of each.
 class TokenReader {
  public:

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "readers.hpp"
+#include "ricci/errors.hpp"
 
 namespace ricci::io_detail {
 namespace {
@@ -175,23 +176,38 @@ RawMesh parse_stl_ascii(const std::string& path, std::string_view data) {
   return raw;
 }
 
+/// Whether the data reads as an ASCII STL: the keyword "solid" (with a name, or alone on its
+/// line), then either text only or "facet normal" / "endsolid" as the next statement. A binary
+/// STL's 80-byte comment may begin with "solid" too, but its counts and floats are not text and
+/// what follows the comment is no facet.
+bool looks_like_ascii_stl(std::string_view data) {
+  TokenReader tokens(data, 0, 1);
+  std::string_view token;
+  if (!tokens.next(token) || token != "solid") return false;
+  const bool text = std::all_of(data.begin(), data.end(), [](char c) {
+    return c == '\n' || c == '\t' || c == '\r' || static_cast<unsigned char>(c) >= 32;
+  });
+  if (text) return true;
+  tokens.skip_line();  // the solid's name
+  if (!tokens.next(token)) return false;
+  if (token == "endsolid") return true;
+  return token == "facet" && tokens.next(token) && token == "normal";
+}
+
 }  // namespace
 
 RawMesh parse_stl(const std::string& path, std::string_view data) {
-  // Binary files may also begin with "solid", so the size decides first: a binary STL is exactly
-  // 84 + 50 n bytes long.
-  if (data.size() >= 84 && data.size() == 84 + 50 * binary_stl_count(data)) {
+  // A binary STL is exactly 84 + 50 n bytes long for the n its header declares; an ASCII one
+  // starts with "solid" and reads as text. A file that passes both tests (an ASCII file of a
+  // size that happens to match) is ASCII when it parses as such.
+  const bool binary_size = data.size() >= 84 && data.size() == 84 + 50 * binary_stl_count(data);
+  if (!looks_like_ascii_stl(data)) return parse_stl_binary(path, data);
+  if (!binary_size) return parse_stl_ascii(path, data);
+  try {
+    return parse_stl_ascii(path, data);
+  } catch (const IoError&) {
     return parse_stl_binary(path, data);
   }
-  std::string_view probe = data;
-  if (next_token(probe) == "solid") {
-    // An ASCII file holds text only.
-    const bool text = std::all_of(data.begin(), data.end(), [](char c) {
-      return c == '\n' || c == '\t' || c == '\r' || static_cast<unsigned char>(c) >= 32;
-    });
-    if (text) return parse_stl_ascii(path, data);
-  }
-  return parse_stl_binary(path, data);
 }
 
 }  // namespace ricci::io_detail

@@ -95,14 +95,10 @@ TexturedMesh read_textured_obj(const std::string& path) {
   Place at{path, 0};
   std::vector<int> face_vertices, face_uvs;
 
-  std::size_t start = 0;
-  while (start <= data.size()) {
-    std::size_t end = data.find('\n', start);
-    if (end == std::string::npos) end = data.size();
-    ++at.line;
-    std::string_view rest(data.data() + start, end - start);
-    start = end + 1;
-    rest = rest.substr(0, rest.find('#'));
+  io_detail::ObjStatementReader statements(data);
+  std::string_view rest;
+  while (statements.next(rest)) {
+    at.line = statements.line_number();
     const std::string_view keyword = next_token(rest);
     if (keyword.empty()) continue;
 
