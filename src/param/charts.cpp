@@ -24,7 +24,7 @@ namespace {
 constexpr int kRounds = 4;
 /// A chart's boundary edge whose layout length differs from its 3D length by more than this
 /// (relative) would leave an inexact seam: the layout itself is exact to about 1e-12.
-constexpr double kSeamTolerance = 1e-10;
+constexpr double kSeamTolerance = 5e-10;
 
 /// The vertex farthest from `from` along the edges (Dijkstra over the given lengths).
 int farthest_vertex(const Topology& t, const Eigen::VectorXd& lengths, int from) {
@@ -176,6 +176,9 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
   inner.cones.clear();
   inner.quantize = false;
   inner.boundary = BoundaryMode::Free;
+  // Untangled here, with the boundary fixed (the pipeline's own untangling moves a free
+  // boundary, which would take the seams off their 3D lengths).
+  inner.fold_free.untangle = false;
   UntangleOptions untangle;  // the boundary (u = 0, the seams) stays
   std::vector<char> unfolded(nf, 0);
   std::vector<Flat> flats;

@@ -427,12 +427,14 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
     // With the charts to fall back on, a layout that cannot come out fold-free is left as is.
     untangle.give_up_when_stuck = run.options.fold_free.charts;
     untangle.fixed.assign(result.mesh.num_vertices(), 0);
+    untangle.angles.assign(result.mesh.num_vertices(), 2 * kPi);
     // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
     // whatever else moves: no untangling is tried then.
     bool overloaded = false;
     for (const Cone& c : result.cones) {
       if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
       untangle.fixed[c.vertex] = 1;
+      untangle.angles[c.vertex] = 2 * kPi - c.curvature;
       const int faces = topology.vertex_degree[c.vertex] - topology.is_boundary_vertex[c.vertex];
       overloaded = overloaded || 2 * kPi - c.curvature >= faces * kPi;
     }

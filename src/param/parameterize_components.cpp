@@ -3,10 +3,12 @@
 /// of several is parameterized component by component, and the charts packed into one atlas.
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <complex>
 #include <deque>
+#include <numbers>
 #include <numeric>
 #include <string>
 
@@ -72,6 +74,42 @@ std::string describe(const ComponentParam& c, int index) {
          " boundary loops)";
 }
 
+/// Interior vertices whose layout angle (over the corners of all their copies) is not the flat
+/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to the checker's 1e-6).
+int vertices_off_their_angle(const ParamResult& p) {
+  const Mesh& mesh = p.mesh;
+  const int nv = mesh.num_vertices();
+  std::vector<double> angle(nv, 0), expected(nv, 2 * std::numbers::pi);
+  std::vector<char> on_boundary(nv, 0);
+  for (const Cone& c : p.cones) {
+    if (c.vertex >= 0 && c.vertex < nv) expected[c.vertex] -= c.curvature;
+  }
+  const Triangles& corners = p.cut_mesh.triangles;
+  std::vector<std::array<int, 3>> edges;  // (smaller, larger, face) to find boundary edges
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d a = p.layout.uv.row(corners(f, k)).transpose();
+      const Eigen::Vector2d b = p.layout.uv.row(corners(f, (k + 1) % 3)).transpose() - a;
+      const Eigen::Vector2d c = p.layout.uv.row(corners(f, (k + 2) % 3)).transpose() - a;
+      angle[mesh.triangles(f, k)] += std::atan2(b.x() * c.y() - b.y() * c.x(), b.dot(c));
+      const int u = mesh.triangles(f, k), v = mesh.triangles(f, (k + 1) % 3);
+      edges.push_back({std::min(u, v), std::max(u, v), f});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    if (j - i == 1) on_boundary[edges[i][0]] = on_boundary[edges[i][1]] = 1;
+    i = j;
+  }
+  int off = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > 1e-6 && angle[v] != 0) ++off;
+  }
+  return off;
+}
+
 /// The exact map's own checks (FoldFreeOptions): converged, closes up, finite, no face flipped or
 /// degenerate. `why` says which failed.
 bool passes_checks(const ParamResult& p, const ParamOptions& options, std::string& why) {
@@ -89,7 +127,15 @@ bool passes_checks(const ParamResult& p, const ParamOptions& options, std::strin
   const int folded = p.distortion.flipped_faces + p.distortion.degenerate_faces;
   if (folded > 0) {
     why = std::to_string(folded) + " faces stay flipped or degenerate after untangling (" +
-          std::to_string(p.untangle.stuck_faces) + " with no vertex free to move)";
+          std::to_string(p.untangle.stuck_faces) +
+          " with no vertex free to move, or around a cone whose angle its faces cannot hold)";
+    return false;
+  }
+  // Every face positive, yet a vertex could still be wrapped twice (angle 4 pi where the metric
+  // says 2 pi): the layout's angle at every interior vertex must be the metric's.
+  const int off = vertices_off_their_angle(p);
+  if (off > 0) {
+    why = std::to_string(off) + " vertices have another angle in the layout than the flat metric";
     return false;
   }
   return true;

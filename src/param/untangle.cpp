@@ -7,6 +7,7 @@
 #include <complex>
 #include <deque>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ constexpr double kRigidLength = 1e-7;
 /// ... and the motions reached around the vertex by different seams agree to this (a cone's
 /// copies come back rotated).
 constexpr double kConsistentMotion = 1e-8;
+
+/// A vertex's angle in the result may differ from the one it must have by this (the checker's
+/// tolerance for a cone).
+constexpr double kAngleTolerance = 1e-6;
 
 /// The smallest relative energy decrease the eps update assumes for a stage (the paper's sigma).
 constexpr double kSigmaFloor = 0.5;
@@ -119,12 +124,16 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
     invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
             std::to_string(nf) + " faces");
   }
+  if (!options.angles.empty() && static_cast<int>(options.angles.size()) != nv) {
+    invalid("angles has " + std::to_string(options.angles.size()) + " entries for " +
+            std::to_string(nv) + " vertices");
+  }
   if (!options.fixed.empty() && static_cast<int>(options.fixed.size()) != nv) {
     invalid("fixed has " + std::to_string(options.fixed.size()) + " entries for " +
             std::to_string(nv) + " vertices");
   }
   if (options.rings < 0 || options.max_rings < options.rings || options.newton_iterations < 1 ||
-      options.max_stages < 1 || options.stall_stages < 1 ||
+      options.max_stages < 1 || options.stall_stages < 1 || options.max_face_iterations < 0 ||
       !(options.area_weight >= 0 && options.area_weight < 1) || !(options.min_det > 0)) {
     invalid("an option is out of range");
   }
@@ -284,7 +293,21 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
     result.stuck_faces = static_cast<int>(std::count(stuck.begin(), stuck.end(), 1));
     return finish();
   }
+  // The angle each interior vertex must have in the result: the options', else 2 pi where it
+  // may move (a vertex that stays keeps whatever angle the layout gives it).
+  std::vector<double> expected_angle(nv, std::numeric_limits<double>::quiet_NaN());
+  for (int v = 0; v < nv; ++v) {
+    if (topology.is_boundary_vertex[v]) continue;
+    if (!options.angles.empty()) {
+      expected_angle[v] = options.angles[v];
+    } else if (movable[v]) {
+      expected_angle[v] = 2 * std::numbers::pi;
+    }
+  }
   const double theta = options.area_weight;
+  const long long budget =
+      options.max_face_iterations > 0 ? options.max_face_iterations : 50LL * nf + 100000;
+  long long work = 0;
   std::vector<int> variable(nv, -1), face_mark(nf, 0);
 
   // One cluster of variables (mesh vertices, each moving all its copies) with the faces around
@@ -413,8 +436,9 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
     SparseCholesky solver;
     bool analysed = false;
     auto minimise = [&](double eps) {
-      for (int it = 0; it < options.newton_iterations; ++it) {
+      for (int it = 0; it < options.newton_iterations && work < budget; ++it) {
         ++result.newton_iterations;
+        work += static_cast<long long>(faces.size());
         Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * n);
         triplets.clear();
         double e = 0;
@@ -493,7 +517,7 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
     // just past det = 0 is a sliver: the barrier, eps -> 0, pulls it back into shape).
     double stalled_at = worst;
     int stalled = 0;
-    for (int stage = 0; stage < options.max_stages; ++stage) {
+    for (int stage = 0; stage < options.max_stages && work < budget; ++stage) {
       const double before = total(x, eps);
       minimise(eps);
       const double after = total(x, eps);
@@ -545,7 +569,30 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
       new_bad = new_bad || (now && !flipped_before[i]);
       fixed_faces += flipped_before[i] && !now;
     }
-    const bool keep = !new_bad && bad_after < bad_before && fixed_faces > 0;
+    // Every face positive does not make a map: a vertex's faces can wrap around it twice, or a
+    // cone's once less. Each interior vertex of the cluster's faces whose faces are all positive
+    // must have its angle (a cone its own).
+    bool wrapped = false;
+    for (int f : faces) {
+      for (int k = 0; k < 3 && !wrapped; ++k) {
+        const int v = mesh.triangles(f, k);
+        const double expected = expected_angle[v];
+        if (!std::isfinite(expected)) continue;
+        double sum = 0;
+        bool positive = true;
+        for (int s2 = face_offset[v]; s2 < face_offset[v + 1] && positive; ++s2) {
+          const int g = vertex_faces[s2];
+          positive = !is_flipped(g);
+          const int j = corner_of(g, v);
+          const Eigen::Vector2d a = out.row(uv_triangles(g, j)).transpose();
+          const Eigen::Vector2d b = out.row(uv_triangles(g, (j + 1) % 3)).transpose() - a;
+          const Eigen::Vector2d c = out.row(uv_triangles(g, (j + 2) % 3)).transpose() - a;
+          sum += std::atan2(b.x() * c.y() - b.y() * c.x(), b.dot(c));
+        }
+        wrapped = positive && std::abs(sum - expected) > kAngleTolerance;
+      }
+    }
+    const bool keep = !new_bad && !wrapped && bad_after < bad_before && fixed_faces > 0;
     if (!keep) {
       for (const auto& [c, p] : saved) out.row(c) = p;
     } else {
@@ -556,7 +603,8 @@ UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, 
   };
 
   std::vector<int> depth(nv, -1), parent(nv);
-  for (int rings = std::max(options.rings, 1); rings <= options.max_rings; rings *= 2) {
+  for (int rings = std::max(options.rings, 1); rings <= options.max_rings && work < budget;
+       rings *= 2) {
     std::vector<int> seeds;
     for (int f = 0; f < nf; ++f) {
       if (is_flipped(f) && !stuck[f]) seeds.push_back(f);

@@ -35,6 +35,11 @@ struct UntangleOptions {
   /// copies are not related by rigid motions, or whose copies' motions disagree around them,
   /// which is what a cone looks like, are kept in place anyway).
   std::vector<char> fixed;
+  /// #V (or empty): the angle each interior vertex must have in the result, summed over the
+  /// corners of all its copies (2 pi minus a cone's curvature; 2 pi elsewhere). A region whose
+  /// faces come out positive but wrap a vertex to another angle (twice around, or a cone once
+  /// less) is not kept. Empty: 2 pi for the vertices that may move, the others unchecked.
+  std::vector<double> angles;
   /// Vertices on the mesh boundary move too (a free boundary's shape is not prescribed).
   bool move_boundary = false;
   /// When some flipped face has no vertex that may move, try nothing (the layout cannot come
@@ -46,9 +51,12 @@ struct UntangleOptions {
   int max_rings = 8;
   /// Newton iterations per eps stage, and eps stages, at most; a cluster whose smallest det J
   /// has not risen by a tenth of its distance to min_det over `stall_stages` stages is given up.
-  int newton_iterations = 10;
+  int newton_iterations = 3;
   int max_stages = 40;
-  int stall_stages = 6;
+  int stall_stages = 4;
+  /// Work at most: Newton iterations times the faces in their energies, over all regions;
+  /// 0: 50 #F + 100,000 (a layout that will not untangle gives up in proportion to its size).
+  long long max_face_iterations = 0;
   /// theta: weight of the area term against the shape term.
   double area_weight = 1.0 / 128;
   /// A face counts as untangled when det J exceeds this (J relative to its face's reference
