@@ -554,7 +554,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
         note(left, source[slivers.left[i]], max_examples);
       }
     }
-    if (slivers.triangles.rows() != work.rows() || !slivers.split.empty()) {
+    if (slivers.changed) {
       for (int& row : slivers.origin) row = source[row];
       work = std::move(slivers.triangles);
       source = std::move(slivers.origin);

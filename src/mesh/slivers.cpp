@@ -192,8 +192,16 @@ class SliverWork {
 }  // namespace
 
 SliverRemoval remove_slivers(const Positions& P, const Triangles& T, double tolerance) {
-  SliverWork work(P, T, tolerance);
   SliverRemoval out;
+  // Most meshes have none: then nothing is built.
+  bool any = false;
+  for (Eigen::Index f = 0; f < T.rows() && !any; ++f) {
+    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    any = P.row(a).allFinite() && P.row(b).allFinite() && P.row(c).allFinite() &&
+          is_zero_area(P, a, b, c, tolerance);
+  }
+  if (!any) return out;
+  SliverWork work(P, T, tolerance);
   std::vector<int> pending;
   for (int f = 0; f < work.num_faces(); ++f) {
     if (work.zero_at_start(f)) pending.push_back(f);
@@ -209,7 +217,7 @@ SliverRemoval remove_slivers(const Positions& P, const Triangles& T, double tole
     bool removed = false;
     for (std::size_t i = 0; i < pending.size(); ++i) {  // pending may grow meanwhile
       const int f = pending[i];
-      if (still_pending(f) && work.remove(f, false, pending)) removed = true;
+      if (still_pending(f) && work.remove(f, false, pending)) removed = out.changed = true;
     }
     std::vector<int> next;
     for (int f : pending) {
@@ -227,6 +235,7 @@ SliverRemoval remove_slivers(const Positions& P, const Triangles& T, double tole
       chained = work.remove(pending[i], true, pending);
     }
     if (!chained) break;
+    out.changed = true;
     ++chain_splits;
   }
   for (int f : pending) {
@@ -234,8 +243,8 @@ SliverRemoval remove_slivers(const Positions& P, const Triangles& T, double tole
     out.left.push_back(work.root(f));
     out.left_why.push_back(work.why(f));
   }
-  work.emit(out);
-  // Rows in ascending order (each once: the pieces of one row may be left), reasons with them.
+  if (out.changed) work.emit(out);
+  // Rows in ascending order, each reason with its row (a row once per piece left).
   std::vector<std::size_t> by_row(out.left.size());
   std::iota(by_row.begin(), by_row.end(), std::size_t{0});
   std::stable_sort(by_row.begin(), by_row.end(),

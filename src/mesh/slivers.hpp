@@ -19,6 +19,9 @@ enum class SliverLeft {
 
 /// What remove_slivers did. Rows are those of its input triangles.
 struct SliverRemoval {
+  /// A face was removed or split; when not, the faces are T as they are, and only `left` and
+  /// `left_why` are filled.
+  bool changed = false;
   Triangles triangles;      ///< the faces afterwards, the pieces of a row in its place
   std::vector<int> origin;  ///< per output face: the input row it is (or is a piece of)
   std::vector<char> piece;  ///< per output face: 1 where it is a piece of its input row
