@@ -25,6 +25,9 @@ constexpr const char* kInfoRepairHelp =
 constexpr const char* kStrictHelp =
     "refuse a mesh with defects (exit 2, the first defect named with its file position), as "
     "--repair=never (not with --repair)";
+constexpr const char* kInfoStrictHelp =
+    "the file's defects only, without what repair would change, as --repair=never (not with "
+    "--repair)";
 constexpr const char* kLargestComponentHelp =
     "repair the mesh and keep only its connected component with the most faces (param takes "
     "one component)";
@@ -76,7 +79,9 @@ void add_input_options(CLI::App* cmd, InputArgs& args, bool info_help) {
           ->transform(mode)
           ->option_text("[=MODE]");
   // (option_text: the help line without CLI11's "Excludes: --repair", which kStrictHelp says.)
-  CLI::Option* strict = cmd->add_flag("--strict", args.strict, kStrictHelp)->option_text(" ");
+  CLI::Option* strict =
+      cmd->add_flag("--strict", args.strict, info_help ? kInfoStrictHelp : kStrictHelp)
+          ->option_text(" ");
   repair->excludes(strict);
   cmd->add_flag("--largest-component", args.largest_component, kLargestComponentHelp);
 }
