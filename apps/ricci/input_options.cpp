@@ -112,17 +112,20 @@ ReadResult read_input(const std::string& path, const InputArgs& args, bool valid
   options.on_repair = [path, automatic](const RepairReport& report) {
     print_repair(path, report, automatic);
   };
+  // The library names ReadOptions::repair where repair makes the mesh valid; here the option
+  // that reads it is leaving the never mode.
+  const OptionFix library_fix{"repair", "true"};
+  auto repairable = [&](const InvalidInput& e) {
+    return mode == RepairMode::Never &&
+           std::find(e.fixes().begin(), e.fixes().end(), library_fix) != e.fixes().end();
+  };
   try {
     return read_mesh(path, options);
+  } catch (const TopologyError& e) {
+    if (!repairable(e)) throw;
+    throw TopologyError(e.what(), reading_fixes(args));
   } catch (const InvalidInput& e) {
-    // The library names ReadOptions::repair where repair makes the mesh valid; here the option
-    // that reads it is leaving the never mode.
-    const bool repairable = std::find(e.fixes().begin(), e.fixes().end(),
-                                      OptionFix{"repair", "true"}) != e.fixes().end();
-    if (!repairable || mode != RepairMode::Never) throw;
-    if (dynamic_cast<const TopologyError*>(&e) != nullptr) {
-      throw TopologyError(e.what(), reading_fixes(args));
-    }
+    if (!repairable(e)) throw;
     throw InvalidInput(e.what(), reading_fixes(args));
   }
 }
