@@ -122,7 +122,7 @@ Expect automatic(const Expect& plain, const Expect& repaired) {
   if (plain.thrown != Thrown::Invalid && plain.thrown != Thrown::Topology) return plain;
   if (repaired.thrown != Thrown::Nothing) return repaired;
   Expect expect = repaired;
-  expect.words.push_back("the mesh was repaired");
+  expect.words.emplace_back("the mesh was repaired");
   return expect;
 }
 
