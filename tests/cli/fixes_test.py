@@ -134,7 +134,7 @@ SITES = {
     "src/param/hyperbolic_param.cpp": (1, ["euclidean"]),
     "src/mesh/io/write_mesh.cpp": (1, ["drop-uv"]),
     "src/mesh/io/reader_support.cpp": (1, ["repair"]),
-    "apps/ricci/input_options.cpp": (6, ["largest", "strict", "repair"]),
+    "apps/ricci/input_options.cpp": (5, ["largest", "strict", "repair"]),
     "apps/ricci/render_command.cpp": (2, ["strict"]),
     "apps/ricci/commands.cpp":
         (5, ["texture", "format", "format-without-tinygltf", "format-without-render", "cones"]),
