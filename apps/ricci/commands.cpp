@@ -59,18 +59,11 @@ void print_warnings(const ReadResult& read) {
   for (const std::string& w : read.warnings) std::cerr << "warning: " << w << "\n";
 }
 
-/// How a command reads its mesh; with --repair the changes are printed as soon as they are made,
-/// before validation (which may still refuse what repair cannot fix).
-ReadOptions input_options(const std::string& path, bool repair, bool largest_component,
-                          bool validate = true) {
-  ReadOptions options;
-  options.validate = validate;
-  options.repair = repair || largest_component;
-  options.repair_options.largest_component_only = largest_component;
-  if (options.repair) {
-    options.on_repair = [path](const RepairReport& report) { print_repair(path, report); };
-  }
-  return options;
+/// The "repair" object of the JSON reports: what changed, and the mode that repaired.
+nlohmann::json repair_json(const ReadResult& read, const InputArgs& input) {
+  nlohmann::json j = to_json(read.repair);
+  j["mode"] = repair_mode_name(repair_mode(input));
+  return j;
 }
 
 /// File vertex index -> mesh vertex index (-1 for vertices the reader dropped).
@@ -116,11 +109,11 @@ auto run_with_progress(const std::string& mesh, bool progress_flag, bool json, c
 /// Adds input, output and repair to a report and writes it where --report asks; when the flow
 /// did not converge says why on stderr. Returns whether it converged.
 bool finish_report(const std::string& mesh, const std::string& output,
-                   const std::string& report_path, const ReadResult& read, nlohmann::json& report,
-                   bool converged, const std::string& why) {
+                   const std::string& report_path, const ReadResult& read, const InputArgs& input,
+                   nlohmann::json& report, bool converged, const std::string& why) {
   report["input"] = mesh;
   report["output"] = output;
-  if (read.repaired) report["repair"] = to_json(read.repair);
+  if (read.repaired) report["repair"] = repair_json(read, input);
   if (!report_path.empty()) {
     write_file_atomically(report_path, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
   }
@@ -156,22 +149,48 @@ void apply_cones_option(const std::string& c, const std::string& mesh, const Rea
 
 }  // namespace
 
-void print_repair(const std::string& path, const RepairReport& report) {
-  if (report.messages.empty()) std::cerr << "repair: " << path << ": nothing to repair\n";
-  for (const std::string& m : report.messages) std::cerr << "repair: " << path << ": " << m << "\n";
-}
-
 int run_info(const InfoArgs& args) {
-  // info reports every defect instead of stopping at the first
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component, false));
+  // info reports every defect instead of stopping at the first; in the auto mode it describes
+  // the file as it is, and what the other commands' repair would make of it.
+  const RepairMode mode = repair_mode(args.input);
+  ReadResult read;
+  if (mode == RepairMode::Auto) {
+    ReadOptions as_it_is;
+    as_it_is.validate = false;
+    read = read_mesh(args.mesh, as_it_is);
+  } else {
+    read = read_input(args.mesh, args.input, false);
+  }
   const MeshInfo info = mesh_info(read.mesh);
+  // The auto mode's preview: what repair changes, and the defects it leaves.
+  std::optional<ReadResult> preview;
+  std::optional<ValidationReport> after;
+  if (mode == RepairMode::Auto && !info.validation.ok()) {
+    ReadOptions repairing;
+    repairing.validate = false;
+    repairing.repair = true;
+    preview = read_mesh(args.mesh, repairing);
+    after = find_defects(preview->mesh);
+  }
   if (args.json) {
     nlohmann::json j = to_json(info);
     j["file"] = args.mesh;
     j["warnings"] = read.warnings;
     j["dropped_vertices"] = read.dropped_vertices.size();
-    if (read.repaired) j["repair"] = to_json(read.repair);
+    if (read.repaired) j["repair"] = repair_json(read, args.input);
+    if (mode == RepairMode::Auto) {
+      nlohmann::json would = {{"would_repair", preview.has_value()}};
+      if (preview) {
+        would["valid_after"] = after->ok();
+        would["repair"] = to_json(preview->repair);
+        nlohmann::json left = nlohmann::json::object();
+        for (const auto& [kind, count] : after->counts) {
+          if (kind != DefectKind::UnreferencedVertex) left[defect_name(kind)] = count;
+        }
+        would["defects_after"] = left;
+      }
+      j["auto_repair"] = would;
+    }
     std::cout << j.dump(2) << "\n";
   } else {
     print_warnings(read);
@@ -206,6 +225,23 @@ int run_info(const InfoArgs& args) {
       }
       for (const Defect& d : info.validation.defects) std::cout << "    - " << d.message << "\n";
     }
+    if (preview && after->ok()) {
+      std::cout << "  repair:              the other commands repair this mesh (their default "
+                   "--repair=auto; --strict refuses it), and it is valid afterwards ("
+                << preview->mesh.num_vertices() << " vertices, " << preview->mesh.num_faces()
+                << " faces):\n";
+    } else if (preview) {
+      std::cout << "  repair:              repair leaves defects, so the other commands refuse "
+                   "this mesh:\n";
+    }
+    if (preview) {
+      for (const std::string& m : preview->repair.messages) std::cout << "    - " << m << "\n";
+      for (const Defect& d : after->defects) {
+        if (d.kind == DefectKind::UnreferencedVertex) continue;
+        std::cout << "    - after repair: " << d.message << "\n";
+        break;
+      }
+    }
   }
   return info.validation.ok() ? kOk : kBadInput;
 }
@@ -225,8 +261,7 @@ int run_flow(const FlowArgs& args) {
     check_output_is_not_input(args.output, {args.mesh, args.cones, args.target});
   }
 
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   const Mesh& mesh = read.mesh;
 
@@ -280,14 +315,27 @@ int run_flow(const FlowArgs& args) {
   }
 
   options.vertex_labels = read.vertex_map;  // messages number vertices as the file does
-  const MeshFlowResult result =
-      run_with_progress(args.mesh, args.progress, args.json, "flow", options.flow,
-                        [&] { return flow_mesh(mesh, options); });
+  const MeshFlowResult result = [&] {
+    try {
+      return run_with_progress(args.mesh, args.progress, args.json, "flow", options.flow,
+                               [&] { return flow_mesh(mesh, options); });
+    } catch (const InvalidInput& e) {
+      // Gauss-Bonnet's refusal names the natural and uniform targets, but with --cones the
+      // natural target is flat with those cones and the uniform one takes none: dropping the
+      // cones is the fix where the target is the natural one, and no single option otherwise.
+      const bool names_target =
+          std::any_of(e.fixes().begin(), e.fixes().end(),
+                      [](const OptionFix& f) { return f.option == "target"; });
+      if (spec.cones.empty() || !names_target) throw;
+      throw InvalidInput(e.what(), args.target == "natural" ? fixes_of({{"cones", ""}})
+                                                            : std::vector<OptionFix>{});
+    }
+  }();
 
   nlohmann::json summary = flow_summary(result, options);
   summary["input"] = args.mesh;
   summary["warnings"] = read.warnings;
-  if (read.repaired) summary["repair"] = to_json(read.repair);
+  if (read.repaired) summary["repair"] = repair_json(read, args.input);
   if (!args.output.empty()) {
     nlohmann::json full = summary;
     full["vertex_data"] = flow_arrays(result, read.vertex_map);
@@ -542,15 +590,14 @@ int run_param_hyperbolic(const ParamArgs& args) {
   }
   check_output_is_not_input(args.output, {args.mesh});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   const HyperbolicParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize_hyperbolic(read.mesh, options); });
   nlohmann::json report = hyperbolic_param_report(result, options);
-  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
-                     "the flow did not converge: " + result.message)) {
+  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
+                     result.converged, "the flow did not converge: " + result.message)) {
     return kNotConverged;
   }
   TexturedMesh textured;
@@ -718,8 +765,7 @@ int run_param(const ParamArgs& args) {
     }
   }
 
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   apply_cones_option(args.cones, args.mesh, read, options);
   if (refinement) {
@@ -748,7 +794,8 @@ int run_param(const ParamArgs& args) {
                                      {"vertex_map", files.vertex_map},
                                      {"interpolation_matrix", files.matrix}};
   }
-  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
+  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
+                     result.converged,
                      several ? result.message
                              : "the flow did not converge: " +
                                    cli::message_with_fixes(result.message, result.flow.fixes)) &&
@@ -829,8 +876,7 @@ int run_spline(const SplineArgs& args) {
     check_output_is_not_input(args.control_net, {args.mesh, args.cones, args.output});
   }
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   if (!args.cones.empty()) {
     options.choose_cone_mode = false;
@@ -841,8 +887,8 @@ int run_spline(const SplineArgs& args) {
                         [&] { return fit_manifold_spline(read.mesh, options); });
   nlohmann::json report = spline_report(result, options);
   if (!args.control_net.empty()) report["control_net_file"] = args.control_net;
-  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
-                     result.message)) {
+  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
+                     result.converged, result.message)) {
     return kNotConverged;
   }
   write_obj(args.output, result.surface);
@@ -881,8 +927,7 @@ int run_sphere(const SphereArgs& args) {
   check_output_is_not_input(args.output, {args.mesh});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
 
-  const ReadResult read =
-      read_mesh(args.mesh, input_options(args.mesh, args.repair, args.largest_component));
+  const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   if (args.pole >= 0) {
     const std::vector<int> to_mesh = inverse_map(read.vertex_map);
@@ -897,8 +942,8 @@ int run_sphere(const SphereArgs& args) {
                         [&] { return sphere_map(read.mesh, options); });
   nlohmann::json report = sphere_report(result, options);
   report["pole_file_index"] = read.vertex_map[result.pole];
-  if (!finish_report(args.mesh, args.output, args.report, read, report, result.converged,
-                     result.message)) {
+  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
+                     result.converged, result.message)) {
     return kNotConverged;
   }
   Mesh sphere;

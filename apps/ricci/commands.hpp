@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "ricci/mesh/repair.hpp"
+#include "input_options.hpp"
 #include "ricci/param/cones.hpp"
 
 namespace CLI {
@@ -30,15 +30,13 @@ enum ExitCode : int {
 struct InfoArgs {
   std::string mesh;
   bool json = false;
-  bool repair = false;             ///< --repair (kRepairHelp)
-  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
 };
 int run_info(const InfoArgs& args);
 
 struct FlowArgs {
   std::string mesh;
-  bool repair = false;             ///< --repair (kRepairHelp)
-  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
   std::string scheme = "vertex-scaling";
   std::string geometry = "euclidean";
   std::string init = "fit";
@@ -58,8 +56,7 @@ int run_flow(const FlowArgs& args);
 
 struct ParamArgs {
   std::string mesh;
-  bool repair = false;             ///< --repair (kRepairHelp)
-  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
   std::string output;
   std::string cones = "needed";
   std::string boundary = "free";
@@ -100,8 +97,7 @@ int run_param(const ParamArgs& args);
 
 struct SphereArgs {
   std::string mesh;
-  bool repair = false;             ///< --repair (kRepairHelp)
-  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
+  InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
   std::string output;
   std::string scheme = "vertex-scaling";
   std::string flips = "auto";
@@ -115,12 +111,11 @@ int run_sphere(const SphereArgs& args);
 
 struct SplineArgs {
   std::string mesh;
-  bool repair = false;             ///< --repair (kRepairHelp)
-  bool largest_component = false;  ///< --largest-component (kLargestComponentHelp)
-  std::string output;              ///< the spline surface (.obj)
-  std::string control_net;         ///< --control-net: the control net (.obj), optional
-  int refine = 2;                  ///< SplineOptions::refine
-  double smoothness = 1e-4;        ///< SplineOptions::smoothness
+  InputArgs input;           ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
+  std::string output;        ///< the spline surface (.obj)
+  std::string control_net;   ///< --control-net: the control net (.obj), optional
+  int refine = 2;            ///< SplineOptions::refine
+  double smoothness = 1e-4;  ///< SplineOptions::smoothness
   /// --cones as for param; empty: by topology (none with boundary or genus 1, auto otherwise)
   std::string cones;
   std::string scheme = "vertex-scaling";
@@ -143,17 +138,5 @@ struct GenerateArgs {
   int holes = 0;
 };
 int run_generate(const GenerateArgs& args);
-
-/// Help of the --repair flag of info, flow, param and render.
-inline constexpr const char* kRepairHelp =
-    "repair the mesh before using it: weld vertices at equal positions, remove duplicate and "
-    "collapsed faces, split non-manifold edges and vertices, orient consistently, drop "
-    "unreferenced vertices; what changed goes to stderr (and into --json / --report)";
-inline constexpr const char* kLargestComponentHelp =
-    "with --repair (which it implies): keep only the connected component with the most faces "
-    "(param takes one component)";
-
-/// Prints what repair_mesh changed in `path` on stderr, one "repair: PATH: ..." line per change.
-void print_repair(const std::string& path, const RepairReport& report);
 
 }  // namespace ricci::cli

@@ -74,6 +74,9 @@ nlohmann::json to_json(const RepairReport& report) {
           {"welded_vertices", count(report.welded_vertices)},
           {"repeated_vertex_faces_removed", count(report.repeated_vertex_faces_removed)},
           {"duplicate_faces_removed", count(report.duplicate_faces_removed)},
+          {"slivers_removed", count(report.slivers_removed)},
+          {"boundary_slivers_removed", report.boundary_slivers_removed},
+          {"faces_split", count(report.faces_split)},
           {"non_manifold_edges_split",
            {{"count", report.non_manifold_edges_split},
             {"examples", report.non_manifold_edge_examples}}},
@@ -84,6 +87,7 @@ nlohmann::json to_json(const RepairReport& report) {
           {"smaller_components_removed", count(report.smaller_components_removed)},
           {"smaller_component_faces_removed", report.smaller_component_faces_removed},
           {"non_orientable_components", count(report.non_orientable_components)},
+          {"zero_area_faces_left", count(report.zero_area_faces_left)},
           {"messages", report.messages}};
 }
 

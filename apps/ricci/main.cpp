@@ -60,11 +60,12 @@ int run_main(int argc, char** argv) {
   CLI::App* info_cmd = app.add_subcommand(
       "info",
       "Print counts, topology (components, boundary loops, Euler characteristic, genus), "
-      "the smallest angle and every defect of a mesh; exit 2 when it has defects.");
+      "the smallest angle and every defect of a mesh file as it is, and what the repair of the "
+      "other commands (their default --repair=auto) would change; exit 2 when the file has "
+      "defects, even ones repair fixes. --repair describes the repaired mesh instead.");
   info_cmd->add_option("MESH", info.mesh, "mesh file (.obj .off .ply .stl)")->required();
   info_cmd->add_flag("--json", info.json, "print the summary as JSON");
-  info_cmd->add_flag("--repair", info.repair, kRepairHelp);
-  info_cmd->add_flag("--largest-component", info.largest_component, kLargestComponentHelp);
+  add_input_options(info_cmd, info.input, true);
 
   FlowArgs flow;
   CLI::App* flow_cmd = app.add_subcommand(
@@ -127,8 +128,7 @@ int run_main(int argc, char** argv) {
                        "JSON");
   flow_cmd->add_flag("--json", flow.json, "print the summary as JSON");
   flow_cmd->add_flag("--progress", flow.progress, "print every iteration on stderr");
-  flow_cmd->add_flag("--repair", flow.repair, kRepairHelp);
-  flow_cmd->add_flag("--largest-component", flow.largest_component, kLargestComponentHelp);
+  add_input_options(flow_cmd, flow.input);
 
   ParamArgs param;
   CLI::App* param_cmd = add_param_subcommand(app, param);
@@ -164,8 +164,7 @@ int run_main(int argc, char** argv) {
                          "write a JSON report: invariants, normalisation, distortion, flow");
   sphere_cmd->add_flag("--json", sphere.json, "print the report as JSON");
   sphere_cmd->add_flag("--progress", sphere.progress, "print flow iterations on stderr");
-  sphere_cmd->add_flag("--repair", sphere.repair, kRepairHelp);
-  sphere_cmd->add_flag("--largest-component", sphere.largest_component, kLargestComponentHelp);
+  add_input_options(sphere_cmd, sphere.input);
 
   SplineArgs spline;
   CLI::App* spline_cmd = app.add_subcommand(
@@ -199,8 +198,7 @@ int run_main(int argc, char** argv) {
                          "write a JSON report: errors, C1 jumps, fit, timings, parameterization");
   spline_cmd->add_flag("--json", spline.json, "print the report as JSON");
   spline_cmd->add_flag("--progress", spline.progress, "print flow iterations on stderr");
-  spline_cmd->add_flag("--repair", spline.repair, kRepairHelp);
-  spline_cmd->add_flag("--largest-component", spline.largest_component, kLargestComponentHelp);
+  add_input_options(spline_cmd, spline.input);
 #ifdef RICCI_HAVE_RENDER
   spline_cmd->add_option("--pictures", spline.pictures,
                          "write domain.png, control_net.png and surface.png (the three stages "

@@ -89,8 +89,7 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
                         "write a JSON report: cones, cut, layout, atlas, distortion, flow");
   param_cmd->add_flag("--json", param.json, "print the report as JSON");
   param_cmd->add_flag("--progress", param.progress, "print flow iterations on stderr");
-  param_cmd->add_flag("--repair", param.repair, kRepairHelp);
-  param_cmd->add_flag("--largest-component", param.largest_component, kLargestComponentHelp);
+  add_input_options(param_cmd, param.input);
 #ifdef RICCI_HAVE_RENDER
   param_cmd->add_option("--pictures", param.pictures,
                         "write render.png, uv.svg, uv.png, convergence.png and convergence.svg "

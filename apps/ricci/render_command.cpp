@@ -121,7 +121,7 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderArgs& args) {
   cmd->add_flag("--no-cones", args.no_cones, "do not mark the cones");
   cmd->add_option("--uv", args.uv_output,
                   "also write the texture layout coloured by log area distortion (.svg or .png)");
-  cmd->add_flag("--repair", args.repair, kRepairHelp);
+  add_input_options(cmd, args.input);
   return cmd;
 }
 
@@ -141,11 +141,28 @@ int run_render(const RenderArgs& args) {
   if (!args.uv_output.empty()) check_not_input(args.uv_output, args.mesh);
 
   TexturedMesh textured = read_textured_file(args.mesh);
-  if (args.repair) {
+  // A picture needs no valid mesh: the auto mode repairs what it can and draws the rest; the
+  // never mode refuses any defect.
+  const RepairMode mode = repair_mode(args.input);
+  const ValidationReport defects =
+      mode == RepairMode::Always ? ValidationReport{} : find_defects(textured.mesh);
+  if (mode == RepairMode::Never && !defects.ok()) {
+    try {
+      throw_first_defect(defects, args.mesh);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(e.what(), args.input.strict ? fixes_of({{"strict", "false"}})
+                                                     : fixes_of({{"repair", "auto"}}));
+    }
+  }
+  if (mode == RepairMode::Always || !defects.ok()) {
     // Texture coordinates belong to face corners, so they follow the faces: kept faces keep
-    // their uv corners, reversed faces exchange corners 1 and 2 like their vertices.
-    RepairResult repaired = repair_mesh(textured.mesh);
-    print_repair(args.mesh, repaired.report);
+    // their uv corners, reversed faces exchange corners 1 and 2 like their vertices. Slivers
+    // stay (they draw nothing), so that every face keeps the corners of its input face.
+    RepairOptions repair_options;
+    repair_options.remove_slivers = false;
+    repair_options.largest_component_only = args.input.largest_component;
+    RepairResult repaired = repair_mesh(textured.mesh, repair_options);
+    print_repair(args.mesh, repaired.report, mode == RepairMode::Auto);
     Triangles uv_triangles(repaired.mesh.num_faces(), 3);
     for (int f = 0; f < repaired.mesh.num_faces(); ++f) {
       const auto corners = textured.uv_triangles.row(repaired.face_map[f]);

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "input_options.hpp"
 #include "ricci/param/common_refinement.hpp"
 #include "ricci/param/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
@@ -27,7 +28,9 @@ struct RenderArgs {
   bool no_seams = false;
   bool no_cones = false;
   std::string uv_output;  ///< also the texture layout (.svg or .png)
-  bool repair = false;    ///< --repair: repair_mesh on the geometry, texture corners following
+  /// --repair[=MODE], --strict, --largest-component (input_options.hpp): repair_mesh on the
+  /// geometry, texture corners following
+  InputArgs input;
 };
 
 /// Adds `render` to the program; its flags fill `args`.

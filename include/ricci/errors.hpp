@@ -22,7 +22,9 @@ class Error : public std::runtime_error {
 /// line's flag and Python's keyword (`target`, `cones`, `boundary`, `scheme`, `geometry`), and the
 /// value to give it ("natural", "auto", "disk", "vertex-scaling", "euclidean"). The command line
 /// prints it as `--target natural`, Python as `target="natural"`; in C++ it names the field of
-/// the options struct the message mentions.
+/// the options struct the message mentions. The value "true" turns a flag on (`--repair`,
+/// `repair=True`); "false" turns one off and an empty value unsets an option (`drop --strict`,
+/// `drop --cones`; Python `cones=None`).
 ///
 /// The library's messages never name a flag of one front end: they name the option field
 /// ("FlowOptions::flips = Delaunay") and carry the fix as an OptionFix (InvalidInput::fixes for

@@ -7,7 +7,11 @@ import numpy as np
 from . import _arrays, _ricci
 
 
-def read_mesh(path, *, validate=True, repair=False, repair_options=None):
+_REPAIR_MODES = {"auto": "auto", "always": "always", "never": "never",
+                 True: "always", False: "never"}
+
+
+def read_mesh(path, *, validate=True, repair="auto", repair_options=None):
     """Reads an OBJ, OFF, PLY (ASCII or binary) or STL (ASCII or binary) file.
 
     Returns ``(V, F, info)``: V float64 (n, 3) positions, F int32 (m, 3) counter-clockwise
@@ -15,19 +19,31 @@ def read_mesh(path, *, validate=True, repair=False, repair_options=None):
     with ``warnings``, ``dropped_vertices``, ``vertex_map`` (file index of each vertex),
     ``polygons_triangulated``, ``format`` and ``validation``.
 
-    With ``repair=True`` the triangles go through ``repair_mesh`` before validation (weld
-    duplicate vertices, remove duplicate and collapsed faces, split non-manifold edges and
-    vertices, orient, drop unreferenced vertices; ``repair_options`` is a ``RepairOptions`` or a
-    dict of its fields), and ``info.repair`` is a dict of what changed: the same keys as the
-    "repair" object of ``ricci info --repair --json`` (``welded_vertices``,
-    ``non_manifold_edges_split``, ... each with ``count`` and ``examples``, and ``messages``).
-    Without repair ``info.repair`` is None.
+    ``repair`` says what to do with a file that has defects, as the command line's
+    ``--repair=MODE``: ``"auto"`` (the default) runs ``repair_mesh`` on a file with defects
+    (duplicate faces and vertices, faces using a vertex twice, zero-area slivers, non-manifold
+    edges and vertices, inconsistent orientation) and adds a warning naming the first defect and
+    its line to ``info.warnings``, and reads a file without defects as it is; ``"always"`` (or
+    True) repairs every file (duplicate positions welded too); ``"never"`` (or False) refuses a
+    defective file, and the exception's message ends with ``try: repair=True`` when repair
+    would make it valid. ``repair_options`` is a ``RepairOptions`` or a dict of its fields.
+    After a repair ``info.repaired`` is True and ``info.repair`` is a dict of what changed: the
+    same keys as the "repair" object of ``ricci info --repair --json`` (``welded_vertices``,
+    ``non_manifold_edges_split``, ``slivers_removed``, ... each with ``count`` and ``examples``,
+    and ``messages``); otherwise ``info.repair`` is None.
 
     Raises IoError for a missing or malformed file (naming file and line), InvalidInput or
     TopologyError for a defective mesh when ``validate`` is set (after repair: for what repair
-    cannot fix, e.g. zero-area faces or a Moebius strip, saying so).
+    cannot fix, e.g. a Moebius strip or non-finite coordinates, saying so), ValueError for an
+    unknown ``repair`` mode.
     """
-    options = _ricci.ReadOptions(validate=validate, repair=bool(repair))
+    try:
+        mode = _REPAIR_MODES[repair]
+    except (KeyError, TypeError):
+        raise ValueError(f"repair={repair!r}: expected 'auto', 'always' (True) or 'never' "
+                         "(False)") from None
+    options = _ricci.ReadOptions(validate=validate, repair=mode == "always",
+                                 auto_repair=mode == "auto")
     if repair_options is not None:
         if isinstance(repair_options, dict):
             repair_options = _ricci.RepairOptions(**repair_options)

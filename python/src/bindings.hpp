@@ -33,8 +33,8 @@ void bind_spline(py::module_& m);
 void bind_batch(py::module_& m);
 
 /// Option fixes (ricci/errors.hpp) phrased as Python keywords: 'try: cones="auto", or
-/// flips="delaunay"' (numbers unquoted); empty when there are none. The one place Python phrases
-/// the library's OptionFix, for exceptions and for results' messages alike.
+/// flips="delaunay"' (numbers unquoted, an empty value as None); empty when there are none. The one
+/// place Python phrases the library's OptionFix, for exceptions and for results' messages alike.
 inline std::string phrase_fixes(const std::vector<OptionFix>& fixes) {
   std::string out;
   for (std::size_t i = 0; i < fixes.size(); ++i) {
@@ -43,9 +43,10 @@ inline std::string phrase_fixes(const std::vector<OptionFix>& fixes) {
         !fix.value.empty() && fix.value.find_first_not_of("0123456789") == std::string::npos;
     const bool boolean = fix.value == "true" || fix.value == "false";
     out += (i == 0 ? "try: " : ", or ") + fix.option + "=" +
-           (boolean  ? (fix.value == "true" ? "True" : "False")
-            : number ? fix.value
-                     : "\"" + fix.value + "\"");
+           (fix.value.empty() ? std::string("None")  // the option unset
+            : boolean         ? (fix.value == "true" ? "True" : "False")
+            : number          ? fix.value
+                              : "\"" + fix.value + "\"");
   }
   return out;
 }

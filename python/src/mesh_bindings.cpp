@@ -31,6 +31,9 @@ py::dict repair_dict(const RepairReport& r) {
   d["welded_vertices"] = count(r.welded_vertices);
   d["repeated_vertex_faces_removed"] = count(r.repeated_vertex_faces_removed);
   d["duplicate_faces_removed"] = count(r.duplicate_faces_removed);
+  d["slivers_removed"] = count(r.slivers_removed);
+  d["boundary_slivers_removed"] = r.boundary_slivers_removed;
+  d["faces_split"] = count(r.faces_split);
   py::dict edges;
   edges["count"] = r.non_manifold_edges_split;
   edges["examples"] = r.non_manifold_edge_examples;
@@ -42,6 +45,7 @@ py::dict repair_dict(const RepairReport& r) {
   d["smaller_components_removed"] = count(r.smaller_components_removed);
   d["smaller_component_faces_removed"] = r.smaller_component_faces_removed;
   d["non_orientable_components"] = count(r.non_orientable_components);
+  d["zero_area_faces_left"] = count(r.zero_area_faces_left);
   d["messages"] = r.messages;
   return d;
 }
@@ -109,6 +113,12 @@ void bind_mesh(py::module_& m) {
              "weld vertices at the same position into one (the smallest index)")
       .field("weld_tolerance", &RepairOptions::weld_tolerance,
              "weld vertices closer than this times the bounding-box diagonal; 0: exact positions")
+      .field("remove_slivers", &RepairOptions::remove_slivers,
+             "remove zero-area faces with a vertex on their longest edge without changing the "
+             "surface (split the face across that edge at the vertex)")
+      .field("zero_area_tolerance", &RepairOptions::zero_area_tolerance,
+             "zero area as validation sees it: twice the area at most this times the longest "
+             "edge squared")
       .field("split_non_manifold", &RepairOptions::split_non_manifold,
              "split non-manifold edges and vertices")
       .field("orient", &RepairOptions::orient,
@@ -124,6 +134,9 @@ void bind_mesh(py::module_& m) {
              "run validate_mesh on the result and throw on the first defect")
       .field("repair", &ReadOptions::repair,
              "run repair_mesh on the file's triangles before validating")
+      .field("auto_repair", &ReadOptions::auto_repair,
+             "run repair_mesh only when the file has a defect (the default of read_mesh in "
+             "Python and of the command line)")
       .field("repair_options", &ReadOptions::repair_options, "RepairOptions of that repair")
       .keyword_constructor()
       .repr();
@@ -141,7 +154,8 @@ void bind_mesh(py::module_& m) {
       .readonly("validation", &ReadResult::validation,
                 "defects found when validating (warnings only, since errors raise)")
       .readonly("file_vertices", &ReadResult::file_vertices, "vertices in the file")
-      .readonly("repaired", &ReadResult::repaired, "options.repair was set")
+      .readonly("repaired", &ReadResult::repaired,
+                "repair_mesh ran (options.repair, or options.auto_repair on a file with defects)")
       .computed(
           "repair",
           [](const ReadResult& r) -> py::object {
@@ -157,6 +171,8 @@ void bind_mesh(py::module_& m) {
       .readonly("vertex_map", &RepairResult::vertex_map, "#V: input vertex of each output vertex")
       .readonly("face_map", &RepairResult::face_map, "#F: input face of each output face")
       .flags("face_flipped", &RepairResult::face_flipped, "#F: the face was reversed")
+      .flags("face_split", &RepairResult::face_split,
+             "#F: the face is a piece of its input face, split at a sliver's vertex")
       .readonly("weld_map", &RepairResult::weld_map,
                 "input #V: the vertex each input vertex was welded onto (itself if not)")
       .computed(
@@ -164,8 +180,9 @@ void bind_mesh(py::module_& m) {
           "what changed, as a dict")
       .repr();
   m.def("repair_mesh", &repair_mesh, py::arg("mesh"), py::arg("options") = RepairOptions{},
-        "Welds duplicate vertices, removes duplicate and collapsed faces, splits non-manifold "
-        "edges and vertices, orients components and drops unreferenced vertices. Raises "
+        "Welds duplicate vertices, removes duplicate and collapsed faces and slivers (zero-area "
+        "faces with a vertex on their longest edge), splits non-manifold edges and vertices, "
+        "orients components and drops unreferenced vertices. Raises "
         "InvalidInput on an index out of range.",
         py::call_guard<py::gil_scoped_release>());
 

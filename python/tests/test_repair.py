@@ -1,4 +1,4 @@
-"""Mesh repair: read_mesh(..., repair=True) and ricci.repair."""
+"""Mesh repair: read_mesh's repair modes and ricci.repair."""
 
 import numpy as np
 import pytest
@@ -9,6 +9,7 @@ import ricci
 REPORT_KEYS = {
     "changed", "input_vertices", "input_faces", "output_vertices", "output_faces",
     "welded_vertices", "repeated_vertex_faces_removed", "duplicate_faces_removed",
+    "slivers_removed", "boundary_slivers_removed", "faces_split", "zero_area_faces_left",
     "non_manifold_edges_split", "non_manifold_vertices_split", "vertex_copies_added",
     "faces_flipped", "unreferenced_vertices_dropped", "smaller_components_removed",
     "smaller_component_faces_removed", "non_orientable_components", "messages",
@@ -21,8 +22,12 @@ FIN_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0.5 0.5 1\nf 1 2 3\nf 2 4 3\nf 
 def test_read_mesh_repair_returns_the_report_as_a_dict(tmp_path):
     path = tmp_path / "fin.obj"
     path.write_text(FIN_OBJ)
-    with pytest.raises(ricci.TopologyError, match=r"fin.obj: line 6: non-manifold edge \(1, 2\)"):
-        ricci.read_mesh(path)
+    for never in ("never", False):
+        with pytest.raises(ricci.TopologyError,
+                           match=r"fin.obj: line 6: non-manifold edge \(1, 2\)") as refused:
+            ricci.read_mesh(path, repair=never)
+        assert str(refused.value).endswith("try: repair=True")
+        assert refused.value.fixes == [("repair", "true")]
     V, F, info = ricci.read_mesh(path, repair=True)
     assert info.repaired
     report = info.repair
@@ -41,6 +46,33 @@ def test_read_mesh_repair_returns_the_report_as_a_dict(tmp_path):
     mesh_info = ricci.info(V, F)
     assert mesh_info.validation.ok
     assert (mesh_info.components, mesh_info.euler_characteristic) == (2, 2)
+
+
+def test_read_mesh_repairs_a_defective_file_by_default(tmp_path):
+    path = tmp_path / "fin.obj"
+    path.write_text(FIN_OBJ)
+    V, F, info = ricci.read_mesh(path)
+    assert info.repaired and info.repair["non_manifold_edges_split"]["count"] == 1
+    assert any("fin.obj: line 6: non-manifold edge (1, 2)" in w and "repaired" in w
+               for w in info.warnings)
+    assert V.shape == (7, 3) and F.shape == (3, 3)
+    with pytest.raises(ValueError, match="repair='sometimes'"):
+        ricci.read_mesh(path, repair="sometimes")
+
+
+def test_read_mesh_removes_a_sliver(tmp_path):
+    # Face 0 below the segment (0, 1), faces 1 and 2 above it meeting at its midpoint 2, and
+    # face 3, the zero-area sliver (0, 1, 2) between them: face 0 is split at vertex 2.
+    path = tmp_path / "sliver.obj"
+    path.write_text("v 0 0 0\nv 2 0 0\nv 1 0 0\nv 1 -1 0\nv 1 1 0\n"
+                    "f 1 4 2\nf 1 3 5\nf 3 2 5\nf 1 2 3\n")
+    with pytest.raises(ricci.InvalidInput, match="line 9: face 3 .* has zero area"):
+        ricci.read_mesh(path, repair="never")
+    V, F, info = ricci.read_mesh(path)
+    assert info.repair["slivers_removed"] == {"count": 1, "examples": [3]}
+    assert info.repair["faces_split"] == {"count": 1, "examples": [0]}
+    assert F.shape == (4, 3)
+    assert ricci.info(V, F).validation.ok
 
 
 def test_read_mesh_without_repair_has_no_report(tmp_path, tetrahedron):

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/curvature.hpp"
@@ -205,11 +206,14 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
   // Sum over the faces of each vertex of (pi - Phi of the opposite edge): the single-vertex
   // bound, which edge flips lift (not computed then).
   Eigen::VectorXd bound_sum;
+  std::vector<int> faces_at;  // faces around each vertex, for the tangential scheme's bound
   if (!options.edge_flips) {
     bound_sum.setZero(t.num_vertices);
+    faces_at.assign(t.num_vertices, 0);
     for (int f = 0; f < t.num_faces; ++f) {
       for (int k = 0; k < 3; ++k) {
         bound_sum[t.triangles(f, k)] += max_face_angle(scheme, structure.eta[t.face_edges(f, k)]);
+        ++faces_at[t.triangles(f, k)];
       }
     }
   }
@@ -231,6 +235,9 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                          " (its angle sum must stay positive)");
     }
     if (!options.edge_flips && !(k > lower)) {
+      // The tangential scheme (Phi = 0, pi per face) has the widest bound of the packings: a
+      // fix only where the target keeps to it.
+      const bool tangential = scheme.fitted_intersection_angles && k > top - kPi * faces_at[v];
       throw InvalidInput(
           "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
               " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
@@ -240,14 +247,10 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                                      : " (each angle below pi)") +
               "; split edges around it to raise its valence, or use vertex scaling with edge flips "
               "(no such bound)" +
-              (scheme.fitted_intersection_angles
-                   ? ", or the tangential scheme (Phi = 0 gives the widest bound)"
-                   : ""),
-          scheme.ptolemy_flips
-              ? fixes_of({{"flips", "auto"}})
-              : (scheme.fitted_intersection_angles
-                     ? fixes_of({{"scheme", "vertex-scaling"}, {"scheme", "tangential"}})
-                     : fixes_of({{"scheme", "vertex-scaling"}})));
+              (tangential ? ", or the tangential scheme (Phi = 0 gives the widest bound)" : ""),
+          scheme.ptolemy_flips ? fixes_of({{"flips", "auto"}})
+          : tangential         ? fixes_of({{"scheme", "vertex-scaling"}, {"scheme", "tangential"}})
+                               : fixes_of({{"scheme", "vertex-scaling"}}));
     }
   }
   for (std::size_t c = 0; c < t.components.size(); ++c) {

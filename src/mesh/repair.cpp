@@ -17,6 +17,7 @@
 #include "face_keys.hpp"
 #include "orientation.hpp"
 #include "ricci/errors.hpp"
+#include "slivers.hpp"
 
 namespace ricci {
 namespace {
@@ -206,7 +207,7 @@ std::string examples_text(const std::vector<int>& examples, const char* one, con
   return text + ")";
 }
 
-/// Steps (3) and (4) of repair_mesh on the kept faces (kept[i] is the input face of kept face i,
+/// Steps (3) and (4) of repair_mesh on the kept faces (kept[i] is the row of T of kept face i,
 /// T the welded triangles): which faces stay joined, the vertex copies, the orientation.
 struct Split {
   std::vector<int> corner_output;   ///< 3 #kept: output vertex of each corner
@@ -451,9 +452,10 @@ Split split_and_orient(const Positions& P, const Triangles& T, const std::vector
 
 bool RepairReport::changed() const {
   return welded_vertices.count > 0 || repeated_vertex_faces_removed.count > 0 ||
-         duplicate_faces_removed.count > 0 || non_manifold_edges_split > 0 ||
-         non_manifold_vertices_split.count > 0 || faces_flipped.count > 0 ||
-         unreferenced_vertices_dropped.count > 0 || smaller_components_removed.count > 0;
+         duplicate_faces_removed.count > 0 || slivers_removed.count > 0 || faces_split.count > 0 ||
+         non_manifold_edges_split > 0 || non_manifold_vertices_split.count > 0 ||
+         faces_flipped.count > 0 || unreferenced_vertices_dropped.count > 0 ||
+         smaller_components_removed.count > 0;
 }
 
 RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
@@ -465,6 +467,10 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
     throw InvalidInput("repair_mesh: weld_tolerance " + std::to_string(tolerance) +
                        " must be 0 (exact positions) or at least 1e-15 (relative to the "
                        "bounding-box diagonal)");
+  }
+  if (!(options.zero_area_tolerance >= 0 && options.zero_area_tolerance < 1)) {
+    throw InvalidInput("repair_mesh: zero_area_tolerance " +
+                       std::to_string(options.zero_area_tolerance) + " must be in [0, 1)");
   }
   std::vector<char> referenced(nv, 0);
   for (int f = 0; f < nf; ++f) {
@@ -519,16 +525,49 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
       note(report.duplicate_faces_removed, f, max_examples);
     }
   }
-  std::vector<int> kept;  // input face of each kept face, in input order
-  kept.reserve(nf);
+  // From here on the faces are rows of `work`: the kept faces in input order, then (2b) with
+  // slivers removed; source[i] is the input face of row i, piece[i] whether it is a piece of it.
+  Triangles work(std::count(keep.begin(), keep.end(), 1), 3);
+  std::vector<int> source;
+  source.reserve(work.rows());
   for (int f = 0; f < nf; ++f) {
-    if (keep[f]) kept.push_back(f);
+    if (!keep[f]) continue;
+    work.row(static_cast<Eigen::Index>(source.size())) = T.row(f);
+    source.push_back(f);
   }
-  const int nk = static_cast<int>(kept.size());
+  std::vector<char> piece(source.size(), 0);
+  std::string sliver_left_example;  // why the first zero-area face left was left
+  if (options.remove_slivers) {
+    SliverRemoval slivers = remove_slivers(P, work, options.zero_area_tolerance);
+    for (std::size_t i = 0; i < slivers.removed.size(); ++i) {
+      note(report.slivers_removed, source[slivers.removed[i]], max_examples);
+      report.boundary_slivers_removed += slivers.on_boundary[i];
+    }
+    for (int row : slivers.split) note(report.faces_split, source[row], max_examples);
+    for (std::size_t i = 0; i < slivers.left.size(); ++i) {
+      // Counted per face; the pieces of one input face are one example.
+      if (i == 0) sliver_left_example = sliver_left_reason(slivers.left_why[i]);
+      RepairCount& left = report.zero_area_faces_left;
+      if (i > 0 && slivers.left[i] == slivers.left[i - 1]) {
+        ++left.count;
+      } else {
+        note(left, source[slivers.left[i]], max_examples);
+      }
+    }
+    if (slivers.changed) {
+      for (int& row : slivers.origin) row = source[row];
+      work = std::move(slivers.triangles);
+      source = std::move(slivers.origin);
+      piece = std::move(slivers.piece);
+    }
+  }
+  const int nk = static_cast<int>(source.size());
+  std::vector<int> kept(nk);  // the rows of `work` that steps (3) to (5) take: all of them
+  std::iota(kept.begin(), kept.end(), 0);
 
   // (3) and (4). A non-manifold edge whose faces all run the same way has no pair to keep until
   // the orientation is fixed; so split again on the reversed faces while that saves copies.
-  Triangles oriented = T;                    // T with the faces reversed so far
+  Triangles oriented = work;                 // work with the faces reversed so far
   std::vector<signed char> reversed(nk, 0);  // relative to T
   Split split = split_and_orient(P, oriented, kept, nv, options);
   for (int round = 0;
@@ -574,9 +613,11 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
         static_cast<int>(std::count_if(copies.begin(), copies.end(), [](int n) { return n > 0; }));
   }
 
-  for (int i : split.non_orientable) note(report.non_orientable_components, kept[i], max_examples);
+  for (int i : split.non_orientable) {
+    note(report.non_orientable_components, source[i], max_examples);
+  }
   for (int i = 0; i < nk; ++i) {
-    if (reversed[i] != flip[i]) note(report.faces_flipped, kept[i], max_examples);
+    if (reversed[i] != flip[i]) note(report.faces_flipped, source[i], max_examples);
   }
 
   // (5) The output. Unreferenced vertices are gone already: copies exist only for corners.
@@ -602,7 +643,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
       if (part == largest) continue;
       output_face[f] = 0;
       ++report.smaller_component_faces_removed;
-      if (first_face[part] == f) note(report.smaller_components_removed, kept[f], max_examples);
+      if (first_face[part] == f) note(report.smaller_components_removed, source[f], max_examples);
     }
   }
   std::vector<int> renumber(vertex_map.size(), -1);
@@ -622,6 +663,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
   result.mesh.triangles.resize(nout, 3);
   result.face_map.reserve(nout);
   result.face_flipped.reserve(nout);
+  result.face_split.reserve(nout);
   for (int f = 0; f < nk; ++f) {
     if (!output_face[f]) continue;
     const int row = static_cast<int>(result.face_map.size());
@@ -632,8 +674,9 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
     } else {
       result.mesh.triangles.row(row) << a, b, c;
     }
-    result.face_map.push_back(kept[f]);
+    result.face_map.push_back(source[f]);
     result.face_flipped.push_back(reversed[f] != flip[f] ? 1 : 0);
+    result.face_split.push_back(piece[f]);
   }
   result.weld_map = std::move(representative);
   report.output_vertices = no;
@@ -665,6 +708,24 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
                   (f >= 0 ? " (e.g. face " + std::to_string(f) + ", the same vertices as face " +
                                 std::to_string(duplicate_of[f]) + ")"
                           : std::string()));
+  }
+  if (report.slivers_removed.count > 0) {
+    const int inside = report.slivers_removed.count - report.boundary_slivers_removed;
+    std::string line = "removed " + std::to_string(report.slivers_removed.count) +
+                       " zero-area faces with a vertex on their longest edge (slivers)" +
+                       examples_text(report.slivers_removed.examples, "face", "faces") + ": ";
+    if (inside > 0) {
+      line += std::to_string(inside) + " by splitting the face across that edge at the vertex (" +
+              std::to_string(report.faces_split.count) + " faces split" +
+              examples_text(report.faces_split.examples, "face", "faces") +
+              "; the surface is unchanged)";
+    }
+    if (report.boundary_slivers_removed > 0) {
+      line += std::string(inside > 0 ? ", " : "") +
+              std::to_string(report.boundary_slivers_removed) +
+              " on the boundary (they cover nothing)";
+    }
+    out.push_back(line);
   }
   if (report.non_manifold_edges_split > 0) {
     std::string line = "split " + std::to_string(report.non_manifold_edges_split) +
@@ -706,6 +767,12 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& options) {
     out.push_back("not repaired: " + std::to_string(report.non_orientable_components.count) +
                   " non-orientable components (like a Moebius strip) cannot be oriented" +
                   examples_text(report.non_orientable_components.examples, "face", "faces"));
+  }
+  if (report.zero_area_faces_left.count > 0) {
+    out.push_back("not repaired: " + std::to_string(report.zero_area_faces_left.count) +
+                  " zero-area faces cannot be removed without changing the surface" +
+                  examples_text(report.zero_area_faces_left.examples, "face", "faces") +
+                  "; the first: " + sliver_left_example);
   }
   return result;
 }

@@ -17,6 +17,7 @@
 #include "face_keys.hpp"
 #include "orientation.hpp"
 #include "ricci/errors.hpp"
+#include "zero_area.hpp"
 
 namespace ricci {
 namespace {
@@ -311,22 +312,18 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
     }
   }
 
-  // Zero area: twice the area against the longest edge squared, i.e. the sine of the largest
-  // angle, so that the test does not depend on the mesh's scale.
+  // Zero area: twice the area against the longest edge squared (zero_area.hpp, the test that
+  // repair_mesh's sliver removal answers).
   for (int f = 0; f < nf; ++f) {
     if (!usable[f]) continue;
     const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
     if (!finite[a] || !finite[b] || !finite[c]) continue;
-    const Eigen::Vector3d pa = P.row(a).transpose(), pb = P.row(b).transpose(),
-                          pc = P.row(c).transpose();
-    const double twice_area = (pb - pa).cross(pc - pa).norm();
-    const double longest_squared =
-        std::max({(pb - pa).squaredNorm(), (pc - pb).squaredNorm(), (pa - pc).squaredNorm()});
-    if (twice_area > options.zero_area_tolerance * longest_squared) continue;
+    const AreaMeasure measure = area_measure(P, a, b, c);
+    if (!is_zero_area(measure, options.zero_area_tolerance)) continue;
     out.add(DefectKind::ZeroAreaFace, f, [&] {
       return "face " + std::to_string(f) + " " + face_vertices(T, f) +
-             " has zero area (twice its area is " + format_number(twice_area) +
-             ", its longest edge squared " + format_number(longest_squared) + ")";
+             " has zero area (twice its area is " + format_number(measure.twice_area) +
+             ", its longest edge squared " + format_number(measure.longest_squared) + ")";
     });
   }
 

@@ -415,24 +415,60 @@ bad_mesh "0-byte file" bad/empty.obj "empty"
 bad_mesh "unknown extension" bad/triangle.xyz ".xyz"
 bad_mesh "NaN coordinate" bad/nan.obj "line 3" "vertex 2" "non-finite"
 bad_mesh "face index out of range" bad/index.obj "line 6" "1000000000"
-bad_mesh "face repeats a vertex" bad/repeated.obj "line 6" "face 1" "more than once"
-bad_mesh "non-manifold edge" bad/nonmanifold_edge.obj "line 6" "non-manifold edge" "(0, 1)"
-bad_mesh "non-manifold vertex" bad/bowtie.obj "non-manifold vertex 0"
-bad_mesh "inconsistent orientation" bad/orientation.obj "line 6" "inconsistent orientation" "faces 1 and 0"
 bad_mesh "Moebius strip" bad/moebius.obj "line" "non-orientable"
-bad_mesh "zero-area face" bad/zero_area.obj "line 6" "face 1" "zero area"
 bad_mesh "truncated binary PLY" bad/cut.ply "byte" "truncated"
 expect_no_temporaries "bad input leaves no temporaries" .
 
-# info lists the defects of a defective mesh and exits 2.
+# strict_mesh NAME FILE TEXT...: a defect repair fixes: flow --strict refuses FILE like bad_mesh,
+# naming the fix; --repair=never names its own; by default (--repair=auto) flow repairs it with
+# warnings and goes on.
+strict_mesh() {
+  local name="$1" file="$2"
+  shift 2
+  rm -f bad_out.json
+  ricci flow "$file" --strict -o bad_out.json
+  expect_rc "$name --strict" 2
+  expect_err "$name --strict" "$(basename "$file")" "$@" "try: drop --strict"
+  expect_no_file "$name --strict writes no output" bad_out.json
+  ricci flow "$file" --repair=never -o bad_out.json
+  expect_rc "$name --repair=never" 2
+  expect_err "$name --repair=never" "try: --repair=auto"
+  ricci flow "$file" -o bad_out.json
+  expect_rc "$name repaired by default" 0
+  expect_err "$name repaired by default" "warning: $file: repairing: the mesh has defects" \
+    "warning: repair: $file: " "; the mesh was repaired"
+  expect_json "$name repaired by default: the report" bad_out.json \
+    'd["repair"]["mode"] == "auto" and d["repair"]["changed"] is True'
+}
+strict_mesh "face repeats a vertex" bad/repeated.obj "line 6" "face 1" "more than once"
+strict_mesh "non-manifold edge" bad/nonmanifold_edge.obj "line 6" "non-manifold edge" "(0, 1)"
+strict_mesh "non-manifold vertex" bad/bowtie.obj "non-manifold vertex 0"
+strict_mesh "inconsistent orientation" bad/orientation.obj "line 6" "inconsistent orientation" "faces 1 and 0"
+strict_mesh "zero-area face" bad/zero_area.obj "line 6" "face 1" "zero area"
+ricci flow bad/bowtie.obj --strict --repair
+expect_rc "--strict with --repair" 2
+expect_err "--strict with --repair" "--repair excludes --strict"
+ricci flow bad/bowtie.obj --repair=sometimes
+expect_rc "--repair=sometimes" 2
+expect_err "--repair=sometimes" "expected --repair, --repair=always, --repair=auto or --repair=never"
+
+# info lists the defects of a defective mesh and exits 2, and says what repair would do.
 ricci info bad/nonmanifold_edge.obj
 expect_rc "info on a defective mesh" 2
-expect_out "info on a defective mesh" "defects:" "non-manifold-edge: 1" "non-manifold edge (0, 1) is shared by 3 faces"
+expect_out "info on a defective mesh" "defects:" "non-manifold-edge: 1" "non-manifold edge (0, 1) is shared by 3 faces" \
+  "repair:              the other commands repair this mesh" "split 1 non-manifold edges"
+ricci info bad/nonmanifold_edge.obj --json
+cp "$WORK/out.txt" would_repair.json
+expect_json "info --json on a defective mesh: auto_repair" would_repair.json \
+  'd["valid"] is False and d["auto_repair"]["would_repair"] is True and d["auto_repair"]["valid_after"] is True and d["auto_repair"]["repair"]["non_manifold_edges_split"]["count"] == 1'
+ricci info bad/nonmanifold_edge.obj --strict
+expect_rc "info --strict on a defective mesh" 2
+if grep -q "the other commands" "$WORK/out.txt"; then fail "info --strict" "shows the repair"; else ok; fi
 ricci info bad/moebius.obj --json
 expect_rc "info --json on a Moebius strip" 2
 cp "$WORK/out.txt" moebius.json
 expect_json "info --json on a Moebius strip" moebius.json \
-  'd["valid"] is False and d["defect_counts"].get("non-orientable") == 1 and any(x["kind"] == "non-orientable" for x in d["defects"])'
+  'd["valid"] is False and d["defect_counts"].get("non-orientable") == 1 and any(x["kind"] == "non-orientable" for x in d["defects"]) and d["auto_repair"]["valid_after"] is False'
 ricci info bad/orientation.obj --json
 expect_rc "info --json on inconsistent orientation" 2
 cp "$WORK/out.txt" orientation.json
@@ -440,9 +476,9 @@ expect_json "info --json on inconsistent orientation" orientation.json \
   'd["valid"] is False and [x["kind"] for x in d["defects"]] == ["inconsistent-orientation"]'
 
 # --- --repair ------------------------------------------------------------------------------------
-for cmd in info flow param; do
+for cmd in info flow param sphere spline; do
   ricci "$cmd" --help
-  expect_out "$cmd --help shows --repair" "--repair" "--largest-component"
+  expect_out "$cmd --help shows --repair" "--repair [=MODE]" "--strict" "--largest-component"
 done
 
 # repaired NAME FILE EXPR TEXT...: `info --repair --json` on FILE exits 0 with a valid mesh, the
@@ -467,6 +503,9 @@ repaired "non-manifold vertex" bad/bowtie.obj \
   "split 1 non-manifold vertices"
 repaired "inconsistent orientation" bad/orientation.obj \
   'r["faces_flipped"] == {"count": 1, "examples": [1]} and r["changed"] is True' "reversed 1 faces"
+repaired "zero-area face" bad/zero_area.obj \
+  'r["slivers_removed"] == {"count": 1, "examples": [1]} and r["boundary_slivers_removed"] == 1 and r["mode"] == "always"' \
+  "removed 1 zero-area faces" "1 on the boundary"
 ricci info --repair meshes/small_torus.obj --json
 expect_rc "info --repair on a clean mesh" 0
 expect_err "info --repair on a clean mesh" "repair: meshes/small_torus.obj: nothing to repair"
@@ -491,7 +530,6 @@ bad_repair() {  # bad_repair NAME FILE TEXT...
 }
 bad_repair "Moebius strip" bad/moebius.obj "not repaired: 1 non-orientable components" \
   "repair cannot orient a non-orientable surface"
-bad_repair "zero-area face" bad/zero_area.obj "line 6" "repair does not remove zero-area faces"
 bad_repair "NaN coordinate" bad/nan.obj "line 3" "repair does not change coordinates"
 ricci flow --repair bad/index.obj
 expect_rc "flow --repair, index out of range" 2
@@ -627,12 +665,20 @@ expect_json "natural target on a sphere is uniform" natural.json \
   'd["converged"] is True and "uniform" in d["target"]'
 bad_flow "flat sphere without cones" "Gauss-Bonnet" "try: --target natural, or --target uniform" \
   -- "$ico" --target flat
-bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" -- "$ico" --cones '0:pi'
+bad_flow "cone breaking Gauss-Bonnet" "Gauss-Bonnet" "2 pi chi" "try: drop --cones" -- "$ico" --cones '0:pi'
+# With --target flat no single option helps (natural keeps the cones, uniform refuses them).
+bad_flow "flat cones breaking Gauss-Bonnet" "Gauss-Bonnet" -- "$ico" --target flat --cones '0:pi'
+if grep -q "try:" "$WORK/err.txt"; then fail "flat cones breaking Gauss-Bonnet" "names a fix"; else ok; fi
 # -4 pi at a valence-5 vertex, balanced by eight cones of pi: Gauss-Bonnet holds, Thurston's
-# single-vertex bound fails (vertex scaling with flips, the default, has no such bound).
-bad_flow "cone breaking the vertex bound" "vertex 0" "bound" \
-  "try: --scheme vertex-scaling, or --scheme tangential" -- \
+# single-vertex bound fails (vertex scaling with flips, the default, has no such bound), and so
+# does the tangential scheme's (-3 pi), so that only vertex scaling is named.
+bad_flow "cone breaking the vertex bound" "vertex 0" "bound" "try: --scheme vertex-scaling" -- \
   "$ico" --scheme thurston --cones '0:-4pi,1:pi,2:pi,3:pi,4:pi,5:pi,6:pi,7:pi,8:pi'
+if grep -q "tangential" "$WORK/err.txt"; then fail "cone breaking the vertex bound" "names tangential"; else ok; fi
+# -2 pi is within the tangential bound: both schemes are named.
+bad_flow "cone breaking Thurston's vertex bound only" "vertex 0" "bound" \
+  "try: --scheme vertex-scaling, or --scheme tangential" -- \
+  "$ico" --scheme thurston --cones '0:-2pi,5:1.5pi,11:1.5pi,20:1.5pi,30:1.5pi'
 bad_flow "cone of -20 pi" "vertex 0" "bound" -- "$ico" --scheme thurston \
   --cones '0:-20pi,3:pi,5:pi,9:pi'
 bad_flow "malformed --cones curvature" "pix" -- "$ico" --cones '0:pi,3:pix'
@@ -669,7 +715,7 @@ expect_same "-o equal to the input, spelled differently" own.obj "$own_sum"
 
 # An existing result survives later failed runs that name it.
 result_sum="$(checksum results/torus.json)"
-for args in "bad/nonmanifold_edge.obj" "bad/cut.ply" "bad/missing.obj" "$ico --cones 0:pi" \
+for args in "bad/nonmanifold_edge.obj --strict" "bad/cut.ply" "bad/missing.obj" "$ico --cones 0:pi" \
   "meshes/small_torus.obj --target nosuch"; do
   # shellcheck disable=SC2086  # the arguments are split on purpose
   ricci flow $args -o results/torus.json

@@ -140,7 +140,8 @@ TEST(Target, RefusalsNameTheOptionThatWorks) {
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, flat); }),
             (std::vector<OptionFix>{{"target", "natural"}, {"target", "uniform"}}));
   // The single-vertex bound: edge flips lift it for vertex scaling; a circle packing gets
-  // vertex scaling, or the tangential scheme's wider bound.
+  // vertex scaling, and the tangential scheme only where its wider bound (2 pi - 5 pi at a
+  // valence-5 vertex) holds.
   ASSERT_EQ(f.s.scheme, Scheme::VertexScaling);
   const Target deep = flat_target(f.t, {{0, -4 * kPi}, {1, 4 * kPi + 2 * kPi}});
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, deep); }),
@@ -148,6 +149,9 @@ TEST(Target, RefusalsNameTheOptionThatWorks) {
   ConformalStructure packing = f.s;
   packing.scheme = Scheme::Thurston;
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, packing, deep); }),
+            (std::vector<OptionFix>{{"scheme", "vertex-scaling"}}));
+  const Target within_tangential = flat_target(f.t, {{0, -2.5 * kPi}, {1, 2.5 * kPi + 2 * kPi}});
+  EXPECT_EQ(fixes_from([&] { check_admissible(f.t, packing, within_tangential); }),
             (std::vector<OptionFix>{{"scheme", "vertex-scaling"}, {"scheme", "tangential"}}));
   // A sphere in the hyperbolic background: the Euclidean one.
   ConformalStructure hyperbolic = f.s;

@@ -1,8 +1,10 @@
-// The catalogue of bad input: one row per class of defect, each read as the file comes and with
-// ReadOptions::repair. A row says what each read must do: throw a given exception class with a
-// message naming the file, the line (or byte) and the element, or read with the warnings and the
-// repair messages named and a mesh that passes the row's checks. docs/mesh-input.md shows the
-// same catalogue as a table.
+// The catalogue of bad input: one row per class of defect, each read as the file comes, with
+// ReadOptions::repair, and with ReadOptions::auto_repair (the front ends' default: as the file
+// comes when it has no defect, else as with repair). A row says what each read must do: throw a
+// given exception class with a message naming the file, the line (or byte) and the element (and,
+// read as it comes, ReadOptions::repair as the fix where repair makes the mesh valid), or read
+// with the warnings and the repair messages named and a mesh that passes the row's checks.
+// docs/mesh-input.md shows the same catalogue as a table.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -37,6 +39,8 @@ struct Expect {
   std::vector<std::string> words = {};
   /// On success: checks of the result (counts, topology).
   std::function<void(const ReadResult&)> check = {};
+  /// On an InvalidInput: the fixes it names.
+  std::vector<OptionFix> fixes = {};
 };
 
 /// One class of bad input.
@@ -91,10 +95,35 @@ void run_expectation(const std::string& path, const ReadOptions& options, const 
     for (const std::string& m : result.repair.messages) said += m + "\n";
     expect_mentions(said, expect.words);
     if (expect.check) expect.check(result);
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(thrown_name(classify(e)), std::string(thrown_name(expect.thrown))) << e.what();
+    expect_mentions(e.what(), expect.words);
+    EXPECT_EQ(e.fixes(), expect.fixes) << e.what();
   } catch (const Error& e) {
     EXPECT_EQ(thrown_name(classify(e)), std::string(thrown_name(expect.thrown))) << e.what();
     expect_mentions(e.what(), expect.words);
   }
+}
+
+/// The fix a refusal names where repair makes the mesh valid.
+std::vector<OptionFix> repair_fix() {
+  return fixes_of({{"repair", "true"}});
+}
+
+ReadOptions with_auto_repair() {
+  ReadOptions options;
+  options.auto_repair = true;
+  return options;
+}
+
+/// What the auto mode must do: read a file without defects as it comes, repair any other (the
+/// warning naming the file's first defect beside the repair messages).
+Expect automatic(const Expect& plain, const Expect& repaired) {
+  if (plain.thrown != Thrown::Invalid && plain.thrown != Thrown::Topology) return plain;
+  if (repaired.thrown != Thrown::Nothing) return repaired;
+  Expect expect = repaired;
+  expect.words.emplace_back("the mesh was repaired");
+  return expect;
 }
 
 ReadOptions with_repair() {
@@ -309,13 +338,15 @@ std::vector<Row> generated_rows() {
        "OFF\n3 1 0\n0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n",
        {Thrown::Invalid, {"inf.off", "line 4", "vertex 1", "inf"}},
        {Thrown::Invalid, {"inf.off", "line 4: after repair", "inf"}}},
-      {"ZeroAreaFace",
-       "collinear.obj",
-       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 4 2\n",
-       {Thrown::Invalid, {"collinear.obj", "line 6", "face 1 (0, 3, 1) has zero area"}},
+      // A disk whose centre is two vertices 1e-14 apart, joined by two needles.
+      {"ZeroAreaFaceNeedle",
+       "needle.obj",
+       "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 1 1 0\nv 1.00000000000001 1 0\n"
+       "f 1 2 6\nf 2 3 6\nf 3 4 5\nf 4 1 5\nf 1 6 5\nf 3 5 6\n",
+       {Thrown::Invalid, {"needle.obj", "line 11", "face 4 (0, 5, 4) has zero area"}},
        {Thrown::Invalid,
-        {"collinear.obj", "line 6: after repair", "face 1", "zero area",
-         "repair does not remove zero-area faces"}}},
+        {"needle.obj", "after repair", "zero area",
+         "repair removes zero-area faces only where it can without changing the surface"}}},
       {"MoebiusStrip",
        "moebius.obj",
        moebius_obj(8),
@@ -327,14 +358,20 @@ std::vector<Row> generated_rows() {
       {"FaceUsesAVertexTwice",
        "repeated.obj",
        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 3\n",
-       {Thrown::Invalid, {"repeated.obj", "line 5", "face 1 uses vertex 2 more than once"}},
+       {Thrown::Invalid,
+        {"repeated.obj", "line 5", "face 1 uses vertex 2 more than once"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"removed 1 faces that use a vertex twice (e.g. face 1)"},
         [](const ReadResult& r) { expect_valid(r, 3, 1, 1, 1, 1); }}},
       {"DuplicateFace",
        "duplicate.obj",
        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 3 1 2\n",
-       {Thrown::Invalid, {"duplicate.obj", "line 7", "face 2", "same vertices as face 0"}},
+       {Thrown::Invalid,
+        {"duplicate.obj", "line 7", "face 2", "same vertices as face 0"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"removed 1 duplicate faces (e.g. face 2, the same vertices as face 0)"},
         [](const ReadResult& r) {
@@ -345,7 +382,9 @@ std::vector<Row> generated_rows() {
        "fin.obj",
        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0.5 0.5 1\nf 1 2 3\nf 2 4 3\nf 2 5 3\n",
        {Thrown::Topology,
-        {"fin.obj", "line 6", "non-manifold edge (1, 2) is shared by 3 faces (0, 1, 2)"}},
+        {"fin.obj", "line 6", "non-manifold edge (1, 2) is shared by 3 faces (0, 1, 2)"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"split 1 non-manifold edges", "(e.g. edge (1, 2))",
          "split 2 non-manifold vertices into one copy per fan of faces (2 copies added)"},
@@ -358,7 +397,10 @@ std::vector<Row> generated_rows() {
       {"NonManifoldBowTieVertex",
        "bowtie.off",
        "OFF\n5 2 0\n0 0 0\n1 0 0\n0.5 1 0\n0 2 0\n1 2 0\n3 0 1 2\n3 2 4 3\n",
-       {Thrown::Topology, {"bowtie.off", "line 5", "non-manifold vertex 2", "2 fans"}},
+       {Thrown::Topology,
+        {"bowtie.off", "line 5", "non-manifold vertex 2", "2 fans"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"split 1 non-manifold vertices", "(e.g. vertex 2)"},
         [](const ReadResult& r) {
@@ -370,13 +412,39 @@ std::vector<Row> generated_rows() {
        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 4 2 3\n",
        {Thrown::Topology,
         {"flipped.obj", "line 6", "inconsistent orientation", "faces 1 and 0", "edge (1, 2)",
-         "the surface is orientable"}},
+         "the surface is orientable"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"reversed 1 faces to orient their components consistently (e.g. face 1)"},
         [](const ReadResult& r) {
           expect_valid(r, 4, 2, 1, 1, 1);
           EXPECT_EQ(r.mesh.triangles.row(1), Eigen::RowVector3i(3, 2, 1));
         }}},
+      {"ZeroAreaFaceOnTheBoundary",
+       "collinear.obj",
+       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 4 2\n",
+       {Thrown::Invalid,
+        {"collinear.obj", "line 6", "face 1 (0, 3, 1) has zero area"},
+        {},
+        repair_fix()},
+       {Thrown::Nothing,
+        {"removed 1 zero-area faces with a vertex on their longest edge (slivers) (e.g. face 1)",
+         "1 on the boundary (they cover nothing)", "dropped 1 unreferenced vertices"},
+        [](const ReadResult& r) { expect_valid(r, 3, 1, 1, 1, 1); }}},
+      {"ZeroAreaFaceInside",
+       "sliver.obj",
+       "v 0 0 0\nv 2 0 0\nv 1 0 0\nv 1 -1 0\nv 1 1 0\n"
+       "f 1 4 2\nf 1 3 5\nf 3 2 5\nf 1 2 3\n",
+       {Thrown::Invalid,
+        {"sliver.obj", "line 9", "face 3 (0, 1, 2) has zero area"},
+        {},
+        repair_fix()},
+       {Thrown::Nothing,
+        {"removed 1 zero-area faces with a vertex on their longest edge (slivers) (e.g. face 3): "
+         "1 by splitting the face across that edge at the vertex (1 faces split (e.g. face 0); "
+         "the surface is unchanged)"},
+        [](const ReadResult& r) { expect_valid(r, 5, 4, 1, 1, 1); }}},
       // Repaired by the reader itself, with a warning (and left alone by repair).
       {"Polygons",
        "cube.obj",
@@ -464,6 +532,10 @@ TEST_P(BadInputCatalogue, PlainAndRepaired) {
     SCOPED_TRACE("read with repair");
     run_expectation(path, with_repair(), row.repaired);
   }
+  {
+    SCOPED_TRACE("read with auto repair");
+    run_expectation(path, with_auto_repair(), automatic(row.plain, row.repaired));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Generated, BadInputCatalogue, ::testing::ValuesIn(generated_rows()),
@@ -484,7 +556,7 @@ std::vector<SharedRow> shared_rows() {
   return {
       // Unwelded patch seams: non-manifold where patches meet at a point.
       {"teapot.obj",
-       {Thrown::Topology, {"teapot.obj", "line ", "non-manifold vertex", "fans"}},
+       {Thrown::Topology, {"teapot.obj", "line ", "non-manifold vertex", "fans"}, {}, repair_fix()},
        {Thrown::Nothing,
         {"welded 403 vertices", "split 1 non-manifold vertices"},
         [](const ReadResult& r) {
@@ -493,7 +565,10 @@ std::vector<SharedRow> shared_rows() {
         }}},
       // Three sheets meeting along edges.
       {"triple_vierbein.obj",
-       {Thrown::Topology, {"triple_vierbein.obj", "line ", "non-manifold edge", "faces"}},
+       {Thrown::Topology,
+        {"triple_vierbein.obj", "line ", "non-manifold edge", "faces"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"split 20 non-manifold edges", "non-manifold vertices", "reversed"},
         [](const ReadResult& r) {
@@ -504,7 +579,9 @@ std::vector<SharedRow> shared_rows() {
       {"dragon_vrip_res2.ply",
        {Thrown::Invalid,
         {"dragon_vrip_res2.ply", "line ", "face 582", "same vertices as face 581",
-         "more duplicate-face defects"}},
+         "more duplicate-face defects"},
+        {},
+        repair_fix()},
        {Thrown::Nothing,
         {"removed 1489 duplicate faces", "non-manifold edges", "dropped 43 unreferenced"},
         [](const ReadResult& r) {
@@ -521,11 +598,18 @@ std::vector<SharedRow> shared_rows() {
           EXPECT_GE(info.components, 7);
           EXPECT_EQ(info.unreferenced_vertices, 0);
         }}},
+      // Four slivers in a chain along one line between two fans: split until none is left.
       {"degtri_sliding.off",
-       {Thrown::Invalid, {"degtri_sliding.off", "line 13", "face 2 (3, 2, 4) has zero area"}},
        {Thrown::Invalid,
-        {"degtri_sliding.off", "line 13: after repair", "zero area",
-         "repair does not remove zero-area faces"}}},
+        {"degtri_sliding.off", "line 13", "face 2 (3, 2, 4) has zero area"},
+        {},
+        repair_fix()},
+       {Thrown::Nothing,
+        {"removed 4 zero-area faces with a vertex on their longest edge"},
+        [](const ReadResult& r) {
+          EXPECT_EQ(r.repair.slivers_removed.count, 4);
+          expect_valid(r, 8, 8, 1, 1, 1);
+        }}},
       {"moebius_big.ply",
        {Thrown::Topology, {"moebius_big.ply", "byte 6717", "non-orientable", "480 faces"}},
        {Thrown::Topology,
@@ -570,6 +654,10 @@ TEST_P(SharedMeshCatalogue, PlainAndRepaired) {
   {
     SCOPED_TRACE("read with repair");
     run_expectation(path.string(), with_repair(), row.repaired);
+  }
+  {
+    SCOPED_TRACE("read with auto repair");
+    run_expectation(path.string(), with_auto_repair(), automatic(row.plain, row.repaired));
   }
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -28,17 +30,75 @@ bool mentions(const std::vector<std::string>& lines, const std::string& piece) {
   });
 }
 
+Eigen::Vector3d corner(const Mesh& mesh, int f, int k) {
+  return mesh.positions.row(mesh.triangles(f, k)).transpose();
+}
+
+/// The area vector of face f (its normal times twice its area).
+Eigen::Vector3d twice_area_vector(const Mesh& mesh, int f) {
+  return (corner(mesh, f, 1) - corner(mesh, f, 0)).cross(corner(mesh, f, 2) - corner(mesh, f, 0));
+}
+
+double total_area(const Mesh& mesh) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) area += 0.5 * twice_area_vector(mesh, f).norm();
+  return area;
+}
+
+/// The pieces of each split input face cover it: their area vectors add up to its own (up to the
+/// orientation face_flipped gives), and every corner of a piece lies in the input face.
+void expect_pieces_cover_their_faces(const Mesh& input, const RepairResult& r) {
+  std::vector<Eigen::Vector3d> sum(input.num_faces(), Eigen::Vector3d::Zero());
+  std::vector<char> split(input.num_faces(), 0);
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    if (!r.face_split[f]) continue;
+    const int g = r.face_map[f];
+    split[g] = 1;
+    sum[g] += (r.face_flipped[f] ? -1.0 : 1.0) * twice_area_vector(r.mesh, f);
+    const Eigen::Vector3d normal = twice_area_vector(input, g);
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      longest = std::max(longest, (corner(input, g, k) - corner(input, g, (k + 1) % 3)).norm());
+    }
+    if (normal.norm() <= 1e-9 * longest * longest) continue;  // a sliver split across another
+    for (int k = 0; k < 3; ++k) {
+      // Barycentric coordinates of the corner in g: each in [0, 1] up to rounding.
+      const Eigen::Vector3d p = corner(r.mesh, f, k);
+      for (int i = 0; i < 3; ++i) {
+        const double weight = (corner(input, g, (i + 1) % 3) - p)
+                                  .cross(corner(input, g, (i + 2) % 3) - p)
+                                  .dot(normal) /
+                              normal.squaredNorm();
+        EXPECT_GE(weight, -1e-9) << "piece " << f << " corner " << k << " outside face " << g;
+      }
+    }
+  }
+  for (int g = 0; g < input.num_faces(); ++g) {
+    if (!split[g]) continue;
+    const Eigen::Vector3d whole = twice_area_vector(input, g);
+    double scale = 0;  // of the rounding: the longest edge squared
+    for (int k = 0; k < 3; ++k) {
+      scale = std::max(scale, (corner(input, g, k) - corner(input, g, (k + 1) % 3)).squaredNorm());
+    }
+    // The pieces miss the sliver: twice its area is at most 1e-12 times its longest edge squared.
+    EXPECT_LE((sum[g] - whole).norm(), 2e-12 * scale) << "the pieces of face " << g;
+  }
+}
+
 /// The maps are what the header promises: every output vertex sits where its input vertex does,
 /// and every output face is its input face (corners 1 and 2 exchanged when flipped) up to the
-/// vertices that were welded.
+/// vertices that were welded, or a piece of it.
 void expect_maps_consistent(const Mesh& input, const RepairResult& r) {
   ASSERT_EQ(static_cast<int>(r.vertex_map.size()), r.mesh.num_vertices());
   ASSERT_EQ(static_cast<int>(r.face_map.size()), r.mesh.num_faces());
   ASSERT_EQ(static_cast<int>(r.face_flipped.size()), r.mesh.num_faces());
+  ASSERT_EQ(static_cast<int>(r.face_split.size()), r.mesh.num_faces());
   for (int v = 0; v < r.mesh.num_vertices(); ++v) {
     EXPECT_EQ(r.mesh.positions.row(v), input.positions.row(r.vertex_map[v])) << "vertex " << v;
   }
+  expect_pieces_cover_their_faces(input, r);
   for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    if (r.face_split[f]) continue;
     const int g = r.face_map[f];
     const int order[3] = {0, r.face_flipped[f] ? 2 : 1, r.face_flipped[f] ? 1 : 2};
     for (int k = 0; k < 3; ++k) {
@@ -286,18 +346,164 @@ TEST(RepairMesh, LeavesANonOrientableComponentAndSaysSo) {
   EXPECT_EQ(after.count(DefectKind::NonOrientable), 1);
 }
 
-TEST(RepairMesh, ZeroAreaFacesAndNonFiniteCoordinatesAreLeft) {
-  Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2}, {0, 3, 1}});
-  mesh.triangles.row(1) << 1, 3, 0;  // collinear, and oriented like face 0
-  RepairResult r = repair_mesh(mesh);
-  EXPECT_EQ(r.mesh.num_faces(), 2);
-  EXPECT_EQ(find_defects(r.mesh).count(DefectKind::ZeroAreaFace), 1);
-
-  mesh = tetrahedron();
+TEST(RepairMesh, NonFiniteCoordinatesAreLeft) {
+  Mesh mesh = tetrahedron();
   mesh.positions(2, 1) = std::nan("");
-  r = repair_mesh(mesh);
+  const RepairResult r = repair_mesh(mesh);
   EXPECT_FALSE(r.report.changed());
   EXPECT_EQ(find_defects(r.mesh).count(DefectKind::NonFiniteCoordinate), 1);
+}
+
+/// The checks every sliver repair must pass: valid, the maps, no face turned over (all these
+/// meshes are flat, facing +z), and the area of the input.
+void expect_sliver_repair(const Mesh& input, const RepairResult& r, double area) {
+  expect_maps_consistent(input, r);
+  const MeshInfo info = mesh_info(r.mesh);
+  ASSERT_TRUE(info.validation.ok()) << info.validation.defects[0].message;
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    EXPECT_GT(twice_area_vector(r.mesh, f).z(), 0) << "face " << f << " turned over";
+  }
+  EXPECT_NEAR(total_area(r.mesh), area, 1e-12 * area);
+  EXPECT_EQ(r.report.zero_area_faces_left.count, 0);
+}
+
+/// A flat n by n grid of unit squares (make_grid), vertex (x, y) at index x + (n + 1) y.
+Mesh unit_grid(int n) {
+  return make_grid(n, n, n, n);
+}
+int grid_vertex(int n, int x, int y) {
+  return x + (n + 1) * y;
+}
+
+TEST(RepairMesh, SliverInsideIsAbsorbedByItsNeighbour) {
+  // Vertex (2, 2) moved onto the opposite edge (3, 2) - (3, 3) of its face in square (2, 2):
+  // that face becomes a sliver; the face across the edge, in square (3, 2), is split at it.
+  Mesh mesh = unit_grid(4);
+  const int p = grid_vertex(4, 2, 2);
+  mesh.positions.row(p) << 3, 2.5, 0;
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::ZeroAreaFace), 1);
+  const RepairResult r = repair_mesh(mesh);
+  expect_sliver_repair(mesh, r, 16);
+  const RepairReport& report = r.report;
+  EXPECT_EQ(report.slivers_removed.count, 1);
+  EXPECT_EQ(report.slivers_removed.examples, std::vector<int>{2 * (2 + 4 * 2)});
+  EXPECT_EQ(report.boundary_slivers_removed, 0);
+  EXPECT_EQ(report.faces_split.examples, std::vector<int>{2 * (3 + 4 * 2) + 1});
+  EXPECT_EQ(r.mesh.num_faces(), 32);
+  EXPECT_EQ(std::count(r.face_split.begin(), r.face_split.end(), 1), 2);
+  EXPECT_TRUE(report.changed());
+  EXPECT_TRUE(mentions(report.messages,
+                       "removed 1 zero-area faces with a vertex on their longest edge (slivers) "
+                       "(e.g. face 20): 1 by splitting the face across that edge at the vertex "
+                       "(1 faces split (e.g. face 23); the surface is unchanged)"));
+  const MeshInfo info = mesh_info(r.mesh);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  EXPECT_EQ(info.boundary_loops, 1);
+}
+
+TEST(RepairMesh, SliverOnTheBoundaryIsRemoved) {
+  // Vertex (1, 1) moved onto the boundary edge (0, 0) - (1, 0) of its face in square (0, 0).
+  Mesh mesh = unit_grid(4);
+  mesh.positions.row(grid_vertex(4, 1, 1)) << 0.5, 0, 0;
+  const RepairResult r = repair_mesh(mesh);
+  expect_sliver_repair(mesh, r, 16);
+  EXPECT_EQ(r.report.slivers_removed.examples, std::vector<int>{0});
+  EXPECT_EQ(r.report.boundary_slivers_removed, 1);
+  EXPECT_EQ(r.report.faces_split.count, 0);
+  EXPECT_EQ(r.mesh.num_faces(), 31);
+  EXPECT_TRUE(mentions(r.report.messages, "1 on the boundary (they cover nothing)"));
+  const MeshInfo info = mesh_info(r.mesh);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  EXPECT_EQ(info.boundary_loops, 1);
+
+  // The catalogue's collinear face, alone on its boundary edge: removed, its far vertex dropped.
+  const Mesh collinear =
+      make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2}, {0, 3, 1}});
+  const RepairResult c = repair_mesh(collinear);
+  expect_sliver_repair(collinear, c, 0.5);
+  EXPECT_EQ(c.mesh.num_faces(), 1);
+  EXPECT_EQ(c.report.unreferenced_vertices_dropped.examples, std::vector<int>{3});
+}
+
+TEST(RepairMesh, TwoAdjacentSliversResolveTogether) {
+  // Vertices (2, 2) and (4, 3) both moved onto the edge (3, 2) - (3, 3): two slivers on either
+  // side of it, each the other's neighbour across its longest edge.
+  Mesh mesh = unit_grid(6);
+  mesh.positions.row(grid_vertex(6, 2, 2)) << 3, 2.5, 0;
+  mesh.positions.row(grid_vertex(6, 4, 3)) << 3, 2.75, 0;
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::ZeroAreaFace), 2);
+  const RepairResult r = repair_mesh(mesh);
+  expect_sliver_repair(mesh, r, 36);
+  EXPECT_EQ(r.report.slivers_removed.count, 2);
+  EXPECT_EQ(r.mesh.num_faces(), 72);
+}
+
+TEST(RepairMesh, ChainOfSliversAlongALineResolves) {
+  // Two fans that meet along y = 0 with interleaved vertices, glued by four slivers (the
+  // shared meshes' degtri_sliding.off): lower apex 0, upper apex 7.
+  const Mesh mesh = make_mesh(
+      {{4, -2, 0}, {6, 0, 0}, {4, 0, 0}, {2, 0, 0}, {1, 0, 0}, {3, 0, 0}, {5, 0, 0}, {3, 2, 0}},
+      {{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {2, 1, 6}, {2, 6, 4}, {4, 6, 5}, {5, 6, 7}, {4, 5, 7}});
+  ASSERT_EQ(find_defects(mesh).count(DefectKind::ZeroAreaFace), 4);
+  const RepairResult r = repair_mesh(mesh);
+  expect_sliver_repair(mesh, r, 8);
+  EXPECT_EQ(r.report.slivers_removed.count, 4);
+  EXPECT_EQ(r.mesh.num_faces(), 8);
+  const MeshInfo info = mesh_info(r.mesh);
+  EXPECT_EQ(info.euler_characteristic, 1);
+  EXPECT_EQ(info.boundary_loops, 1);
+}
+
+TEST(RepairMesh, NeedlesAreLeftAndSaidSo) {
+  // Vertex (2, 2) moved to within 1e-14 of vertex (3, 2): two needles, which no split answers
+  // (a piece would have zero area again); welding with a tolerance would.
+  Mesh mesh = unit_grid(4);
+  mesh.positions.row(grid_vertex(4, 2, 2)) << 3 - 1e-14, 2, 0;
+  const int before = find_defects(mesh).count(DefectKind::ZeroAreaFace);
+  ASSERT_GT(before, 0);
+  const RepairResult r = repair_mesh(mesh);
+  EXPECT_EQ(r.report.zero_area_faces_left.count, before);
+  EXPECT_EQ(find_defects(r.mesh).count(DefectKind::ZeroAreaFace), before);
+  EXPECT_TRUE(mentions(r.report.messages, "not repaired: " + std::to_string(before) +
+                                              " zero-area faces cannot be removed without "
+                                              "changing the surface"));
+  EXPECT_TRUE(mentions(r.report.messages, "a needle, not a sliver"));
+  RepairOptions weld;
+  weld.weld_tolerance = 1e-12;
+  const RepairResult welded = repair_mesh(mesh, weld);
+  EXPECT_TRUE(find_defects(welded.mesh).counts.empty());
+  RepairOptions off;
+  off.remove_slivers = false;
+  EXPECT_FALSE(repair_mesh(unit_grid(4), off).report.changed());
+}
+
+// Vertices on one line and random faces among them and a few others: whatever slivers and
+// chains arise, repair ends, the maps hold, and what it says it left is what validation finds.
+TEST(RepairMesh, RandomSliverSoupsEnd) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int nv = 5 + trial % 8, nf = 2 + trial % 30;
+    std::uniform_int_distribution<int> vertex(0, nv - 1);
+    Mesh mesh;
+    mesh.positions.resize(nv, 3);
+    for (int v = 0; v < nv; ++v) {
+      if (v % 3 == 2) {
+        mesh.positions.row(v) << coordinate(random), coordinate(random), coordinate(random);
+      } else {
+        mesh.positions.row(v) << coordinate(random), 0, 0;
+      }
+    }
+    mesh.triangles.resize(nf, 3);
+    for (int f = 0; f < nf; ++f) {
+      mesh.triangles.row(f) << vertex(random), vertex(random), vertex(random);
+    }
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const RepairResult r = repair_mesh(mesh);
+    expect_maps_consistent(mesh, r);
+    EXPECT_EQ(find_defects(r.mesh).count(DefectKind::ZeroAreaFace),
+              r.report.zero_area_faces_left.count);
+  }
 }
 
 TEST(RepairMesh, OptionsSwitchStepsOff) {
@@ -367,6 +573,11 @@ TEST(RepairMesh, RejectsBadIndicesAndOptions) {
   RepairOptions options;
   for (const double bad : {-1.0, 1e-20, std::nan("")}) {
     options.weld_tolerance = bad;
+    EXPECT_THROW(repair_mesh(tetrahedron(), options), InvalidInput) << bad;
+  }
+  options = {};
+  for (const double bad : {-1.0, 1.0, std::nan("")}) {
+    options.zero_area_tolerance = bad;
     EXPECT_THROW(repair_mesh(tetrahedron(), options), InvalidInput) << bad;
   }
 }

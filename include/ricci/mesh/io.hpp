@@ -43,9 +43,15 @@ struct EnumNames<MeshFormat> {
 struct ReadOptions {
   bool validate = true;  ///< run validate_mesh on the result and throw on the first defect
   /// Run repair_mesh on the file's triangles before validating (mesh/repair.hpp): weld
-  /// duplicate vertices, remove duplicate and collapsed faces, split non-manifold edges and
-  /// vertices, orient consistently. ReadResult::repair says what changed.
+  /// duplicate vertices, remove duplicate and collapsed faces and slivers, split non-manifold
+  /// edges and vertices, orient consistently. ReadResult::repair says what changed.
   bool repair = false;
+  /// Run repair_mesh only when the file has a defect (find_defects; unreferenced vertices, which
+  /// are dropped anyway, do not count), and say so in a warning that names the first defect and
+  /// its file position; a file without defects is read as it is (duplicate positions stay
+  /// apart). Off by default: the library reads what the file says unless asked. The command
+  /// line and Python's read_mesh set it (their `auto` repair mode); `repair` overrides it.
+  bool auto_repair = false;
   RepairOptions repair_options = {};  ///< options of that repair
   /// Called with the repair report after repairing and before validating, so that a caller can
   /// show what was changed even when a defect that repair cannot fix then throws. May be empty.
@@ -72,7 +78,8 @@ struct ReadResult {
   /// (0-based, before unreferenced vertices were dropped), its face elements triangle indices
   /// (with options.repair: indices of the repaired mesh).
   ValidationReport validation;
-  bool repaired = false;  ///< options.repair was set and repair_mesh ran
+  /// repair_mesh ran: options.repair was set, or options.auto_repair and the file had a defect
+  bool repaired = false;
   /// What repair_mesh changed (when repaired). Its vertex indices are file indices (0-based),
   /// its face indices those of the file's faces after polygons were triangulated (the file's
   /// face numbers when it holds triangles only).
@@ -91,9 +98,11 @@ MeshFormat format_from_path(const std::string& path);
 ///        of ricci/render/textured_files.hpp reads it)
 /// \throw InvalidInput naming the file and line when a face index is out of range
 /// \throw InvalidInput / TopologyError (from validate_mesh, with the file name as context) when
-///        options.validate is set and the mesh has a defect; after options.repair the message
-///        names the file position of the element, its index in the repaired mesh and why repair
-///        left it (zero-area faces, non-finite coordinates, non-orientable surfaces)
+///        options.validate is set and the mesh has a defect; after a repair the message names the
+///        file position of the element, its index in the repaired mesh and why repair left it
+///        (zero-area faces it cannot remove exactly, non-finite coordinates, non-orientable
+///        surfaces). Without a repair, when repair_mesh would make the mesh valid, fixes() holds
+///        {"repair", "true"} (ReadOptions::repair).
 ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 
 /// Reads an OBJ file whose every face corner names a texture coordinate (`f v/vt` or

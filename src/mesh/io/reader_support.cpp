@@ -298,11 +298,35 @@ void drop_unreferenced_vertices(const std::string& path, const RawMesh& raw, Mes
   }
 }
 
+/// throw_first_defect on the file's own triangles, with ReadOptions::repair as the fix when
+/// repair_mesh would make them valid.
+[[noreturn]] void throw_defect_with_repair_fix(const ValidationReport& report,
+                                               const std::string& context, const Mesh& mesh,
+                                               const RepairOptions& repair_options) {
+  std::vector<OptionFix> fixes;
+  try {
+    if (find_defects(repair_mesh(mesh, repair_options).mesh).ok()) {
+      fixes = fixes_of({{"repair", "true"}});
+    }
+  } catch (const Error&) {  // no fix known
+  }
+  try {
+    throw_first_defect(report, context);
+  } catch (const TopologyError& e) {
+    throw TopologyError(e.what(), fixes);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(e.what(), fixes);
+  }
+  throw InvalidInput(context + ": defective mesh");  // throw_first_defect always throws
+}
+
 /// Why a defect is still there after repair_mesh.
 std::string unrepaired_reason(DefectKind kind) {
   switch (kind) {
     case DefectKind::ZeroAreaFace:
-      return "repair does not remove zero-area faces (that would open a hole): fix the geometry";
+      return "repair removes zero-area faces only where it can without changing the surface (a "
+             "vertex on the longest edge of its face, the faces around it manifold): fix the "
+             "geometry, or weld nearly coincident vertices (RepairOptions::weld_tolerance)";
     case DefectKind::NonFiniteCoordinate:
       return "repair does not change coordinates";
     case DefectKind::NonOrientable:
@@ -390,22 +414,47 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   file_mesh.triangles = std::move(triangulation.triangles);
   result.file_vertices = nv;
 
-  if (!options.repair) {
+  // The file position of a defect of the file's own triangles.
+  auto file_position = [&](const Defect& defect) {
+    return element_is_vertex(defect.kind)
+               ? raw.vertex_at(defect.element)
+               : raw.polygon_at(triangulation.polygon_of_triangle[defect.element]);
+  };
+  bool repair = options.repair;
+  std::optional<ValidationReport> as_read;  // the file's defects, where auto_repair looked
+  if (!repair && options.auto_repair) {
+    as_read = find_defects(file_mesh);
+    repair = !as_read->ok();
+  }
+  if (!repair) {
     if (std::string warning = duplicate_position_warning(path, raw, file_mesh); !warning.empty()) {
       result.warnings.push_back(std::move(warning));
     }
     if (options.validate) {
-      result.validation = find_defects(file_mesh);
+      result.validation = as_read ? std::move(*as_read) : find_defects(file_mesh);
       for (const Defect& defect : result.validation.defects) {
         if (defect.kind == DefectKind::UnreferencedVertex) continue;
-        const Where where = element_is_vertex(defect.kind)
-                                ? raw.vertex_at(defect.element)
-                                : raw.polygon_at(triangulation.polygon_of_triangle[defect.element]);
-        throw_first_defect(result.validation, path + ": " + describe(where));
+        throw_defect_with_repair_fix(result.validation,
+                                     path + ": " + describe(file_position(defect)), file_mesh,
+                                     options.repair_options);
       }
     }
     drop_unreferenced_vertices(path, raw, std::move(file_mesh), result);
     return result;
+  }
+  if (as_read) {
+    for (const Defect& defect : as_read->defects) {
+      if (defect.kind == DefectKind::UnreferencedVertex) continue;
+      int all = 0;
+      for (const auto& [kind, count] : as_read->counts) {
+        if (kind != DefectKind::UnreferencedVertex) all += count;
+      }
+      result.warnings.push_back(
+          path + ": " + describe(file_position(defect)) + ": " + defect.message +
+          (all > 1 ? " (and " + std::to_string(all - 1) + " more defects)" : std::string()) +
+          "; the mesh was repaired");
+      break;
+    }
   }
 
   RepairResult repaired = repair_mesh(file_mesh, options.repair_options);
