@@ -141,12 +141,14 @@ bool passes_checks(const ParamResult& p, const ParamOptions& options, std::strin
   return true;
 }
 
-/// Whether an exception of the exact map gives way to the other routes: automatic cones that
-/// cannot carry the curvature; the user's own choices (their cones, no cones, one cone) are
-/// refused as they are.
+/// Whether an exception of the exact map gives way to the other routes: cones whose count was
+/// left to ricci and still cannot carry the curvature. The user's own choices (their cones, a
+/// count of automatic cones, no cones, one cone) are refused as they are, with the options that
+/// work, since the user asked for exactly that map.
 bool may_replace_refusal(const ParamOptions& options) {
   return options.fold_free.charts &&
-         (options.cone_mode == ConeMode::Needed || options.cone_mode == ConeMode::Auto);
+         (options.cone_mode == ConeMode::Needed ||
+          (options.cone_mode == ConeMode::Auto && options.auto_cones.count == 0));
 }
 
 ParamResult parameterize_components(const Mesh& input, const Topology& topology,
@@ -189,6 +191,9 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     info.euler_characteristic = component.euler_characteristic;
     info.genus = component.genus;
     info.boundary_loops = component.num_boundary_loops;
+    // The user's own choice (their cones, a count) refused: the component is laid out still,
+    // but reported as failed, since what was asked was not made.
+    bool refused_choice = false;
     if (sub.num_faces() > 2) {
       ParamOptions component_options = options;
       component_options.cones = user_cones[c];
@@ -210,6 +215,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
           info.param = parameterize_one_component(sub, component_options);
         } catch (const InvalidInput& e) {
           if (num_components == 1 && !may_replace_refusal(options)) throw;
+          refused_choice = !may_replace_refusal(options);
           info.param = ParamResult{};
           info.message = e.what();
         } catch (const Error& e) {
@@ -271,7 +277,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         info.param = charts_result(sub, charts);
         info.param.timings.charts = seconds_since(charts_start);
         info.method = ComponentMethod::Charts;
-        info.parameterized = true;
+        info.parameterized = !refused_choice;
         info.message += "; laid out as " + charts.message;
         piece.face_chart = std::move(charts.face_chart);
         piece.num_charts = charts.num_charts;
@@ -300,7 +306,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         }
       }
     }
-    if (info.parameterized) {
+    if (info.method != ComponentMethod::Patches) {
       const ParamResult& p = info.param;
       piece.cut_triangles = p.cut_mesh.triangles;
       piece.cut_vertex = p.cut_mesh.to_original;
@@ -453,7 +459,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         edge_map[local.halfedge_edge[3 * j + k]] = whole.halfedge_edge[3 * info.face_map[j] + k];
       }
     }
-    if (!info.parameterized) {
+    if (info.method == ComponentMethod::Patches) {
       const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
       for (int e = 0; e < local.num_edges; ++e) {
         if (!pieces[c].cut_edges[e]) continue;
@@ -600,7 +606,7 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   if (failed > 0) {
     result.message =
         std::to_string(failed) + " of " + std::to_string(num_components) +
-        " components failed (laid out as patches of their own shape): " + result.message +
+        " components failed (laid out as charts or patches of their own shape): " + result.message +
         (failed > 5 ? "; ..." : "");
   }
   for (const Piece& piece : pieces) {

@@ -621,8 +621,9 @@ fi
 
 # --- several components: one failing -----------------------------------------------------------
 # A saddle (eight faces around vertex 0, 787 degrees of angle) beside a triangle; an inadmissible
-# cone on the saddle makes its pipeline fail: its own shape, in patches, fills its part of the
-# atlas, the file is written and ricci exits 3 naming the component.
+# cone on the saddle makes its pipeline fail: charts with free boundary (fold-free, seams their
+# 3D length) fill its part of the atlas, the file is written and ricci exits 3 naming the
+# component, since the cone asked for was not made.
 "$PYTHON" - <<'EOF'
 import math
 with open("saddle_and_triangle.obj", "w") as out:
@@ -637,10 +638,10 @@ EOF
 ricci param saddle_and_triangle.obj --cones 0:7 -o param/saddle_uv.obj --report param/saddle.json
 expect_rc "param: a component fails" 3
 expect_err "param: a component fails" "1 of 2 components failed" "component 0 (8 faces"
-expect_out "param: a component fails" "component 0 (8 faces" "patches" "component 1 (1 faces"
+expect_out "param: a component fails" "component 0 (8 faces" "charts" "component 1 (1 faces"
 expect_file "param: a component fails: the atlas is still written" param/saddle_uv.obj
 expect_json "param: a component fails: report" param/saddle.json \
-  'not d["converged"] and [c["method"] for c in d["components"]] == ["patches", "unfolded"] and len(d["components"][0]["charts"]) >= 2 and d["packing"]["overlapping_face_pairs"] == 0'
+  'not d["converged"] and [c["method"] for c in d["components"]] == ["charts", "unfolded"] and d["routes"][0]["method"] == "charts" and d["packing"]["overlapping_face_pairs"] == 0'
 
 # --- bad targets and options -------------------------------------------------------------------
 # bad_flow NAME TEXT... -- ARGS...: flow ARGS -o bad_out.json exits 2 naming every TEXT, no output.

@@ -319,6 +319,17 @@ TEST(ParameterizeComponents, AFailedComponentIsReportedAndLaidOutAsPatches) {
   ParamOptions options = vertex_scaling();
   options.cone_mode = ConeMode::User;
   options.cones = {{torus.num_vertices(), 7.0}};
+  // By default the failed component is laid out as charts with free boundary (fold-free, each
+  // seam its 3D length), still reported as failed (its cone was not made); patches are the
+  // route without charts.
+  const ParamResult charts = parameterize(input, options);
+  expect_atlas(charts, "torus and saddle, charts");
+  EXPECT_FALSE(charts.converged);
+  EXPECT_FALSE(charts.components[1].parameterized);
+  EXPECT_NE(charts.message.find("component 1"), std::string::npos) << charts.message;
+  EXPECT_EQ(charts.components[1].method, ComponentMethod::Charts);
+  EXPECT_EQ(charts.distortion.flipped_faces, 0);
+  options.fold_free.charts = false;
   const ParamResult r = parameterize(input, options);
   expect_atlas(r, "torus and saddle");
   EXPECT_FALSE(r.converged);

@@ -132,7 +132,11 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
 // bounds, and skips candidates whose positive lower bounds the curvature total cannot pay.
 TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   const Mesh needles = pull_vertices_to_neighbours(make_cad_cylinder(360), 0.998, 1, 2);
-  const ParamResult r = parameterize(needles, ParamOptions{});
+  // The exact map itself, as the cones make it (by default its 246 faces drawn flipped between
+  // the needles send the component to the charts route, below).
+  ParamOptions exact;
+  exact.fold_free.charts = false;
+  const ParamResult r = parameterize(needles, exact);
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_TRUE(r.cone_selection.within_bounds);
   double total = 0;
@@ -145,6 +149,13 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   // (1e-6 and below with the L2 objective's cones, 1.07e-6 and 2.03e-6 with the area
   // distortion's as it was tuned).
   EXPECT_LE(r.layout.max_length_relative_error, 1e-5);
+  // By default the flips are not left to the user: charts with free boundary, none folded.
+  const ParamResult fold_free = parameterize(needles, ParamOptions{});
+  ASSERT_TRUE(fold_free.converged) << fold_free.message;
+  ASSERT_EQ(fold_free.routes.size(), 1u);
+  EXPECT_EQ(fold_free.routes[0].method, ComponentMethod::Charts);
+  EXPECT_EQ(fold_free.distortion.flipped_faces, 0);
+  EXPECT_EQ(find_uv_overlaps(fold_free.uv, fold_free.cut_mesh.triangles).count, 0);
 
   // Two cones cannot carry 4 pi (each at most 1.5 pi): a clear refusal, not the flow's.
   ParamOptions two;
