@@ -165,7 +165,7 @@ TEST(ReadPolygons, APolygonThatRepairCutsIsWrittenAsItsTrianglesLeft) {
 TEST(Polygons, CheckNamesWhatIsWrong) {
   const ReadResult r = read_soup(testing::quad_grid(2, 1), "grid_2x1.obj");
   ASSERT_EQ(r.polygons.num_polygons(), 2);
-  auto message = [&](Polygons p) {
+  auto message = [&](const Polygons& p) {
     try {
       check_polygons(p, r.mesh.triangles, "ctx");
     } catch (const InvalidInput& e) {

@@ -206,7 +206,7 @@ TEST(PolygonCut, RefusesUncutEdgesThatCloseALoopOrHaveTheWrongSize) {
 ParamResult expect_polygons_kept(const ReadResult& read, ParamOptions options,
                                  const std::string& what) {
   options.polygons = read.polygons;
-  const ParamResult r = parameterize(read.mesh, options);
+  ParamResult r = parameterize(read.mesh, options);
   EXPECT_TRUE(r.converged) << what << ": " << r.message;
   if (!r.converged) return r;
   EXPECT_EQ(r.mesh.triangles, read.mesh.triangles) << what;
