@@ -279,9 +279,9 @@ TEST(PolygonParameterize, ACubeOfQuadsWithItsCornersAsCones) {
   EXPECT_NEAR(r.distortion.angle_distortion_max, 1.0, 1e-6);
 }
 
-TEST(PolygonParameterize, ComponentsUnfoldedAndPatchesKeepTheirPolygons) {
+TEST(PolygonParameterize, ComponentsUnfoldedPatchesAndChartsKeepTheirPolygons) {
   // A quad torus, a lone quad (two triangles: unfolded) and the saddle of four quads around a
-  // vertex of 787 degrees (no flat metric asked for fits it: its own shape in patches).
+  // vertex of 787 degrees whose cone the flow refuses: its own shape in patches, or charts.
   const Mesh torus = make_torus(16, 8);
   Mesh saddle;
   saddle.positions.resize(9, 3);
@@ -309,27 +309,40 @@ TEST(PolygonParameterize, ComponentsUnfoldedAndPatchesKeepTheirPolygons) {
     mesh.triangles.middleRows(nf, m->num_faces()) = m->triangles.array() + nv;
     nv += m->num_vertices(), nf += m->num_faces();
   }
-  ParamOptions options;
-  options.cone_mode = ConeMode::User;
-  options.cones = {{torus.num_vertices() + quad.num_vertices(), 7.0}};  // the saddle's centre
-  options.polygons = testing::pair_triangles(mesh);
-  ASSERT_EQ(options.polygons.num_polygons(), nf / 2);
-  const ParamResult r = parameterize(mesh, options);
-  ASSERT_EQ(r.components.size(), 3u);
-  EXPECT_EQ(r.components[1].method, ComponentMethod::Unfolded);
-  EXPECT_EQ(r.components[2].method, ComponentMethod::Patches);
-  EXPECT_GE(r.components[2].charts.size(), 2u);
-  ASSERT_EQ(r.mesh.triangles, mesh.triangles);
-  expect_whole_polygons(options.polygons, mesh.triangles, r.cut_mesh.triangles, "components");
-  ASSERT_EQ(r.polygons.num_polygons(), options.polygons.num_polygons());
-  // The charts hold whole polygons.
-  std::vector<int> chart_of(nf, -1);
-  for (std::size_t c = 0; c < r.packing.charts.size(); ++c) {
-    for (const int f : r.packing.charts[c].faces) chart_of[f] = static_cast<int>(c);
+  for (const bool charts : {false, true}) {
+    // Without the charts route the saddle's own shape is laid out in patches; with it the saddle
+    // is cut and flattened as charts (fold_free.charts, the default).
+    const std::string what = charts ? "charts route" : "patches";
+    ParamOptions options;
+    options.fold_free.charts = charts;
+    options.cone_mode = ConeMode::User;
+    options.cones = {{torus.num_vertices() + quad.num_vertices(), 7.0}};  // the saddle's centre
+    options.polygons = testing::pair_triangles(mesh);
+    ASSERT_EQ(options.polygons.num_polygons(), nf / 2);
+    const ParamResult r = parameterize(mesh, options);
+    ASSERT_EQ(r.components.size(), 3u) << what;
+    EXPECT_EQ(r.components[1].method, ComponentMethod::Unfolded) << what;
+    if (charts) {
+      EXPECT_EQ(r.components[2].method, ComponentMethod::Charts) << what;
+    } else {
+      EXPECT_EQ(r.components[2].method, ComponentMethod::Patches) << what;
+      EXPECT_GE(r.components[2].charts.size(), 2u) << what;
+    }
+    ASSERT_EQ(r.mesh.triangles, mesh.triangles) << what;
+    expect_whole_polygons(options.polygons, mesh.triangles, r.cut_mesh.triangles, what);
+    ASSERT_EQ(r.polygons.num_polygons(), options.polygons.num_polygons()) << what;
+    // The charts hold whole polygons.
+    std::vector<int> chart_of(nf, -1);
+    for (std::size_t c = 0; c < r.packing.charts.size(); ++c) {
+      for (const int f : r.packing.charts[c].faces) chart_of[f] = static_cast<int>(c);
+    }
+    for (int f = 0; f < nf; f += 2) {
+      EXPECT_EQ(chart_of[f], chart_of[f + 1]) << what << ": quad " << f / 2;
+    }
+    EXPECT_EQ(r.distortion.flipped_faces + r.distortion.degenerate_faces,
+              unsound_fan_triangles(r.polygons, r.cut_mesh.triangles, r.uv))
+        << what;
   }
-  for (int f = 0; f < nf; f += 2) EXPECT_EQ(chart_of[f], chart_of[f + 1]) << "quad " << f / 2;
-  EXPECT_EQ(r.distortion.flipped_faces + r.distortion.degenerate_faces,
-            unsound_fan_triangles(r.polygons, r.cut_mesh.triangles, r.uv));
 }
 
 TEST(PolygonParameterize, AnOverlappingLayoutIsSplitBetweenPolygons) {
