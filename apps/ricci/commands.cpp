@@ -592,6 +592,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
   const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
+  options.polygons = read.polygons;
   const HyperbolicParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize_hyperbolic(read.mesh, options); });
@@ -604,6 +605,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
   textured.mesh = read.mesh;
   textured.uv_triangles = result.cut_mesh.triangles;
   textured.uv = result.uv;
+  textured.polygons = result.polygons;
   write_textured_output(args, textured);
   warn_about_hyperbolic_layout(args.mesh, result);
 #ifdef RICCI_HAVE_RENDER
@@ -768,6 +770,7 @@ int run_param(const ParamArgs& args) {
   const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   apply_cones_option(args.cones, args.mesh, read, options);
+  options.polygons = read.polygons;
   if (refinement) {
     const Topology t = build_topology(read.mesh.triangles, read.mesh.num_vertices());
     if (t.components.size() > 1) {
@@ -816,6 +819,10 @@ int run_param(const ParamArgs& args) {
     write_refinement(args.output, args.mesh, result, *exact, read, linear_material);
   } else {
     write_textured_output(args, textured_mesh(result));
+    if (!read.polygons.empty() && result.polygons.empty()) {
+      std::cerr << "warning: " << args.mesh << ": edge splits changed the faces, so " << args.output
+                << " holds triangles, not the file's polygons\n";
+    }
   }
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);
@@ -835,6 +842,14 @@ int run_param(const ParamArgs& args) {
               << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
               << d.flipped_faces << ", layout length error "
               << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
+    if (!result.polygons.empty()) {
+      int polygons = 0;
+      for (int p = 0; p < result.polygons.num_polygons(); ++p)
+        polygons += result.polygons.size(p) > 3;
+      std::cout << "  faces: the input's " << result.polygons.num_polygons() << " (" << polygons
+                << " of more than 3 corners), no seam inside one; the figures above are of "
+                   "their fans as written\n";
+    }
     if (exact) {
       const CommonRefinement& c = *exact;
       std::cout << "  refinement " << c.positions.rows() << " vertices, " << c.triangles.rows()

@@ -361,6 +361,9 @@ nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
   j["distortion"] = distortion_json(r.distortion);
   j["distortion"]["cones"] = r.cones.size();
   j["distortion"]["seam_length"] = r.seam_length;
+  // The faces written: the input's polygons (distortion is measured on their fans as written),
+  // or 0 when the triangles are.
+  j["polygons"] = r.polygons.num_polygons();
   return j;
 }
 
@@ -453,6 +456,7 @@ nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
                            {"node_residual", g.node_residual}};
   }
   j["distortion"] = distortion_json(r.distortion);
+  j["polygons"] = r.polygons.num_polygons();
   return j;
 }
 

@@ -12,7 +12,8 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
   CLI::App* param_cmd = app.add_subcommand(
       "param",
       "Global conformal parameterization: cones, Ricci flow to a flat metric, cut graph, "
-      "layout; writes an OBJ with per-corner texture coordinates in the unit square. A mesh "
+      "layout; writes an OBJ with per-corner texture coordinates in the unit square, on the "
+      "input's own faces (a quad or polygon mesh keeps its polygons). A mesh "
       "of several components gets one atlas: each component parameterized on its own, the "
       "charts packed into the unit square.");
   param_cmd->add_option("MESH", param.mesh, "mesh file (.obj .off .ply .stl)")->required();
@@ -43,7 +44,8 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
       ->capture_default_str();
   param_cmd
       ->add_option("--faces", param.faces,
-                   "input: the input's faces with linear texture coordinates; refinement "
+                   "input: the input's faces (quads and polygons included, one vt per corner, "
+                   "no seam inside one) with linear texture coordinates; refinement "
                    "(vertex-scaling): the common refinement of the input and the final intrinsic "
                    "triangulation with homogeneous texture coordinates 'vt u v w' (divided by w "
                    "per pixel they give the exact map), written to -o, beside it STEM.linear.obj "

@@ -71,6 +71,7 @@ from ._ricci import (
     ParamTimings,
     PolishOptions,
     PolishResult,
+    Polygons,
     ReadOptions,
     ReadResult,
     RepairOptions,
@@ -103,7 +104,7 @@ from ._ricci import (
 from ._ricci import __version__
 from ._batch import batch, batch_summary
 from ._flow import flow
-from ._mesh import info, read_mesh, repair, validate, write_mesh, write_obj
+from ._mesh import info, polygon_faces, read_mesh, repair, validate, write_mesh, write_obj
 from ._param import common_refinement, interpolate_to_refinement, parameterize
 from ._sphere import sphere
 from ._spline import spline
@@ -111,6 +112,7 @@ from ._spline import spline
 __all__ = [
     "batch", "batch_summary", "flow", "info", "parameterize", "common_refinement", "interpolate_to_refinement",
     "CommonRefinement", "CommonRefinementOptions", "read_mesh", "repair", "validate", "write_mesh", "write_obj", "generate",
+    "Polygons", "polygon_faces",
     "sphere", "SphereOptions", "SphereResult",
     "spline", "SplineOptions", "SplineResult", "SplineError", "SplineFit", "ContinuityReport",
     "FuchsianGroup", "HyperbolicLayout", "HyperbolicLayoutOptions", "HyperbolicParamOptions",

@@ -17,7 +17,12 @@ def read_mesh(path, *, validate=True, repair="auto", repair_options=None):
     Returns ``(V, F, info)``: V float64 (n, 3) positions, F int32 (m, 3) counter-clockwise
     triangles (polygons triangulated, unreferenced vertices dropped), and the C++ ``ReadResult``
     with ``warnings``, ``dropped_vertices``, ``vertex_map`` (file index of each vertex),
-    ``polygons_triangulated``, ``format`` and ``validation``.
+    ``polygons_triangulated``, ``polygons``, ``format`` and ``validation``.
+
+    ``info.polygons`` (a ``Polygons``, empty when every face is a triangle) says which triangles
+    make up each face of the file: ``polygon_faces(F, info.polygons)`` lists the faces' vertices,
+    ``parameterize(V, F, polygons=info.polygons)`` never cuts inside a face and returns the
+    faces to write, ``write_mesh(..., polygons=...)`` writes them.
 
     ``repair`` says what to do with a file that has defects, as the command line's
     ``--repair=MODE``: ``"auto"`` (the default) runs ``repair_mesh`` on a file with defects
@@ -69,9 +74,28 @@ def repair(V, F, **options):
 _WRITTEN_FORMATS = tuple(name for name in _ricci.MeshFormat.names if name != "glb")
 
 
-def write_mesh(path, V, F, uv=None, uv_triangles=None, *, format=None, drop_uv=False):
+def polygon_faces(F, polygons):
+    """The faces of a polygon mesh as lists of vertex indices, in order: per polygon of
+    ``polygons`` (a ``Polygons`` over the triangles F, e.g. ``info.polygons`` of ``read_mesh`` or
+    ``result.polygons`` of ``parameterize``) its corners' vertices; the triangles of F themselves
+    when ``polygons`` is empty. Returns a list of int arrays."""
+    F = _arrays.triangles(F, "F")
+    if polygons.empty():
+        return [row.copy() for row in F]
+    corners = np.asarray(polygons.corners, dtype=np.int64)
+    vertices = F[corners // 3, corners % 3]
+    return np.split(vertices, polygons.corner_start[1:-1])
+
+
+def write_mesh(path, V, F, uv=None, uv_triangles=None, *, polygons=None, format=None,
+               drop_uv=False):
     """Writes a mesh atomically (the target is untouched when anything fails), in ``format``
     ("obj", "off", "ply" or "stl") or, when it is None, the format of the path's extension.
+
+    With ``polygons`` (a ``Polygons`` over the triangles F, e.g. ``result.polygons`` of
+    ``parameterize``) OBJ, OFF and PLY write one face per polygon (OBJ with texture coordinates:
+    ``f v/vt v/vt v/vt v/vt``, each corner's uv row taken from uv_triangles); STL writes the
+    triangles.
 
     With ``uv`` (k, 2) and ``uv_triangles`` (m, 3, indices into uv per corner) also its texture
     coordinates: OBJ holds them (``vt`` and ``f v/vt``); OFF, PLY and STL cannot, and refuse
@@ -98,7 +122,8 @@ def write_mesh(path, V, F, uv=None, uv_triangles=None, *, format=None, drop_uv=F
             raise ValueError(f"uv_triangles must have one row per face ({m.num_faces}), "
                              f"got shape {uv_triangles.shape}")
     _ricci.write_mesh(os.fspath(path), m, uv_triangles,
-                      np.ascontiguousarray(uv, dtype=np.float64), format or "", bool(drop_uv))
+                      np.ascontiguousarray(uv, dtype=np.float64), format or "", bool(drop_uv),
+                      _ricci.Polygons() if polygons is None else polygons)
 
 
 def write_obj(path, V, F, uv=None, uv_triangles=None):

@@ -19,7 +19,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
                  reuse_factorization_cg_iterations=None, progress=None, flips=None,
-                 geometry=None, root_face=None, gutter=None, polish=None, options=None):
+                 geometry=None, root_face=None, gutter=None, polish=None, polygons=None,
+                 options=None):
     """Global conformal parameterization of a manifold mesh: cones, valence raising, Ricci flow
     to a flat metric, cut graph, layout, atlas, distortion, uv in the unit square. A mesh of
     several components gets one atlas: each component is parameterized on its own (a component
@@ -53,6 +54,11 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
       mean angle distortion, seams, cones and boundary kept exact (True; options field
       polish.enabled). False: the discrete conformal map itself, every edge as long as the flat
       metric says. result.polish says what it did; its uv holds the positions before it.
+    polygons: a polygon mesh's faces over the triangles F (``info.polygons`` of
+      ``read_mesh``): the cut never runs inside a face, and result.polygons gives the faces to
+      write (``write_mesh(path, V, F, result.uv, result.uv_triangles,
+      polygons=result.polygons)``), each listed from a corner whose fan is sound in the layout;
+      result.distortion is measured on those fans.
     options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
       (copied); other arguments, when not None, override its fields.
 
@@ -112,7 +118,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
             max_iterations=max_iterations, gradient_step=gradient_step, armijo=armijo,
             max_backtracks=max_backtracks, use_cholmod=use_cholmod,
             reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
-            progress=progress, flips=flips, root_face=root_face, options=options)
+            progress=progress, flips=flips, root_face=root_face, polygons=polygons,
+            options=options)
     if root_face is not None:
         raise _ricci.InvalidInput("parameterize: root_face is an option of "
                                   "geometry='hyperbolic' only")
@@ -122,7 +129,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     opts = _ricci.ParamOptions() if options is None else copy.copy(options)
     set_cones(opts, cones)
     set_fields(opts, boundary=boundary, quantize=quantize,
-               modify_connectivity=modify_connectivity)
+               modify_connectivity=modify_connectivity, polygons=polygons)
     set_fields(opts.packing, gutter=gutter)
     set_fields(opts.polish, enabled=polish)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
@@ -169,7 +176,7 @@ def _is_hyperbolic(geometry):
 
 def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, max_cones,
                              try_first_cone_candidates, cone_smoothness, modify_connectivity,
-                             root_face, options,
+                             root_face, polygons, options,
                              **structure_and_solver):
     """parameterize(geometry='hyperbolic'): refuses the Euclidean-only arguments, then calls
     ``parameterize_hyperbolic``."""
@@ -200,6 +207,7 @@ def _parameterize_hyperbolic(mesh, *, cones, boundary, quantize, max_log_scale, 
         raise _ricci.InvalidInput(f"parameterize: options must be a HyperbolicParamOptions for "
                                   f"geometry='hyperbolic', got {type(options).__name__}")
     set_fields(opts.layout, root_face=root_face)
+    set_fields(opts, polygons=polygons)
     set_structure_and_solver(opts, **structure_and_solver)
     return _ricci.parameterize_hyperbolic(mesh, opts)
 

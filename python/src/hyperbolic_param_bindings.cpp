@@ -103,6 +103,8 @@ void bind_hyperbolic_param(py::module_& m) {
              "closed surfaces: most cuts (tree-cotree roots) tried for the best-conditioned group")
       .field("good_relation_residual", &HyperbolicParamOptions::good_relation_residual,
              "stop trying cuts once the relation residual is this small")
+      .field("polygons", &HyperbolicParamOptions::polygons,
+             "Polygons (read_mesh's info.polygons): faces whose diagonals are never cut")
       .keyword_constructor()
       .repr();
 
@@ -140,6 +142,8 @@ void bind_hyperbolic_param(py::module_& m) {
           "FuchsianGroup, or None on a surface with boundary")
       .readonly("distortion", &HyperbolicParamResult::distortion,
                 "Distortion of the disk layout against the mesh")
+      .readonly("polygons", &HyperbolicParamResult::polygons,
+                "Polygons to write (options.polygons, each from a corner whose fan is sound)")
       .readonly("seam_length", &HyperbolicParamResult::seam_length, "3D length of the cut edges")
       .readonly("flow", &HyperbolicParamResult::flow, "MeshFlowResult")
       .readonly("cut", &HyperbolicParamResult::cut, "CutGraph")

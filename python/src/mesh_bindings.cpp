@@ -7,6 +7,7 @@
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/mesh/repair.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/mesh/validate.hpp"
@@ -141,12 +142,30 @@ void bind_mesh(py::module_& m) {
       .keyword_constructor()
       .repr();
 
+  StructBinding<Polygons>(m, "Polygons",
+                          "A polygon mesh's faces over its triangles (empty: every triangle a "
+                          "face); ricci.polygon_faces lists each face's vertices.")
+      .field("triangle_polygon", &Polygons::triangle_polygon,
+             "#F: the polygon each triangle belongs to")
+      .field("corner_start", &Polygons::corner_start,
+             "#P + 1 offsets into corners (empty: no polygon)")
+      .field("corners", &Polygons::corners,
+             "each polygon's corners in order, as triangle corners 3 t + k: vertex F[t, k], uv "
+             "row uv_triangles[t, k]")
+      .keyword_constructor()
+      .repr()
+      .cls()
+      .def_property_readonly("num_polygons", &Polygons::num_polygons)
+      .def("empty", &Polygons::empty);
+
   StructBinding<ReadResult>(m, "ReadResult", "What read_mesh returns.")
       .readonly("mesh", &ReadResult::mesh, "the triangles, unreferenced vertices removed")
       .readonly("format", &ReadResult::format, "MeshFormat of the file")
       .readonly("warnings", &ReadResult::warnings, "e.g. 'bunny.obj: 12 polygons triangulated'")
       .readonly("polygons_triangulated", &ReadResult::polygons_triangulated,
                 "faces with more than three corners in the file")
+      .readonly("polygons", &ReadResult::polygons,
+                "Polygons: the file's faces over the triangles (empty when all are triangles)")
       .readonly("dropped_vertices", &ReadResult::dropped_vertices,
                 "file indices (0-based) of unreferenced vertices dropped")
       .readonly("vertex_map", &ReadResult::vertex_map,
@@ -202,20 +221,22 @@ void bind_mesh(py::module_& m) {
       "write_mesh",
       [](const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
          const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const std::string& format,
-         bool drop_uv) {
+         bool drop_uv, const Polygons& polygons) {
         TexturedMesh textured;
         textured.mesh = mesh;
         textured.uv_triangles = uv_triangles;
         textured.uv = uv;
+        textured.polygons = polygons;
         WriteOptions options;
         if (!format.empty()) options.format = parse_enum<MeshFormat>(format, "write_mesh");
         options.drop_uv = drop_uv;
         write_mesh(path, textured, options);
       },
       py::arg("path"), py::arg("mesh"), py::arg("uv_triangles"), py::arg("uv"),
-      py::arg("format") = "", py::arg("drop_uv") = false,
-      "Writes a mesh (empty uv_triangles and uv: without texture coordinates) in the format of "
-      "`format` or of the path's extension, atomically (C++ write_mesh).");
+      py::arg("format") = "", py::arg("drop_uv") = false, py::arg("polygons") = Polygons{},
+      "Writes a mesh (empty uv_triangles and uv: without texture coordinates; non-empty "
+      "polygons: one face per polygon) in the format of `format` or of the path's extension, "
+      "atomically (C++ write_mesh).");
   m.def("validate_mesh", &validate_mesh, py::arg("mesh"), py::arg("context"),
         py::arg("options") = ValidationOptions{},
         "Raises on the first defect other than an unreferenced vertex (TopologyError for "

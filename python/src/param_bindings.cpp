@@ -175,6 +175,8 @@ void bind_param(py::module_& m) {
              "ChartPackingOptions: several components, how their charts are packed")
       .field("polish", &ParamOptions::polish,
              "PolishOptions: the angle polish of the layout's interior (enabled by default)")
+      .field("polygons", &ParamOptions::polygons,
+             "Polygons (read_mesh's info.polygons): faces whose diagonals are never cut")
       .keyword_constructor()
       .repr();
 
@@ -283,7 +285,11 @@ void bind_param(py::module_& m) {
       .computed(
           "lattice", [](const ParamResult& r) { return r.layout.lattice; },
           "layout.lattice: flat torus lattice basis as complex numbers (metric units)")
-      .readonly("distortion", &ParamResult::distortion, "Distortion")
+      .readonly("distortion", &ParamResult::distortion,
+                "Distortion of the faces written (with polygons: their fans as written)")
+      .readonly("polygons", &ParamResult::polygons,
+                "Polygons to write (options.polygons, each from a corner whose fan is sound); "
+                "empty without polygons")
       .readonly("seam_length", &ParamResult::seam_length, "3D length of the cut edges")
       .readonly("uv_scale", &ParamResult::uv_scale, "uv = (layout - offset) * uv_scale")
       .readonly("uv_offset", &ParamResult::uv_offset, "")

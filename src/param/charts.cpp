@@ -12,8 +12,10 @@
 #include "parameterize_component.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/components.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/param/chart_packing.hpp"
+#include "ricci/param/polygon_fans.hpp"
 #include "ricci/param/untangle.hpp"
 
 namespace ricci::param_detail {
@@ -153,8 +155,12 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
   const int nf = mesh.num_faces();
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  // A polygon mesh's polygons stay whole: no cut along a diagonal, and a polygon leaves a chart
+  // or joins a piece or a patch with all its triangles.
+  const Polygons& polygons = options.polygons;
   CutGraphOptions cut_options;
   cut_options.cones = cut_through;
+  cut_options.uncut_edges = polygon_diagonals(t, polygons);
   const Component& component = t.components.front();
   if (component.num_boundary_loops == 0 && component.genus == 0 && cut_through.size() < 2) {
     // A sphere opens along a path between two vertices far apart.
@@ -214,6 +220,7 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
       }
       ++out.rounds;
       bool ok = false;
+      inner.polygons = polygons_of_faces(polygons, flat.faces);
       try {
         flat.param = parameterize_one_component(piece.mesh, inner);
         ok = usable(flat.param, options);
@@ -243,6 +250,15 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
       }
       if (!flipped.empty()) {
         for (int f : flipped) unfolded[flat.faces[f]] = 1;
+        // The rest of each polygon goes with its folded triangles.
+        for (std::size_t i = 0; i < flat.faces.size() && !polygons.empty(); ++i) {
+          for (int f : flipped) {
+            if (polygons.triangle_polygon[flat.faces[i]] ==
+                polygons.triangle_polygon[flat.faces[f]]) {
+              unfolded[flat.faces[i]] = 1;
+            }
+          }
+        }
         changed = true;
         continue;
       }
@@ -275,7 +291,8 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
     int count = 1;
     std::vector<int> piece_of(flat.faces.size(), 0);
     if (find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count > 0) {
-      piece_of = embedded_pieces(p.layout.uv, p.cut_mesh.triangles, count);
+      piece_of = embedded_pieces(p.layout.uv, p.cut_mesh.triangles, count,
+                                 polygons_of_faces(polygons, flat.faces).triangle_polygon);
     }
     for (std::size_t i = 0; i < flat.faces.size(); ++i) {
       const int f = flat.faces[i];
@@ -295,7 +312,7 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
     // The taken-out faces, laid out in patches of their own shape.
     std::vector<int> loose_disk_vertex;
     const Mesh loose = faces_as_mesh(disk, taken, loose_disk_vertex);
-    const PatchLayout patches = develop_patches(loose);
+    const PatchLayout patches = develop_patches(loose, polygons_of_faces(polygons, taken));
     const int offset = static_cast<int>(positions.size());
     for (Eigen::Index v = 0; v < patches.layout.rows(); ++v) {
       positions.emplace_back(patches.layout.row(v));
@@ -325,7 +342,7 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
   return out;
 }
 
-ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts) {
+ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts, const Polygons& polygons) {
   ParamResult r;
   r.converged = true;
   r.mesh = mesh;
@@ -349,7 +366,8 @@ ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts) {
   r.cut_mesh.to_original = charts.vertex;
   r.cut_mesh.topology = build_topology(charts.triangles, static_cast<int>(charts.vertex.size()));
   r.layout.uv = charts.layout;
-  r.distortion = measure_distortion(mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.polygons = start_fans_where_valid(polygons, mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.distortion = measure_polygon_distortion(mesh, r.polygons, r.cut_mesh.triangles, r.layout.uv);
   r.layout.num_flipped_faces = r.distortion.flipped_faces;
   r.untangle = charts.untangle;
   fit_unit_square(r);

@@ -39,6 +39,8 @@ struct ChartsLayout {
   std::string message;            ///< what happened, for the report
 };
 
+/// options.polygons (when not empty: the mesh's polygons) stay whole: the cut never runs along a
+/// diagonal, and a polygon leaves a chart, joins a piece or a patch with all its triangles.
 /// \param cut_through vertices the cut passes through (the failed exact map's cones), may be
 ///        empty
 /// \pre mesh is one connected, valid component (build_topology succeeds, every face has area)
@@ -48,7 +50,9 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
 
 /// The ParamResult of a component laid out as charts (ComponentMethod::Charts): converged, its
 /// mesh, cut (the edges between different charts or copies), cut mesh and layout, distortion,
-/// seam length, uv in the unit square; no cones (the seams carry the curvature).
-ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts);
+/// seam length, uv in the unit square, the polygons (when not empty) to write from corners
+/// whose fans are sound; no cones (the seams carry the curvature).
+ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts,
+                          const Polygons& polygons = {});
 
 }  // namespace ricci::param_detail

@@ -58,12 +58,16 @@ struct VertexEdges {
 struct ContractedGraph {
   const Topology& topology;
   const VertexEdges& vertex_edges;
+  /// #E or empty: edges the cut must not contain (CutGraphOptions::uncut_edges), left out of
+  /// the graph, so that no tree and no path runs along them.
+  const std::vector<char>& uncut;
   std::vector<int> node_of;     ///< #V: node of each vertex
   std::vector<int> loop_start;  ///< loop i's vertices are loop_vertices[loop_start[i] ...]
   std::vector<int> loop_vertices;
   int num_nodes = 0;
 
-  ContractedGraph(const Topology& t, const VertexEdges& ve) : topology(t), vertex_edges(ve) {
+  ContractedGraph(const Topology& t, const VertexEdges& ve, const std::vector<char>& uncut_edges)
+      : topology(t), vertex_edges(ve), uncut(uncut_edges) {
     const int nv = t.num_vertices;
     node_of.resize(nv);
     std::iota(node_of.begin(), node_of.end(), 0);
@@ -80,12 +84,15 @@ struct ContractedGraph {
 
   bool is_loop(int node) const { return node >= topology.num_vertices; }
 
-  /// Calls visit(edge, other node) for every interior edge leaving `node` that is no self-loop.
+  bool is_uncut(int e) const { return !uncut.empty() && uncut[e] != 0; }
+
+  /// Calls visit(edge, other node) for every interior edge leaving `node` that is no self-loop
+  /// and not uncut.
   template <typename Visit>
   void for_each_neighbour(int node, Visit&& visit) const {
     auto from_vertex = [&](int v) {
       vertex_edges.for_each(v, [&](int e) {
-        if (topology.is_boundary_edge[e]) return;
+        if (topology.is_boundary_edge[e] || is_uncut(e)) return;
         const int a = topology.edge_vertices(e, 0);
         const int other = node_of[a == v ? topology.edge_vertices(e, 1) : a];
         if (other != node) visit(e, other);
@@ -173,6 +180,31 @@ void check_inputs(const Topology& topology, const Eigen::VectorXd& lengths,
   };
   for (const int cone : options.cones) check_vertex(cone, "cone");
   if (options.root_vertex != -1) check_vertex(options.root_vertex, "root vertex");
+  const std::vector<char>& uncut = options.uncut_edges;
+  if (uncut.empty()) return;
+  if (static_cast<int>(uncut.size()) != topology.num_edges) {
+    throw InvalidInput("cut_graph: " + std::to_string(uncut.size()) + " uncut edge flags for " +
+                       std::to_string(topology.num_edges) + " edges");
+  }
+  // The triangles joined across uncut edges must form trees (the cotree takes every uncut edge):
+  // an uncut edge between two triangles already joined closes a loop, around which the surface
+  // could not be cut open.
+  std::vector<int> group(topology.num_faces);
+  std::iota(group.begin(), group.end(), 0);
+  auto find = [&](int f) {
+    while (group[f] != f) f = group[f] = group[group[f]];
+    return f;
+  };
+  for (int e = 0; e < topology.num_edges; ++e) {
+    const int h0 = topology.edge_halfedges(e, 0), h1 = topology.edge_halfedges(e, 1);
+    if (!uncut[e] || h0 < 0 || h1 < 0) continue;
+    const int a = find(Topology::face_of(h0)), b = find(Topology::face_of(h1));
+    if (a == b) {
+      throw InvalidInput("cut_graph: the uncut edges join triangles in a loop (edge " +
+                         std::to_string(e) + " closes it), which no cut could open");
+    }
+    group[std::max(a, b)] = std::min(a, b);
+  }
 }
 
 int edge_component(const Topology& topology, int e) {
@@ -260,15 +292,30 @@ int homology_generators(const Topology& topology, const Eigen::VectorXd& lengths
   }
 
   // Cotree: breadth-first spanning tree of the faces across interior edges not in the tree.
+  // A face reached brings the faces joined to it across uncut edges at once (a tree of them,
+  // all unseen), so that the cotree holds every uncut edge and none closes a generator.
   const int nf = topology.num_faces;
   std::vector<char> face_seen(nf, 0), in_cotree(topology.num_edges, 0);
   std::vector<int> queue;
   queue.reserve(nf);
-  for (std::size_t c = 0; c < roots.size(); ++c) {
-    if (roots[c] == -1) continue;
-    const int start = topology.components[c].faces.front();
+  auto reach = [&](int start) {
     face_seen[start] = 1;
+    const std::size_t first = queue.size();
     queue.push_back(start);
+    for (std::size_t i = first; i < queue.size() && !graph.uncut.empty(); ++i) {
+      const int f = queue[i];
+      for (int k = 0; k < 3; ++k) {
+        const int twin = topology.halfedge_twin[3 * f + k];
+        const int e = topology.halfedge_edge[3 * f + k];
+        if (twin < 0 || !graph.is_uncut(e) || face_seen[twin / 3]) continue;
+        face_seen[twin / 3] = 1;
+        in_cotree[e] = 1;
+        queue.push_back(twin / 3);
+      }
+    }
+  };
+  for (std::size_t c = 0; c < roots.size(); ++c) {
+    if (roots[c] != -1) reach(topology.components[c].faces.front());
   }
   for (std::size_t i = 0; i < queue.size(); ++i) {
     const int f = queue[i];
@@ -278,9 +325,8 @@ int homology_generators(const Topology& topology, const Eigen::VectorXd& lengths
       const int e = topology.halfedge_edge[3 * f + k];
       const int g = twin / 3;
       if (in_tree[e] || face_seen[g]) continue;
-      face_seen[g] = 1;
       in_cotree[e] = 1;
-      queue.push_back(g);
+      reach(g);
     }
   }
 
@@ -412,9 +458,10 @@ void join(const Topology& topology, const Eigen::VectorXd& lengths, const Contra
 
 /// On a closed genus-0 component whose cut is one edge between two cones, slicing could not open
 /// it (both ends keep a single copy, so the two sides would be glued again): the edge is replaced
-/// by the two edges through the third vertex of its cheaper face.
+/// by the other edges of its cheaper face (the other two of a triangle; with uncut edges the rest
+/// of the boundary of the triangles joined to it across them: the rest of its polygon).
 void widen_single_edge_cuts(const Topology& topology, const Eigen::VectorXd& lengths,
-                            std::vector<char>& is_cut) {
+                            const ContractedGraph& graph, std::vector<char>& is_cut) {
   const int nc = static_cast<int>(topology.components.size());
   std::vector<int> count(nc, 0), edge(nc, -1);
   for (int e = 0; e < topology.num_edges; ++e) {
@@ -427,22 +474,30 @@ void widen_single_edge_cuts(const Topology& topology, const Eigen::VectorXd& len
     const Component& component = topology.components[c];
     if (count[c] != 1 || component.genus != 0 || component.num_boundary_loops != 0) continue;
     const int e = edge[c];
-    int best_first = -1, best_second = -1;
+    std::vector<int> best_path, path;
     double best = kInfinity;
     for (int side = 0; side < 2; ++side) {
+      // Around the face from h's head back to its tail, stepping over uncut edges.
       const int h = topology.edge_halfedges(e, side);
-      const int first = topology.halfedge_edge[Topology::next(h)];
-      const int second = topology.halfedge_edge[Topology::prev(h)];
-      const double through = lengths[first] + lengths[second];
+      path.clear();
+      double through = 0;
+      for (int x = Topology::next(h); x != h;) {
+        const int edge_x = topology.halfedge_edge[x];
+        if (graph.is_uncut(edge_x) && topology.halfedge_twin[x] >= 0) {
+          x = Topology::next(topology.halfedge_twin[x]);
+          continue;
+        }
+        path.push_back(edge_x);
+        through += lengths[edge_x];
+        x = Topology::next(x);
+      }
       if (through < best) {
         best = through;
-        best_first = first;
-        best_second = second;
+        best_path = path;
       }
     }
     is_cut[e] = 0;
-    is_cut[best_first] = 1;
-    is_cut[best_second] = 1;
+    for (const int replacement : best_path) is_cut[replacement] = 1;
   }
 }
 
@@ -517,7 +572,7 @@ CutGraph cut_graph(const Topology& topology, const Eigen::VectorXd& lengths,
   for (const int cone : cones) is_cone[cone] = 1;
 
   const VertexEdges vertex_edges(topology);
-  const ContractedGraph graph(topology, vertex_edges);
+  const ContractedGraph graph(topology, vertex_edges, options.uncut_edges);
 
   CutGraph cut;
   cut.is_cut_edge.assign(topology.num_edges, 0);
@@ -532,7 +587,7 @@ CutGraph cut_graph(const Topology& topology, const Eigen::VectorXd& lengths,
   }
   join(topology, lengths, graph, interior_cones, cut.is_cut_edge);
   prune(topology, vertex_edges, is_cone, cut.is_cut_edge);
-  widen_single_edge_cuts(topology, lengths, cut.is_cut_edge);
+  widen_single_edge_cuts(topology, lengths, graph, cut.is_cut_edge);
 
   for (int e = 0; e < topology.num_edges; ++e) {
     if (cut.is_cut_edge[e]) cut.length += lengths[e];

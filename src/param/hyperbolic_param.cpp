@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ricci/errors.hpp"
+#include "ricci/param/polygon_fans.hpp"
 
 namespace ricci {
 
@@ -71,6 +72,7 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   HyperbolicParamResult result;
+  check_polygons(options.polygons, mesh.triangles, "parameterize_hyperbolic");
   Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
   if (t0.components.size() != 1) {
     throw InvalidInput("parameterize_hyperbolic: the mesh has " +
@@ -139,10 +141,12 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
              : std::vector<int>{-1};
   bool have_layout = false;
   std::string layout_failure;
+  const std::vector<char> uncut_edges = polygon_diagonals(topology, options.polygons);
   for (int root : roots) {
     Attempt a;
     CutGraphOptions cut_options;
     cut_options.root_vertex = root;
+    cut_options.uncut_edges = uncut_edges;
     a.cut = cut_graph(topology, path_lengths, cut_options);
     a.cut_mesh = slice(topology, a.cut);
     try {
@@ -202,7 +206,10 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
     if (result.cut.is_cut_edge[e]) result.seam_length += lengths_3d[e];
   }
   result.uv = result.layout.uv;
-  result.distortion = measure_distortion(mesh, result.cut_mesh.triangles, result.uv);
+  result.polygons =
+      start_fans_where_valid(options.polygons, mesh, result.cut_mesh.triangles, result.uv);
+  result.distortion =
+      measure_polygon_distortion(mesh, result.polygons, result.cut_mesh.triangles, result.uv);
   result.seconds = seconds();
   return result;
 }

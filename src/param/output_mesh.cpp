@@ -8,6 +8,7 @@ TexturedMesh textured_mesh(const ParamResult& result) {
   if (result.uv.rows() > 0) {
     textured.uv_triangles = result.cut_mesh.triangles;
     textured.uv = result.uv;
+    textured.polygons = result.polygons;
   }
   return textured;
 }

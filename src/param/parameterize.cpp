@@ -16,7 +16,9 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/flow/flow_problem.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/mesh/split.hpp"
+#include "ricci/param/polygon_fans.hpp"
 
 namespace ricci {
 
@@ -247,12 +249,22 @@ struct CutStage {
   double seconds = 0;
 };
 
-/// Stage 4a: the cut through these cones on the problem's connectivity.
-CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones) {
+/// The polygons the run keeps whole: ParamOptions::polygons while the mesh has the input's faces
+/// (no edge split); null otherwise.
+const Polygons* kept_polygons(const ParamRun& run) {
+  const bool same_faces = run.result.edge_splits == 0 && !run.result.subdivided;
+  return same_faces && !run.options.polygons.empty() ? &run.options.polygons : nullptr;
+}
+
+/// Stage 4a: the cut through these cones on the problem's connectivity, never along the
+/// diagonals of the polygons (when not null).
+CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones,
+                     const Polygons* polygons) {
   const auto t = Clock::now();
   CutStage stage;
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
+  if (polygons != nullptr) cut_options.uncut_edges = polygon_diagonals(problem.topology, *polygons);
   stage.cut = cut_graph(problem.topology, problem.input_lengths, cut_options);
   stage.cut_mesh = slice(problem.topology, stage.cut);
   stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
@@ -397,7 +409,9 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
   ParamResult& result = run.result;
   const FlowProblem& problem = *stage.problem;
   const Topology& topology = problem.topology;
-  CutStage cut = stage.cut_ahead.valid() ? stage.cut_ahead.get() : cut_through(problem, run.cones);
+  const Polygons* polygons = kept_polygons(run);
+  CutStage cut =
+      stage.cut_ahead.valid() ? stage.cut_ahead.get() : cut_through(problem, run.cones, polygons);
   result.cut = std::move(cut.cut);
   result.cut_mesh = std::move(cut.cut_mesh);
   // The stage's own time (run beside the flow it took no time of the pipeline's own).
@@ -452,7 +466,13 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
   }
   result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
   lap(result.timings.atlas);
-  result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  // The faces written: the triangles, or each polygon from a corner whose fan is sound.
+  if (polygons != nullptr) {
+    result.polygons =
+        start_fans_where_valid(*polygons, result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  }
+  result.distortion = measure_polygon_distortion(result.mesh, result.polygons,
+                                                 result.cut_mesh.triangles, result.layout.uv);
   lap(result.timings.distortion);
   for (int e = 0; e < topology.num_edges; ++e) {
     if (result.cut.is_cut_edge[e]) result.seam_length += problem.input_lengths[e];
@@ -507,7 +527,9 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   if (!may_subdivide) {
     // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
     stage.cut_ahead = parallel::run_beside(
-        [problem = stage.problem, cones = run.cones] { return cut_through(*problem, cones); });
+        [problem = stage.problem, cones = run.cones, polygons = kept_polygons(run)] {
+          return cut_through(*problem, cones, polygons);
+        });
   }
   flow_to_flat(run, stage);
   lap(result.timings.flow);

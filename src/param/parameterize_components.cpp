@@ -18,10 +18,12 @@
 #include "parameterize_component.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/components.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/polygon_fans.hpp"
 #include "unfolding.hpp"
 
 namespace ricci {
@@ -194,9 +196,11 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     // The user's own choice (their cones, a count) refused: the component is laid out still,
     // but reported as failed, since what was asked was not made.
     bool refused_choice = false;
+    const Polygons polygons = polygons_of_faces(options.polygons, submeshes[c].face_map);
     if (sub.num_faces() > 2) {
       ParamOptions component_options = options;
       component_options.cones = user_cones[c];
+      component_options.polygons = polygons;
       // Whichever flow the progress callback stops (cone settling included), stop here too.
       bool cancelled = false;
       if (options.flow.progress) {
@@ -249,21 +253,21 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
       // The flow's layout is valid but far from conformal somewhere (the few cones a tiny
       // closed part needs, on a needle-shaped tetrahedron): its own shape, if it lays out in one
       // piece, has no distortion at all.
-      PatchLayout patches = develop_patches(sub);
+      PatchLayout patches = develop_patches(sub, polygons);
       if (patches.num_patches == 1) {
         info.message = "the flow's layout distorts angles by up to " +
                        std::to_string(info.param.distortion.angle_distortion_max) +
                        " (sigma_max / sigma_min)";
         info.method = ComponentMethod::Unfolded;
-        info.param = unfolded_result(sub, patches);
+        info.param = unfolded_result(sub, patches, polygons);
       }
     }
     if (!info.parameterized) {
-      PatchLayout patches = develop_patches(sub);
+      PatchLayout patches = develop_patches(sub, polygons);
       if (patches.num_patches == 1) {
         info.method = ComponentMethod::Unfolded;
         info.parameterized = true;
-        info.param = unfolded_result(sub, patches);
+        info.param = unfolded_result(sub, patches, polygons);
       } else if (options.fold_free.charts) {
         // Charts cut through the failed map's cones (its cut relieved the curvature there).
         const auto charts_start = Clock::now();
@@ -273,8 +277,9 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         }
         ParamOptions chart_options = options;
         chart_options.flow.progress = {};
+        chart_options.polygons = polygons;
         ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
-        info.param = charts_result(sub, charts);
+        info.param = charts_result(sub, charts, polygons);
         info.param.timings.charts = seconds_since(charts_start);
         info.method = ComponentMethod::Charts;
         info.parameterized = !refused_choice;
@@ -293,7 +298,9 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         info.param.added_vertex_parents.clear();
         info.param.edge_splits = 0;
         info.param.subdivided = false;
-        info.distortion = measure_distortion(sub, patches.triangles, patches.layout);
+        info.distortion = measure_polygon_distortion(
+            sub, start_fans_where_valid(polygons, sub, patches.triangles, patches.layout),
+            patches.triangles, patches.layout);
         piece.cut_triangles = std::move(patches.triangles);
         piece.cut_vertex = std::move(patches.vertex);
         piece.layout = std::move(patches.layout);
@@ -326,7 +333,8 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         // itself): cut it into pieces that do not, each its own chart, the pieces' shared
         // vertices copied.
         int count = 0;
-        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count);
+        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count,
+                                           info.param.polygons.triangle_polygon);
         piece.num_charts = count;
         // The pieces' shared vertices copied, one per fan of each piece.
         const std::vector<int> source = split_at_charts(
@@ -437,7 +445,13 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   result.layout.uv = result.uv / result.packing.scale;
   result.cut_mesh.triangles = std::move(cut_triangles);
   result.cut_mesh.topology = build_topology(result.cut_mesh.triangles, num_cut_vertices);
-  result.distortion = measure_distortion(result.mesh, result.cut_mesh.triangles, result.uv);
+  // The input's polygons are the whole mesh's when no component changed its faces.
+  if (result.edge_splits == 0 && !result.subdivided) {
+    result.polygons =
+        start_fans_where_valid(options.polygons, result.mesh, result.cut_mesh.triangles, result.uv);
+  }
+  result.distortion = measure_polygon_distortion(result.mesh, result.polygons,
+                                                 result.cut_mesh.triangles, result.uv);
 
   // 5. The stages in whole-mesh indices: cut, cones, transitions, atlas, flow.
   const Topology whole = build_topology(result.mesh.triangles, num_vertices);
@@ -635,6 +649,7 @@ const char* component_method_name(ComponentMethod method) {
 }
 
 ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
+  check_polygons(options.polygons, mesh.triangles, "parameterize");
   Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
   if (topology.components.size() > 1) {
     return parameterize_components(mesh, topology, options, nullptr, {});

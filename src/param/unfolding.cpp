@@ -10,6 +10,7 @@
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/param/polygon_fans.hpp"
 #include "triangle_grid.hpp"
 
 namespace ricci::param_detail {
@@ -34,7 +35,7 @@ void fit_unit_square(ParamResult& r) {
   r.uv = (r.layout.uv.rowwise() - lo.transpose()) * r.uv_scale;
 }
 
-PatchLayout develop_patches(const Mesh& mesh) {
+PatchLayout develop_patches(const Mesh& mesh, const Polygons& polygons) {
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   const int nf = t.num_faces;
   PatchLayout out;
@@ -67,6 +68,13 @@ PatchLayout develop_patches(const Mesh& mesh) {
   auto triangle = [&](int f) {
     return std::array<Eigen::Vector2d, 3>{corner[3 * f], corner[3 * f + 1], corner[3 * f + 2]};
   };
+  // Across a polygon's diagonals (its triangles' shared edges) its faces always stay together.
+  auto same_polygon = [&](int h) {
+    const int twin = t.halfedge_twin[h];
+    return !polygons.empty() && twin >= 0 &&
+           polygons.triangle_polygon[Topology::face_of(h)] ==
+               polygons.triangle_polygon[Topology::face_of(twin)];
+  };
   // The faces of the current patch by grid cell, cells twice the mean edge length.
   double mean_length = 0;
   for (int e = 0; e < t.num_edges; ++e) {
@@ -76,13 +84,90 @@ PatchLayout develop_patches(const Mesh& mesh) {
   }
   TriangleGrid grid(2 * mean_length / std::max(1, t.num_edges));
   std::deque<int> frontier;  // halfedges of patch faces whose other face may join
-  auto add = [&](int f, int patch) {
-    out.face_patch[f] = patch;
+  auto add = [&](int f) {
     grid.insert(f, triangle(f));
     for (int k = 0; k < 3; ++k) {
       const int twin = t.halfedge_twin[3 * f + k];
       if (twin >= 0 && out.face_patch[Topology::face_of(twin)] < 0) frontier.push_back(3 * f + k);
     }
+  };
+  // A face laid out across the edge of halfedge h of a face already placed: its corners, and the
+  // corners it is glued to (across h, and across its other edges where it snapped).
+  struct Placement {
+    int face = -1;
+    int apex = 0;                                                     // the corner laid out
+    std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};     // own corner, other's
+    std::array<std::array<int, 2>, 2> snapped{{{-1, -1}, {-1, -1}}};  // other's apex, shared
+  };
+  std::vector<Placement> placements;  // the faces of the polygon joining
+  std::vector<int> placing(nf, -1);   // the patch a face is being placed into
+  auto place = [&](int h, int patch) {
+    // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
+    // apex) lies on its left.
+    const int twin = t.halfedge_twin[h];
+    const int g = Topology::face_of(twin);
+    const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
+    const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
+    std::array<Eigen::Vector2d, 3> shape;
+    shape[kg] = apex(g, kg, corner[cq], corner[cp]);
+    shape[(kg + 1) % 3] = corner[cq];
+    shape[(kg + 2) % 3] = corner[cp];
+    Placement placement;
+    placement.face = g;
+    placement.apex = kg;
+    placement.glue[0] = {3 * g + (kg + 1) % 3, cq};
+    placement.glue[1] = {3 * g + (kg + 2) % 3, cp};
+    // Across g's other two edges: a face of the patch that already holds the shared end at
+    // exactly this position and the apex within rounding (the vertex between them is flat)
+    // gives the apex its position, and g is glued to it too.
+    const double snap = kSnap * (corner[cq] - corner[cp]).norm();
+    for (int side = 1; side <= 2; ++side) {
+      const int other = t.halfedge_twin[3 * g + (kg + side) % 3];
+      if (other < 0) continue;
+      const int g2 = Topology::face_of(other), k2 = other % 3;
+      if (out.face_patch[g2] != patch) continue;
+      // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
+      // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
+      const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
+      const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
+      const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
+      if (corner[c_shared] != shape[shared]) continue;
+      if ((corner[c_apex] - shape[kg]).norm() > snap) continue;
+      shape[kg] = corner[c_apex];
+      placement.snapped[side - 1] = {c_apex, c_shared};
+    }
+    for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
+    placing[g] = patch;
+    placements.push_back(placement);
+  };
+  // The rest of the polygon of the first placement, across its diagonals.
+  auto place_polygon = [&](int patch) {
+    for (std::size_t i = 0; i < placements.size(); ++i) {
+      const int f = placements[i].face;
+      for (int k = 0; k < 3; ++k) {
+        const int twin = t.halfedge_twin[3 * f + k];
+        if (!same_polygon(3 * f + k) || placing[Topology::face_of(twin)] == patch) continue;
+        place(3 * f + k, patch);
+      }
+    }
+  };
+  auto join = [&](int patch) {
+    for (const Placement& placement : placements) {
+      const int g = placement.face, kg = placement.apex;
+      out.face_patch[g] = patch;
+      for (const auto& [own, other] : placement.glue) {
+        if (own >= 0) unite(own, other);
+      }
+      for (int side = 1; side <= 2; ++side) {
+        const auto& [c_apex, c_shared] = placement.snapped[side - 1];
+        if (c_apex < 0) continue;
+        // A snapped apex keeps its position only if the shared end also matched.
+        if (corner[3 * g + kg] != corner[c_apex]) continue;
+        unite(3 * g + kg, c_apex);
+        unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), c_shared);
+      }
+    }
+    for (const Placement& placement : placements) add(placement.face);
   };
   for (int seed = 0; seed < nf; ++seed) {
     if (out.face_patch[seed] >= 0) continue;
@@ -91,54 +176,29 @@ PatchLayout develop_patches(const Mesh& mesh) {
     corner[3 * seed] = Eigen::Vector2d::Zero();
     corner[3 * seed + 1] = Eigen::Vector2d((position(seed, 1) - position(seed, 0)).norm(), 0);
     corner[3 * seed + 2] = apex(seed, 2, corner[3 * seed], corner[3 * seed + 1]);
-    add(seed, patch);
+    placements.assign(1, Placement{});
+    placements[0].face = seed;
+    placing[seed] = patch;
+    place_polygon(patch);
+    join(patch);
     while (!frontier.empty()) {
       const int h = frontier.front();
       frontier.pop_front();
-      const int twin = t.halfedge_twin[h];
-      const int g = Topology::face_of(twin);
+      const int g = Topology::face_of(t.halfedge_twin[h]);
       if (out.face_patch[g] >= 0) continue;
-      // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
-      // apex) lies on its left.
-      const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
-      const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
-      std::array<Eigen::Vector2d, 3> shape;
-      shape[kg] = apex(g, kg, corner[cq], corner[cp]);
-      shape[(kg + 1) % 3] = corner[cq];
-      shape[(kg + 2) % 3] = corner[cp];
-      // Across g's other two edges: a face of the patch that already holds the shared end at
-      // exactly this position and the apex within rounding (the vertex between them is flat)
-      // gives the apex its position, and g is glued to it too.
-      const double snap = kSnap * (corner[cq] - corner[cp]).norm();
-      std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};
-      for (int side = 1; side <= 2; ++side) {
-        const int other = t.halfedge_twin[3 * g + (kg + side) % 3];
-        if (other < 0) continue;
-        const int g2 = Topology::face_of(other), k2 = other % 3;
-        if (out.face_patch[g2] != patch) continue;
-        // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
-        // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
-        const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
-        const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
-        const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
-        if (corner[c_shared] != shape[shared]) continue;
-        if ((corner[c_apex] - shape[kg]).norm() > snap) continue;
-        shape[kg] = corner[c_apex];
-        glue[side - 1] = {c_apex, c_shared};
+      placements.clear();
+      place(h, patch);
+      place_polygon(patch);
+      bool overlaps = false;
+      for (const Placement& placement : placements) {
+        overlaps = overlaps || grid.overlaps(triangle(placement.face), triangle);
       }
       // g may still join from another side, or seed a patch
-      if (grid.overlaps(shape, triangle)) continue;
-      for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
-      unite(3 * g + (kg + 1) % 3, cq);
-      unite(3 * g + (kg + 2) % 3, cp);
-      for (int side = 1; side <= 2; ++side) {
-        if (glue[side - 1][0] < 0) continue;
-        // A snapped apex keeps its position only if the shared end also matched.
-        if (corner[3 * g + kg] != corner[glue[side - 1][0]]) continue;
-        unite(3 * g + kg, glue[side - 1][0]);
-        unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), glue[side - 1][1]);
+      if (overlaps) {
+        for (const Placement& placement : placements) placing[placement.face] = -1;
+        continue;
       }
-      add(g, patch);
+      join(patch);
     }
   }
   // Cut-mesh vertices: one per class of glued corners, numbered in order of first corner.
@@ -172,7 +232,8 @@ PatchLayout develop_patches(const Mesh& mesh) {
   return out;
 }
 
-ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches) {
+ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches,
+                            const Polygons& polygons) {
   ParamResult r;
   r.converged = true;
   r.mesh = mesh;
@@ -198,13 +259,15 @@ ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches) {
   r.cut_mesh.to_original = patches.vertex;
   r.cut_mesh.topology = build_topology(patches.triangles, static_cast<int>(patches.vertex.size()));
   r.layout.uv = patches.layout;
-  r.distortion = measure_distortion(mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.polygons = start_fans_where_valid(polygons, mesh, r.cut_mesh.triangles, r.layout.uv);
+  r.distortion = measure_polygon_distortion(mesh, r.polygons, r.cut_mesh.triangles, r.layout.uv);
   r.layout.num_flipped_faces = r.distortion.flipped_faces;
   fit_unit_square(r);
   return r;
 }
 
-std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count) {
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count,
+                                 const std::vector<int>& triangle_polygon) {
   const int nf = static_cast<int>(triangles.rows());
   const Topology t = build_topology(triangles, static_cast<int>(uv.rows()));
   std::vector<int> piece(nf, -1);
@@ -213,6 +276,18 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
     for (int k = 0; k < 3; ++k) out[k] = uv.row(triangles(f, k)).transpose();
     return out;
   };
+  // The triangles of each polygon (compressed rows), or each triangle on its own.
+  std::vector<int> member_start(nf + 1, 0), members(nf);
+  if (triangle_polygon.empty()) {
+    std::iota(member_start.begin(), member_start.end(), 0);
+    std::iota(members.begin(), members.end(), 0);
+  } else {
+    for (int f = 0; f < nf; ++f) ++member_start[triangle_polygon[f] + 1];
+    for (int p = 0; p < nf; ++p) member_start[p + 1] += member_start[p];
+    std::vector<int> fill(member_start.begin(), member_start.end() - 1);
+    for (int f = 0; f < nf; ++f) members[fill[triangle_polygon[f]]++] = f;
+  }
+  auto polygon_of = [&](int f) { return triangle_polygon.empty() ? f : triangle_polygon[f]; };
   double mean = 0;
   for (int f = 0; f < nf; ++f) {
     const auto p = triangle(f);
@@ -229,15 +304,22 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
       const int f = frontier.front();
       frontier.pop_front();
       if (piece[f] >= 0) continue;
-      const auto shape = triangle(f);
+      const int p = polygon_of(f);
+      bool overlaps = false;
+      for (int i = member_start[p]; i < member_start[p + 1] && !overlaps; ++i) {
+        overlaps = grid.overlaps(triangle(members[i]), triangle);
+      }
       // f may still join from another side, or seed a piece
-      if (grid.overlaps(shape, triangle)) continue;
-      piece[f] = count;
-      grid.insert(f, shape);
-      for (int k = 0; k < 3; ++k) {
-        const int twin = t.halfedge_twin[3 * f + k];
-        if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
-          frontier.push_back(Topology::face_of(twin));
+      if (overlaps) continue;
+      for (int i = member_start[p]; i < member_start[p + 1]; ++i) piece[members[i]] = count;
+      for (int i = member_start[p]; i < member_start[p + 1]; ++i) {
+        const int g = members[i];
+        grid.insert(g, triangle(g));
+        for (int k = 0; k < 3; ++k) {
+          const int twin = t.halfedge_twin[3 * g + k];
+          if (twin >= 0 && piece[Topology::face_of(twin)] < 0) {
+            frontier.push_back(Topology::face_of(twin));
+          }
         }
       }
     }

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci::param_detail {
@@ -21,7 +22,9 @@ using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 /// exact 3D shape) unless it would overlap a face of the patch (exact test); faces left over
 /// seed further patches. One patch is an unfolding of the whole mesh: cut wherever its faces
 /// were not glued, which includes every curved vertex's wedge of faces unless it closes up, and
-/// no distortion at all.
+/// no distortion at all. A polygon (of polygons, when not empty) joins a patch whole: its other
+/// triangles are developed across its diagonals, and it joins when none of them overlaps the
+/// patch, so that no patch boundary runs inside a polygon.
 struct PatchLayout {
   Triangles triangles;              ///< #F by 3: cut-mesh vertex of each corner
   std::vector<int> vertex;          ///< per cut-mesh vertex: the mesh vertex it copies
@@ -32,15 +35,20 @@ struct PatchLayout {
 };
 
 /// \pre mesh is manifold and oriented (build_topology succeeds)
-PatchLayout develop_patches(const Mesh& mesh);
+PatchLayout develop_patches(const Mesh& mesh, const Polygons& polygons = {});
 
-/// The ParamResult of a mesh that unfolded into one patch (ComponentMethod::Unfolded).
-ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches);
+/// The ParamResult of a mesh that unfolded into one patch (ComponentMethod::Unfolded), with its
+/// polygons (when not empty) written from corners whose fans are sound (ParamResult::polygons).
+ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches,
+                            const Polygons& polygons = {});
 
 /// A layout cut into pieces in none of which two faces overlap: each piece grows breadth first
 /// from a seed face across the layout's shared edges, a face joining only when it overlaps no
-/// face of the piece (exact test). Returns the piece of each face; `count` pieces.
-std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count);
+/// face of the piece (exact test). A polygon (triangle_polygon, when not empty: #F polygon
+/// indices) joins whole, when none of its triangles overlaps the piece. Returns the piece of each
+/// face; `count` pieces.
+std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count,
+                                 const std::vector<int>& triangle_polygon = {});
 
 /// The vertices of a layout split into charts: the corners of one layout vertex stay one vertex
 /// across the layout's edges between faces of the same chart, and each class of corners becomes

@@ -16,6 +16,7 @@
 
 #include "ricci/enum_names.hpp"
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/mesh/repair.hpp"
 #include "ricci/mesh/textured_mesh.hpp"
 #include "ricci/mesh/validate.hpp"
@@ -57,7 +58,8 @@ struct ReadOptions {
   /// show what was changed even when a defect that repair cannot fix then throws. May be empty.
   std::function<void(const RepairReport&)> on_repair = {};
   /// Faces are dropped? Never: polygons with more than three corners are triangulated (fan from
-  /// their first corner, or ear clipping for non-convex planar polygons) and reported as warnings.
+  /// their first corner, or ear clipping for non-convex planar polygons), reported as warnings,
+  /// and kept as ReadResult::polygons.
 };
 
 /// What read_mesh returns.
@@ -67,6 +69,13 @@ struct ReadResult {
   int file_vertices = 0;              ///< vertices in the file, referenced or not
   std::vector<std::string> warnings;  ///< e.g. "bunny.obj: 12 polygons triangulated"
   int polygons_triangulated = 0;      ///< faces with more than three corners in the file
+  /// The file's faces over mesh.triangles (ricci/mesh/polygons.hpp): which triangles make up
+  /// each face and its corners in order, faces in file order, so that a result computed on the
+  /// triangles can be written on the file's own faces (ParamOptions::polygons). Empty when every
+  /// face is a triangle. With options.repair a face keeps its polygon when repair kept all its
+  /// triangles and each of its corners one vertex (reversed all together, it is listed turned
+  /// over); otherwise its triangles left are faces of their own.
+  Polygons polygons;
   /// File indices (0-based) of unreferenced vertices dropped (with options.repair also those
   /// left without faces by the repair; vertices welded onto another are not listed).
   std::vector<int> dropped_vertices;
@@ -109,7 +118,8 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 /// `f v/vt/vn`; negative indices count back from the last element read); read_mesh reads the
 /// geometry only and ignores `vt`. Texture coordinates with a positive third component on every
 /// `vt` are read as homogeneous (TexturedMesh::uv_weights). Polygons are split as a fan from their
-/// first corner; normals, groups, materials and smoothing groups are ignored. Vertices are kept in
+/// first corner and kept as TexturedMesh::polygons (when a face has more than three corners);
+/// normals, groups, materials and smoothing groups are ignored. Vertices are kept in
 /// file order, referenced or not; the mesh is not validated.
 /// \throw IoError "path: line N: ..." when the file is missing, empty of faces, or a statement is
 ///        malformed (a corner without a texture index, a bad number, free-form geometry, an
@@ -174,10 +184,14 @@ struct WriteOptions {
 /// - Stl: binary STL: positions rounded to float, per-face normals, no vertex sharing (reading
 ///   welds corners at equal positions again); vertices without faces are lost.
 /// - Glb: options.glb_writer.
+/// With mesh.polygons (a polygon mesh's faces over the triangles) Obj, Off and Ply write one face
+/// per polygon (`f v/vt v/vt v/vt v/vt`, each corner's vertex and uv row those of the triangle
+/// corner it names); Stl and Glb write the triangles.
 /// \pre mesh.mesh.triangles index mesh.mesh.positions; with texture coordinates, uv_triangles has
 ///      a row per face indexing uv, and uv_weights is empty or has a positive weight per uv row
 /// \throw InvalidInput "write_mesh: path: ..." naming the face, corner or row when an index is out
-///        of range or a coordinate is not finite, when the format cannot hold the texture
+///        of range or a coordinate is not finite, naming the polygon when mesh.polygons does not
+///        fit the triangles (check_polygons), when the format cannot hold the texture
 ///        coordinates (and options.drop_uv is unset), when a material is given without texture
 ///        coordinates, or for Glb without options.glb_writer
 /// \throw IoError naming the file when the extension is unknown or the file cannot be written

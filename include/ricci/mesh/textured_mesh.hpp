@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/polygons.hpp"
 
 namespace ricci {
 
@@ -26,6 +27,11 @@ struct TexturedMesh {
   Eigen::VectorXd uv_weights = {};
   /// Faces of the file read with more than three corners, split as a fan (readers only).
   int polygons_triangulated = 0;
+  /// The faces as polygons over the triangles (ricci/mesh/polygons.hpp): write_mesh writes each
+  /// polygon as one face (OBJ `f v/vt v/vt v/vt v/vt`, OFF, PLY) with each corner's vertex and uv
+  /// row taken from the triangle corner it names; empty: every triangle is a face. STL and glTF
+  /// hold triangles only and write the triangles.
+  Polygons polygons = {};
 
   /// True when the mesh carries texture coordinates (write_mesh checks that uv_triangles then
   /// has a row per face).

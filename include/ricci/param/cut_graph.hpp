@@ -27,6 +27,13 @@ struct CutGraphOptions {
   /// edge lengths, from the boundary and the cones; the smallest vertex of a closed component
   /// without cones). Genus-0 components grow no tree and ignore it.
   int root_vertex = -1;
+  /// #E flags, or empty: edges the cut must never contain, e.g. the diagonals a polygon mesh's
+  /// triangulation added (polygon_diagonals of ricci/mesh/polygons.hpp), so that every polygon
+  /// stays whole on the sliced mesh. The trees and paths then run on the other edges, the cotree
+  /// takes every uncut edge, and a single cut edge between two cones is widened along the rest
+  /// of its polygon. The triangles joined across uncut edges must form a tree each (a
+  /// triangulated polygon does); flags on boundary edges are ignored.
+  std::vector<char> uncut_edges;
 };
 
 /// A cut graph on a mesh.
@@ -52,10 +59,12 @@ struct CutGraph {
 /// there is a node without edges), and a disk without interior cones gets an empty cut. On a
 /// closed genus-0 component whose cut would be a single edge between two adjacent cones, the two
 /// other edges of the cheaper of its faces are cut instead (one edge whose two ends keep a single
-/// copy each cannot be opened). Cones on a boundary need no path. O(E log E); deterministic.
+/// copy each cannot be opened; with uncut edges the rest of its polygon is cut). Cones on a
+/// boundary need no path. O(E log E); deterministic.
 /// \param lengths #E edge lengths the shortest paths follow (e.g. the input mesh's lengths)
-/// \throw InvalidInput when a cone or the root vertex is out of range or belongs to no face, or
-///        when lengths does not hold #E finite values >= 0
+/// \throw InvalidInput when a cone or the root vertex is out of range or belongs to no face, when
+///        lengths does not hold #E finite values >= 0, or when uncut_edges is neither empty nor
+///        #E flags, or joins triangles in a loop (naming an edge that closes it)
 CutGraph cut_graph(const Topology& topology, const Eigen::VectorXd& lengths,
                    const CutGraphOptions& options = {});
 

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/param/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
 #include "ricci/param/fuchsian.hpp"
@@ -37,6 +38,9 @@ struct HyperbolicParamOptions {
   /// Above this relation residual the generators are reported as not computed
   /// (HyperbolicParamResult::group_failure) rather than as a group.
   double usable_relation_residual = 1e-6;
+  /// A polygon mesh (ReadResult::polygons): the cuts never run along its polygons' diagonals,
+  /// and HyperbolicParamResult::polygons gives the faces to write. Empty: every triangle a face.
+  Polygons polygons;
 };
 
 /// What parameterize_hyperbolic returns.
@@ -70,8 +74,12 @@ struct HyperbolicParamResult {
   FuchsianGroup group;
   /// The disk layout against the 3D mesh: the Poincare model is conformal, so the angle
   /// distortion is that of the hyperbolic metric against the input (areas shrink towards the
-  /// rim: the area figures measure the model, not the metric).
+  /// rim: the area figures measure the model, not the metric). With polygons: of their fans as
+  /// written (measure_polygon_distortion).
   Distortion distortion;
+  /// options.polygons, each listed from a corner whose fan is sound in the disk
+  /// (start_fans_where_valid): the faces to write; empty without polygons.
+  Polygons polygons;
   double seam_length = 0;  ///< 3D length of the cut edges
   /// Texture coordinates: the disk positions of the cut-mesh vertices (|uv| < 1), indexed per
   /// corner by cut_mesh.triangles (whose faces are the input mesh's, flips or not).

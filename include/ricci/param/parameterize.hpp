@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "ricci/param/atlas.hpp"
 #include "ricci/param/chart_packing.hpp"
 #include "ricci/param/cones.hpp"
@@ -96,6 +97,12 @@ struct ParamOptions {
   /// common_refinement needs.
   PolishOptions polish;
   FoldFreeOptions fold_free;  ///< untangling, and the charts where the exact map fails
+  /// A polygon mesh (ReadResult::polygons of read_mesh): the faces the mesh's triangles make up.
+  /// Their diagonals are never cut (CutGraphOptions::uncut_edges), a layout split into pieces
+  /// keeps each polygon in one, and ParamResult::polygons gives the faces to write. Empty: every
+  /// triangle is a face. Ignored when edge splits change the faces (valence raising and
+  /// subdivision, circle packings only).
+  Polygons polygons;
 };
 
 /// Wall time of each stage of parameterize, seconds.
@@ -212,8 +219,17 @@ struct ParamResult {
   /// components: summed.
   UntangleResult untangle;
   AffineAtlas atlas;
+  /// Of the faces written: the triangles, or with polygons the fan of each polygon from its
+  /// first corner (measure_polygon_distortion), as a reader of the file splits them.
   Distortion distortion;
   double seam_length = 0;  ///< 3D length of the cut edges
+  /// The faces to write (textured_mesh), for ParamOptions::polygons: those polygons over mesh's
+  /// triangles, each listed from a corner whose fan from there is drawn unflipped in the layout
+  /// (start_fans_where_valid of ricci/param/polygon_fans.hpp: the same face, a reader splitting
+  /// it as a fan from its first corner gets a sound one), and distortion measures those fans.
+  /// Every polygon has one uv per corner: no cut runs inside it. Empty without polygons, and
+  /// when edge splits changed the faces (then the triangles are written).
+  Polygons polygons;
   /// Texture coordinates in the unit square (aspect ratio kept): one per cut-mesh vertex;
   /// uv_triangles = cut_mesh.triangles indexes them per corner.
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;

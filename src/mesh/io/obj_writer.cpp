@@ -6,36 +6,20 @@
 #include "writers.hpp"
 
 namespace ricci {
-
-void write_obj(const std::string& path, const Mesh& mesh) {
-  write_file_atomically(path, [&](std::ostream& stream) {
-    io_detail::BlockOutput out(stream);
-    char line[96];
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      out.append(line,
-                 std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
-                               mesh.positions(v, 1), mesh.positions(v, 2)));
-    }
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      out.append(line, std::snprintf(line, sizeof line, "f %d %d %d\n", mesh.triangles(f, 0) + 1,
-                                     mesh.triangles(f, 1) + 1, mesh.triangles(f, 2) + 1));
-    }
-  });
-}
-
+namespace io_detail {
 namespace {
 
-/// write_obj with texture coordinates of `Columns` components (2: u v; 3: u v w).
+/// An OBJ file: `mtllib`, `v`, `vt` with `Columns` components (2: u v; 3: u v w; none without
+/// uv_triangles), `usemtl`, then `f` per triangle, or per polygon when polygons is not empty.
 template <int Columns>
-void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
-                       const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv,
-                       const ObjMaterial& material) {
-  io_detail::check_faces("write_obj", path, mesh, &uv_triangles, uv);
-
+void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* uv_triangles,
+                    const Eigen::Matrix<double, Eigen::Dynamic, Columns>& uv,
+                    const ObjMaterial& material, const Polygons& polygons) {
   write_file_atomically(path, [&](std::ostream& stream) {
-    io_detail::BlockOutput out(stream);
+    BlockOutput out(stream);
     char line[160];
-    if (!material.library.empty()) {
+    const bool textured = uv_triangles != nullptr;
+    if (textured && !material.library.empty()) {
       const std::string statement = "mtllib " + material.library + "\n";
       out.append(statement.data(), static_cast<int>(statement.size()));
     }
@@ -44,7 +28,7 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
                  std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
                                mesh.positions(v, 1), mesh.positions(v, 2)));
     }
-    for (Eigen::Index t = 0; t < uv.rows(); ++t) {
+    for (Eigen::Index t = 0; textured && t < uv.rows(); ++t) {
       if constexpr (Columns == 2) {
         out.append(line, std::snprintf(line, sizeof line, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
       } else {
@@ -52,29 +36,70 @@ void write_obj_with_vt(const std::string& path, const Mesh& mesh, const Triangle
                                        uv(t, 1), uv(t, 2)));
       }
     }
-    if (!material.library.empty()) {
+    if (textured && !material.library.empty()) {
       const std::string statement = "usemtl " + material.name + "\n";
       out.append(statement.data(), static_cast<int>(statement.size()));
     }
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      out.append(line, std::snprintf(line, sizeof line, "f %d/%d %d/%d %d/%d\n",
-                                     mesh.triangles(f, 0) + 1, uv_triangles(f, 0) + 1,
-                                     mesh.triangles(f, 1) + 1, uv_triangles(f, 1) + 1,
-                                     mesh.triangles(f, 2) + 1, uv_triangles(f, 2) + 1));
+    // One corner " v" or " v/vt" (1-based).
+    auto corner = [&](int f, int k) {
+      if (textured) {
+        out.append(line, std::snprintf(line, sizeof line, " %d/%d", mesh.triangles(f, k) + 1,
+                                       (*uv_triangles)(f, k) + 1));
+      } else {
+        out.append(line, std::snprintf(line, sizeof line, " %d", mesh.triangles(f, k) + 1));
+      }
+    };
+    if (polygons.empty()) {
+      for (int f = 0; f < mesh.num_faces(); ++f) {
+        out.append("f", 1);
+        for (int k = 0; k < 3; ++k) corner(f, k);
+        out.append("\n", 1);
+      }
+      return;
+    }
+    for (int p = 0; p < polygons.num_polygons(); ++p) {
+      out.append("f", 1);
+      for (int i = polygons.corner_start[p]; i < polygons.corner_start[p + 1]; ++i) {
+        corner(polygons.corners[i] / 3, polygons.corners[i] % 3);
+      }
+      out.append("\n", 1);
     }
   });
 }
 
 }  // namespace
 
+void write_obj_faces(const std::string& path, const TexturedMesh& mesh,
+                     const ObjMaterial& material) {
+  if (!mesh.has_uv()) {
+    write_obj_file<2>(path, mesh.mesh, nullptr, {}, material, mesh.polygons);
+  } else if (mesh.uv_weights.size() == 0) {
+    write_obj_file<2>(path, mesh.mesh, &mesh.uv_triangles, mesh.uv, material, mesh.polygons);
+  } else {
+    // Back to the homogeneous coordinates the reader divided by w.
+    Eigen::Matrix<double, Eigen::Dynamic, 3> uvw(mesh.uv.rows(), 3);
+    uvw.leftCols<2>() = mesh.uv.array().colwise() * mesh.uv_weights.array();
+    uvw.col(2) = mesh.uv_weights;
+    write_obj_file<3>(path, mesh.mesh, &mesh.uv_triangles, uvw, material, mesh.polygons);
+  }
+}
+
+}  // namespace io_detail
+
+void write_obj(const std::string& path, const Mesh& mesh) {
+  io_detail::write_obj_file<2>(path, mesh, nullptr, {}, {}, {});
+}
+
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, const ObjMaterial& material) {
-  write_obj_with_vt(path, mesh, uv_triangles, uv, material);
+  io_detail::check_faces("write_obj", path, mesh, &uv_triangles, uv);
+  io_detail::write_obj_file(path, mesh, &uv_triangles, uv, material, {});
 }
 
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw, const ObjMaterial& material) {
-  write_obj_with_vt(path, mesh, uvw_triangles, uvw, material);
+  io_detail::check_faces("write_obj", path, mesh, &uvw_triangles, uvw);
+  io_detail::write_obj_file(path, mesh, &uvw_triangles, uvw, material, {});
 }
 
 }  // namespace ricci

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "file_polygons.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::io_detail {
@@ -196,6 +197,8 @@ bool ear_clip(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d&
 struct Triangulation {
   Triangles triangles;
   std::vector<int> polygon_of_triangle;
+  /// 3 per triangle: the file corner (index into RawMesh::corners) at each of its corners.
+  std::vector<int> triangle_corners;
   int polygons_triangulated = 0;
   int ear_clipped = 0;
 };
@@ -216,9 +219,11 @@ Triangulation triangulate(const RawMesh& raw) {
   for (int p = 0; p < np; ++p) {
     const int* corner = raw.corners.data() + raw.polygon_start[p];
     const int n = raw.polygon_start[p + 1] - raw.polygon_start[p];
+    const int first = raw.polygon_start[p];
     if (n == 3) {
       triangles.push_back({corner[0], corner[1], corner[2]});
       out.polygon_of_triangle.push_back(p);
+      out.triangle_corners.insert(out.triangle_corners.end(), {first, first + 1, first + 2});
       continue;
     }
     ++out.polygons_triangulated;
@@ -239,6 +244,8 @@ Triangulation triangulate(const RawMesh& raw) {
         for (const auto& t : local) {
           triangles.push_back({corner[t[0]], corner[t[1]], corner[t[2]]});
           out.polygon_of_triangle.push_back(p);
+          out.triangle_corners.insert(out.triangle_corners.end(),
+                                      {first + t[0], first + t[1], first + t[2]});
         }
         continue;
       }
@@ -246,6 +253,7 @@ Triangulation triangulate(const RawMesh& raw) {
     for (int i = 1; i + 1 < n; ++i) {  // the fan, also the fallback when ear clipping fails
       triangles.push_back({corner[0], corner[i], corner[i + 1]});
       out.polygon_of_triangle.push_back(p);
+      out.triangle_corners.insert(out.triangle_corners.end(), {first, first + i, first + i + 1});
     }
   }
   out.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
@@ -440,6 +448,8 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
       }
     }
     drop_unreferenced_vertices(path, raw, std::move(file_mesh), result);
+    result.polygons = file_polygons(raw.polygon_start, triangulation.polygon_of_triangle,
+                                    triangulation.triangle_corners, result.mesh.triangles, {}, {});
     return result;
   }
   if (as_read) {
@@ -463,6 +473,9 @@ ReadResult assemble(const std::string& path, MeshFormat format, RawMesh raw,
   if (options.on_repair) options.on_repair(result.repair);
   result.mesh = std::move(repaired.mesh);
   result.vertex_map = std::move(repaired.vertex_map);
+  result.polygons = file_polygons(raw.polygon_start, triangulation.polygon_of_triangle,
+                                  triangulation.triangle_corners, result.mesh.triangles,
+                                  repaired.face_map, repaired.face_flipped);
   std::vector<char> copied(nv, 0);
   for (int v : result.vertex_map) copied[v] = 1;
   for (int v = 0; v < nv; ++v) {

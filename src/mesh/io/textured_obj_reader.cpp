@@ -91,6 +91,8 @@ TexturedMesh read_textured_obj(const std::string& path) {
   std::vector<double> third;               // per vt: w, or NaN when absent
   std::vector<int> corners, uv_corners;    // 3 per triangle
   int polygons = 0;
+  Polygons faces_as_polygons;  // every face, its corners as corners of its fan triangles
+  faces_as_polygons.corner_start.push_back(0);
   std::int64_t faces = 0;
   Place at{path, 0};
   std::vector<int> face_vertices, face_uvs;
@@ -162,12 +164,19 @@ TexturedMesh read_textured_obj(const std::string& path) {
                           std::to_string(face_vertices.size()) + " corners, need at least 3");
       }
       if (face_vertices.size() > 3) ++polygons;
+      // Corner 0 and 1 of the polygon are corners 0 and 1 of its first fan triangle, corner
+      // k + 1 is corner 2 of its k-th.
+      const int first = static_cast<int>(corners.size());
+      faces_as_polygons.corners.insert(faces_as_polygons.corners.end(), {first, first + 1});
       for (std::size_t k = 1; k + 1 < face_vertices.size(); ++k) {
+        faces_as_polygons.corners.push_back(static_cast<int>(corners.size()) + 2);
+        faces_as_polygons.triangle_polygon.push_back(static_cast<int>(faces));
         for (std::size_t c : {std::size_t{0}, k, k + 1}) {
           corners.push_back(face_vertices[c]);
           uv_corners.push_back(face_uvs[c]);
         }
       }
+      faces_as_polygons.corner_start.push_back(static_cast<int>(faces_as_polygons.corners.size()));
       ++faces;
     } else if (ignored_statement(keyword)) {
       continue;
@@ -208,6 +217,7 @@ TexturedMesh read_textured_obj(const std::string& path) {
     }
   }
   result.polygons_triangulated = polygons;
+  if (polygons > 0) result.polygons = std::move(faces_as_polygons);
   return result;
 }
 

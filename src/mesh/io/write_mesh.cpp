@@ -3,6 +3,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/mesh/polygons.hpp"
 #include "writers.hpp"
 
 namespace ricci {
@@ -87,6 +88,7 @@ void write_mesh(const std::string& path, const TexturedMesh& mesh, const WriteOp
   io_detail::check_faces("write_mesh", path, mesh.mesh,
                          mesh.has_uv() ? &mesh.uv_triangles : nullptr, mesh.uv);
   check_positions_and_weights(path, mesh);
+  check_polygons(mesh.polygons, mesh.mesh.triangles, "write_mesh: " + path);
   auto invalid = [&](const std::string& what) {
     throw InvalidInput("write_mesh: " + path + ": " + what);
   };
@@ -104,23 +106,13 @@ void write_mesh(const std::string& path, const TexturedMesh& mesh, const WriteOp
   }
   switch (format) {
     case MeshFormat::Obj:
-      if (!mesh.has_uv()) {
-        write_obj(path, mesh.mesh);
-      } else if (mesh.uv_weights.size() == 0) {
-        write_obj(path, mesh.mesh, mesh.uv_triangles, mesh.uv, options.material);
-      } else {
-        // Back to the homogeneous coordinates the reader divided by w.
-        Eigen::Matrix<double, Eigen::Dynamic, 3> uvw(mesh.uv.rows(), 3);
-        uvw.leftCols<2>() = mesh.uv.array().colwise() * mesh.uv_weights.array();
-        uvw.col(2) = mesh.uv_weights;
-        write_obj(path, mesh.mesh, mesh.uv_triangles, uvw, options.material);
-      }
+      io_detail::write_obj_faces(path, mesh, options.material);
       return;
     case MeshFormat::Off:
-      io_detail::write_off(path, mesh.mesh);
+      io_detail::write_off(path, mesh.mesh, mesh.polygons);
       return;
     case MeshFormat::Ply:
-      io_detail::write_ply(path, mesh.mesh);
+      io_detail::write_ply(path, mesh.mesh, mesh.polygons);
       return;
     case MeshFormat::Stl:
       io_detail::write_stl(path, mesh.mesh);

@@ -8,7 +8,9 @@
 #include <ostream>
 #include <string>
 
+#include "ricci/mesh/io.hpp"
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/textured_mesh.hpp"
 
 namespace ricci::io_detail {
 
@@ -49,12 +51,19 @@ class BlockOutput {
 void check_faces(const std::string& function, const std::string& path, const Mesh& mesh,
                  const Triangles* uv_triangles, const Eigen::Ref<const Eigen::MatrixXd>& uv);
 
-/// ASCII OFF: `OFF`, the counts, `x y z` per vertex (17 significant digits: the doubles read back
-/// exactly), `3 a b c` per face (0-based).
-void write_off(const std::string& path, const Mesh& mesh);
+/// OBJ: write_mesh's writer (write_obj's bytes), with mesh.polygons one `f` per polygon.
+void write_obj_faces(const std::string& path, const TexturedMesh& mesh,
+                     const ObjMaterial& material);
 
-/// Binary little-endian PLY: double x, y, z per vertex and a uchar-counted int list per face.
-void write_ply(const std::string& path, const Mesh& mesh);
+/// ASCII OFF: `OFF`, the counts, `x y z` per vertex (17 significant digits: the doubles read back
+/// exactly), `3 a b c` per face (0-based), or `n a b c ...` per polygon when polygons is not
+/// empty.
+void write_off(const std::string& path, const Mesh& mesh, const Polygons& polygons);
+
+/// Binary little-endian PLY: double x, y, z per vertex and a counted int list per face (or per
+/// polygon when polygons is not empty); the count is a uchar unless a polygon has more than 255
+/// corners (then an int).
+void write_ply(const std::string& path, const Mesh& mesh, const Polygons& polygons);
 
 /// Binary STL: per face its unit normal (zero for a degenerate face) and three corners, as float;
 /// the format has no shared vertices.
