@@ -107,6 +107,7 @@ struct SphereArgs {
   std::string flips = "auto";
   int pole = -1;  ///< file vertex index; -1: automatic
   double tolerance = 1e-12;
+  bool untangle = true;  ///< --no-untangle: SphereOptions::untangle off
   std::string report;
   bool json = false;
   bool progress = false;
@@ -141,6 +142,8 @@ struct GenerateArgs {
   int resolution = 0;     ///< 0: the kind's default
   int genus = 2;
   int holes = 0;
+  int fingers = 5;             ///< --fingers: make_ball_with_fingers count
+  double finger_length = 3.0;  ///< --finger-length: a finger's length over its circumference
 };
 int run_generate(const GenerateArgs& args);
 
