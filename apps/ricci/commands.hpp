@@ -20,7 +20,8 @@ enum ExitCode : int {
   kOk = 0,
   kBadInput = 2,  ///< unreadable or defective mesh, inadmissible target, bad option
   /// the flow stopped before reaching the tolerance, including a numerical breakdown (the
-  /// linear algebra failed on a degenerating metric: FlowStatus::SolverFailed or SolverError)
+  /// linear algebra failed on a degenerating metric: FlowStatus::SolverFailed or SolverError);
+  /// for `sphere` also a map that fails its own checks (SphereResult::valid)
   kNotConverged = 3,
   kInternalError = 4,  ///< a bug: an exception no other code covers
   kOutOfMemory = 5,    ///< an allocation failed (a memory limit, or the machine's memory)
