@@ -223,18 +223,23 @@ std::vector<Point3<T>> map_in(const DiskMap& in, const SphereOptions& options,
     }
   }
   // The least-squares circle through the boundary: any centre and radius define the
-  // normalisation exactly, so double suffices for the fit; the translation and scale run in T.
+  // normalisation exactly, so double suffices for the fit, about the boundary's mean (the
+  // layout's origin is wherever its smallest face was); the translation and scale run in T.
   const std::vector<int>& loop = disk.boundary_loops[0];
+  Point2<T> mean{T{0}, T{0}};
+  for (int v : loop) mean = {mean[0] + laid[v][0], mean[1] + laid[v][1]};
+  mean = {mean[0] / static_cast<T>(loop.size()), mean[1] / static_cast<T>(loop.size())};
   std::vector<Eigen::Vector2d> boundary;
   boundary.reserve(loop.size());
   for (int v : loop) {
-    boundary.emplace_back(static_cast<double>(laid[v][0]), static_cast<double>(laid[v][1]));
+    boundary.emplace_back(static_cast<double>(laid[v][0] - mean[0]),
+                          static_cast<double>(laid[v][1] - mean[1]));
   }
   Eigen::Vector2d centre;
   double radius = 0;
   fit_circle(boundary, centre, radius);
   std::vector<Point2<T>> plane(laid.size());
-  const T cx = static_cast<T>(centre.x()), cy = static_cast<T>(centre.y());
+  const T cx = mean[0] + static_cast<T>(centre.x()), cy = mean[1] + static_cast<T>(centre.y());
   const T r = static_cast<T>(radius);
   for (std::size_t v = 0; v < laid.size(); ++v) {
     plane[v] = {(laid[v][0] - cx) / r, (laid[v][1] - cy) / r};
@@ -296,7 +301,7 @@ std::vector<Point3<T>> map_in(const DiskMap& in, const SphereOptions& options,
   return sphere;
 }
 
-/// |det| of three double points as a . ((b - a) x (c - a)) in long double: the differences of
+/// det of three double points as a . ((b - a) x (c - a)) in long double: the differences of
 /// nearby doubles are exact, so the sign is right down to faces of a few units in the last
 /// place, where double arithmetic on the cross product would already have cancelled.
 long double rounded_determinant(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -381,6 +386,7 @@ void measure_map(const DiskMap& in, const std::vector<Point3<T>>& sphere, Sphere
 template <class T>
 void map_and_measure(const DiskMap& in, const SphereOptions& options, SphereResult& result) {
   result.precision_bits = significand_bits<T>();
+  result.message.clear();  // a narrower arithmetic's, when this one is a retry
   const std::vector<Point3<T>> sphere = map_in<T>(in, options, result);
   measure_map(in, sphere, result);
 }

@@ -4,11 +4,15 @@
 ///
 /// Method: one vertex, the pole, is removed with its star; the rest is a topological disk, which
 /// the Euclidean Ricci flow flattens (K-bar = 0 inside, the boundary turning by 2 pi in proportion
-/// to its input length: BoundaryMode::DiskLength) and layout_flat lays out in the plane. The
-/// layout is moved and scaled so that the least-squares circle through its boundary is the unit
-/// circle, then sent onto the sphere by inverse stereographic projection, the pole at the north
-/// pole (0, 0, 1). Finally a Moebius transformation of the sphere puts the centre of mass of the
-/// input surface's area, carried by the map, at the origin.
+/// to its input length: BoundaryMode::DiskLength) and a layout grown from the smallest faces up
+/// places in the plane. The layout is moved and scaled so that the least-squares circle through
+/// its boundary is the unit circle, then sent onto the sphere by inverse stereographic
+/// projection, the pole at the north pole (0, 0, 1). Finally a Moebius transformation of the
+/// sphere puts the centre of mass of the input surface's area, carried by the map, at the
+/// origin, and the vertices of faces the map inverts move into their stars (untangling). The
+/// layout, projection and normalisation run in double, long double or quad, whichever resolves
+/// the smallest faces (a conformal map shrinks a long limb exponentially); the output is
+/// rounded to double (docs/sphere.md, Precision).
 ///
 /// Centre of mass of the area: c = sum over faces f of w_f n_f, where w_f = A_f / sum A is the
 /// face's share of the input mesh's 3D area and n_f = (P_i + P_j + P_k) / |P_i + P_j + P_k| the
