@@ -212,7 +212,7 @@ Mesh make_ball_with_fingers(int fingers, double aspect, int resolution) {
       std::array<int, 8> above{};
       for (int k = 0; k < 8; ++k) {
         above[k] = static_cast<int>(points.size());
-        points.push_back(axis + r * step * axis + radius * across[k]);
+        points.emplace_back(axis + r * step * axis + radius * across[k]);
       }
       for (int k = 0; k < 8; ++k) {  // the wall, outward: edge below[k] -> below[k + 1] kept
         faces.push_back({below[k], below[(k + 1) % 8], above[(k + 1) % 8]});
