@@ -450,11 +450,17 @@ std::string figure(double x) {
 /// Sets `valid`, and `message` and `fixes` when the map fails its own checks: an inverted face
 /// in the output or a figure that is not finite.
 void check_map(const SphereOptions& options, SphereResult& r) {
-  const double figures[] = {r.max_radius_deviation,  r.spherical_area,       r.centre_of_mass,
-                            r.angle_distortion_mean, r.angle_distortion_p95, r.angle_distortion_max,
-                            r.angle_error_mean,      r.angle_error_max,      r.log_area_min,
-                            r.log_area_max,          r.log_area_mean,        r.log_area_stddev,
-                            r.min_sphere_altitude,   r.layout_length_error};
+  // Every figure the report prints: a map that passes shows no inf or NaN.
+  const double figures[] = {r.max_radius_deviation, r.spherical_area,
+                            r.centre_of_mass,       r.initial_centre,
+                            r.max_boost_norm,       r.angle_distortion_mean,
+                            r.angle_distortion_p95, r.angle_distortion_max,
+                            r.angle_error_mean,     r.angle_error_max,
+                            r.log_area_min,         r.log_area_max,
+                            r.log_area_mean,        r.log_area_stddev,
+                            r.min_sphere_altitude,  r.min_plane_altitude,
+                            r.layout_length_error,  r.boundary_circle_deviation,
+                            r.max_untangle_move,    r.max_untangle_relative_move};
   const bool finite = std::all_of(std::begin(figures), std::end(figures),
                                   [](double x) { return std::isfinite(x); });
   r.valid = r.converged && r.inverted_faces == 0 && finite;
