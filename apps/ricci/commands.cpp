@@ -939,6 +939,7 @@ int run_sphere(const SphereArgs& args) {
   options.structure.scheme = parse_scheme(args.scheme);
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
+  options.untangle = args.untangle;
   check_output_is_not_input(args.output, {args.mesh});
   if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
 
@@ -957,8 +958,19 @@ int run_sphere(const SphereArgs& args) {
                         [&] { return sphere_map(read.mesh, options); });
   nlohmann::json report = sphere_report(result, options);
   report["pole_file_index"] = read.vertex_map[result.pole];
+  // The library's fixes name mesh vertices; --pole takes the file's.
+  std::vector<OptionFix> fixes = result.fixes;
+  for (OptionFix& fix : fixes) {
+    if (fix.option == "pole") fix.value = std::to_string(read.vertex_map[std::stoi(fix.value)]);
+  }
+  std::string why = cli::message_with_fixes(result.message, fixes);
+  if (result.converged && !result.valid) {
+    // No option of sphere helps a map that inverts faces after untangling, or a limb squeezed
+    // below double resolution; a cut parameterization with cones shrinks no limb.
+    why += "\n  try: ricci param " + args.mesh + " -o OUT.obj (a parameterization with cones)";
+  }
   if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
-                     result.converged, result.message)) {
+                     result.valid, why)) {
     return kNotConverged;
   }
   Mesh sphere;
@@ -975,8 +987,11 @@ int run_sphere(const SphereArgs& args) {
               << "  inverted faces " << result.inverted_faces << ", area - 4 pi "
               << result.spherical_area - 4 * std::numbers::pi << ", angle distortion mean "
               << result.angle_distortion_mean << " max " << result.angle_distortion_max
-              << ", log area [" << result.log_area_min << ", " << result.log_area_max << "], "
-              << result.seconds << " s\n";
+              << ", log area [" << result.log_area_min << ", " << result.log_area_max << "]\n"
+              << "  precision " << result.precision_bits << " bits (smallest altitude: plane "
+              << result.min_plane_altitude << ", sphere " << result.min_sphere_altitude << "), "
+              << result.unresolved_faces << " faces below double resolution, " << result.seconds
+              << " s\n";
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
   return kOk;
@@ -1000,10 +1015,12 @@ int run_generate(const GenerateArgs& args) {
     mesh = make_cad_cylinder(r > 0 ? r : 360);
   } else if (args.kind == "cad-ring") {
     mesh = make_cad_ring(r > 0 ? r : 360);
+  } else if (args.kind == "fingers") {
+    mesh = make_ball_with_fingers(args.fingers, args.finger_length, r > 0 ? r : 16);
   } else {
     throw InvalidInput("generate: unknown kind '" + args.kind +
-                       "'; expected tetrahedron, icosphere, disk, torus, surface, cad-cylinder "
-                       "or cad-ring");
+                       "'; expected tetrahedron, icosphere, disk, torus, surface, cad-cylinder, "
+                       "cad-ring or fingers");
   }
   if (args.valence3) mesh = split_faces_near_corner(mesh, 0.05, 0.05, 3);
   if (args.needles > 0) mesh = pull_vertices_to_neighbours(mesh, args.needles, 1, 2);

@@ -20,7 +20,8 @@ enum ExitCode : int {
   kOk = 0,
   kBadInput = 2,  ///< unreadable or defective mesh, inadmissible target, bad option
   /// the flow stopped before reaching the tolerance, including a numerical breakdown (the
-  /// linear algebra failed on a degenerating metric: FlowStatus::SolverFailed or SolverError)
+  /// linear algebra failed on a degenerating metric: FlowStatus::SolverFailed or SolverError);
+  /// for `sphere` also a map that fails its own checks (SphereResult::valid)
   kNotConverged = 3,
   kInternalError = 4,  ///< a bug: an exception no other code covers
   kOutOfMemory = 5,    ///< an allocation failed (a memory limit, or the machine's memory)
@@ -103,6 +104,7 @@ struct SphereArgs {
   std::string flips = "auto";
   int pole = -1;  ///< file vertex index; -1: automatic
   double tolerance = 1e-12;
+  bool untangle = true;  ///< --no-untangle: SphereOptions::untangle off
   std::string report;
   bool json = false;
   bool progress = false;
@@ -136,6 +138,8 @@ struct GenerateArgs {
   int resolution = 0;     ///< 0: the kind's default
   int genus = 2;
   int holes = 0;
+  int fingers = 5;             ///< --fingers: make_ball_with_fingers count
+  double finger_length = 3.0;  ///< --finger-length: a finger's length over its circumference
 };
 int run_generate(const GenerateArgs& args);
 

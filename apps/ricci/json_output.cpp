@@ -463,10 +463,12 @@ nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
 nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options) {
   nlohmann::json j;
   j["converged"] = r.converged;
+  j["valid"] = r.valid;
   j["message"] = r.message;
   j["seconds"] = r.seconds;
   j["scheme"] = scheme_name(options.structure.scheme);
   j["pole"] = r.pole;
+  j["poles_tried"] = r.poles_tried;
   MeshFlowOptions flow_options;
   flow_options.structure = options.structure;
   flow_options.flow = options.flow;
@@ -479,13 +481,23 @@ nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options
   if (r.positions.rows() == 0) return j;
   j["disk"] = {{"layout_length_error", r.layout_length_error},
                {"boundary_circle_deviation", r.boundary_circle_deviation},
-               {"inverted_pole_faces", r.inverted_pole_faces}};
+               {"inverted_pole_faces", r.inverted_pole_faces},
+               {"reversed_faces", r.reversed_disk_faces}};
+  j["precision"] = {{"bits", r.precision_bits},
+                    {"min_plane_altitude", r.min_plane_altitude},
+                    {"min_sphere_altitude", r.min_sphere_altitude},
+                    {"unresolved_faces", r.unresolved_faces}};
   j["normalisation"] = {{"iterations", r.centre_iterations},
                         {"initial_centre", r.initial_centre},
                         {"centre_of_mass", r.centre_of_mass},
                         {"max_boost_norm", r.max_boost_norm}};
+  j["untangle"] = {{"enabled", options.untangle},
+                   {"vertices", r.untangled_vertices},
+                   {"max_move", r.max_untangle_move},
+                   {"max_relative_move", r.max_untangle_relative_move}};
   j["invariants"] = {{"max_radius_deviation", r.max_radius_deviation},
                      {"inverted_faces", r.inverted_faces},
+                     {"inverted_by_rounding", r.inverted_by_rounding},
                      {"spherical_area", r.spherical_area},
                      {"spherical_area_error", r.spherical_area - 4 * 3.14159265358979323846}};
   j["distortion"] = {{"angle_distortion_mean", r.angle_distortion_mean},

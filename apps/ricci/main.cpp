@@ -144,7 +144,8 @@ int run_main(int argc, char** argv) {
       "sphere",
       "Spherical conformal map of a closed genus-0 mesh: every vertex on the unit sphere, no "
       "inverted face, the centre of mass of the area at the origin; writes an OBJ with the "
-      "input's faces (docs/sphere.md).");
+      "input's faces (docs/sphere.md). A map that keeps an inverted face (a limb squeezed below "
+      "double precision, a fold untangling cannot free) exits with code 3 and writes no OBJ.");
   sphere_cmd->add_option("MESH", sphere.mesh, "mesh file (.obj .off .ply .stl)")->required();
   sphere_cmd->add_option("-o,--output", sphere.output, "output .obj (vertices on the sphere)")
       ->required();
@@ -160,8 +161,12 @@ int run_main(int argc, char** argv) {
   sphere_cmd->add_option("--tol", sphere.tolerance, "flow tolerance on max |K-bar - K|")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  sphere_cmd->add_flag("!--no-untangle", sphere.untangle,
+                       "keep the exact map where it inverts a face instead of moving the vertex "
+                       "into its star (see docs/sphere.md)");
   sphere_cmd->add_option("--report", sphere.report,
-                         "write a JSON report: invariants, normalisation, distortion, flow");
+                         "write a JSON report: invariants, normalisation, distortion, flow, "
+                         "precision (written also when the map fails its checks)");
   sphere_cmd->add_flag("--json", sphere.json, "print the report as JSON");
   sphere_cmd->add_flag("--progress", sphere.progress, "print flow iterations on stderr");
   add_input_options(sphere_cmd, sphere.input);
@@ -213,17 +218,19 @@ int run_main(int argc, char** argv) {
   CLI::App* generate_cmd = app.add_subcommand(
       "generate",
       "Write a built-in example mesh: tetrahedron, icosphere, disk, torus, surface, or a hard "
-      "case (cad-cylinder, cad-ring: CAD strips and fans), optionally made harder still "
+      "case (cad-cylinder, cad-ring: CAD strips and fans; fingers: a ball with long thin "
+      "fingers), optionally made harder still "
       "(--needles, --valence3).");
   generate_cmd
       ->add_option("KIND", generate.kind,
-                   "tetrahedron, icosphere, disk, torus, surface, cad-cylinder, cad-ring")
+                   "tetrahedron, icosphere, disk, torus, surface, cad-cylinder, cad-ring, fingers")
       ->required();
   generate_cmd->add_option("-o,--output", generate.output, "output .obj file")->required();
   generate_cmd
       ->add_option("--resolution", generate.resolution,
                    "detail (icosphere: subdivisions; disk: rings; torus: minor segments; "
-                   "surface: cells along its length); 0 for the default")
+                   "surface: cells along its length; fingers: cells along a side of the ball's "
+                   "cube, even); 0 for the default")
       ->capture_default_str();
   generate_cmd->add_option("--genus", generate.genus, "genus of `surface`")->capture_default_str();
   generate_cmd->add_option("--holes", generate.holes, "boundary loops cut into `surface`")
@@ -234,6 +241,13 @@ int run_main(int argc, char** argv) {
                    "neighbour: scan-like needles (0.998: angles of about 0.1 degree)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.9999));
+  generate_cmd->add_option("--fingers", generate.fingers, "fingers of `fingers` (0 to 6)")
+      ->capture_default_str();
+  generate_cmd
+      ->add_option("--finger-length", generate.finger_length,
+                   "length of each finger of `fingers` over its circumference (a conformal map "
+                   "shrinks the tips' area by about exp(-4 pi times this))")
+      ->capture_default_str();
   generate_cmd->add_flag("--valence3", generate.valence3,
                          "split every third face 1-to-3 near a corner, the new vertex lifted off "
                          "the surface: valence-3 vertices and needles");

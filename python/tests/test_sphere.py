@@ -11,6 +11,7 @@ import ricci
 def _check_sphere(V, F, result):
     """The invariants of docs/sphere.md, recomputed from the positions."""
     assert result.converged, result.message
+    assert result.valid, result.message
     P = result.positions
     assert P.shape == np.asarray(V).shape
     assert np.abs(np.linalg.norm(P, axis=1) - 1).max() < 1e-12
@@ -61,6 +62,21 @@ def test_pole_and_options(icosphere):
     assert result.pole == 3 and result.centre_of_mass <= 1e-13
     assert opts.pole == 3  # the caller's options are not changed
     assert "SphereResult(" in repr(result)
+
+
+def test_precision_and_untangling_figures(icosphere):
+    V, F = icosphere
+    result = ricci.sphere(V, F, untangle=False)
+    _check_sphere(V, F, result)
+    # A round mesh: double resolves every face, nothing to untangle, nothing unresolved.
+    assert result.precision_bits == 53
+    assert 0 < result.min_plane_altitude < 1 and 0 < result.min_sphere_altitude < 1
+    assert result.unresolved_faces == 0 and result.inverted_by_rounding == 0
+    assert result.untangled_vertices == 0 and result.max_untangle_move == 0
+    assert result.reversed_disk_faces == 0 and result.poles_tried == 1
+    assert result.fixes == [] and result.message == ""
+    assert math.isfinite(result.log_area_min) and result.log_area_min <= result.log_area_max
+    assert ricci.SphereOptions(untangle=False).untangle is False
 
 
 def test_progress_callback(icosphere):

@@ -1,5 +1,6 @@
 #include "ricci/mesh/hard_cases.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -144,6 +145,96 @@ Mesh pull_vertices_to_neighbours(const Mesh& mesh, double amount, std::uint32_t 
     for (int u : neighbours[v]) blocked[u] = 1;
   }
   return out;
+}
+
+Mesh make_ball_with_fingers(int fingers, double aspect, int resolution) {
+  if (fingers < 0 || fingers > 6 || resolution < 4 || resolution % 2 != 0 ||
+      !std::isfinite(aspect) || !(aspect > 0)) {
+    throw InvalidInput(
+        "make_ball_with_fingers: need fingers in [0, 6], an even resolution >= 4 "
+        "and a finite aspect > 0, got " +
+        std::to_string(fingers) + ", " + std::to_string(resolution) + " and " +
+        std::to_string(aspect));
+  }
+  const int n = resolution;
+  // The cube's surface grid: integer points of [0, n]^3 with a coordinate at 0 or n, each once.
+  std::vector<int> grid((n + 1) * (n + 1) * (n + 1), -1);
+  std::vector<Eigen::Vector3d> points;
+  auto vertex = [&](const std::array<int, 3>& c) {
+    int& id = grid[(c[0] * (n + 1) + c[1]) * (n + 1) + c[2]];
+    if (id < 0) {
+      id = static_cast<int>(points.size());
+      points.push_back(
+          (Eigen::Vector3d(c[0], c[1], c[2]) * (2.0 / n) - Eigen::Vector3d::Ones()).normalized());
+    }
+    return id;
+  };
+  std::vector<std::array<int, 3>> faces;
+  const int lo = n / 2 - 1, mid = n / 2, hi = n / 2 + 1;
+  for (int side = 0; side < 6; ++side) {
+    // Side `side`: axis a at n (the first three) or 0; (b, c) counter-clockwise seen from outside.
+    const int a = side % 3, level = side < 3 ? n : 0;
+    const int b = side < 3 ? (a + 1) % 3 : (a + 2) % 3, c = side < 3 ? (a + 2) % 3 : (a + 1) % 3;
+    auto at = [&](int u, int v) {
+      std::array<int, 3> p{};
+      p[a] = level, p[b] = u, p[c] = v;
+      return vertex(p);
+    };
+    const bool finger = side < fingers;
+    std::vector<std::array<int, 3>> block;  // the finger's cells, which become its cap
+    for (int u = 0; u < n; ++u) {
+      for (int v = 0; v < n; ++v) {
+        const std::array<int, 3> first{at(u, v), at(u + 1, v), at(u + 1, v + 1)};
+        const std::array<int, 3> second{at(u, v), at(u + 1, v + 1), at(u, v + 1)};
+        auto& to = finger && u >= lo && u < hi && v >= lo && v < hi ? block : faces;
+        to.push_back(first);
+        to.push_back(second);
+      }
+    }
+    if (!finger) continue;
+    // The block's boundary, counter-clockwise seen from outside, and its centre.
+    const std::array<int, 8> ring{at(lo, lo), at(mid, lo), at(hi, lo), at(hi, mid),
+                                  at(hi, hi), at(mid, hi), at(lo, hi), at(lo, mid)};
+    const int centre = at(mid, mid);
+    const Eigen::Vector3d axis = points[centre];
+    std::array<Eigen::Vector3d, 8> across;  // unit directions from the axis to the ring
+    double radius = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d offset = points[ring[k]] - axis;
+      across[k] = offset - offset.dot(axis) * axis;
+      radius += across[k].norm() / 8;
+      across[k].normalize();
+    }
+    const double step = 2 * std::numbers::pi * radius / 8;  // near-square cells
+    const int rings = std::max(1, static_cast<int>(std::lround(8 * aspect)));
+    std::array<int, 8> below = ring;
+    for (int r = 1; r <= rings; ++r) {
+      std::array<int, 8> above{};
+      for (int k = 0; k < 8; ++k) {
+        above[k] = static_cast<int>(points.size());
+        points.emplace_back(axis + r * step * axis + radius * across[k]);
+      }
+      for (int k = 0; k < 8; ++k) {  // the wall, outward: edge below[k] -> below[k + 1] kept
+        faces.push_back({below[k], below[(k + 1) % 8], above[(k + 1) % 8]});
+        faces.push_back({below[k], above[(k + 1) % 8], above[k]});
+      }
+      below = above;
+    }
+    // The cap: the block's triangles on the last ring, the centre lifted into a low dome.
+    points[centre] = axis + (rings * step + 0.5 * radius) * axis;
+    for (std::array<int, 3> f : block) {
+      for (int& w : f) {
+        for (int k = 0; k < 8; ++k) {
+          if (w == ring[k]) {
+            w = below[k];
+            break;
+          }
+        }
+      }
+      faces.push_back(f);
+    }
+  }
+  return from_lists(points, faces);
 }
 
 }  // namespace ricci

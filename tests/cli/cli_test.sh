@@ -817,7 +817,7 @@ expect_no_temporaries "param leaves no temporaries" param
 mkdir -p sphere
 ricci sphere --help
 expect_rc "sphere --help" 0
-expect_out "sphere --help" "--pole" "--scheme" "--report"
+expect_out "sphere --help" "--pole" "--scheme" "--report" "--no-untangle"
 ricci sphere meshes/icosphere.obj -o sphere/ico_sphere.obj --report sphere/ico.json
 expect_rc "sphere icosphere" 0
 expect_file "sphere icosphere writes the OBJ" sphere/ico_sphere.obj
@@ -859,6 +859,35 @@ own_sum="$(checksum sphere/own.obj)"
 ricci sphere sphere/own.obj -o sphere/own.obj
 expect_rc "sphere -o equal to the input" 2
 expect_same "sphere -o equal to the input leaves it" sphere/own.obj "$own_sum"
+# Long fingers (tips at e^-50 in area): the layout runs wider than double, and the map is an
+# embedding; the report says how far the log area ratio reaches and in what precision.
+ricci generate fingers --finger-length 4 -o sphere/fingers.obj
+expect_rc "generate fingers" 0
+ricci sphere sphere/fingers.obj -o sphere/fingers_sphere.obj --report sphere/fingers.json
+expect_rc "sphere fingers" 0
+expect_out "sphere fingers" "inverted faces 0" "precision 113 bits" "log area ["
+expect_json "sphere fingers report" sphere/fingers.json \
+  'd["valid"] and d["invariants"]["inverted_faces"] == 0 and d["distortion"]["log_area_min"] < -45 and d["precision"]["bits"] == 113 and d["precision"]["unresolved_faces"] == 0'
+# Twice as far: the tips fall below double resolution on the unit sphere. Exit 3, no OBJ, the
+# report written with finite figures, and the message says why and what works instead.
+ricci generate fingers --finger-length 6 -o sphere/long_fingers.obj
+ricci sphere sphere/long_fingers.obj -o sphere/refused.obj --report sphere/long_fingers.json
+expect_rc "sphere fingers below double resolution" 3
+expect_err "sphere fingers below double resolution" "by rounding to double" \
+  "below double resolution" "try: ricci param"
+expect_no_file "sphere fingers below double resolution writes no OBJ" sphere/refused.obj
+expect_json "sphere fingers below double resolution report" sphere/long_fingers.json \
+  'not d["valid"] and d["converged"] and d["invariants"]["inverted_by_rounding"] > 0 and d["precision"]["unresolved_faces"] > 0 and d["distortion"]["log_area_min"] < -70 and all(isinstance(x, float) and math.isfinite(x) for x in d["distortion"].values())'
+# Needles and valence-3 vertices: vertex scaling reverses needles; untangling frees them.
+ricci generate icosphere --resolution 3 --valence3 --needles 0.998 -o sphere/needles.obj
+ricci sphere sphere/needles.obj -o sphere/needles_sphere.obj --json
+expect_rc "sphere needles" 0
+expect_json "sphere needles --json" "$WORK/out.txt" \
+  'd["valid"] and d["invariants"]["inverted_faces"] == 0 and d["untangle"]["vertices"] > 0 and d["disk"]["reversed_faces"] > 0'
+ricci sphere sphere/needles.obj -o sphere/refused.obj --no-untangle
+expect_rc "sphere needles --no-untangle" 3
+expect_err "sphere needles --no-untangle" "reversed in the disk's flat metric" "untangling was off"
+expect_no_file "sphere needles --no-untangle writes no OBJ" sphere/refused.obj
 expect_no_temporaries "sphere leaves no temporaries" sphere
 
 # --- hyperbolic: flow and param with --geometry hyperbolic (chi < 0) ----------------------------

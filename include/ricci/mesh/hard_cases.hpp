@@ -23,6 +23,21 @@ Mesh make_cad_cylinder(int segments, double height = 2.0);
 /// \throw InvalidInput when segments < 3
 Mesh make_cad_ring(int segments);
 
+/// A ball with long thin fingers, closed and genus 0: the unit sphere tessellated as a cube
+/// (`resolution` by `resolution` cells per side, each cut into two triangles, the vertices pushed
+/// onto the sphere), with up to six fingers, one at the centre of each of the first `fingers`
+/// sides (+x, +y, +z, -x, -y, -z). A finger replaces a block of 2 by 2 cells: a tube of
+/// octagonal section (radius about 2.4 / resolution, as wide as the block) standing on the
+/// block's boundary, `aspect` times as long as its circumference, in rings of near-square cells,
+/// capped by the block's eight triangles. A conformal map squeezes a tube of circumference C by
+/// about exp(-2 pi z / C) in length at depth z, so the tips' area comes out near
+/// exp(-4 pi aspect) of the ball's scale (aspect 4: about e^-50). Each finger has
+/// m = round(8 aspect) rings: 6 resolution^2 + 2 + 8 m fingers vertices, 12 resolution^2 +
+/// 16 m fingers faces.
+/// \throw InvalidInput when fingers is not in [0, 6], resolution is odd or below 4, or aspect is
+///        not finite and > 0
+Mesh make_ball_with_fingers(int fingers, double aspect, int resolution = 16);
+
 /// Splits every `stride`-th face 1-to-3 at a point near its first corner (barycentric weights
 /// 1 - 2 weight, weight, weight), lifted along the face normal by `lift` times the square root
 /// of the face's area: each split adds a valence-3 vertex and two needles.

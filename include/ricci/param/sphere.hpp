@@ -4,11 +4,15 @@
 ///
 /// Method: one vertex, the pole, is removed with its star; the rest is a topological disk, which
 /// the Euclidean Ricci flow flattens (K-bar = 0 inside, the boundary turning by 2 pi in proportion
-/// to its input length: BoundaryMode::DiskLength) and layout_flat lays out in the plane. The
-/// layout is moved and scaled so that the least-squares circle through its boundary is the unit
-/// circle, then sent onto the sphere by inverse stereographic projection, the pole at the north
-/// pole (0, 0, 1). Finally a Moebius transformation of the sphere puts the centre of mass of the
-/// input surface's area, carried by the map, at the origin.
+/// to its input length: BoundaryMode::DiskLength) and a layout grown from the smallest faces up
+/// places in the plane. The layout is moved and scaled so that the least-squares circle through
+/// its boundary is the unit circle, then sent onto the sphere by inverse stereographic
+/// projection, the pole at the north pole (0, 0, 1). Finally a Moebius transformation of the
+/// sphere puts the centre of mass of the input surface's area, carried by the map, at the
+/// origin, and the vertices of faces the map inverts move into their stars (untangling). The
+/// layout, projection and normalisation run in double, long double or quad, whichever resolves
+/// the smallest faces (a conformal map shrinks a long limb exponentially); the output is
+/// rounded to double (docs/sphere.md, Precision).
 ///
 /// Centre of mass of the area: c = sum over faces f of w_f n_f, where w_f = A_f / sum A is the
 /// face's share of the input mesh's 3D area and n_f = (P_i + P_j + P_k) / |P_i + P_j + P_k| the
@@ -28,6 +32,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/mesh.hpp"
 
@@ -52,24 +57,40 @@ struct SphereOptions {
   /// Stop the Moebius normalisation when |centre of mass| is at most this.
   double centre_tolerance = 1e-12;
   int max_centre_iterations = 100;  ///< most Newton steps of the normalisation
+  /// Move the vertices of faces the map inverts into the cone where their whole star keeps its
+  /// orientation (see SphereResult::untangled_vertices), then centre again; up to 3 rounds.
+  bool untangle = true;
 };
 
 /// What sphere_map returns. Per-face statistics are over the input's faces.
 struct SphereResult {
   bool converged = false;  ///< the flow converged and the normalisation reached its tolerance
-  std::string message;     ///< why not, when not
+  /// converged, no face of the output inverted (inverted_faces == 0) and every figure finite:
+  /// the map to use. When not, `message` says why and `fixes` what may work.
+  bool valid = false;
+  std::string message;           ///< why not converged or not valid, when not
+  std::vector<OptionFix> fixes;  ///< settings that may give a valid map, best first
   /// #V by 3 positions on the unit sphere (rows of unreferenced vertices: 0), counter-clockwise
   /// faces seen from outside where the map has no inverted face.
   Positions positions;
   int pole = -1;  ///< the vertex removed for the flow (at the north pole before normalisation)
+  /// Poles tried: 2 when the default pole squeezed the plane more than the sphere (the tip of a
+  /// limb) and the widest star of that first map was tried too; the better map is returned.
+  int poles_tried = 1;
 
   // The flow on the disk (the mesh without the pole and its faces).
   MeshFlowResult flow;             ///< in disk vertex indices
   std::vector<int> disk_vertices;  ///< per disk vertex: its vertex in the mesh
+  /// Disk faces whose shape in the flat metric is reversed (Development::flipped_faces): the
+  /// metric itself inverts them (vertex scaling bends needles over), whatever the arithmetic.
+  int reversed_disk_faces = 0;
   /// Layout of the disk, in mesh vertex indices (#V by 2; the pole's row is NaN), after the
-  /// translation and scale that make the boundary's least-squares circle the unit circle.
+  /// translation and scale that make the boundary's least-squares circle the unit circle
+  /// (rounded to double from the precision of `precision_bits`).
   Eigen::Matrix<double, Eigen::Dynamic, 2> plane;
-  double layout_length_error = 0;  ///< Layout::max_length_relative_error of the disk's layout
+  /// max over edges of the disk of | |p_i - p_j| - l_ij | / l_ij, l_ij the edge's length in
+  /// the shape of the face it is measured in: how well the layout closes up.
+  double layout_length_error = 0;
   /// max over boundary vertices of | |p| - 1 | in the normalised plane: how far the disk's
   /// boundary is from the circle the stereographic projection sends to the equator.
   double boundary_circle_deviation = 0;
@@ -77,20 +98,51 @@ struct SphereResult {
   /// det(p_i, p_j) <= 0: faces around the pole that the projection inverts. 0 expected.
   int inverted_pole_faces = 0;
 
+  // Precision. The layout, the projection and the normalisation run in the narrowest of double,
+  // long double and quad (__float128 where the compiler has it) that resolves every face: a
+  // conformal map shrinks a long limb exponentially (area e^-50 at the fingertips of a body),
+  // and a face whose smallest altitude is near the arithmetic's resolution (2^-52 of the unit
+  // disk or sphere) loses its shape.
+  int precision_bits = 53;  ///< significand bits used: 53 (double), 64 (long double) or 113
+  /// min over disk faces of the smallest altitude in the normalised plane (unit circle):
+  /// what chose the precision.
+  double min_plane_altitude = 0;
+  /// min over faces of the smallest altitude of the chordal triangle on the sphere, computed
+  /// before rounding to double.
+  double min_sphere_altitude = 0;
+  /// Faces whose smallest altitude on the sphere is below 2^-46 (1.4e-14, 64 units in the
+  /// last place of a coordinate): the double positions of the output keep their shape only
+  /// roughly, and rounding may invert them (inverted_by_rounding).
+  int unresolved_faces = 0;
+
   // The Moebius normalisation.
   int centre_iterations = 0;  ///< Newton steps taken
   double initial_centre = 0;  ///< |centre of mass| right after the projection
   double centre_of_mass = 0;  ///< |centre of mass| at the end
   double max_boost_norm = 0;  ///< largest |a| of a single step
 
+  // Untangling (SphereOptions::untangle). The exact map can invert a face: vertex scaling's flat
+  // metric reverses needles (reversed_disk_faces), and the projection bends the long side of a
+  // very obtuse face over its third corner. Such a vertex moves, along the great circle towards
+  // the mean of its link, a quarter of the way into the positions where its whole star keeps
+  // its orientation; the map is then conformal everywhere but at the moved vertices.
+  int untangled_vertices = 0;             ///< vertex moves made (a vertex may move twice)
+  double max_untangle_move = 0;           ///< largest move, as a chord of the unit sphere
+  double max_untangle_relative_move = 0;  ///< largest move over the vertex's shortest edge
+
   // Invariants of the final map (faces as geodesic triangles between their images).
   double max_radius_deviation = 0;  ///< max over vertices of | |P_i| - 1 |
-  int inverted_faces = 0;           ///< faces with det(P_i, P_j, P_k) <= 0
+  /// Faces with det(P_i, P_j, P_k) <= 0 in the output's double positions (the determinant from
+  /// the differences P_j - P_i, P_k - P_i, in long double): 0 for a valid map.
+  int inverted_faces = 0;
+  /// Of those, the faces the map keeps (det > 0 before rounding) but the rounding of the
+  /// positions to double inverts: faces below double resolution (unresolved_faces).
+  int inverted_by_rounding = 0;
   /// Sum of the signed spherical areas 2 atan2(det, 1 + P_i.P_j + P_j.P_k + P_k.P_i) of the faces:
   /// 4 pi when the images cover the sphere once; with no inverted face, an embedding.
   double spherical_area = 0;
 
-  // Distortion, against the input's 3D triangles.
+  // Distortion, against the input's 3D triangles (from the positions before rounding).
   /// sigma_max / sigma_min of the linear map from each 3D triangle to its chordal triangle
   /// P_i P_j P_k (1: conformal): mean weighted by 3D area, max, and the 95th percentile over
   /// faces (unweighted).
@@ -99,7 +151,9 @@ struct SphereResult {
   /// unweighted mean and max.
   double angle_error_mean = 0, angle_error_max = 0;
   /// ln((spherical area / 4 pi) / (3D area / total 3D area)) per face with positive spherical
-  /// area: min, max, mean and standard deviation weighted by 3D area.
+  /// area: min, max, mean and standard deviation weighted by 3D area. min and max say how far
+  /// the conformal factor reaches: a face of area share s on a limb at log_area_min is about
+  /// sqrt(4 pi s) e^(log_area_min / 2) across on the unit sphere.
   double log_area_min = 0, log_area_max = 0, log_area_mean = 0, log_area_stddev = 0;
 
   // Timings, seconds.
