@@ -20,7 +20,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                  gradient_step=None, armijo=None, max_backtracks=None, use_cholmod=None,
                  reuse_factorization_cg_iterations=None, progress=None, flips=None,
                  geometry=None, root_face=None, gutter=None, polish=None, polygons=None,
-                 options=None):
+                 untangle=None,
+                 charts=None, options=None):
     """Global conformal parameterization of a manifold mesh: cones, valence raising, Ricci flow
     to a flat metric, cut graph, layout, atlas, distortion, uv in the unit square. A mesh of
     several components gets one atlas: each component is parameterized on its own (a component
@@ -54,6 +55,14 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
       mean angle distortion, seams, cones and boundary kept exact (True; options field
       polish.enabled). False: the discrete conformal map itself, every edge as long as the flat
       metric says. result.polish says what it did; its uv holds the positions before it.
+    untangle: make the faces the exact map draws flipped positive, moving the vertices near
+      them (seam vertices with all their copies), cones, seams and boundary kept exact (True;
+      options field fold_free.untangle); result.untangle says what it did.
+    charts: a component whose exact map still fails its checks (flipped faces, a layout that
+      does not close up, a flow that fails, or automatic cones that cannot carry the curvature)
+      is laid out as charts with free boundary: fold-free, every seam its 3D length (True;
+      options field fold_free.charts). False: such a layout is returned as it is, with
+      converged False. result.routes names the route of each component (ComponentRoute).
     polygons: a polygon mesh's faces over the triangles F (``info.polygons`` of
       ``read_mesh``): the cut never runs inside a face, and result.polygons gives the faces to
       write (``write_mesh(path, V, F, result.uv, result.uv_triangles,
@@ -102,7 +111,8 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     a surface with chi >= 0 or a scheme without a hyperbolic energy (virtual-radius).
     """
     mesh = _arrays.mesh(V, F)
-    for name, value in (("gutter", gutter), ("polish", polish)):
+    for name, value in (("gutter", gutter), ("polish", polish), ("untangle", untangle),
+                        ("charts", charts)):
         if value is not None and _is_hyperbolic(geometry):
             raise _ricci.InvalidInput(f"parameterize: {name} is an option of the Euclidean "
                                       "parameterization only")
@@ -132,6 +142,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                modify_connectivity=modify_connectivity, polygons=polygons)
     set_fields(opts.packing, gutter=gutter)
     set_fields(opts.polish, enabled=polish)
+    set_fields(opts.fold_free, untangle=untangle, charts=charts)
     set_fields(opts.auto_cones, max_log_scale=max_log_scale, max_cones=max_cones,
                try_first_cone_candidates=try_first_cone_candidates, smoothness=cone_smoothness)
     set_structure_and_solver(opts, scheme=scheme, packing_init=packing_init,

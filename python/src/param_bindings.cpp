@@ -159,6 +159,29 @@ void bind_param(py::module_& m) {
         "Moves the layout's vertices on no seam and no boundary to lower the faces' mean "
         "sigma_max / sigma_min, keeping seams, cones and boundary exact; returns PolishResult.");
 
+  StructBinding<FoldFreeOptions>(m, "FoldFreeOptions",
+                                 "What parameterize does where the exact map fails its checks.")
+      .field("untangle", &FoldFreeOptions::untangle,
+             "untangle flipped faces, seams, cones and boundary kept exact")
+      .field("charts", &FoldFreeOptions::charts,
+             "lay out a component whose exact map still fails as charts with free boundary")
+      .field("max_length_error", &FoldFreeOptions::max_length_error,
+             "largest relative edge length error of a layout that closes up")
+      .keyword_constructor()
+      .repr();
+
+  StructBinding<UntangleResult>(m, "UntangleResult", "What untangle_layout did.")
+      .readonly("flipped_before", &UntangleResult::flipped_before, "")
+      .readonly("flipped_after", &UntangleResult::flipped_after, "")
+      .readonly("stuck_faces", &UntangleResult::stuck_faces,
+                "flipped faces none of whose vertices may move")
+      .readonly("moved_vertices", &UntangleResult::moved_vertices, "")
+      .readonly("region_faces", &UntangleResult::region_faces, "")
+      .readonly("rounds", &UntangleResult::rounds, "")
+      .readonly("newton_iterations", &UntangleResult::newton_iterations, "")
+      .readonly("seconds", &UntangleResult::seconds, "")
+      .repr();
+
   StructBinding<ParamOptions>(m, "ParamOptions", "Options of parameterize.")
       .enum_field("cone_mode", &ParamOptions::cone_mode, &parse_cone_mode,
                   "ConeMode (or 'none', 'user', 'auto', 'one')")
@@ -177,6 +200,8 @@ void bind_param(py::module_& m) {
              "PolishOptions: the angle polish of the layout's interior (enabled by default)")
       .field("polygons", &ParamOptions::polygons,
              "Polygons (read_mesh's info.polygons): faces whose diagonals are never cut")
+      .field("fold_free", &ParamOptions::fold_free,
+             "FoldFreeOptions: untangling, and charts where the exact map fails")
       .keyword_constructor()
       .repr();
 
@@ -304,6 +329,10 @@ void bind_param(py::module_& m) {
       .readonly("timings", &ParamResult::timings, "ParamTimings: seconds per stage")
       .readonly("development_length_mismatch", &ParamResult::development_length_mismatch,
                 "how well the input faces developed in the flat metric agree on their edges")
+      .readonly("untangle", &ParamResult::untangle,
+                "UntangleResult of the exact map's layout")
+      .readonly("routes", &ParamResult::routes,
+                "ComponentRoute per component: the route its layout took")
       .readonly("components", &ParamResult::components,
                 "several components: a ComponentParam per component (empty for one)")
       .readonly("packing", &ParamResult::packing, "several components: ChartPacking")
@@ -312,10 +341,23 @@ void bind_param(py::module_& m) {
   py::enum_<ComponentMethod> component_method(
       m, "ComponentMethod", "How a component of a mesh of several was parameterized.");
   component_method.value("Flow", ComponentMethod::Flow)
+      .value("Untangled", ComponentMethod::Untangled)
+      .value("Charts", ComponentMethod::Charts)
       .value("Unfolded", ComponentMethod::Unfolded)
       .value("Patches", ComponentMethod::Patches);
   bind_enum_names(component_method);
   m.def("component_method_name", &component_method_name, py::arg("method"));
+
+  StructBinding<ComponentRoute>(m, "ComponentRoute",
+                                "The route one component's layout took (ParamResult.routes).")
+      .readonly("method", &ComponentRoute::method, "ComponentMethod")
+      .readonly("charts", &ComponentRoute::charts, "charts of its layout in the atlas")
+      .readonly("seam_length", &ComponentRoute::seam_length, "3D length of its seams")
+      .readonly("flipped_before", &ComponentRoute::flipped_before,
+                "faces the exact map drew flipped, before untangling")
+      .readonly("flipped", &ComponentRoute::flipped, "faces flipped in its final layout")
+      .readonly("why", &ComponentRoute::why, "why the exact map gave way (empty when it served)")
+      .repr();
 
   StructBinding<ComponentParam>(m, "ComponentParam",
                                 "One component of a mesh of several (ParamResult.components).")

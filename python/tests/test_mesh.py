@@ -117,7 +117,7 @@ def test_info_reports_defects_without_raising(non_manifold):
     kinds = ricci.DefectKind.names
     assert len(kinds) == len(ricci.DefectKind.__members__) and "non-manifold-edge" in kinds
     assert all(d.name == ricci._ricci.defect_name(d.kind) for d in info.defects)
-    assert ricci.ComponentMethod.names == ("flow", "unfolded", "patches")
+    assert ricci.ComponentMethod.names == ("flow", "untangled", "charts", "unfolded", "patches")
 
 
 def test_generators_counts():
