@@ -641,23 +641,31 @@ int run_param_hyperbolic(const ParamArgs& args) {
   return kOk;
 }
 
-/// `param` on a mesh of several components: the atlas, then a line per component (every one when
-/// there are few, else those that did not go by the flow).
+/// `param` on a mesh of several components, or one whose exact map gave way to another route:
+/// the atlas, then a line per component (every one when there are few, else those that did not
+/// go by the flow).
 void print_components(const ParamArgs& args, const ParamResult& result) {
   const Distortion& d = result.distortion;
   const ChartPacking& p = result.packing;
-  int failed = 0, unfolded = 0, rescued = 0, overlapping = 0;
+  int failed = 0, overlapping = 0;
+  std::array<int, EnumNames<ComponentMethod>::names.size()> by_method{};
   for (const ComponentParam& c : result.components) {
     failed += !c.parameterized;
-    unfolded += c.method == ComponentMethod::Unfolded;
-    rescued += c.method == ComponentMethod::Unfolded && !c.message.empty();
+    ++by_method[static_cast<std::size_t>(c.method)];
     overlapping += c.overlapping_face_pairs > 0;
   }
   const std::size_t n = result.components.size();
   std::cout << args.mesh << " -> " << args.output << "\n"
-            << "  " << n << " components: " << n - failed - unfolded << " by the flow, " << unfolded
-            << " unfolded (" << rescued << " of them in place of a failed or distorted flow), "
-            << failed << " failed (in several patches)\n"
+            << "  " << n << (n == 1 ? " component: " : " components: ");
+  const char* separator = "";
+  for (const EnumName<ComponentMethod>& entry : EnumNames<ComponentMethod>::names) {
+    const int count = by_method[static_cast<std::size_t>(entry.value)];
+    if (count == 0) continue;
+    std::cout << separator << count << " " << entry.name;
+    separator = ", ";
+  }
+  if (failed > 0) std::cout << " (" << failed << " failed)";
+  std::cout << "\n"
             << "  atlas: " << p.charts.size() << " charts packed by "
             << (p.by_shape ? "shape" : "rectangles") << ", coverage " << std::setprecision(4)
             << p.coverage << " (bounding rectangles " << p.rectangle_coverage << "), gutter "
@@ -674,33 +682,39 @@ void print_components(const ParamArgs& args, const ParamResult& result) {
   int skipped = 0;
   for (std::size_t c = 0; c < n; ++c) {
     const ComponentParam& comp = result.components[c];
-    if (!all && comp.parameterized && comp.overlapping_face_pairs == 0) {
+    const bool exact =
+        comp.method == ComponentMethod::Flow || comp.method == ComponentMethod::Untangled;
+    if (!all && comp.parameterized && exact && comp.overlapping_face_pairs == 0) {
       ++skipped;
       continue;
     }
     std::cout << "  component " << c << " (" << comp.faces.size() << " faces, genus " << comp.genus
               << ", " << comp.boundary_loops
-              << " boundary loops): " << component_method_name(comp.method) << ", cones "
-              << comp.cones.size() << ", angle distortion mean "
-              << comp.distortion.angle_distortion_mean << ", area scale " << comp.area_scale << ", "
-              << comp.seconds << " s";
+              << " boundary loops): " << component_method_name(comp.method);
+    if (comp.charts.size() > 1) std::cout << " (" << comp.charts.size() << " charts)";
+    std::cout << ", cones " << comp.cones.size() << ", seam length " << comp.seam_length
+              << ", angle distortion mean " << comp.distortion.angle_distortion_mean
+              << ", area scale " << comp.area_scale << ", " << comp.seconds << " s";
     if (comp.overlapping_face_pairs > 0) {
       std::cout << ", its layout overlapped itself (" << comp.overlapping_face_pairs
-                << " face pairs): " << comp.charts.size() << " charts";
+                << " face pairs)";
     }
     if (!comp.message.empty()) {
-      std::cout << (comp.parameterized ? ": the flow failed: " : ": ") << comp.message;
+      std::cout << (!comp.parameterized ? ": failed: "
+                    : exact             ? ": "
+                                        : ": the exact map gave way: ")
+                << comp.message;
     }
     std::cout << "\n";
   }
   if (skipped > 0) {
     std::cout << "  (" << skipped
-              << " more components by the flow or unfolded, none overlapping itself: --report "
-                 "lists every one)\n";
+              << " more components by the flow, none overlapping itself: --report lists every "
+                 "one)\n";
   }
   if (!result.converged) {
     std::cout << "  wrote " << args.output
-              << " with the failed components laid out as patches of their own shape\n";
+              << " with the failed components laid out as charts or patches of their own shape\n";
   }
   if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
 }
@@ -755,6 +769,9 @@ int run_param(const ParamArgs& args) {
   const bool refinement = args.faces == "refinement";
   // The common refinement places the input's vertices where the flat metric puts them.
   options.polish.enabled = args.polish == "angles" && !refinement;
+  // The refinement is the exact map itself, fold-free without moving a vertex.
+  options.fold_free.untangle = args.fold_free != "none" && !refinement;
+  options.fold_free.charts = args.fold_free == "charts" && !refinement;
   const RefinementFiles files = refinement_files(args.output);
   if (refinement) {
     if (!scheme_traits(options.structure.scheme).ptolemy_flips) {
@@ -865,18 +882,28 @@ int run_param(const ParamArgs& args) {
                 << result.development_length_mismatch
                 << "; --faces refinement writes the exact map)\n";
     }
-    if (d.flipped_faces > 0) {
+    if (result.untangle.moved_vertices > 0) {
+      std::cout << "  untangled: " << result.untangle.flipped_before
+                << " faces drawn flipped made positive by moving "
+                << result.untangle.moved_vertices
+                << " vertices (seams, cones and boundary exact), "
+                << result.untangle.seconds << " s\n";
+    }
+    if (d.flipped_faces > 0 && !exact) {
       // Each vertex sits at its exact image; a face drawn straight between them folds where the
       // map bends it strongly: needles, or faces next to a strong cone.
-      std::cout << "  warning: " << d.flipped_faces
+      std::cerr << "warning: " << args.mesh << ": " << d.flipped_faces
                 << " uv triangles are flipped (needle faces, or faces around a cone too strong "
-                   "for its valence, drawn straight between their vertices' exact images); "
-                   "--faces refinement gives the exact map without folds"
-                << (result.cones.empty() ? "" : ", more cones spread the curvature") << "\n";
+                   "for its valence, drawn straight between their vertices' exact images)\n"
+                << "  try: --fold-free charts (the default), or --faces refinement (the exact "
+                   "map without folds)\n";
     }
     if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
   }
-  return result.converged ? kOk : kNotConverged;
+  // A layout that folds is not a success, whatever the flow did (--fold-free untangle or none
+  // leave it as it is; the refinement written beside it is fold-free).
+  const bool folds = !several && !exact && result.distortion.flipped_faces > 0;
+  return result.converged && !folds ? kOk : kNotConverged;
 }
 
 int run_spline(const SplineArgs& args) {

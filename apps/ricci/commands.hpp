@@ -69,6 +69,9 @@ struct ParamArgs {
   int max_cones = 0;
   double cone_smoothness = ConeSelectionOptions{}.smoothness;
   std::string polish = "angles";  ///< --polish: "angles" (PolishOptions) or "none"
+  /// --fold-free: "charts" (untangle, then charts where the exact map still fails), "untangle"
+  /// (untangle only) or "none" (the exact map as it is): FoldFreeOptions.
+  std::string fold_free = "charts";
   double tolerance = 1e-12;
   bool json = false;
   bool progress = false;

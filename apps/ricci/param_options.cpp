@@ -80,6 +80,16 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
       ->capture_default_str()
       ->check(CLI::IsMember({"angles", "none"}));
   param_cmd
+      ->add_option("--fold-free", param.fold_free,
+                   "where the exact map draws faces flipped: charts (untangle them, seams, cones "
+                   "and boundary kept exact; a component that still folds, whose layout does "
+                   "not close up or whose automatic cones cannot carry the curvature is cut into "
+                   "charts flattened with free boundary, every seam its 3D length), untangle "
+                   "(untangle only), none (the exact map as it is); a layout that still folds "
+                   "exits 3; docs/parameterization.md")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"charts", "untangle", "none"}));
+  param_cmd
       ->add_option("--gutter", param.gutter,
                    "several components: space between packed charts, in uv units")
       ->capture_default_str()

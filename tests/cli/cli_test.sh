@@ -583,7 +583,7 @@ if [[ -f "$shared/teapot.obj" && -f "$shared/triple_vierbein.obj" ]]; then
   ricci param --repair --scheme vertex-scaling "$shared/teapot.obj" -o param/teapot_uv.obj \
     --report param/teapot.json "${teapot_pictures[@]}"
   expect_rc "param --repair teapot: several components" 0
-  expect_out "param --repair teapot: several components" "4 components: 4 by the flow" \
+  expect_out "param --repair teapot: several components" "4 components: 4 flow" \
     "overlapping face pairs 0" "component 3 ("
   expect_json "param --repair teapot report" param/teapot.json \
     'd["converged"] and len(d["components"]) == 4 and all(c["method"] == "flow" and c["parameterized"] for c in d["components"]) and d["packing"]["overlapping_face_pairs"] == 0 and d["packing"]["coverage"] > 0.5 and d["distortion"]["flipped_faces"] == 0'
