@@ -8,8 +8,10 @@
 #include <cmath>
 #include <complex>
 #include <deque>
+#include <iomanip>
 #include <numbers>
 #include <numeric>
+#include <sstream>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -121,8 +123,9 @@ bool passes_checks(const ParamResult& p, const ParamOptions& options, std::strin
   }
   if (!(p.layout.max_length_relative_error <= options.fold_free.max_length_error) ||
       !p.layout.uv.allFinite()) {
-    why = "the layout does not close up (relative length error " +
-          std::to_string(p.layout.max_length_relative_error) +
+    std::ostringstream error;
+    error << std::setprecision(3) << p.layout.max_length_relative_error;
+    why = "the layout does not close up (relative length error " + error.str() +
           "): the flat metric's scale spans more than double precision lays out";
     return false;
   }
