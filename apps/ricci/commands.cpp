@@ -840,6 +840,18 @@ int run_param(const ParamArgs& args) {
       std::cerr << "warning: " << args.mesh << ": edge splits changed the faces, so " << args.output
                 << " holds triangles, not the file's polygons\n";
     }
+    auto proper = [](const Polygons& polygons) {
+      int count = 0;
+      for (int p = 0; p < polygons.num_polygons(); ++p) count += polygons.size(p) > 3;
+      return count;
+    };
+    if (!result.polygons.empty() && proper(result.polygons) < proper(read.polygons)) {
+      std::cerr << "warning: " << args.mesh << ": "
+                << proper(read.polygons) - proper(result.polygons)
+                << " polygons have no corner from which the layout sees all of them (a fan from "
+                   "any corner would fold), so "
+                << args.output << " holds each of them as its triangles\n";
+    }
   }
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);

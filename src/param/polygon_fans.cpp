@@ -1,6 +1,7 @@
 #include "ricci/param/polygon_fans.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <tuple>
 #include <utility>
@@ -32,14 +33,31 @@ bool flat_in_space(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eig
 Polygons start_fans_where_valid(const Polygons& polygons, const Mesh& mesh,
                                 const Triangles& uv_triangles,
                                 const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
-  Polygons out = polygons;
+  if (polygons.empty()) return polygons;
+  // The triangles of each polygon, for those no corner's fan is sound from.
+  std::vector<std::vector<int>> triangles_of(polygons.num_polygons());
+  for (std::size_t t = 0; t < polygons.triangle_polygon.size(); ++t) {
+    triangles_of[polygons.triangle_polygon[t]].push_back(static_cast<int>(t));
+  }
+  Polygons out;
+  out.triangle_polygon.assign(polygons.triangle_polygon.size(), -1);
+  out.corner_start.push_back(0);
+  out.corners.reserve(polygons.corners.size());
   std::vector<Eigen::Vector2d> q;
   std::vector<Eigen::Vector3d> x;
-  std::vector<int> rotated;
+  auto add = [&](const std::vector<int>& triangles, const int* corner, int n, int first) {
+    const int index = out.num_polygons();
+    for (int t : triangles) out.triangle_polygon[t] = index;
+    for (int i = 0; i < n; ++i) out.corners.push_back(corner[(first + i) % n]);
+    out.corner_start.push_back(static_cast<int>(out.corners.size()));
+  };
   for (int p = 0; p < polygons.num_polygons(); ++p) {
     const int n = polygons.size(p);
-    if (n == 3) continue;  // a triangle's one "fan" is itself from every corner
     const int* corner = polygons.corners.data() + polygons.corner_start[p];
+    if (n == 3) {  // a triangle's one "fan" is itself from every corner
+      add(triangles_of[p], corner, n, 0);
+      continue;
+    }
     q.resize(n);
     x.resize(n);
     for (int i = 0; i < n; ++i) {
@@ -61,10 +79,16 @@ Polygons start_fans_where_valid(const Polygons& polygons, const Mesh& mesh,
         best_flat = flat;
       }
     }
-    if (best == 0) continue;
-    rotated.assign(corner + best, corner + n);
-    rotated.insert(rotated.end(), corner, corner + best);
-    std::copy(rotated.begin(), rotated.end(), out.corners.begin() + polygons.corner_start[p]);
+    if (best_folded == 0) {
+      add(triangles_of[p], corner, n, best);
+      continue;
+    }
+    // No corner sees the whole polygon in the layout (not star-shaped from a corner: any
+    // reader's fan would fold): written as its own triangles, which the layout drew unfolded.
+    for (int t : triangles_of[p]) {
+      const std::array<int, 3> own{3 * t, 3 * t + 1, 3 * t + 2};
+      add({t}, own.data(), 3, 0);
+    }
   }
   return out;
 }

@@ -418,5 +418,25 @@ TEST(PolygonFans, StartWhereTheFanIsSound) {
   EXPECT_EQ(start_fans_where_valid({}, dart, dart.triangles, uv).num_polygons(), 0);
 }
 
+// A U (its notch down to y = 0.5) is seen whole from none of its corners: every corner's fan
+// folds in the layout (here the plane itself), so the polygon is written as its own triangles.
+TEST(PolygonFans, APolygonNoCornerSeesWholeIsWrittenAsItsTriangles) {
+  const Mesh u = testing::make_mesh(
+      {{0, 0, 0}, {3, 0, 0}, {3, 2, 0}, {2, 2, 0}, {2, 0.5, 0}, {1, 0.5, 0}, {1, 2, 0}, {0, 2, 0}},
+      {{0, 1, 4}, {0, 4, 5}, {1, 2, 4}, {2, 3, 4}, {0, 5, 7}, {5, 6, 7}});
+  Polygons polygons;
+  polygons.triangle_polygon.assign(6, 0);
+  polygons.corner_start = {0, 8};
+  polygons.corners = {0, 1, 7, 10, 2, 5, 16, 14};  // vertices 0 .. 7, each at one of its corners
+  ASSERT_NO_THROW(check_polygons(polygons, u.triangles, "U"));
+  const Eigen::Matrix<double, Eigen::Dynamic, 2> uv = u.positions.leftCols<2>();
+  EXPECT_GT(measure_polygon_distortion(u, polygons, u.triangles, uv).flipped_faces, 0);
+  const Polygons written = start_fans_where_valid(polygons, u, u.triangles, uv);
+  ASSERT_NO_THROW(check_polygons(written, u.triangles, "U written"));
+  ASSERT_EQ(written.num_polygons(), 6);
+  for (int p = 0; p < 6; ++p) EXPECT_EQ(written.size(p), 3);
+  EXPECT_EQ(measure_polygon_distortion(u, written, u.triangles, uv).flipped_faces, 0);
+}
+
 }  // namespace
 }  // namespace ricci

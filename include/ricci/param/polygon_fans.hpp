@@ -15,10 +15,13 @@
 
 namespace ricci {
 
-/// The polygons with each one's corners listed from the corner whose fan has the fewest
-/// triangles drawn flipped or flat in the layout (signed uv area <= 0), then the fewest of zero
-/// area in R^3; the first such corner (the polygon's own first corner when its fan is sound).
-/// O(n) per polygon whose fan from its first corner is sound, O(n^2) at worst.
+/// The polygons with each one's corners listed from a corner whose fan has no triangle drawn
+/// flipped or flat in the layout (signed uv area <= 0), the fewest of zero area in R^3 among
+/// those; the first such corner (the polygon's own first corner when its fan is sound). A
+/// polygon no corner's fan is sound from (not star-shaped from a corner in the layout: wallhole's
+/// two 11-gons) is given as its own triangles, one polygon each, after the polygons before it:
+/// the result then has more polygons than the input. O(n) per polygon whose fan from its first
+/// corner is sound, O(n^2) at worst.
 /// \param mesh 3D positions (#V by 3) and triangles (#F by 3)
 /// \param uv_triangles #F by 3 indices into uv (corner c of triangle t at uv.row(uv_triangles(t,
 ///        c)))
