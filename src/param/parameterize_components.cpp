@@ -661,13 +661,15 @@ ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
   // replace it); otherwise the components' path tries the other routes on it.
   ParamResult first;
   std::string why;
+  bool refused = false;
   try {
     first = parameterize_one_component(mesh, options, topology);
   } catch (const InvalidInput& e) {
     if (!may_replace_refusal(options)) throw;
     why = e.what();
+    refused = true;
   }
-  if (why.empty() && (passes_checks(first, options, why) || !options.fold_free.charts)) {
+  if (!refused && (passes_checks(first, options, why) || !options.fold_free.charts)) {
     ComponentRoute route;
     route.method =
         first.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;
@@ -679,8 +681,10 @@ ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
     return first;
   }
   const double first_seconds = first.seconds;
-  ParamResult result =
-      parameterize_components(mesh, topology, options, why.empty() ? &first : nullptr, why);
+  // The exact map that failed its checks goes along (the charts cut through its cones); a
+  // refusal goes as its message.
+  ParamResult result = parameterize_components(mesh, topology, options,
+                                               refused ? nullptr : &first, refused ? why : "");
   result.seconds += first_seconds;
   return result;
 }
