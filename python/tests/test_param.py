@@ -169,3 +169,26 @@ def test_angle_polish_moves_the_interior_only(icosphere):
     np.testing.assert_array_equal(again.uv, polished.layout.uv)
     with pytest.raises(ricci.InvalidInput):
         ricci.polish_angles(mesh, t[:3], exact.layout.uv)
+
+
+def test_routes_name_how_each_component_was_laid_out():
+    # Genus 12 with one hole: no cone is needed, but the flat metric with free boundary spans
+    # more scale than double precision lays out; the component goes to the charts route.
+    V, F = ricci.generate.surface_with_holes(12, 1, 16)
+    param = ricci.parameterize(V, F)
+    assert param.converged, param.message
+    assert [r.method for r in param.routes] == [ricci.ComponentMethod.Charts]
+    route = param.routes[0]
+    assert route.charts >= 2 and route.flipped == 0 and "close up" in route.why
+    assert param.distortion.flipped_faces == 0
+    # Without the charts the exact map comes back as it is, and says it did not close up.
+    exact = ricci.parameterize(V, F, charts=False)
+    assert [r.method for r in exact.routes] == [ricci.ComponentMethod.Flow]
+    assert exact.layout_error > 1e-6
+    # A torus goes by the flow; untangle=False changes nothing there.
+    T = ricci.generate.torus(24, 10)
+    torus = ricci.parameterize(*T, untangle=False)
+    assert [r.method for r in torus.routes] == [ricci.ComponentMethod.Flow]
+    assert torus.routes[0].why == "" and torus.untangle.moved_vertices == 0
+    with pytest.raises(ricci.InvalidInput):
+        ricci.parameterize(V, F, geometry="hyperbolic", charts=False)
