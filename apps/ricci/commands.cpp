@@ -896,10 +896,9 @@ int run_param(const ParamArgs& args) {
     }
     if (result.untangle.moved_vertices > 0) {
       std::cout << "  untangled: " << result.untangle.flipped_before
-                << " faces drawn flipped made positive by moving "
-                << result.untangle.moved_vertices
-                << " vertices (seams, cones and boundary exact), "
-                << result.untangle.seconds << " s\n";
+                << " faces drawn flipped made positive by moving " << result.untangle.moved_vertices
+                << " vertices (seams, cones and boundary exact), " << result.untangle.seconds
+                << " s\n";
     }
     if (d.flipped_faces > 0 && !exact) {
       // Each vertex sits at its exact image; a face drawn straight between them folds where the
@@ -1008,8 +1007,8 @@ int run_sphere(const SphereArgs& args) {
     // below double resolution; a cut parameterization with cones shrinks no limb.
     why += "\n  try: ricci param " + args.mesh + " -o OUT.obj (a parameterization with cones)";
   }
-  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
-                     result.valid, why)) {
+  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report, result.valid,
+                     why)) {
     return kNotConverged;
   }
   Mesh sphere;

@@ -329,8 +329,7 @@ void bind_param(py::module_& m) {
       .readonly("timings", &ParamResult::timings, "ParamTimings: seconds per stage")
       .readonly("development_length_mismatch", &ParamResult::development_length_mismatch,
                 "how well the input faces developed in the flat metric agree on their edges")
-      .readonly("untangle", &ParamResult::untangle,
-                "UntangleResult of the exact map's layout")
+      .readonly("untangle", &ParamResult::untangle, "UntangleResult of the exact map's layout")
       .readonly("routes", &ParamResult::routes,
                 "ComponentRoute per component: the route its layout took")
       .readonly("components", &ParamResult::components,

@@ -362,15 +362,8 @@ ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts, const Po
     r.cut.length += lengths[e];
   }
   r.seam_length = r.cut.length;
-  r.cut_mesh.triangles = charts.triangles;
-  r.cut_mesh.to_original = charts.vertex;
-  r.cut_mesh.topology = build_topology(charts.triangles, static_cast<int>(charts.vertex.size()));
-  r.layout.uv = charts.layout;
-  r.polygons = start_fans_where_valid(polygons, mesh, r.cut_mesh.triangles, r.layout.uv);
-  r.distortion = measure_polygon_distortion(mesh, r.polygons, r.cut_mesh.triangles, r.layout.uv);
-  r.layout.num_flipped_faces = r.distortion.flipped_faces;
   r.untangle = charts.untangle;
-  fit_unit_square(r);
+  finish_own_layout(r, mesh, charts.triangles, charts.vertex, charts.layout, polygons);
   return r;
 }
 

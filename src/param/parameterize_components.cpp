@@ -683,8 +683,8 @@ ParamResult parameterize(const Mesh& mesh, const ParamOptions& options) {
   const double first_seconds = first.seconds;
   // The exact map that failed its checks goes along (the charts cut through its cones); a
   // refusal goes as its message.
-  ParamResult result = parameterize_components(mesh, topology, options,
-                                               refused ? nullptr : &first, refused ? why : "");
+  ParamResult result = parameterize_components(mesh, topology, options, refused ? nullptr : &first,
+                                               refused ? why : "");
   result.seconds += first_seconds;
   return result;
 }

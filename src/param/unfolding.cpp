@@ -255,15 +255,21 @@ ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches,
     r.cut.length += lengths[e];
   }
   r.seam_length = r.cut.length;
-  r.cut_mesh.triangles = patches.triangles;
-  r.cut_mesh.to_original = patches.vertex;
-  r.cut_mesh.topology = build_topology(patches.triangles, static_cast<int>(patches.vertex.size()));
-  r.layout.uv = patches.layout;
+  finish_own_layout(r, mesh, patches.triangles, patches.vertex, patches.layout, polygons);
+  return r;
+}
+
+void finish_own_layout(ParamResult& r, const Mesh& mesh, const Triangles& triangles,
+                       const std::vector<int>& vertex, const Points& layout,
+                       const Polygons& polygons) {
+  r.cut_mesh.triangles = triangles;
+  r.cut_mesh.to_original = vertex;
+  r.cut_mesh.topology = build_topology(triangles, static_cast<int>(vertex.size()));
+  r.layout.uv = layout;
   r.polygons = start_fans_where_valid(polygons, mesh, r.cut_mesh.triangles, r.layout.uv);
   r.distortion = measure_polygon_distortion(mesh, r.polygons, r.cut_mesh.triangles, r.layout.uv);
   r.layout.num_flipped_faces = r.distortion.flipped_faces;
   fit_unit_square(r);
-  return r;
 }
 
 std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count,

@@ -62,4 +62,12 @@ std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
 /// ParamResult::uv from the layout: the unit square, aspect ratio kept (as the pipeline does).
 void fit_unit_square(ParamResult& r);
 
+/// The last stage of a layout made without the pipeline (unfolded, charts): the cut mesh and
+/// layout set, the polygons written from sound fans, the distortion measured on them, uv fitted
+/// into the unit square.
+/// \param triangles #F by 3 indices into layout; vertex: per layout vertex, its mesh vertex
+void finish_own_layout(ParamResult& r, const Mesh& mesh, const Triangles& triangles,
+                       const std::vector<int>& vertex, const Points& layout,
+                       const Polygons& polygons);
+
 }  // namespace ricci::param_detail

@@ -13,36 +13,19 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 #include "support/byte_writer.hpp"
+#include "support/error_messages.hpp"
 #include "support/shared_meshes.hpp"
 
 namespace ricci {
 namespace {
 
+using testing::expect_mentions;
+using testing::message_of;
+
 using testing::ByteWriter;
 
 std::string write_test_file(const std::string& name, const std::string& content) {
   return testing::write_text_file(testing::suite_tmp_dir("mesh_read_variants") / name, content);
-}
-
-/// Runs `action`, which must throw exactly E (not a subclass), and returns the message.
-template <class E>
-std::string message_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(typeid(e).name()), std::string(typeid(E).name()))
-        << "wrong exception class, message: " << e.what();
-    return e.what();
-  }
-  ADD_FAILURE() << "no exception thrown";
-  return "";
-}
-
-void expect_mentions(const std::string& message, std::initializer_list<std::string> pieces) {
-  for (const std::string& piece : pieces) {
-    EXPECT_NE(message.find(piece), std::string::npos)
-        << "message lacks \"" << piece << "\": " << message;
-  }
 }
 
 using Rows = std::vector<std::vector<double>>;

@@ -14,33 +14,18 @@
 #include <Eigen/Geometry>
 
 #include "ricci/errors.hpp"
+#include "support/error_messages.hpp"
 #include "support/test_meshes.hpp"
 
 namespace ricci {
 namespace {
 
+using testing::expect_mentions;
+using testing::message_of;
+
 using testing::make_mesh;
 using testing::tetrahedron;
 using testing::torus;
-
-/// Runs `action`, which must throw exactly E, and returns the message.
-template <class E>
-std::string message_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(typeid(e).name()), std::string(typeid(E).name())) << e.what();
-    return e.what();
-  }
-  ADD_FAILURE() << "no exception thrown";
-  return "";
-}
-
-void expect_mentions(const std::string& message, std::initializer_list<std::string> pieces) {
-  for (const std::string& piece : pieces) {
-    EXPECT_NE(message.find(piece), std::string::npos) << "lacks \"" << piece << "\": " << message;
-  }
-}
 
 TEST(FindDefects, CleanClosedMeshesHaveNone) {
   EXPECT_TRUE(find_defects(tetrahedron()).defects.empty());

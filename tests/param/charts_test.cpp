@@ -58,9 +58,8 @@ Seams measure_seams(const Mesh& mesh, const Triangles& t, const UV& uv) {
   for (const auto& [edge, s] : sides) {
     if (s.size() != 2 || (s[0].a == s[1].a && s[0].b == s[1].b)) continue;
     ++out.cut_edges;
-    out.mismatch =
-        std::max(out.mismatch, std::abs(s[0].length - s[1].length) /
-                                   std::max(s[0].length, s[1].length));
+    out.mismatch = std::max(
+        out.mismatch, std::abs(s[0].length - s[1].length) / std::max(s[0].length, s[1].length));
   }
   return out;
 }
