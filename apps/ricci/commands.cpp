@@ -913,7 +913,15 @@ int run_param(const ParamArgs& args) {
   }
   // A layout that folds is not a success, whatever the flow did (--fold-free untangle or none
   // leave it as it is; the refinement written beside it is fold-free).
-  const bool folds = !several && !exact && result.distortion.flipped_faces > 0;
+  const bool open_layout =
+      !(result.layout.max_length_relative_error <= options.fold_free.max_length_error);
+  if (!several && !exact && open_layout) {
+    std::cerr << "warning: " << args.mesh << ": the layout does not close up (relative length "
+              << "error " << result.layout.max_length_relative_error
+              << "): the flat metric's scale spans more than double precision lays out\n"
+              << "  try: --fold-free charts (the default)\n";
+  }
+  const bool folds = !several && !exact && (result.distortion.flipped_faces > 0 || open_layout);
   return result.converged && !folds ? kOk : kNotConverged;
 }
 
