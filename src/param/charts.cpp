@@ -343,27 +343,10 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
 }
 
 ParamResult charts_result(const Mesh& mesh, const ChartsLayout& charts, const Polygons& polygons) {
-  ParamResult r;
-  r.converged = true;
-  r.mesh = mesh;
-  r.vertex_origin.resize(mesh.num_vertices());
-  std::iota(r.vertex_origin.begin(), r.vertex_origin.end(), 0);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
-  r.cut.is_cut_edge.assign(t.num_edges, 0);
-  for (int e = 0; e < t.num_edges; ++e) {
-    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
-    if (h0 < 0 || h1 < 0) continue;
-    auto copy = [&](int h, bool tail) {
-      return charts.triangles(Topology::face_of(h), (h % 3 + (tail ? 1 : 2)) % 3);
-    };
-    if (copy(h0, true) == copy(h1, false) && copy(h0, false) == copy(h1, true)) continue;
-    r.cut.is_cut_edge[e] = 1;
-    r.cut.length += lengths[e];
-  }
-  r.seam_length = r.cut.length;
+  ParamResult r = own_layout_result(mesh, t, input_edge_lengths(mesh, t), charts.triangles,
+                                    charts.vertex, charts.layout, polygons);
   r.untangle = charts.untangle;
-  finish_own_layout(r, mesh, charts.triangles, charts.vertex, charts.layout, polygons);
   return r;
 }
 

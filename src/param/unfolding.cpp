@@ -218,29 +218,16 @@ PatchLayout develop_patches(const Mesh& mesh, const Polygons& polygons) {
   for (std::size_t v = 0; v < positions.size(); ++v) {
     out.layout.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
   }
-  // An edge is glued when its two faces share both ends' copies.
-  out.is_glued_edge.assign(t.num_edges, 0);
-  for (int e = 0; e < t.num_edges; ++e) {
-    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
-    if (h0 < 0 || h1 < 0) continue;
-    auto copy = [&](int h, bool tail) {
-      const int f = Topology::face_of(h);
-      return out.triangles(f, (h % 3 + (tail ? 1 : 2)) % 3);
-    };
-    out.is_glued_edge[e] = copy(h0, true) == copy(h1, false) && copy(h0, false) == copy(h1, true);
-  }
+  out.is_glued_edge = glued_edges(t, out.triangles);
   return out;
 }
 
 ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches,
                             const Polygons& polygons) {
-  ParamResult r;
-  r.converged = true;
-  r.mesh = mesh;
-  r.vertex_origin.resize(mesh.num_vertices());
-  std::iota(r.vertex_origin.begin(), r.vertex_origin.end(), 0);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  ParamResult r = own_layout_result(mesh, t, lengths, patches.triangles, patches.vertex,
+                                    patches.layout, polygons);
   CornerAngles angles;
   corner_angles(t, lengths, angles);  // a needle face's NaN angles only hide a cone
   const Eigen::VectorXd curvature = vertex_curvature(t, angles);
@@ -248,20 +235,39 @@ ParamResult unfolded_result(const Mesh& mesh, const PatchLayout& patches,
     if (t.vertex_component[v] < 0 || t.is_boundary_vertex[v]) continue;
     if (std::abs(curvature[v]) > kFlatCurvature) r.cones.push_back({v, curvature[v]});
   }
+  return r;
+}
+
+std::vector<char> glued_edges(const Topology& t, const Triangles& cut_triangles) {
+  std::vector<char> glued(t.num_edges, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
+    if (h0 < 0 || h1 < 0) continue;
+    // The cut-mesh vertex at the tail (or head) of halfedge h, in its face.
+    auto copy = [&](int h, bool tail) {
+      return cut_triangles(Topology::face_of(h), (h % 3 + (tail ? 1 : 2)) % 3);
+    };
+    glued[e] = copy(h0, true) == copy(h1, false) && copy(h0, false) == copy(h1, true);
+  }
+  return glued;
+}
+
+ParamResult own_layout_result(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& lengths,
+                              const Triangles& triangles, const std::vector<int>& vertex,
+                              const Points& layout, const Polygons& polygons) {
+  ParamResult r;
+  r.converged = true;
+  r.mesh = mesh;
+  r.vertex_origin.resize(mesh.num_vertices());
+  std::iota(r.vertex_origin.begin(), r.vertex_origin.end(), 0);
+  const std::vector<char> glued = glued_edges(t, triangles);
   r.cut.is_cut_edge.assign(t.num_edges, 0);
   for (int e = 0; e < t.num_edges; ++e) {
-    if (t.is_boundary_edge[e] || patches.is_glued_edge[e]) continue;
+    if (t.is_boundary_edge[e] || glued[e]) continue;
     r.cut.is_cut_edge[e] = 1;
     r.cut.length += lengths[e];
   }
   r.seam_length = r.cut.length;
-  finish_own_layout(r, mesh, patches.triangles, patches.vertex, patches.layout, polygons);
-  return r;
-}
-
-void finish_own_layout(ParamResult& r, const Mesh& mesh, const Triangles& triangles,
-                       const std::vector<int>& vertex, const Points& layout,
-                       const Polygons& polygons) {
   r.cut_mesh.triangles = triangles;
   r.cut_mesh.to_original = vertex;
   r.cut_mesh.topology = build_topology(triangles, static_cast<int>(vertex.size()));
@@ -270,6 +276,7 @@ void finish_own_layout(ParamResult& r, const Mesh& mesh, const Triangles& triang
   r.distortion = measure_polygon_distortion(mesh, r.polygons, r.cut_mesh.triangles, r.layout.uv);
   r.layout.num_flipped_faces = r.distortion.flipped_faces;
   fit_unit_square(r);
+  return r;
 }
 
 std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, int& count,

@@ -62,12 +62,18 @@ std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
 /// ParamResult::uv from the layout: the unit square, aspect ratio kept (as the pipeline does).
 void fit_unit_square(ParamResult& r);
 
-/// The last stage of a layout made without the pipeline (unfolded, charts): the cut mesh and
-/// layout set, the polygons written from sound fans, the distortion measured on them, uv fitted
-/// into the unit square.
+/// Per edge of t: 1 where its two faces hold the same cut-mesh vertices at both its ends (laid
+/// out side by side), 0 on the boundary and where the layout cuts it.
+std::vector<char> glued_edges(const Topology& t, const Triangles& cut_triangles);
+
+/// The ParamResult of a layout made without the pipeline on the mesh's own faces (unfolded,
+/// charts): converged, the mesh and its vertices as they are, the cut (every interior edge the
+/// layout does not glue) with its 3D length, the cut mesh and layout, the polygons written from
+/// sound fans, the distortion measured on them, uv fitted into the unit square. No cones.
+/// \param t, lengths the mesh's topology and 3D edge lengths
 /// \param triangles #F by 3 indices into layout; vertex: per layout vertex, its mesh vertex
-void finish_own_layout(ParamResult& r, const Mesh& mesh, const Triangles& triangles,
-                       const std::vector<int>& vertex, const Points& layout,
-                       const Polygons& polygons);
+ParamResult own_layout_result(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& lengths,
+                              const Triangles& triangles, const std::vector<int>& vertex,
+                              const Points& layout, const Polygons& polygons);
 
 }  // namespace ricci::param_detail
