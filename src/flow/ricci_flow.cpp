@@ -256,6 +256,17 @@ struct RicciFlow::State {
                    " iterations at max |K-bar - K| = " + format(max_error));
       }
     }
+    const int window = options.stall_iterations;
+    if (!finished && window > 0 && options.solver == FlowSolver::Newton &&
+        history.size() > static_cast<std::size_t>(window)) {
+      const double before = history[history.size() - 1 - window].max_error;
+      if (!(max_error < 0.5 * before) && !finish_at_floor(max_error)) {
+        finish(FlowStatus::MaxIterations, "stalled: max |K-bar - K| = " + format(max_error) +
+                                              " after " + std::to_string(iteration) +
+                                              " iterations, not half of its " + format(before) +
+                                              " " + std::to_string(window) + " iterations before");
+      }
+    }
     if (options.progress && !options.progress(r) && !finished) {
       finish(FlowStatus::Cancelled, "cancelled by the progress callback");
     }

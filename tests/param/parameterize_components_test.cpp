@@ -126,7 +126,9 @@ void expect_atlas(const ParamResult& r, const std::string& what) {
     EXPECT_NEAR(a_uv / a_3d, density, 1e-9 * density) << what << " component " << c;
     covered += a_uv;
     // Patches always count as failed; charts do where the user's own cones were refused.
-    if (comp.method == ComponentMethod::Patches) EXPECT_FALSE(comp.parameterized) << what;
+    if (comp.method == ComponentMethod::Patches) {
+      EXPECT_FALSE(comp.parameterized) << what;
+    }
     if (comp.method != ComponentMethod::Charts && comp.method != ComponentMethod::Patches) {
       EXPECT_TRUE(comp.parameterized) << what;
     }
