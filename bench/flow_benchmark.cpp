@@ -21,7 +21,7 @@
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
-#include "ricci/param/hyperbolic_param.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 
 namespace {
 

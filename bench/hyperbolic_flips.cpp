@@ -24,7 +24,7 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/param/hyperbolic_param.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "support/hard_meshes.hpp"
 
 namespace {

@@ -42,7 +42,7 @@
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
-#include "ricci/param/sphere.hpp"
+#include "ricci/sphere/sphere.hpp"
 
 namespace {
 

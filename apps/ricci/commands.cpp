@@ -24,10 +24,10 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/param/common_refinement.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/param/output_mesh.hpp"
 #include "ricci/param/parameterize.hpp"
-#include "ricci/param/sphere.hpp"
+#include "ricci/sphere/sphere.hpp"
 #include "ricci/spline/manifold_spline.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"

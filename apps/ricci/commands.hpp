@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "input_options.hpp"
-#include "ricci/param/cones.hpp"
+#include "ricci/param/cones/cones.hpp"
 
 namespace CLI {
 class App;
@@ -78,7 +78,7 @@ struct ParamArgs {
   std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
   std::string geometry = "euclidean";
   /// --faces: "input" (the input's faces, linear uv) or "refinement" (the common refinement
-  /// with homogeneous uv, ricci/param/common_refinement.hpp, and its companion files)
+  /// with homogeneous uv, ricci/param/refinement/common_refinement.hpp, and its companion files)
   std::string faces = "input";
   double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
   /// --texture: "checker" (STEM.png beside the OBJ), "none" (no material), or an image file

@@ -7,10 +7,10 @@
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/repair.hpp"
-#include "ricci/param/common_refinement.hpp"
-#include "ricci/param/hyperbolic_param.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
-#include "ricci/param/sphere.hpp"
+#include "ricci/sphere/sphere.hpp"
 #include "ricci/spline/manifold_spline.hpp"
 
 namespace ricci::cli {

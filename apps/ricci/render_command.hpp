@@ -9,8 +9,8 @@
 #include <CLI/CLI.hpp>
 
 #include "input_options.hpp"
-#include "ricci/param/common_refinement.hpp"
-#include "ricci/param/hyperbolic_param.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/spline/manifold_spline.hpp"
 

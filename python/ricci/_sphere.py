@@ -1,4 +1,4 @@
-"""Spherical conformal map: ``sphere`` wraps ``sphere_map`` (ricci/param/sphere.hpp)."""
+"""Spherical conformal map: ``sphere`` wraps ``sphere_map`` (ricci/sphere/sphere.hpp)."""
 
 import copy
 

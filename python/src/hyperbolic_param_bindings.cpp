@@ -1,5 +1,5 @@
 /// \file
-/// Bindings of the hyperbolic parameterization (ricci/param/hyperbolic_param.hpp): the layout in
+/// Bindings of the hyperbolic parameterization (ricci/hyperbolic/hyperbolic_param.hpp): the layout in
 /// the Poincare disk, the segment maps and the Fuchsian group. A Moebius map reaches Python as
 /// its 2 by 2 complex matrix [[a, b], [conj b, conj a]] (numpy complex128, determinant 1 up to
 /// rounding), acting by z -> (a z + b) / (conj(b) z + conj(a)); composition is the matrix product.
@@ -9,7 +9,7 @@
 
 #include "bindings.hpp"
 #include "ricci/mesh/validate.hpp"
-#include "ricci/param/hyperbolic_param.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 
 namespace ricci::python {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "bindings.hpp"
 #include "ricci/mesh/validate.hpp"
-#include "ricci/param/common_refinement.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci::python {

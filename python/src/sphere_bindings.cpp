@@ -1,9 +1,9 @@
 /// \file
-/// Bindings of the spherical conformal map (ricci/param/sphere.hpp).
+/// Bindings of the spherical conformal map (ricci/sphere/sphere.hpp).
 
 #include "bindings.hpp"
 #include "ricci/mesh/validate.hpp"
-#include "ricci/param/sphere.hpp"
+#include "ricci/sphere/sphere.hpp"
 
 namespace ricci::python {
 

@@ -8,7 +8,7 @@
 #include <optional>
 #include <utility>
 
-#include "mesh_flow_internal.hpp"
+#include "flow/detail/mesh_flow_internal.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/doubled_topology.hpp"
 

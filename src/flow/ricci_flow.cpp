@@ -11,11 +11,11 @@
 
 #include <Eigen/SparseCore>
 
-#include "../mesh/parallel.hpp"
+#include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/background.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"

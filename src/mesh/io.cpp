@@ -12,7 +12,7 @@
 #include <fstream>
 #include <ostream>
 
-#include "io/readers.hpp"
+#include "mesh/io/detail/readers.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {

@@ -12,12 +12,12 @@
 
 #include <Eigen/Geometry>
 
-#include "corner_fans.hpp"
-#include "disjoint_sets.hpp"
-#include "face_keys.hpp"
-#include "orientation.hpp"
+#include "mesh/detail/corner_fans.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
+#include "mesh/detail/face_keys.hpp"
+#include "mesh/detail/orientation.hpp"
 #include "ricci/errors.hpp"
-#include "slivers.hpp"
+#include "mesh/detail/slivers.hpp"
 
 namespace ricci {
 namespace {

@@ -1,4 +1,4 @@
-#include "slivers.hpp"
+#include "mesh/detail/slivers.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "zero_area.hpp"
+#include "mesh/detail/zero_area.hpp"
 
 namespace ricci::mesh_detail {
 namespace {

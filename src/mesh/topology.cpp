@@ -5,8 +5,8 @@
 #include <numeric>
 #include <string>
 
-#include "disjoint_sets.hpp"
-#include "parallel.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
+#include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/build_counts.hpp"
 

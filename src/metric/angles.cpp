@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "triangle_terms.hpp"
+#include "metric/detail/triangle_terms.hpp"
 
 namespace ricci {
 

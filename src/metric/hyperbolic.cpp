@@ -9,7 +9,7 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "triangle_terms.hpp"
+#include "metric/detail/triangle_terms.hpp"
 
 namespace ricci {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "../mesh/parallel.hpp"
+#include "numerics/detail/parallel.hpp"
 
 namespace ricci {
 

@@ -10,8 +10,8 @@
 
 #include <Eigen/Geometry>
 
-#include "../mesh/parallel.hpp"
-#include "../metric/complex_length.hpp"
+#include "numerics/detail/parallel.hpp"
+#include "ricci/numerics/complex.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci {

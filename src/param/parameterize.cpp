@@ -1,561 +1,702 @@
-#include "ricci/param/parameterize.hpp"
+/// \file
+/// parameterize itself: a mesh of one component goes to the pipeline (parameterize.cpp); a mesh
+/// of several is parameterized component by component, and the charts packed into one atlas.
 
-#include "../flow/mesh_flow_internal.hpp"
-#include "../mesh/parallel.hpp"
-#include "layout_support.hpp"
-#include "parameterize_component.hpp"
-#include "ricci/metric/intrinsic_triangulation.hpp"
-
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
-#include <future>
-#include <limits>
+#include <complex>
+#include <deque>
+#include <iomanip>
 #include <numbers>
-#include <optional>
-#include <utility>
+#include <numeric>
+#include <sstream>
+#include <string>
 
+#include <Eigen/Geometry>
+
+#include "param/atlas/detail/charts.hpp"
+#include "param/detail/one_component.hpp"
 #include "ricci/errors.hpp"
-#include "ricci/flow/flow_problem.hpp"
+#include "ricci/mesh/components.hpp"
 #include "ricci/mesh/polygons.hpp"
-#include "ricci/mesh/split.hpp"
-#include "ricci/param/polygon_fans.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/metric/curvature.hpp"
+#include "ricci/metric/scheme.hpp"
+#include "ricci/param/parameterize.hpp"
+#include "ricci/param/layout/polygon_fans.hpp"
+#include "param/atlas/detail/unfolding.hpp"
 
 namespace ricci {
-
 namespace {
 
-/// A fixed cone count too small for the curvature: about twice as many, or the automatic count.
-std::vector<OptionFix> more_cones_fixes(std::size_t count) {
-  return {OptionFix{"cones", std::to_string(2 * count + 2)}, OptionFix{"cones", "auto"}};
-}
+using param_detail::charts_result;
+using param_detail::ChartsLayout;
+using param_detail::develop_patches;
+using param_detail::embedded_pieces;
+using param_detail::lay_out_charts;
+using param_detail::PatchLayout;
+using param_detail::split_at_charts;
+using param_detail::unfolded_result;
 
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = std::numbers::pi;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-/// Automatic cones are chosen again, with more of them, while the flat metric's log scale
-/// spread exceeds the selection's bound by this factor ...
-constexpr double kNonlinearSlack = 1.25;
-/// ... at most this many times.
-constexpr int kConeRounds = 3;
+using param_detail::Points;
 
-/// Valence a cone of curvature k needs for the single-vertex bound with room to spare: each face
-/// gives the cone at least the scheme's guaranteed angle (packings with Phi up to pi/2: pi/2; the
-/// other schemes: pi), so valence > (2 pi - k) / guaranteed angle.
-int required_valence(double k, Scheme scheme) {
-  const double per_face = scheme_traits(scheme).guaranteed_face_angle;
-  return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
+/// A component whose flow layout maps some face with sigma_max / sigma_min above this is
+/// unfolded instead when its own shape lays out in one chart. Conformal layouts stay near 1
+/// (1.1 to 2 on the shared meshes); tens to 1e5 come from tiny closed parts given the few cones
+/// their topology needs (the repaired dragon's needle tetrahedra).
+constexpr double kUnfoldAbove = 10;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-}  // namespace
-
-ConeMode parse_cone_mode(const std::string& name) {
-  return parse_enum<ConeMode>(name, "parse_cone_mode");
-}
-
-const char* cone_mode_name(ConeMode mode) {
-  return enum_name(mode);
-}
-
-namespace {
-
-/// One run of the single-component pipeline: the problem (connectivity, input lengths,
-/// structure) built once for the mesh the flow runs on, the cone model built once from it, and
-/// what the stages hand on to each other. A stage that changes the mesh (valence raising,
-/// subdivision) makes the problem of the new mesh; nothing else builds one.
-struct ParamRun {
-  ParamRun(const Mesh& mesh, const ParamOptions& o, ParamResult& r, Topology topology)
-      : input(mesh), options(o), result(r), input_topology(std::move(topology)) {}
-  const Mesh& input;
-  const ParamOptions& options;
-  ParamResult& result;
-  /// The input's connectivity until the problem takes it.
-  Topology input_topology;
-  std::optional<FlowProblem> problem;   ///< of result.mesh (of the input until it changes)
-  std::optional<ConeModel> cone_model;  ///< of *problem, at the first automatic selection
-  bool closed = false;
-  int chi = 0;
-  /// Edge flips: every admissible target is reachable on the mesh's own triangulation.
-  bool flips = false;
-  ConeMode mode = ConeMode::Needed;  ///< options.cone_mode with Needed resolved
-  std::vector<Cone> cones;
-
-  /// The problem of the mesh the flow will run on, built at the first call.
-  FlowProblem& the_problem(const Mesh& mesh) {
-    if (!problem) problem = make_flow_problem(mesh, std::move(input_topology), options.structure);
-    return *problem;
-  }
-  /// A new problem for a changed mesh (the cone model belonged to the old one).
-  void remake_problem(const Mesh& mesh) {
-    cone_model.reset();
-    problem.reset();
-    input_topology = build_topology(mesh.triangles, mesh.num_vertices());
-    the_problem(mesh);
-  }
-  const ConeModel& the_cone_model() {
-    if (!cone_model) cone_model = build_cone_model(the_problem(input));
-    return *cone_model;
-  }
+/// One component on its way into the atlas.
+struct Piece {
+  ComponentParam info;
+  Triangles cut_triangles;      ///< #F of info.param.mesh by 3: its cut-mesh vertices
+  std::vector<int> cut_vertex;  ///< per cut-mesh vertex: vertex of info.param.mesh
+  Points layout;                ///< per cut-mesh vertex, scaled by info.area_scale
+  std::vector<int> face_chart;  ///< #F of info.param.mesh: its own chart (one chart: empty)
+  int num_charts = 1;
+  std::vector<char> cut_edges;  ///< Patches: #E of its mesh, the edges between patches' faces
+  int exact_flipped = 0;        ///< faces the exact map drew flipped, before untangling
 };
 
-/// Wall time since the previous lap, added to a phase of result.timings.
-class Laps {
- public:
-  void operator()(double& phase) {
-    const auto now = Clock::now();
-    phase += std::chrono::duration<double>(now - last_).count();
-    last_ = now;
-  }
-  void restart() { last_ = Clock::now(); }
-
- private:
-  Clock::time_point last_ = Clock::now();
-};
-
-/// Automatic cones from the run's model (ConeSelection in result.cone_selection).
-std::vector<Cone> select_automatic(ParamRun& run, int count) {
-  ConeSelectionOptions selection = run.options.auto_cones;
-  selection.count = count;
-  selection.boundary = run.options.boundary;
-  selection.quantize = run.options.quantize;
-  run.result.cone_selection = select_cones(run.the_cone_model(), selection);
-  std::vector<Cone> chosen;
-  const ConeSelection& s = run.result.cone_selection;
-  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
-    chosen.push_back({s.vertices[i], s.linear_curvature[i]});
-  }
-  return chosen;
+/// The rigid motion z -> a z + b of a chart, seen after the chart moved by w = m z + s (m: the
+/// chart's rotation times its scale): w -> a w + (m b + (1 - a) s).
+std::complex<double> moved_translation(std::complex<double> a, std::complex<double> b,
+                                       std::complex<double> m, std::complex<double> s) {
+  return m * b + (1.0 - a) * s;
 }
 
-/// Quarter-turn cone curvatures (ParamOptions::quantize).
-void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
-  if (!run.options.quantize || chosen.empty()) return;
-  double total = 0;
-  for (const Cone& c : chosen) total += c.curvature;
-  // Closed surfaces must keep 2 pi chi; with a boundary the nearest multiple of pi/2 will do.
-  total = run.closed ? 2 * kPi * run.chi : std::round(total / (kPi / 2)) * (kPi / 2);
-  chosen = quantize_cones(chosen, total);
+std::string describe(const ComponentParam& c, int index) {
+  return "component " + std::to_string(index) + " (" + std::to_string(c.faces.size()) +
+         " faces, genus " + std::to_string(c.genus) + ", " + std::to_string(c.boundary_loops) +
+         " boundary loops)";
 }
 
-/// Stage 1: the singularities, in input vertex indices.
-void choose_cones(ParamRun& run) {
-  const ParamOptions& options = run.options;
-  const Component& component = run.input_topology.components[0];
-  const int genus = component.genus, boundary_loops = component.num_boundary_loops;
-  switch (run.mode) {
-    case ConeMode::Needed:
-      break;
-    case ConeMode::None:
-      if (run.closed && run.chi != 0) {
-        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
-                               " has no flat metric without cones (chi = " +
-                               std::to_string(run.chi) + "); use automatic cones or one cone",
-                           genus >= 2 ? fixes_of({{"cones", "auto"}, {"cones", "one"}})
-                                      : fixes_of({{"cones", "auto"}}));
-      }
-      break;
-    case ConeMode::User:
-      run.cones = options.cones;
-      break;
-    case ConeMode::OneCone: {
-      if (!run.closed || genus < 2) {
-        throw InvalidInput(
-            "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
-            "2; this one has genus " +
-                std::to_string(genus) + " and " + std::to_string(boundary_loops) +
-                " boundary loops",
-            fixes_of({{"cones", "needed"}, {"cones", "auto"}}));
-      }
-      ConeSelectionOptions one = options.auto_cones;
-      one.count = 1;
-      one.try_first_cone_candidates = 16;
-      one.max_cones = 1;
-      run.result.cone_selection = select_cones(run.the_cone_model(), one);
-      run.cones.push_back({run.result.cone_selection.vertices.front(), 2 * kPi * run.chi});
-      break;
+/// Interior vertices whose layout angle (over the corners of all their copies) is not the flat
+/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to the checker's 1e-6).
+int vertices_off_their_angle(const ParamResult& p) {
+  const Mesh& mesh = p.mesh;
+  const int nv = mesh.num_vertices();
+  std::vector<double> angle(nv, 0), expected(nv, 2 * std::numbers::pi);
+  std::vector<char> on_boundary(nv, 0);
+  for (const Cone& c : p.cones) {
+    if (c.vertex >= 0 && c.vertex < nv) expected[c.vertex] -= c.curvature;
+  }
+  const Triangles& corners = p.cut_mesh.triangles;
+  std::vector<std::array<int, 3>> edges;  // (smaller, larger, face) to find boundary edges
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d a = p.layout.uv.row(corners(f, k)).transpose();
+      const Eigen::Vector2d b = p.layout.uv.row(corners(f, (k + 1) % 3)).transpose() - a;
+      const Eigen::Vector2d c = p.layout.uv.row(corners(f, (k + 2) % 3)).transpose() - a;
+      angle[mesh.triangles(f, k)] += std::atan2(b.x() * c.y() - b.y() * c.x(), b.dot(c));
+      const int u = mesh.triangles(f, k), v = mesh.triangles(f, (k + 1) % 3);
+      edges.push_back({std::min(u, v), std::max(u, v), f});
     }
-    case ConeMode::Auto:
-      run.cones = select_automatic(run, options.auto_cones.count);
-      for (const Cone& c : run.cones) {
-        // A fixed count too small for the curvature (two cones on a sphere): the least-squares
-        // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
-        if (!run.result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
-          throw InvalidInput("parameterize: " + std::to_string(run.cones.size()) +
-                                 " automatic cones cannot carry the curvature within their bounds "
-                                 "(vertex " +
-                                 std::to_string(c.vertex) + " would need " +
-                                 std::to_string(c.curvature) +
-                                 ", a cone angle below 0); ask for more cones, or let the count be "
-                                 "chosen automatically",
-                             more_cones_fixes(run.cones.size()));
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    if (j - i == 1) on_boundary[edges[i][0]] = on_boundary[edges[i][1]] = 1;
+    i = j;
+  }
+  int off = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > 1e-6 && angle[v] != 0) ++off;
+  }
+  return off;
+}
+
+/// The exact map's own checks (FoldFreeOptions): converged, closes up, finite, no face flipped or
+/// degenerate. `why` says which failed.
+bool passes_checks(const ParamResult& p, const ParamOptions& options, std::string& why) {
+  if (!p.converged) {
+    why = p.message.empty() ? "the flow did not converge" : p.message;
+    return false;
+  }
+  if (!(p.layout.max_length_relative_error <= options.fold_free.max_length_error) ||
+      !p.layout.uv.allFinite()) {
+    std::ostringstream error;
+    error << std::setprecision(3) << p.layout.max_length_relative_error;
+    why = "the layout does not close up (relative length error " + error.str() +
+          "): the flat metric's scale spans more than double precision lays out";
+    return false;
+  }
+  const int folded = p.distortion.flipped_faces + p.distortion.degenerate_faces;
+  if (folded > 0) {
+    why = std::to_string(folded) + " faces stay flipped or degenerate after untangling (" +
+          std::to_string(p.untangle.stuck_faces) +
+          " with no vertex free to move, or around a cone whose angle its faces cannot hold)";
+    return false;
+  }
+  // Every face positive, yet a vertex could still be wrapped twice (angle 4 pi where the metric
+  // says 2 pi): the layout's angle at every interior vertex must be the metric's.
+  const int off = vertices_off_their_angle(p);
+  if (off > 0) {
+    why = std::to_string(off) + " vertices have another angle in the layout than the flat metric";
+    return false;
+  }
+  return true;
+}
+
+/// FlowOptions::stall_iterations where the charts route may take over: a flow that has not
+/// halved its error in 30 Newton iterations is not converging (the corpus's converging flows
+/// halve it at nearly every iteration once past their first damped steps).
+constexpr int kStallIterationsWithCharts = 30;
+
+/// Whether an exception of the exact map gives way to the other routes: cones whose count was
+/// left to ricci and still cannot carry the curvature. The user's own choices (their cones, a
+/// count of automatic cones, no cones, one cone) are refused as they are, with the options that
+/// work, since the user asked for exactly that map.
+bool may_replace_refusal(const ParamOptions& options) {
+  return options.fold_free.charts &&
+         (options.cone_mode == ConeMode::Needed ||
+          (options.cone_mode == ConeMode::Auto && options.auto_cones.count == 0));
+}
+
+ParamResult parameterize_components(const Mesh& input, const Topology& topology,
+                                    const ParamOptions& options, ParamResult* first_attempt,
+                                    const std::string& first_why) {
+  const auto start = Clock::now();
+  const int num_components = static_cast<int>(topology.components.size());
+  const int nv_in = input.num_vertices();
+
+  // User cones go to the component of their vertex, in its local numbering.
+  std::vector<std::vector<Cone>> user_cones(num_components);
+  if (options.cone_mode == ConeMode::User) {
+    std::vector<int> local(nv_in, -1);
+    for (const Component& c : topology.components) {
+      for (std::size_t i = 0; i < c.vertices.size(); ++i) {
+        local[c.vertices[i]] = static_cast<int>(i);
+      }
+    }
+    for (const Cone& cone : options.cones) {
+      if (cone.vertex < 0 || cone.vertex >= nv_in || topology.vertex_component[cone.vertex] < 0) {
+        throw InvalidInput("parameterize: cone vertex " + std::to_string(cone.vertex) +
+                           " is not a vertex of any face");
+      }
+      user_cones[topology.vertex_component[cone.vertex]].push_back(
+          {local[cone.vertex], cone.curvature});
+    }
+  }
+
+  // 1. Each component on its own: the pipeline, else its own shape, as one patch or several.
+  std::vector<Submesh> submeshes = split_components(input, topology);
+  std::vector<Piece> pieces(num_components);
+  for (int c = 0; c < num_components; ++c) {
+    const auto component_start = Clock::now();
+    const Component& component = topology.components[c];
+    const Mesh& sub = submeshes[c].mesh;
+    Piece& piece = pieces[c];
+    ComponentParam& info = piece.info;
+    info.vertices = component.vertices;
+    info.faces = component.faces;
+    info.euler_characteristic = component.euler_characteristic;
+    info.genus = component.genus;
+    info.boundary_loops = component.num_boundary_loops;
+    // The user's own choice (their cones, a count) refused: the component is laid out still,
+    // but reported as failed, since what was asked was not made.
+    bool refused_choice = false;
+    const Polygons polygons = polygons_of_faces(options.polygons, submeshes[c].face_map);
+    if (sub.num_faces() > 2) {
+      ParamOptions component_options = options;
+      component_options.cones = user_cones[c];
+      component_options.polygons = polygons;
+      // Whichever flow the progress callback stops (cone settling included), stop here too.
+      bool cancelled = false;
+      if (options.flow.progress) {
+        component_options.flow.progress = [&](const IterationRecord& record) {
+          const bool go = options.flow.progress(record);
+          cancelled = cancelled || !go;
+          return go;
+        };
+      }
+      if (c == 0 && first_attempt != nullptr) {
+        info.param = std::move(*first_attempt);  // a single component's exact map, done already
+      } else if (c == 0 && !first_why.empty()) {
+        info.message = first_why;  // ... which was refused
+      } else {
+        try {
+          info.param = parameterize_one_component(sub, component_options);
+        } catch (const InvalidInput& e) {
+          if (num_components == 1 && !may_replace_refusal(options)) throw;
+          refused_choice = !may_replace_refusal(options);
+          info.param = ParamResult{};
+          info.message = e.what();
+        } catch (const Error& e) {
+          info.param = ParamResult{};
+          info.message = e.what();
         }
       }
-      break;
-  }
-}
-
-/// Stage 2: local connectivity modification, raising the valence of cones that need it (without
-/// flips only). The problem of the raised mesh is made when edges were split.
-void raise_cone_valence(ParamRun& run) {
-  ParamResult& result = run.result;
-  result.mesh = run.input;
-  result.vertex_origin.resize(run.input.num_vertices());
-  for (int v = 0; v < run.input.num_vertices(); ++v) result.vertex_origin[v] = v;
-  // With flips every admissible target is reachable on the input's own triangulation, which is
-  // kept. (A cone much stronger than its valence then shows as flipped uv triangles around it, as
-  // every map drawn linearly on the input's faces does; the common refinement is exact.)
-  if (run.options.modify_connectivity && !run.flips) {
-    // Degrees of the current mesh: the input's connectivity, rebuilt only after a split.
-    std::optional<Topology> raised;
-    for (const Cone& cone : run.cones) {
-      if (cone.vertex < 0 || cone.vertex >= result.mesh.num_vertices()) continue;  // flat_target
-      const Topology& t = raised        ? *raised
-                          : run.problem ? run.problem->topology
-                                        : run.input_topology;
-      const int needed = required_valence(cone.curvature, run.options.structure.scheme);
-      if (t.vertex_degree[cone.vertex] >= needed) continue;
-      ValenceResult r = raise_valence(result.mesh, t, cone.vertex, needed);
-      result.mesh = std::move(r.mesh);
-      result.edge_splits += r.splits;
-      for (const auto& parents : r.new_vertex_parents) {
-        result.added_vertex_parents.push_back(parents);
-        result.vertex_origin.push_back(-1);
+      std::string why;
+      info.parameterized = info.message.empty() && passes_checks(info.param, options, why);
+      if (info.message.empty()) info.message = why;
+      if (info.parameterized) {
+        info.method = info.param.untangle.moved_vertices > 0 ? ComponentMethod::Untangled
+                                                             : ComponentMethod::Flow;
+        info.message.clear();
       }
-      raised = std::move(r.topology);
+      piece.exact_flipped = info.param.untangle.flipped_before;
+      if (cancelled) {
+        // The progress callback asked to stop: no other component is started, no atlas made.
+        ParamResult stopped;
+        stopped.mesh = input;
+        stopped.message =
+            "parameterize: cancelled in component " + std::to_string(c) + ": " + info.message;
+        for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
+        stopped.seconds = seconds_since(start);
+        return stopped;
+      }
     }
-    if (raised) {
-      run.cone_model.reset();
-      run.problem.reset();
-      run.input_topology = std::move(*raised);
+    const bool distorted =
+        info.parameterized && info.param.distortion.angle_distortion_max > kUnfoldAbove;
+    if (distorted) {
+      // The flow's layout is valid but far from conformal somewhere (the few cones a tiny
+      // closed part needs, on a needle-shaped tetrahedron): its own shape, if it lays out in one
+      // piece, has no distortion at all.
+      PatchLayout patches = develop_patches(sub, polygons);
+      if (patches.num_patches == 1) {
+        info.message = "the flow's layout distorts angles by up to " +
+                       std::to_string(info.param.distortion.angle_distortion_max) +
+                       " (sigma_max / sigma_min)";
+        info.method = ComponentMethod::Unfolded;
+        info.param = unfolded_result(sub, patches, polygons);
+      }
+    }
+    if (!info.parameterized) {
+      PatchLayout patches = develop_patches(sub, polygons);
+      if (patches.num_patches == 1) {
+        info.method = ComponentMethod::Unfolded;
+        info.parameterized = true;
+        info.param = unfolded_result(sub, patches, polygons);
+      } else if (options.fold_free.charts) {
+        // Charts cut through the failed map's cones (its cut relieved the curvature there).
+        const auto charts_start = Clock::now();
+        std::vector<int> cut_through;
+        for (const Cone& cone : info.param.cones) {
+          if (cone.vertex < sub.num_vertices()) cut_through.push_back(cone.vertex);
+        }
+        ParamOptions chart_options = options;
+        chart_options.flow.progress = {};
+        chart_options.polygons = polygons;
+        ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
+        info.param = charts_result(sub, charts, polygons);
+        info.param.timings.charts = seconds_since(charts_start);
+        info.method = ComponentMethod::Charts;
+        info.parameterized = !refused_choice;
+        info.message += "; laid out as " + charts.message;
+        piece.face_chart = std::move(charts.face_chart);
+        piece.num_charts = charts.num_charts;
+      } else {
+        info.method = ComponentMethod::Patches;
+        if (!info.message.empty()) info.message += "; ";
+        info.message += "its own shape needs " + std::to_string(patches.num_patches) +
+                        " patches not to overlap";
+        // The failed pipeline's result stays for its diagnostics, on the component itself.
+        info.param.mesh = sub;
+        info.param.vertex_origin.resize(sub.num_vertices());
+        std::iota(info.param.vertex_origin.begin(), info.param.vertex_origin.end(), 0);
+        info.param.added_vertex_parents.clear();
+        info.param.edge_splits = 0;
+        info.param.subdivided = false;
+        info.distortion = measure_polygon_distortion(
+            sub, start_fans_where_valid(polygons, sub, patches.triangles, patches.layout),
+            patches.triangles, patches.layout);
+        piece.cut_triangles = std::move(patches.triangles);
+        piece.cut_vertex = std::move(patches.vertex);
+        piece.layout = std::move(patches.layout);
+        piece.face_chart = std::move(patches.face_patch);
+        piece.num_charts = patches.num_patches;
+        piece.cut_edges.resize(patches.is_glued_edge.size());
+        const Topology t = build_topology(sub.triangles, sub.num_vertices());
+        for (int e = 0; e < t.num_edges; ++e) {
+          piece.cut_edges[e] = !t.is_boundary_edge[e] && !patches.is_glued_edge[e];
+        }
+      }
+    }
+    if (info.method != ComponentMethod::Patches) {
+      const ParamResult& p = info.param;
+      piece.cut_triangles = p.cut_mesh.triangles;
+      piece.cut_vertex = p.cut_mesh.to_original;
+      info.area_scale = p.distortion.layout_area > 0
+                            ? std::sqrt(p.distortion.surface_area / p.distortion.layout_area)
+                            : 1.0;
+      piece.layout = p.layout.uv * info.area_scale;
+      info.distortion = p.distortion;
+      info.seam_length = p.seam_length;
+      // (Charts are laid out as pieces that do not overlap, on top of each other.)
+      info.overlapping_face_pairs =
+          info.method == ComponentMethod::Charts
+              ? 0
+              : find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
+      if (info.overlapping_face_pairs > 0) {
+        // The layout overlaps itself (a flat metric cut open into one disk can wind over
+        // itself): cut it into pieces that do not, each its own chart, the pieces' shared
+        // vertices copied.
+        int count = 0;
+        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count,
+                                           info.param.polygons.triangle_polygon);
+        piece.num_charts = count;
+        // The pieces' shared vertices copied, one per fan of each piece.
+        const std::vector<int> source = split_at_charts(
+            piece.cut_triangles, static_cast<int>(piece.layout.rows()), piece.face_chart);
+        std::vector<int> vertex(source.size());
+        Points positions(static_cast<Eigen::Index>(source.size()), 2);
+        for (std::size_t v = 0; v < source.size(); ++v) {
+          vertex[v] = piece.cut_vertex[source[v]];
+          positions.row(static_cast<Eigen::Index>(v)) = piece.layout.row(source[v]);
+        }
+        piece.cut_vertex = std::move(vertex);
+        piece.layout = std::move(positions);
+      }
+    }
+    info.seconds = seconds_since(component_start);
+  }
+
+  // 2. The whole mesh: the input's vertices, then each component's added ones; the input's
+  // faces in order, a component whose faces changed giving all of its faces at its first.
+  ParamResult result;
+  int num_vertices = nv_in;
+  for (Piece& piece : pieces) {
+    ComponentParam& info = piece.info;
+    const Mesh& m = info.param.mesh;
+    info.vertex_map.resize(m.num_vertices());
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      info.vertex_map[i] =
+          i < static_cast<int>(info.vertices.size()) ? info.vertices[i] : num_vertices++;
     }
   }
-  result.cones = run.cones;
-}
-
-}  // namespace
-
-ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
-  return parameterize_one_component(input, options,
-                                    build_topology(input.triangles, input.num_vertices()));
-}
-
-namespace {
-
-/// What the cut stage makes: the cut graph through the cones, the sliced mesh and the layout's
-/// root faces. It needs only the connectivity and the 3D lengths, so it can run beside the flow.
-struct CutStage {
-  CutGraph cut;
-  CutMesh cut_mesh;
-  layout_support::Roots roots;  // of the layout (default options), chosen ahead
-  double seconds = 0;
-};
-
-/// The polygons the run keeps whole: ParamOptions::polygons while the mesh has the input's faces
-/// (no edge split); null otherwise.
-const Polygons* kept_polygons(const ParamRun& run) {
-  const bool same_faces = run.result.edge_splits == 0 && !run.result.subdivided;
-  return same_faces && !run.options.polygons.empty() ? &run.options.polygons : nullptr;
-}
-
-/// Stage 4a: the cut through these cones on the problem's connectivity, never along the
-/// diagonals of the polygons (when not null).
-CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones,
-                     const Polygons* polygons) {
-  const auto t = Clock::now();
-  CutStage stage;
-  CutGraphOptions cut_options;
-  for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
-  if (polygons != nullptr) cut_options.uncut_edges = polygon_diagonals(problem.topology, *polygons);
-  stage.cut = cut_graph(problem.topology, problem.input_lengths, cut_options);
-  stage.cut_mesh = slice(problem.topology, stage.cut);
-  stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
-                                                 stage.roots.first);
-  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
-  return stage;
-}
-
-/// The flow stage's state: the problem it runs on, its options, and the cut made beside it.
-struct FlowStage {
-  FlowProblem* problem = nullptr;
-  MeshFlowOptions options;
-  /// Whether the flow's result refers to the problem's triangulation as its input (handed over
-  /// at the end of the pipeline).
-  bool kept_topology = false;
-  /// When the flow cannot change the connectivity (no subdivision possible) the cut runs beside
-  /// it, on a core the flow's factorisation leaves idle.
-  std::future<CutStage> cut_ahead;
-
-  MeshFlowResult run(bool& kept) const {
-    return mesh_flow_internal::flow_mesh_keeping_topology(*problem, options, kept);
-  }
-  /// The cut beside the flow reads the problem: wait for it before the problem changes.
-  void drop_cut_ahead() {
-    if (cut_ahead.valid()) cut_ahead.wait();
-    cut_ahead = {};
-  }
-};
-
-/// Stage 3: the Ricci flow to the flat metric with the run's cones, with its fallbacks: one
-/// midpoint subdivision when a packing degenerates, and rounds of more automatic cones while the
-/// flat metric spreads past the selection's bound.
-void flow_to_flat(ParamRun& run, FlowStage& stage) {
-  const ParamOptions& options = run.options;
-  ParamResult& result = run.result;
-  std::vector<Cone>& cones = run.cones;
-  try {
-    result.flow = stage.run(stage.kept_topology);
-  } catch (const InvalidInput& e) {
-    // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
-    // not the flow's target options.
-    if (options.cone_mode != ConeMode::User || e.fixes().empty()) throw;
-    throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
-  }
-  result.converged = result.flow.converged;
-  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
-  const FlowStatus status = result.flow.status;
-  if (!result.converged && may_subdivide &&
-      (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
-    // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
-    // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
-    // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
-    // an edge midpoint). The subdivided mesh has a problem of its own.
-    stage.drop_cut_ahead();
-    const int before = result.mesh.num_vertices();
-    const Topology& t = stage.problem->topology;
-    result.mesh = subdivide_midpoint(result.mesh);
-    for (int e = 0; e < t.num_edges; ++e) {
-      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
-      result.vertex_origin.push_back(-1);
+  result.mesh.positions.resize(num_vertices, 3);
+  result.mesh.positions.topRows(nv_in) = input.positions;
+  result.vertex_origin.assign(num_vertices, -1);
+  std::iota(result.vertex_origin.begin(), result.vertex_origin.begin() + nv_in, 0);
+  for (const Piece& piece : pieces) {
+    const ComponentParam& info = piece.info;
+    const ParamResult& p = info.param;
+    for (int i = static_cast<int>(info.vertices.size()); i < p.mesh.num_vertices(); ++i) {
+      result.mesh.positions.row(info.vertex_map[i]) = p.mesh.positions.row(i);
     }
-    result.edge_splits += result.mesh.num_vertices() - before;
-    result.subdivided = true;
-    run.remake_problem(result.mesh);
-    stage.problem = &*run.problem;
-    result.flow = stage.run(stage.kept_topology);
-    result.converged = result.flow.converged;
-  }
-  // 3b. The selection's model is the flow linearised at the input metric, which holds while u
-  // stays small. Strong cones leave it: on a CAD cylinder three cones of 1.5 pi each met the
-  // linear bound, but the flat metric scaled areas by e^4 (area distortion energy 4.5, angle
-  // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
-  // the bound, more cones are chosen (from the same model) and the flow run again (on the same
-  // problem), keeping the better of the two.
-  if (run.mode != ConeMode::Auto || options.auto_cones.count != 0 || !run.flips ||
-      !result.converged) {
-    return;
-  }
-  std::vector<int> vertices;
-  vertices.reserve(cones.size());
-  for (const Cone& c : cones) vertices.push_back(c.vertex);
-  result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
-  for (int round = 0; round < kConeRounds; ++round) {
-    if (result.log_scale_spread <= kNonlinearSlack * options.auto_cones.max_log_scale) break;
-    const int n = static_cast<int>(cones.size());
-    ConeSelection previous = result.cone_selection;
-    std::vector<Cone> more = select_automatic(run, std::max(n + 2, (3 * n + 1) / 2));
-    // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such cone
-    // set is drawable. Either way the first one stays.
-    if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
-      result.cone_selection = std::move(previous);
-      break;
+    for (const auto& [a, b] : p.added_vertex_parents) {
+      result.added_vertex_parents.push_back({info.vertex_map[a], info.vertex_map[b]});
     }
-    quantize(run, more);
-    stage.options.target.cones = more;
-    MeshFlowResult flow;
-    bool kept = false;
-    try {
-      flow = stage.run(kept);
-    } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
-      result.cone_selection = std::move(previous);
-      stage.options.target.cones = cones;
-      break;
-    }
-    vertices.clear();
-    for (const Cone& c : more) vertices.push_back(c.vertex);
-    const double spread =
-        flow.converged ? log_scale_spread(run.the_cone_model(), flow.u, vertices) : kInf;
-    ++result.cone_rounds;
-    if (!(spread < result.log_scale_spread)) {
-      result.cone_selection = std::move(previous);
-      stage.options.target.cones = cones;
-      break;
-    }
-    cones = std::move(more);
-    // The cut made beside the first flow runs through the old cones: cut again.
-    stage.drop_cut_ahead();
-    result.cones = cones;
-    result.flow = std::move(flow);
-    stage.kept_topology = kept;
-    result.log_scale_spread = spread;
+    result.edge_splits += p.edge_splits;
+    result.subdivided = result.subdivided || p.subdivided;
   }
-}
+  std::vector<int> local_face(input.num_faces());
+  for (const Component& c : topology.components) {
+    for (std::size_t i = 0; i < c.faces.size(); ++i) local_face[c.faces[i]] = static_cast<int>(i);
+  }
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(input.num_faces());
+  auto emit = [&](Piece& piece, int j) {
+    piece.info.face_map[j] = static_cast<int>(faces.size());
+    const Triangles& t = piece.info.param.mesh.triangles;
+    faces.push_back({piece.info.vertex_map[t(j, 0)], piece.info.vertex_map[t(j, 1)],
+                     piece.info.vertex_map[t(j, 2)]});
+  };
+  for (Piece& piece : pieces) piece.info.face_map.resize(piece.info.param.mesh.num_faces());
+  for (int f = 0; f < input.num_faces(); ++f) {
+    Piece& piece = pieces[topology.face_component[f]];
+    const bool unchanged =
+        piece.info.param.mesh.num_faces() == static_cast<int>(piece.info.faces.size());
+    if (unchanged) {
+      emit(piece, local_face[f]);
+    } else if (local_face[f] == 0) {
+      for (int j = 0; j < piece.info.param.mesh.num_faces(); ++j) emit(piece, j);
+    }
+  }
+  result.mesh.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k)
+      result.mesh.triangles(static_cast<Eigen::Index>(f), k) = faces[f][k];
+  }
 
-/// Faces of a layout with signed area <= 0.
-int count_flipped(const Triangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
-  int n = 0;
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    const Eigen::Vector2d a = uv.row(triangles(f, 0)).transpose();
-    const Eigen::Vector2d b = uv.row(triangles(f, 1)).transpose() - a;
-    const Eigen::Vector2d c = uv.row(triangles(f, 2)).transpose() - a;
-    n += !(b.x() * c.y() - b.y() * c.x() > 0);
+  // 3. The cut mesh and the layout before packing, component after component, and the charts:
+  // one per component, one per patch of a Patches component.
+  int num_cut_vertices = 0, num_charts = 0;
+  for (Piece& piece : pieces) {
+    piece.info.cut_vertex_offset = num_cut_vertices;
+    num_cut_vertices += static_cast<int>(piece.layout.rows());
+    for (int k = 0; k < piece.num_charts; ++k) piece.info.charts.push_back(num_charts++);
   }
-  return n;
-}
+  Points layout(num_cut_vertices, 2);
+  Triangles cut_triangles(result.mesh.num_faces(), 3);
+  std::vector<int> face_chart(result.mesh.num_faces());
+  result.cut_mesh.to_original.resize(num_cut_vertices);
+  for (Piece& piece : pieces) {
+    ComponentParam& info = piece.info;
+    const int offset = info.cut_vertex_offset;
+    layout.middleRows(offset, piece.layout.rows()) = piece.layout;
+    for (std::size_t i = 0; i < piece.cut_vertex.size(); ++i) {
+      result.cut_mesh.to_original[offset + i] = info.vertex_map[piece.cut_vertex[i]];
+    }
+    for (int j = 0; j < piece.cut_triangles.rows(); ++j) {
+      cut_triangles.row(info.face_map[j]) = piece.cut_triangles.row(j).array() + offset;
+      face_chart[info.face_map[j]] =
+          info.charts[piece.face_chart.empty() ? 0 : piece.face_chart[j]];
+    }
+  }
 
-/// Stage 4: cut graph through the cones, slicing, layout, angle polish, atlas and distortion,
-/// all on the mesh's own faces. After Delaunay flips the flat metric lives on the intrinsic
-/// triangulation; each input face is developed in it (its corners at their exact images), so the
-/// cut runs along input edges and the layout, the seams and the written faces are the user's.
-void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
-  ParamResult& result = run.result;
-  const FlowProblem& problem = *stage.problem;
-  const Topology& topology = problem.topology;
-  const Polygons* polygons = kept_polygons(run);
-  CutStage cut =
-      stage.cut_ahead.valid() ? stage.cut_ahead.get() : cut_through(problem, run.cones, polygons);
-  result.cut = std::move(cut.cut);
-  result.cut_mesh = std::move(cut.cut_mesh);
-  // The stage's own time (run beside the flow it took no time of the pipeline's own).
-  result.timings.cut += cut.seconds;
-  lap.restart();
-  const Development development = develop_input_faces(topology, result.flow);
-  result.development_length_mismatch = development.max_length_mismatch;
-  lap(result.timings.development);
-  result.layout = layout_support::layout_flat_with_roots(
-      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
-  lap(result.timings.layout);
-  if (run.options.polish.enabled) {
-    result.polish =
-        polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv, run.options.polish);
-    // The layout takes the polished positions; polish.uv keeps the flat metric's own.
-    std::swap(result.layout.uv, result.polish.uv);
-    lap(result.timings.polish);
-  }
-  if (run.options.fold_free.untangle && result.layout.uv.allFinite() &&
-      result.layout.max_length_relative_error <= run.options.fold_free.max_length_error) {
-    // (A layout that does not close up is no map to untangle: parameterize replaces it.)
-    // Faces drawn flipped (needles whose vertices' exact images come out in clockwise order)
-    // untangled: cones and the boundary stay, seam vertices move with all their copies.
-    UntangleOptions untangle;
-    // A free boundary's shape is the flat metric's but nothing asks for it; a disk's is.
-    untangle.move_boundary = run.options.boundary == BoundaryMode::Free;
-    // With the charts to fall back on, a layout that cannot come out fold-free is left as is.
-    untangle.give_up_when_stuck = run.options.fold_free.charts;
-    untangle.fixed.assign(result.mesh.num_vertices(), 0);
-    untangle.angles.assign(result.mesh.num_vertices(), 2 * kPi);
-    // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
-    // whatever else moves: no untangling is tried then.
-    bool overloaded = false;
-    for (const Cone& c : result.cones) {
-      if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
-      untangle.fixed[c.vertex] = 1;
-      untangle.angles[c.vertex] = 2 * kPi - c.curvature;
-      const int faces = topology.vertex_degree[c.vertex] - topology.is_boundary_vertex[c.vertex];
-      overloaded = overloaded || 2 * kPi - c.curvature >= faces * kPi;
-    }
-    if (overloaded) {
-      result.untangle = {};
-      result.untangle.flipped_before = count_flipped(result.cut_mesh.triangles, result.layout.uv);
-      result.untangle.flipped_after = result.untangle.stuck_faces = result.untangle.flipped_before;
-    } else {
-      result.untangle =
-          untangle_layout(result.mesh, result.cut_mesh.triangles, result.layout.uv, untangle);
-      if (result.untangle.moved_vertices > 0) result.layout.uv = std::move(result.untangle.uv);
-      result.untangle.uv.resize(0, 2);
-    }
-    lap(result.timings.untangle);
-  }
-  result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
-  lap(result.timings.atlas);
-  // The faces written: the triangles, or each polygon from a corner whose fan is sound.
-  if (polygons != nullptr) {
+  // 4. Packing.
+  result.packing = pack_charts(layout, cut_triangles, face_chart, options.packing);
+  result.uv = std::move(result.packing.uv);
+  result.packing.uv.resize(0, 2);
+  result.uv_scale = result.packing.scale;
+  result.uv_offset = Eigen::Vector2d::Zero();
+  result.layout.uv = result.uv / result.packing.scale;
+  result.cut_mesh.triangles = std::move(cut_triangles);
+  result.cut_mesh.topology = build_topology(result.cut_mesh.triangles, num_cut_vertices);
+  // The input's polygons are the whole mesh's when no component changed its faces.
+  if (result.edge_splits == 0 && !result.subdivided) {
     result.polygons =
-        start_fans_where_valid(*polygons, result.mesh, result.cut_mesh.triangles, result.layout.uv);
+        start_fans_where_valid(options.polygons, result.mesh, result.cut_mesh.triangles, result.uv);
   }
   result.distortion = measure_polygon_distortion(result.mesh, result.polygons,
-                                                 result.cut_mesh.triangles, result.layout.uv);
-  lap(result.timings.distortion);
-  for (int e = 0; e < topology.num_edges; ++e) {
-    if (result.cut.is_cut_edge[e]) result.seam_length += problem.input_lengths[e];
-  }
-}
+                                                 result.cut_mesh.triangles, result.uv);
 
-/// Stage 5: texture coordinates in the unit square, aspect ratio kept.
-void to_unit_square(ParamResult& result) {
-  const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
-  const Eigen::Vector2d hi = result.layout.uv.colwise().maxCoeff().transpose();
-  const double extent = (hi - lo).maxCoeff();
-  result.uv_offset = lo;
-  result.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
-  result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
-}
+  // 5. The stages in whole-mesh indices: cut, cones, transitions, atlas, flow.
+  const Topology whole = build_topology(result.mesh.triangles, num_vertices);
+  result.cut.is_cut_edge.assign(whole.num_edges, 0);
+  result.flow.converged = true;
+  result.flow.u = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.curvature = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.target_curvature = Eigen::VectorXd::Zero(num_vertices);
+  result.flow.target.description = "flat, per component";
+  int segment_offset = 0;
+  double polish_faces = 0;
+  for (int c = 0; c < num_components; ++c) {
+    ComponentParam& info = pieces[c].info;
+    const ParamResult& p = info.param;
+    const Topology local = build_topology(p.mesh.triangles, p.mesh.num_vertices());
+    std::vector<int> edge_map(local.num_edges, -1);
+    for (int j = 0; j < local.num_faces; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        edge_map[local.halfedge_edge[3 * j + k]] = whole.halfedge_edge[3 * info.face_map[j] + k];
+      }
+    }
+    if (info.method == ComponentMethod::Patches) {
+      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+      for (int e = 0; e < local.num_edges; ++e) {
+        if (!pieces[c].cut_edges[e]) continue;
+        result.cut.is_cut_edge[edge_map[e]] = 1;
+        info.seam_length += lengths[e];
+      }
+      result.cut.length += info.seam_length;
+      result.seam_length += info.seam_length;
+      continue;
+    }
+    for (const Cone& cone : p.cones)
+      info.cones.push_back({info.vertex_map[cone.vertex], cone.curvature});
+    result.cones.insert(result.cones.end(), info.cones.begin(), info.cones.end());
+    for (int e = 0; e < local.num_edges; ++e) {
+      if (p.cut.is_cut_edge[e]) result.cut.is_cut_edge[edge_map[e]] = 1;
+    }
+    if (info.charts.size() > 1) {
+      // Split so as not to overlap itself: the edges between its pieces are seams too.
+      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+      const std::vector<int>& chart = pieces[c].face_chart;
+      for (int e = 0; e < local.num_edges; ++e) {
+        const int h0 = local.edge_halfedges(e, 0), h1 = local.edge_halfedges(e, 1);
+        if (h0 < 0 || h1 < 0 || p.cut.is_cut_edge[e]) continue;
+        if (chart[Topology::face_of(h0)] == chart[Topology::face_of(h1)]) continue;
+        result.cut.is_cut_edge[edge_map[e]] = 1;
+        info.seam_length += lengths[e];
+      }
+    }
+    for (int v : p.cut.nodes) result.cut.nodes.push_back(info.vertex_map[v]);
+    for (const std::vector<int>& segment : p.cut.segments) {
+      std::vector<int>& moved = result.cut.segments.emplace_back();
+      for (int v : segment) moved.push_back(info.vertex_map[v]);
+    }
+    result.cut.num_generators += p.cut.num_generators;
+    result.cut.length += p.cut.length;
+    result.seam_length += info.seam_length;
 
-/// The stages, in order, filling `result` (all but its total time).
-void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
-                  ParamResult& result) {
-  if (t0.components.size() != 1) {
-    throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
-                       " connected components");
-  }
-  ParamRun run(input, options, result, std::move(t0));
-  run.closed = run.input_topology.components[0].num_boundary_loops == 0;
-  run.chi = run.input_topology.components[0].euler_characteristic;
-  run.flips = options.flow.flips == EdgeFlips::Delaunay ||
-              (options.flow.flips == EdgeFlips::Auto &&
-               scheme_traits(options.structure.scheme).ptolemy_flips);
-  run.mode = options.cone_mode;
-  if (run.mode == ConeMode::Needed) {
-    run.mode = run.closed && run.chi != 0 ? ConeMode::Auto : ConeMode::None;
-  }
-  Laps lap;
+    // The chart moved from the component's layout to the atlas's layout units: w = m z + s.
+    // (A layout split into pieces moves piece by piece: its transitions and atlas stay in
+    // components[c].param.)
+    const bool one_chart = info.charts.size() == 1;
+    const PackedChart& chart = result.packing.charts[info.charts.front()];
+    const std::complex<double> m = std::polar(info.area_scale, chart.rotation);
+    const std::complex<double> s =
+        std::complex<double>(chart.translation.x(), chart.translation.y()) / result.packing.scale;
+    auto move_transition = [&](SeamTransition t) {
+      t.edge = t.edge >= 0 ? edge_map[t.edge] : -1;
+      if (t.segment >= 0) t.segment += segment_offset;
+      t.translation = moved_translation(t.rotation, t.translation, m, s);
+      return t;
+    };
+    for (const SeamTransition& t :
+         one_chart ? p.layout.transitions : std::vector<SeamTransition>{}) {
+      result.layout.transitions.push_back(move_transition(t));
+    }
+    for (const SeamTransition& t :
+         one_chart ? p.layout.segment_transitions : std::vector<SeamTransition>{}) {
+      result.layout.segment_transitions.push_back(move_transition(t));
+    }
+    result.layout.max_length_relative_error =
+        std::max(result.layout.max_length_relative_error, p.layout.max_length_relative_error);
+    result.layout.num_flipped_faces += p.layout.num_flipped_faces;
+    result.layout.refined = result.layout.refined || p.layout.refined;
+    for (BoundaryChart bc : one_chart ? p.atlas.boundary_charts : std::vector<BoundaryChart>{}) {
+      bc.segment += segment_offset;
+      for (int& f : bc.faces) f = info.face_map[f];
+      for (Eigen::Index i = 0; i < bc.corner_uv.rows(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+          const std::complex<double> w =
+              m * std::complex<double>(bc.corner_uv(i, 2 * k), bc.corner_uv(i, 2 * k + 1)) + s;
+          bc.corner_uv(i, 2 * k) = w.real();
+          bc.corner_uv(i, 2 * k + 1) = w.imag();
+        }
+      }
+      bc.translation = moved_translation(bc.rotation, bc.translation, m, s);
+      result.atlas.boundary_charts.push_back(std::move(bc));
+    }
+    result.atlas.max_transition_error =
+        std::max(result.atlas.max_transition_error, p.atlas.max_transition_error);
+    segment_offset += static_cast<int>(p.cut.segments.size());
 
-  // 1-2. Cones, and the valence they need.
-  choose_cones(run);
-  lap(result.timings.cones);
-  quantize(run, run.cones);
-  raise_cone_valence(run);
+    result.timings.charts += p.timings.charts;
+    result.untangle.flipped_before += p.untangle.flipped_before;
+    result.untangle.flipped_after += p.untangle.flipped_after;
+    result.untangle.stuck_faces += p.untangle.stuck_faces;
+    result.untangle.moved_vertices += p.untangle.moved_vertices;
+    result.untangle.region_faces += p.untangle.region_faces;
+    result.untangle.rounds += p.untangle.rounds;
+    result.untangle.newton_iterations += p.untangle.newton_iterations;
+    result.untangle.seconds += p.untangle.seconds;
+    if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) continue;
+    const ParamTimings& t = p.timings;
+    result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
+    result.timings.development += t.development, result.timings.layout += t.layout;
+    result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
+    result.timings.polish += t.polish, result.timings.untangle += t.untangle;
+    // The polish over all components: counts and seconds add up, the face means are weighted by
+    // the components' face counts (and divided at the end).
+    const double faces_here = static_cast<double>(p.mesh.num_faces());
+    result.polish.free_vertices += p.polish.free_vertices;
+    result.polish.moved_vertices += p.polish.moved_vertices;
+    result.polish.untangled_faces += p.polish.untangled_faces;
+    result.polish.sweeps = std::max(result.polish.sweeps, p.polish.sweeps);
+    result.polish.seconds += p.polish.seconds;
+    if (std::isfinite(p.polish.angle_distortion_before)) {
+      result.polish.angle_distortion_before += faces_here * p.polish.angle_distortion_before;
+      result.polish.angle_distortion_after += faces_here * p.polish.angle_distortion_after;
+      polish_faces += faces_here;
+    }
+    const MeshFlowResult& flow = p.flow;
+    result.flow.converged = result.flow.converged && flow.converged;
+    result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
+    result.flow.intrinsic.add_flip_counts(flow.intrinsic);
+    result.flow.setup_seconds += flow.setup_seconds;
+    result.flow.total_seconds += flow.total_seconds;
+    for (ComponentFlow cf : flow.components) {
+      for (int& v : cf.vertices) v = info.vertex_map[v];
+      result.flow.components.push_back(std::move(cf));
+    }
+    for (int i = 0; i < p.mesh.num_vertices(); ++i) {
+      result.flow.u[info.vertex_map[i]] = flow.u[i];
+      result.flow.curvature[info.vertex_map[i]] = flow.curvature[i];
+      result.flow.target_curvature[info.vertex_map[i]] = flow.target_curvature[i];
+    }
+  }
+  std::sort(result.layout.transitions.begin(), result.layout.transitions.end(),
+            [](const SeamTransition& a, const SeamTransition& b) { return a.edge < b.edge; });
+  if (polish_faces > 0) {
+    result.polish.angle_distortion_before /= polish_faces;
+    result.polish.angle_distortion_after /= polish_faces;
+  }
 
-  // 3. The flow, on the problem every later stage reads, built once (for the raised mesh when
-  // edges were split), with the cut (stage 4a) beside it when the connectivity cannot change.
-  FlowStage stage;
-  stage.problem = &run.the_problem(result.mesh);
-  stage.options.structure = options.structure;
-  stage.options.flow = options.flow;
-  stage.options.target.kind = TargetKind::Flat;
-  stage.options.target.cones = run.cones;
-  stage.options.target.boundary = options.boundary;
-  const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
-  if (!may_subdivide) {
-    // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
-    stage.cut_ahead = parallel::run_beside(
-        [problem = stage.problem, cones = run.cones, polygons = kept_polygons(run)] {
-          return cut_through(*problem, cones, polygons);
-        });
+  // 6. Verdict.
+  int failed = 0;
+  for (int c = 0; c < num_components; ++c) {
+    const ComponentParam& info = pieces[c].info;
+    if (info.parameterized) continue;
+    if (failed < 5) {
+      result.message += (failed ? "; " : "") + describe(info, c) + ": " + info.message;
+    }
+    ++failed;
   }
-  flow_to_flat(run, stage);
-  lap(result.timings.flow);
-  if (result.converged) {
-    cut_and_lay_out(run, stage, lap);
-    to_unit_square(result);
-  } else {
-    stage.drop_cut_ahead();
-    result.message = result.flow.message;
+  result.converged = failed == 0;
+  if (failed > 0) {
+    result.message =
+        std::to_string(failed) + " of " + std::to_string(num_components) +
+        " components failed (laid out as charts or patches of their own shape): " + result.message +
+        (failed > 5 ? "; ..." : "");
   }
-  // The flows' results refer to the problem's triangulation as their input: it is handed over to
-  // them now that the stages are done with it (no copy).
-  if (stage.kept_topology) {
-    mesh_flow_internal::adopt_input_topology(
-        result.flow, std::make_shared<const Topology>(std::move(stage.problem->topology)));
+  for (const Piece& piece : pieces) {
+    const ComponentParam& info = piece.info;
+    ComponentRoute route;
+    route.method = info.method;
+    route.charts = static_cast<int>(info.charts.size());
+    route.seam_length = info.seam_length;
+    route.flipped_before = piece.exact_flipped;
+    route.flipped = info.distortion.flipped_faces;
+    if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) {
+      route.why = info.message;
+    }
+    result.routes.push_back(std::move(route));
   }
+  result.components.reserve(num_components);
+  for (Piece& piece : pieces) result.components.push_back(std::move(piece.info));
+  result.seconds = seconds_since(start);
+  return result;
 }
 
 }  // namespace
 
-ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
-                                       Topology topology) {
-  const auto start = Clock::now();
-  ParamResult result;
-  run_pipeline(input, options, std::move(topology), result);
-  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+const char* component_method_name(ComponentMethod method) {
+  return enum_name(method);
+}
+
+ParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options) {
+  // With the charts to fall back on, a Newton flow that stalls gives way to them instead of
+  // running out its iterations (minutes on a 24k-face genus-73 surface with one hole).
+  ParamOptions options = user_options;
+  if (options.fold_free.charts && options.flow.stall_iterations == 0) {
+    options.flow.stall_iterations = kStallIterationsWithCharts;
+  }
+  check_polygons(options.polygons, mesh.triangles, "parameterize");
+  Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  if (topology.components.size() > 1) {
+    return parameterize_components(mesh, topology, options, nullptr, {});
+  }
+  // One component: the exact map, kept when it passes its checks (or when nothing else may
+  // replace it); otherwise the components' path tries the other routes on it.
+  ParamResult first;
+  std::string why;
+  bool refused = false;
+  try {
+    first = parameterize_one_component(mesh, options, topology);
+  } catch (const InvalidInput& e) {
+    if (!may_replace_refusal(options)) throw;
+    why = e.what();
+    refused = true;
+  }
+  if (!refused && (passes_checks(first, options, why) || !options.fold_free.charts)) {
+    ComponentRoute route;
+    route.method =
+        first.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;
+    route.seam_length = first.seam_length;
+    route.flipped_before = first.untangle.flipped_before;
+    route.flipped = first.distortion.flipped_faces;
+    if (!why.empty() && first.converged) route.why = why;
+    first.routes = {route};
+    return first;
+  }
+  const double first_seconds = first.seconds;
+  // The exact map that failed its checks goes along (the charts cut through its cones); a
+  // refusal goes as its message.
+  ParamResult result = parameterize_components(mesh, topology, options, refused ? nullptr : &first,
+                                               refused ? why : "");
+  result.seconds += first_seconds;
   return result;
 }
 

@@ -38,9 +38,9 @@ Case = collections.namedtuple("Case", "name sites args exit_code broken may_succ
 # Issue 25: on high-genus closed surfaces a fixed count too small ("--cones 8") was refused with
 # "N automatic cones cannot carry the curvature" and fixes ("--cones 2N+2", "--cones auto") that
 # failed the same way, automatic cones being capped (ConeSelectionOptions::max_cones). The cone
-# rework for high genus (src/param/cones.cpp, parameterize.cpp) is another change's; where this
+# rework for high genus (src/param/cones/cones.cpp, parameterize.cpp) is another change's; where this
 # build refuses, a fix that fails is listed here as expected, not failed.
-HIGH_GENUS = ("issue 25: automatic cones on high genus are capped (param/cones.hpp); the cone "
+HIGH_GENUS = ("issue 25: automatic cones on high genus are capped (param/cones/cones.hpp); the cone "
               "rework for high genus is to fix it")
 HIGH_GENUS_PARAMETERIZED = ("this build parameterizes it (the refusal of issue 25 is not made "
                             "here); nothing to check")
@@ -95,26 +95,26 @@ def cases(boundary_vertex):
         # A flow that stops short (exit 3) names its fix too (src/flow/ricci_flow.cpp).
         Case("flow: strong cones without flips", ["src/flow/ricci_flow.cpp:flips"],
              ["flow", "ico.obj", "--flips", "off", "--cones", STRONG_CONES], 3),
-        # Parameterization (src/param/parameterize.cpp, hyperbolic_param.cpp).
-        Case("param: sphere without cones", ["src/param/parameterize.cpp:none"],
+        # Parameterization (src/param/one_component.cpp, hyperbolic_param.cpp).
+        Case("param: sphere without cones", ["src/param/one_component.cpp:none"],
              ["param", "ico.obj", "--cones", "none", "-o", "out.obj"]),
-        Case("param: genus 2 without cones", ["src/param/parameterize.cpp:none"],
+        Case("param: genus 2 without cones", ["src/param/one_component.cpp:none"],
              ["param", "genus2.obj", "--cones", "none", "-o", "out.obj"]),
-        Case("param: one cone on a torus", ["src/param/parameterize.cpp:one"],
+        Case("param: one cone on a torus", ["src/param/one_component.cpp:one"],
              ["param", "torus.obj", "--cones", "one", "-o", "out.obj"]),
-        Case("param: user cones breaking Gauss-Bonnet", ["src/param/parameterize.cpp:user"],
+        Case("param: user cones breaking Gauss-Bonnet", ["src/param/one_component.cpp:user"],
              ["param", "ico.obj", "--cones", "0:pi", "-o", "out.obj"]),
-        Case("param: one automatic cone on a sphere", ["src/param/parameterize.cpp:count"],
+        Case("param: one automatic cone on a sphere", ["src/param/one_component.cpp:count"],
              ["param", "ico.obj", "--cones", "1", "-o", "out.obj"]),
-        Case("param: 2 automatic cones on a sphere", ["src/param/parameterize.cpp:count"],
+        Case("param: 2 automatic cones on a sphere", ["src/param/one_component.cpp:count"],
              ["param", "ico.obj", "--cones", "2", "-o", "out.obj"]),
-        Case("param: 8 automatic cones on genus 20", ["src/param/parameterize.cpp:count"],
+        Case("param: 8 automatic cones on genus 20", ["src/param/one_component.cpp:count"],
              ["param", "genus20.obj", "--cones", "8", "-o", "out.obj"],
              broken={"--cones 18": HIGH_GENUS, "--cones auto": HIGH_GENUS},
              may_succeed=HIGH_GENUS_PARAMETERIZED),
-        Case("param: hyperbolic torus", ["src/param/hyperbolic_param.cpp:euclidean"],
+        Case("param: hyperbolic torus", ["src/hyperbolic/hyperbolic_param.cpp:euclidean"],
              ["param", "torus.obj", "--geometry", "hyperbolic", "-o", "out.obj"]),
-        Case("spline: sphere without cones", ["src/param/parameterize.cpp:none"],
+        Case("spline: sphere without cones", ["src/param/one_component.cpp:none"],
              ["spline", "ico.obj", "--cones", "none", "-o", "out.obj"]),
         # Output options (apps/ricci/commands.cpp).
         Case("param: --texture of a missing image", ["apps/ricci/commands.cpp:texture"],
@@ -130,8 +130,8 @@ def cases(boundary_vertex):
 SITES = {
     "src/flow/target.cpp": (6, ["boundary", "vertex-bound", "hyperbolic", "gauss-bonnet"]),
     "src/flow/ricci_flow.cpp": (2, ["flips"]),
-    "src/param/parameterize.cpp": (7, ["count", "none", "one", "user"]),
-    "src/param/hyperbolic_param.cpp": (1, ["euclidean"]),
+    "src/param/one_component.cpp": (7, ["count", "none", "one", "user"]),
+    "src/hyperbolic/hyperbolic_param.cpp": (1, ["euclidean"]),
     "src/mesh/io/write_mesh.cpp": (1, ["drop-uv"]),
     "src/mesh/io/reader_support.cpp": (1, ["repair"]),
     "apps/ricci/input_options.cpp": (5, ["largest", "strict", "repair"]),

@@ -1,4 +1,4 @@
-// Vertex scaling with intrinsic Delaunay flips (ricci/metric/delaunay_flips.hpp): targets that
+// Vertex scaling with intrinsic Delaunay flips (ricci/intrinsic/delaunay_flips.hpp): targets that
 // break a triangle without flips converge with them, the flipped triangulation carries the final
 // metric exactly, and every manifold shared mesh reaches a random admissible target.
 #include <array>
@@ -14,8 +14,8 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/metric/delaunay_flips.hpp"
-#include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "support/random_targets.hpp"

@@ -1,7 +1,7 @@
-// The orientation search shared by repair_mesh and find_defects (src/mesh/orientation.hpp): the
+// The orientation search shared by repair_mesh and find_defects (src/mesh/detail/orientation.hpp): the
 // sides it gives, the side it reverses, and the contradiction of a Moebius strip.
 
-#include "mesh/orientation.hpp"
+#include "mesh/detail/orientation.hpp"
 
 #include <gtest/gtest.h>
 

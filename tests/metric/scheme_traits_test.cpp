@@ -11,7 +11,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/background.hpp"
-#include "ricci/metric/delaunay_flips.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
 

@@ -11,7 +11,7 @@
 
 #include "render_test_support.hpp"
 #include "ricci/errors.hpp"
-#include "ricci/param/fuchsian.hpp"
+#include "ricci/hyperbolic/fuchsian.hpp"
 #include "support/hyperbolic_polygons.hpp"
 
 namespace ricci {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ricci/numerics/mobius.hpp"
-#include "ricci/param/fuchsian.hpp"
+#include "ricci/hyperbolic/fuchsian.hpp"
 
 namespace ricci::testing {
 

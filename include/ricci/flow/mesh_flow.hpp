@@ -14,7 +14,7 @@
 #include "ricci/flow/target.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
-#include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -120,7 +120,7 @@ struct MeshFlowResult {
 Target build_target(const Topology& topology, const Eigen::VectorXd& input_lengths,
                     const TargetSpec& spec, const std::vector<int>& vertex_labels = {});
 
-/// Every input face developed in the final metric (ricci/metric/intrinsic_triangulation.hpp),
+/// Every input face developed in the final metric (ricci/intrinsic/intrinsic_triangulation.hpp),
 /// doubled components included: what the layouts of the input's own faces start from.
 /// \pre flow = flow_mesh(mesh, ...) in the Euclidean background
 Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow);

@@ -15,7 +15,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/flow/target.hpp"
 #include "ricci/metric/angles.hpp"
-#include "ricci/metric/intrinsic_triangulation.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -40,7 +40,7 @@ FlowSolver parse_flow_solver(const std::string& name);
 const char* flow_solver_name(FlowSolver solver);
 
 /// Whether the flow keeps the triangulation intrinsically Delaunay with edge flips
-/// (ricci/metric/delaunay_flips.hpp).
+/// (ricci/intrinsic/delaunay_flips.hpp).
 enum class EdgeFlips {
   Auto,      ///< Delaunay for vertex scaling (the only scheme whose class flips preserve), else Off
   Off,       ///< the input's triangulation throughout
@@ -173,7 +173,7 @@ struct FlowResult {
   /// The final triangulation: the input topology itself (shared, not copied, referred to as the
   /// flow was given it: the caller keeps it alive) or, after flips, its intrinsic Delaunay
   /// triangulation (the same vertices, face count and Euler characteristic; possibly a
-  /// Delta-complex, see ricci/metric/delaunay_flips.hpp), with the structure's eta on it
+  /// Delta-complex, see ricci/intrinsic/delaunay_flips.hpp), with the structure's eta on it
   /// (intrinsic.eta(): edge_lengths of intrinsic.structure() on intrinsic.topology() gives
   /// `lengths` at u), every accepted flip in order (intrinsic.flipped_edges(), edge indices of
   /// the topology the flow was given; the first intrinsic.isometric_flips() retriangulate the

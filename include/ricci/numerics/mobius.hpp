@@ -9,7 +9,7 @@
 ///
 /// One type over the scalar: `Mobius` (double) for results and the API, `WideMobius` (long
 /// double) for the hyperbolic layout's deck transformations near the rim of the disk, and the
-/// Fuchsian group's quadruple precision (src/param/fuchsian.cpp). The algebra (apply, compose,
+/// Fuchsian group's quadruple precision (src/hyperbolic/fuchsian.cpp). The algebra (apply, compose,
 /// inverse, power, casts, frames) is defined here for every scalar; the functions that need the
 /// standard library's square roots and hyperbolic functions are compiled for double and long
 /// double. Where no map argument fixes the scalar, it is double unless given:

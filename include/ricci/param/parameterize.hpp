@@ -12,14 +12,14 @@
 
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/mesh/polygons.hpp"
-#include "ricci/param/atlas.hpp"
-#include "ricci/param/chart_packing.hpp"
-#include "ricci/param/cones.hpp"
-#include "ricci/param/cut_graph.hpp"
+#include "ricci/param/atlas/atlas.hpp"
+#include "ricci/param/atlas/chart_packing.hpp"
+#include "ricci/param/cones/cones.hpp"
+#include "ricci/param/cut/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
-#include "ricci/param/layout.hpp"
-#include "ricci/param/polish.hpp"
-#include "ricci/param/untangle.hpp"
+#include "ricci/param/layout/layout.hpp"
+#include "ricci/param/layout/polish.hpp"
+#include "ricci/param/layout/untangle.hpp"
 
 namespace ricci {
 
@@ -225,7 +225,7 @@ struct ParamResult {
   double seam_length = 0;  ///< 3D length of the cut edges
   /// The faces to write (textured_mesh), for ParamOptions::polygons: those polygons over mesh's
   /// triangles, each listed from a corner whose fan from there is drawn unflipped in the layout
-  /// (start_fans_where_valid of ricci/param/polygon_fans.hpp: the same face, a reader splitting
+  /// (start_fans_where_valid of ricci/param/layout/polygon_fans.hpp: the same face, a reader splitting
   /// it as a fan from its first corner gets a sound one), and distortion measures those fans.
   /// Every polygon has one uv per corner: no cut runs inside it. Empty without polygons, and
   /// when edge splits changed the faces (then the triangles are written).

@@ -1,4 +1,4 @@
-#include "file_polygons.hpp"
+#include "mesh/io/detail/file_polygons.hpp"
 
 #include <algorithm>
 

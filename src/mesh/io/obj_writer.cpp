@@ -3,7 +3,7 @@
 #include <string>
 
 #include "ricci/mesh/io.hpp"
-#include "writers.hpp"
+#include "mesh/io/detail/writers.hpp"
 
 namespace ricci {
 namespace io_detail {

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "readers.hpp"
+#include "mesh/io/detail/readers.hpp"
 
 namespace ricci::io_detail {
 namespace {

@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "readers.hpp"
+#include "mesh/io/detail/readers.hpp"
 
 namespace ricci::io_detail {
 namespace {

@@ -1,4 +1,4 @@
-#include "reader_support.hpp"
+#include "mesh/io/detail/reader_support.hpp"
 
 #include <array>
 #include <cctype>
@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-#include "file_polygons.hpp"
+#include "mesh/io/detail/file_polygons.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::io_detail {

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "readers.hpp"
+#include "mesh/io/detail/readers.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::io_detail {

@@ -3,9 +3,9 @@
 #include <ostream>
 #include <string>
 
-#include "binary_output.hpp"
+#include "mesh/io/detail/binary_output.hpp"
 #include "ricci/mesh/io.hpp"
-#include "writers.hpp"
+#include "mesh/io/detail/writers.hpp"
 
 namespace ricci::io_detail {
 

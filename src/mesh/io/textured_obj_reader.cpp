@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "reader_support.hpp"
+#include "mesh/io/detail/reader_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 

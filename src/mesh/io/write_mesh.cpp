@@ -4,7 +4,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/polygons.hpp"
-#include "writers.hpp"
+#include "mesh/io/detail/writers.hpp"
 
 namespace ricci {
 namespace io_detail {

@@ -1,0 +1,562 @@
+#include "ricci/param/parameterize.hpp"
+
+#include "flow/detail/mesh_flow_internal.hpp"
+#include "numerics/detail/parallel.hpp"
+#include "param/layout/detail/layout_support.hpp"
+#include "param/detail/one_component.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <utility>
+
+#include "ricci/errors.hpp"
+#include "ricci/flow/flow_problem.hpp"
+#include "ricci/mesh/polygons.hpp"
+#include "ricci/mesh/split.hpp"
+#include "ricci/param/layout/polygon_fans.hpp"
+
+namespace ricci {
+
+namespace {
+
+/// A fixed cone count too small for the curvature: about twice as many, or the automatic count.
+std::vector<OptionFix> more_cones_fixes(std::size_t count) {
+  return {OptionFix{"cones", std::to_string(2 * count + 2)}, OptionFix{"cones", "auto"}};
+}
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Automatic cones are chosen again, with more of them, while the flat metric's log scale
+/// spread exceeds the selection's bound by this factor ...
+constexpr double kNonlinearSlack = 1.25;
+/// ... at most this many times.
+constexpr int kConeRounds = 3;
+
+/// Valence a cone of curvature k needs for the single-vertex bound with room to spare: each face
+/// gives the cone at least the scheme's guaranteed angle (packings with Phi up to pi/2: pi/2; the
+/// other schemes: pi), so valence > (2 pi - k) / guaranteed angle.
+int required_valence(double k, Scheme scheme) {
+  const double per_face = scheme_traits(scheme).guaranteed_face_angle;
+  return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
+}
+
+}  // namespace
+
+ConeMode parse_cone_mode(const std::string& name) {
+  return parse_enum<ConeMode>(name, "parse_cone_mode");
+}
+
+const char* cone_mode_name(ConeMode mode) {
+  return enum_name(mode);
+}
+
+namespace {
+
+/// One run of the single-component pipeline: the problem (connectivity, input lengths,
+/// structure) built once for the mesh the flow runs on, the cone model built once from it, and
+/// what the stages hand on to each other. A stage that changes the mesh (valence raising,
+/// subdivision) makes the problem of the new mesh; nothing else builds one.
+struct ParamRun {
+  ParamRun(const Mesh& mesh, const ParamOptions& o, ParamResult& r, Topology topology)
+      : input(mesh), options(o), result(r), input_topology(std::move(topology)) {}
+  const Mesh& input;
+  const ParamOptions& options;
+  ParamResult& result;
+  /// The input's connectivity until the problem takes it.
+  Topology input_topology;
+  std::optional<FlowProblem> problem;   ///< of result.mesh (of the input until it changes)
+  std::optional<ConeModel> cone_model;  ///< of *problem, at the first automatic selection
+  bool closed = false;
+  int chi = 0;
+  /// Edge flips: every admissible target is reachable on the mesh's own triangulation.
+  bool flips = false;
+  ConeMode mode = ConeMode::Needed;  ///< options.cone_mode with Needed resolved
+  std::vector<Cone> cones;
+
+  /// The problem of the mesh the flow will run on, built at the first call.
+  FlowProblem& the_problem(const Mesh& mesh) {
+    if (!problem) problem = make_flow_problem(mesh, std::move(input_topology), options.structure);
+    return *problem;
+  }
+  /// A new problem for a changed mesh (the cone model belonged to the old one).
+  void remake_problem(const Mesh& mesh) {
+    cone_model.reset();
+    problem.reset();
+    input_topology = build_topology(mesh.triangles, mesh.num_vertices());
+    the_problem(mesh);
+  }
+  const ConeModel& the_cone_model() {
+    if (!cone_model) cone_model = build_cone_model(the_problem(input));
+    return *cone_model;
+  }
+};
+
+/// Wall time since the previous lap, added to a phase of result.timings.
+class Laps {
+ public:
+  void operator()(double& phase) {
+    const auto now = Clock::now();
+    phase += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+  void restart() { last_ = Clock::now(); }
+
+ private:
+  Clock::time_point last_ = Clock::now();
+};
+
+/// Automatic cones from the run's model (ConeSelection in result.cone_selection).
+std::vector<Cone> select_automatic(ParamRun& run, int count) {
+  ConeSelectionOptions selection = run.options.auto_cones;
+  selection.count = count;
+  selection.boundary = run.options.boundary;
+  selection.quantize = run.options.quantize;
+  run.result.cone_selection = select_cones(run.the_cone_model(), selection);
+  std::vector<Cone> chosen;
+  const ConeSelection& s = run.result.cone_selection;
+  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+    chosen.push_back({s.vertices[i], s.linear_curvature[i]});
+  }
+  return chosen;
+}
+
+/// Quarter-turn cone curvatures (ParamOptions::quantize).
+void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
+  if (!run.options.quantize || chosen.empty()) return;
+  double total = 0;
+  for (const Cone& c : chosen) total += c.curvature;
+  // Closed surfaces must keep 2 pi chi; with a boundary the nearest multiple of pi/2 will do.
+  total = run.closed ? 2 * kPi * run.chi : std::round(total / (kPi / 2)) * (kPi / 2);
+  chosen = quantize_cones(chosen, total);
+}
+
+/// Stage 1: the singularities, in input vertex indices.
+void choose_cones(ParamRun& run) {
+  const ParamOptions& options = run.options;
+  const Component& component = run.input_topology.components[0];
+  const int genus = component.genus, boundary_loops = component.num_boundary_loops;
+  switch (run.mode) {
+    case ConeMode::Needed:
+      break;
+    case ConeMode::None:
+      if (run.closed && run.chi != 0) {
+        throw InvalidInput("parameterize: a closed surface of genus " + std::to_string(genus) +
+                               " has no flat metric without cones (chi = " +
+                               std::to_string(run.chi) + "); use automatic cones or one cone",
+                           genus >= 2 ? fixes_of({{"cones", "auto"}, {"cones", "one"}})
+                                      : fixes_of({{"cones", "auto"}}));
+      }
+      break;
+    case ConeMode::User:
+      run.cones = options.cones;
+      break;
+    case ConeMode::OneCone: {
+      if (!run.closed || genus < 2) {
+        throw InvalidInput(
+            "parameterize: one cone of 2 pi chi is for closed surfaces of genus >= "
+            "2; this one has genus " +
+                std::to_string(genus) + " and " + std::to_string(boundary_loops) +
+                " boundary loops",
+            fixes_of({{"cones", "needed"}, {"cones", "auto"}}));
+      }
+      ConeSelectionOptions one = options.auto_cones;
+      one.count = 1;
+      one.try_first_cone_candidates = 16;
+      one.max_cones = 1;
+      run.result.cone_selection = select_cones(run.the_cone_model(), one);
+      run.cones.push_back({run.result.cone_selection.vertices.front(), 2 * kPi * run.chi});
+      break;
+    }
+    case ConeMode::Auto:
+      run.cones = select_automatic(run, options.auto_cones.count);
+      for (const Cone& c : run.cones) {
+        // A fixed count too small for the curvature (two cones on a sphere): the least-squares
+        // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
+        if (!run.result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
+          throw InvalidInput("parameterize: " + std::to_string(run.cones.size()) +
+                                 " automatic cones cannot carry the curvature within their bounds "
+                                 "(vertex " +
+                                 std::to_string(c.vertex) + " would need " +
+                                 std::to_string(c.curvature) +
+                                 ", a cone angle below 0); ask for more cones, or let the count be "
+                                 "chosen automatically",
+                             more_cones_fixes(run.cones.size()));
+        }
+      }
+      break;
+  }
+}
+
+/// Stage 2: local connectivity modification, raising the valence of cones that need it (without
+/// flips only). The problem of the raised mesh is made when edges were split.
+void raise_cone_valence(ParamRun& run) {
+  ParamResult& result = run.result;
+  result.mesh = run.input;
+  result.vertex_origin.resize(run.input.num_vertices());
+  for (int v = 0; v < run.input.num_vertices(); ++v) result.vertex_origin[v] = v;
+  // With flips every admissible target is reachable on the input's own triangulation, which is
+  // kept. (A cone much stronger than its valence then shows as flipped uv triangles around it, as
+  // every map drawn linearly on the input's faces does; the common refinement is exact.)
+  if (run.options.modify_connectivity && !run.flips) {
+    // Degrees of the current mesh: the input's connectivity, rebuilt only after a split.
+    std::optional<Topology> raised;
+    for (const Cone& cone : run.cones) {
+      if (cone.vertex < 0 || cone.vertex >= result.mesh.num_vertices()) continue;  // flat_target
+      const Topology& t = raised        ? *raised
+                          : run.problem ? run.problem->topology
+                                        : run.input_topology;
+      const int needed = required_valence(cone.curvature, run.options.structure.scheme);
+      if (t.vertex_degree[cone.vertex] >= needed) continue;
+      ValenceResult r = raise_valence(result.mesh, t, cone.vertex, needed);
+      result.mesh = std::move(r.mesh);
+      result.edge_splits += r.splits;
+      for (const auto& parents : r.new_vertex_parents) {
+        result.added_vertex_parents.push_back(parents);
+        result.vertex_origin.push_back(-1);
+      }
+      raised = std::move(r.topology);
+    }
+    if (raised) {
+      run.cone_model.reset();
+      run.problem.reset();
+      run.input_topology = std::move(*raised);
+    }
+  }
+  result.cones = run.cones;
+}
+
+}  // namespace
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options) {
+  return parameterize_one_component(input, options,
+                                    build_topology(input.triangles, input.num_vertices()));
+}
+
+namespace {
+
+/// What the cut stage makes: the cut graph through the cones, the sliced mesh and the layout's
+/// root faces. It needs only the connectivity and the 3D lengths, so it can run beside the flow.
+struct CutStage {
+  CutGraph cut;
+  CutMesh cut_mesh;
+  layout_support::Roots roots;  // of the layout (default options), chosen ahead
+  double seconds = 0;
+};
+
+/// The polygons the run keeps whole: ParamOptions::polygons while the mesh has the input's faces
+/// (no edge split); null otherwise.
+const Polygons* kept_polygons(const ParamRun& run) {
+  const bool same_faces = run.result.edge_splits == 0 && !run.result.subdivided;
+  return same_faces && !run.options.polygons.empty() ? &run.options.polygons : nullptr;
+}
+
+/// Stage 4a: the cut through these cones on the problem's connectivity, never along the
+/// diagonals of the polygons (when not null).
+CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones,
+                     const Polygons* polygons) {
+  const auto t = Clock::now();
+  CutStage stage;
+  CutGraphOptions cut_options;
+  for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
+  if (polygons != nullptr) cut_options.uncut_edges = polygon_diagonals(problem.topology, *polygons);
+  stage.cut = cut_graph(problem.topology, problem.input_lengths, cut_options);
+  stage.cut_mesh = slice(problem.topology, stage.cut);
+  stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
+                                                 stage.roots.first);
+  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+  return stage;
+}
+
+/// The flow stage's state: the problem it runs on, its options, and the cut made beside it.
+struct FlowStage {
+  FlowProblem* problem = nullptr;
+  MeshFlowOptions options;
+  /// Whether the flow's result refers to the problem's triangulation as its input (handed over
+  /// at the end of the pipeline).
+  bool kept_topology = false;
+  /// When the flow cannot change the connectivity (no subdivision possible) the cut runs beside
+  /// it, on a core the flow's factorisation leaves idle.
+  std::future<CutStage> cut_ahead;
+
+  MeshFlowResult run(bool& kept) const {
+    return mesh_flow_internal::flow_mesh_keeping_topology(*problem, options, kept);
+  }
+  /// The cut beside the flow reads the problem: wait for it before the problem changes.
+  void drop_cut_ahead() {
+    if (cut_ahead.valid()) cut_ahead.wait();
+    cut_ahead = {};
+  }
+};
+
+/// Stage 3: the Ricci flow to the flat metric with the run's cones, with its fallbacks: one
+/// midpoint subdivision when a packing degenerates, and rounds of more automatic cones while the
+/// flat metric spreads past the selection's bound.
+void flow_to_flat(ParamRun& run, FlowStage& stage) {
+  const ParamOptions& options = run.options;
+  ParamResult& result = run.result;
+  std::vector<Cone>& cones = run.cones;
+  try {
+    result.flow = stage.run(stage.kept_topology);
+  } catch (const InvalidInput& e) {
+    // The user's own cones refused (Gauss-Bonnet, a bound): automatic ones are the fix here,
+    // not the flow's target options.
+    if (options.cone_mode != ConeMode::User || e.fixes().empty()) throw;
+    throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
+  }
+  result.converged = result.flow.converged;
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
+  const FlowStatus status = result.flow.status;
+  if (!result.converged && may_subdivide &&
+      (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
+    // A degenerating metric means Thurston's conditions fail on vertex sets around a strong cone,
+    // not on the cone alone: its neighbours lack faces. One midpoint subdivision gives every
+    // neighbourhood four times the faces (input vertices keep their indices; each new vertex is
+    // an edge midpoint). The subdivided mesh has a problem of its own.
+    stage.drop_cut_ahead();
+    const int before = result.mesh.num_vertices();
+    const Topology& t = stage.problem->topology;
+    result.mesh = subdivide_midpoint(result.mesh);
+    for (int e = 0; e < t.num_edges; ++e) {
+      result.added_vertex_parents.push_back({t.edge_vertices(e, 0), t.edge_vertices(e, 1)});
+      result.vertex_origin.push_back(-1);
+    }
+    result.edge_splits += result.mesh.num_vertices() - before;
+    result.subdivided = true;
+    run.remake_problem(result.mesh);
+    stage.problem = &*run.problem;
+    result.flow = stage.run(stage.kept_topology);
+    result.converged = result.flow.converged;
+  }
+  // 3b. The selection's model is the flow linearised at the input metric, which holds while u
+  // stays small. Strong cones leave it: on a CAD cylinder three cones of 1.5 pi each met the
+  // linear bound, but the flat metric scaled areas by e^4 (area distortion energy 4.5, angle
+  // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
+  // the bound, more cones are chosen (from the same model) and the flow run again (on the same
+  // problem), keeping the better of the two.
+  if (run.mode != ConeMode::Auto || options.auto_cones.count != 0 || !run.flips ||
+      !result.converged) {
+    return;
+  }
+  std::vector<int> vertices;
+  vertices.reserve(cones.size());
+  for (const Cone& c : cones) vertices.push_back(c.vertex);
+  result.log_scale_spread = log_scale_spread(run.the_cone_model(), result.flow.u, vertices);
+  for (int round = 0; round < kConeRounds; ++round) {
+    if (result.log_scale_spread <= kNonlinearSlack * options.auto_cones.max_log_scale) break;
+    const int n = static_cast<int>(cones.size());
+    ConeSelection previous = result.cone_selection;
+    std::vector<Cone> more = select_automatic(run, std::max(n + 2, (3 * n + 1) / 2));
+    // Fewer: the cap on the number of cones, or no more candidates; out of bounds: no such cone
+    // set is drawable. Either way the first one stays.
+    if (static_cast<int>(more.size()) <= n || !result.cone_selection.within_bounds) {
+      result.cone_selection = std::move(previous);
+      break;
+    }
+    quantize(run, more);
+    stage.options.target.cones = more;
+    MeshFlowResult flow;
+    bool kept = false;
+    try {
+      flow = stage.run(kept);
+    } catch (const InvalidInput&) {  // a target the flow refuses: keep the first cones
+      result.cone_selection = std::move(previous);
+      stage.options.target.cones = cones;
+      break;
+    }
+    vertices.clear();
+    for (const Cone& c : more) vertices.push_back(c.vertex);
+    const double spread =
+        flow.converged ? log_scale_spread(run.the_cone_model(), flow.u, vertices) : kInf;
+    ++result.cone_rounds;
+    if (!(spread < result.log_scale_spread)) {
+      result.cone_selection = std::move(previous);
+      stage.options.target.cones = cones;
+      break;
+    }
+    cones = std::move(more);
+    // The cut made beside the first flow runs through the old cones: cut again.
+    stage.drop_cut_ahead();
+    result.cones = cones;
+    result.flow = std::move(flow);
+    stage.kept_topology = kept;
+    result.log_scale_spread = spread;
+  }
+}
+
+/// Faces of a layout with signed area <= 0.
+int count_flipped(const Triangles& triangles, const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv) {
+  int n = 0;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector2d a = uv.row(triangles(f, 0)).transpose();
+    const Eigen::Vector2d b = uv.row(triangles(f, 1)).transpose() - a;
+    const Eigen::Vector2d c = uv.row(triangles(f, 2)).transpose() - a;
+    n += !(b.x() * c.y() - b.y() * c.x() > 0);
+  }
+  return n;
+}
+
+/// Stage 4: cut graph through the cones, slicing, layout, angle polish, atlas and distortion,
+/// all on the mesh's own faces. After Delaunay flips the flat metric lives on the intrinsic
+/// triangulation; each input face is developed in it (its corners at their exact images), so the
+/// cut runs along input edges and the layout, the seams and the written faces are the user's.
+void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
+  ParamResult& result = run.result;
+  const FlowProblem& problem = *stage.problem;
+  const Topology& topology = problem.topology;
+  const Polygons* polygons = kept_polygons(run);
+  CutStage cut =
+      stage.cut_ahead.valid() ? stage.cut_ahead.get() : cut_through(problem, run.cones, polygons);
+  result.cut = std::move(cut.cut);
+  result.cut_mesh = std::move(cut.cut_mesh);
+  // The stage's own time (run beside the flow it took no time of the pipeline's own).
+  result.timings.cut += cut.seconds;
+  lap.restart();
+  const Development development = develop_input_faces(topology, result.flow);
+  result.development_length_mismatch = development.max_length_mismatch;
+  lap(result.timings.development);
+  result.layout = layout_support::layout_flat_with_roots(
+      topology, development.shapes, result.cut, result.cut_mesh, LayoutOptions{}, cut.roots);
+  lap(result.timings.layout);
+  if (run.options.polish.enabled) {
+    result.polish =
+        polish_angles(result.mesh, result.cut_mesh.triangles, result.layout.uv, run.options.polish);
+    // The layout takes the polished positions; polish.uv keeps the flat metric's own.
+    std::swap(result.layout.uv, result.polish.uv);
+    lap(result.timings.polish);
+  }
+  if (run.options.fold_free.untangle && result.layout.uv.allFinite() &&
+      result.layout.max_length_relative_error <= run.options.fold_free.max_length_error) {
+    // (A layout that does not close up is no map to untangle: parameterize replaces it.)
+    // Faces drawn flipped (needles whose vertices' exact images come out in clockwise order)
+    // untangled: cones and the boundary stay, seam vertices move with all their copies.
+    UntangleOptions untangle;
+    // A free boundary's shape is the flat metric's but nothing asks for it; a disk's is.
+    untangle.move_boundary = run.options.boundary == BoundaryMode::Free;
+    // With the charts to fall back on, a layout that cannot come out fold-free is left as is.
+    untangle.give_up_when_stuck = run.options.fold_free.charts;
+    untangle.fixed.assign(result.mesh.num_vertices(), 0);
+    untangle.angles.assign(result.mesh.num_vertices(), 2 * kPi);
+    // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
+    // whatever else moves: no untangling is tried then.
+    bool overloaded = false;
+    for (const Cone& c : result.cones) {
+      if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
+      untangle.fixed[c.vertex] = 1;
+      untangle.angles[c.vertex] = 2 * kPi - c.curvature;
+      const int faces = topology.vertex_degree[c.vertex] - topology.is_boundary_vertex[c.vertex];
+      overloaded = overloaded || 2 * kPi - c.curvature >= faces * kPi;
+    }
+    if (overloaded) {
+      result.untangle = {};
+      result.untangle.flipped_before = count_flipped(result.cut_mesh.triangles, result.layout.uv);
+      result.untangle.flipped_after = result.untangle.stuck_faces = result.untangle.flipped_before;
+    } else {
+      result.untangle =
+          untangle_layout(result.mesh, result.cut_mesh.triangles, result.layout.uv, untangle);
+      if (result.untangle.moved_vertices > 0) result.layout.uv = std::move(result.untangle.uv);
+      result.untangle.uv.resize(0, 2);
+    }
+    lap(result.timings.untangle);
+  }
+  result.atlas = affine_atlas(topology, result.cut, result.cut_mesh, result.layout);
+  lap(result.timings.atlas);
+  // The faces written: the triangles, or each polygon from a corner whose fan is sound.
+  if (polygons != nullptr) {
+    result.polygons =
+        start_fans_where_valid(*polygons, result.mesh, result.cut_mesh.triangles, result.layout.uv);
+  }
+  result.distortion = measure_polygon_distortion(result.mesh, result.polygons,
+                                                 result.cut_mesh.triangles, result.layout.uv);
+  lap(result.timings.distortion);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    if (result.cut.is_cut_edge[e]) result.seam_length += problem.input_lengths[e];
+  }
+}
+
+/// Stage 5: texture coordinates in the unit square, aspect ratio kept.
+void to_unit_square(ParamResult& result) {
+  const Eigen::Vector2d lo = result.layout.uv.colwise().minCoeff().transpose();
+  const Eigen::Vector2d hi = result.layout.uv.colwise().maxCoeff().transpose();
+  const double extent = (hi - lo).maxCoeff();
+  result.uv_offset = lo;
+  result.uv_scale = extent > 0 ? 1.0 / extent : 1.0;
+  result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
+}
+
+/// The stages, in order, filling `result` (all but its total time).
+void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
+                  ParamResult& result) {
+  if (t0.components.size() != 1) {
+    throw InvalidInput("parameterize: the mesh has " + std::to_string(t0.components.size()) +
+                       " connected components");
+  }
+  ParamRun run(input, options, result, std::move(t0));
+  run.closed = run.input_topology.components[0].num_boundary_loops == 0;
+  run.chi = run.input_topology.components[0].euler_characteristic;
+  run.flips = options.flow.flips == EdgeFlips::Delaunay ||
+              (options.flow.flips == EdgeFlips::Auto &&
+               scheme_traits(options.structure.scheme).ptolemy_flips);
+  run.mode = options.cone_mode;
+  if (run.mode == ConeMode::Needed) {
+    run.mode = run.closed && run.chi != 0 ? ConeMode::Auto : ConeMode::None;
+  }
+  Laps lap;
+
+  // 1-2. Cones, and the valence they need.
+  choose_cones(run);
+  lap(result.timings.cones);
+  quantize(run, run.cones);
+  raise_cone_valence(run);
+
+  // 3. The flow, on the problem every later stage reads, built once (for the raised mesh when
+  // edges were split), with the cut (stage 4a) beside it when the connectivity cannot change.
+  FlowStage stage;
+  stage.problem = &run.the_problem(result.mesh);
+  stage.options.structure = options.structure;
+  stage.options.flow = options.flow;
+  stage.options.target.kind = TargetKind::Flat;
+  stage.options.target.cones = run.cones;
+  stage.options.target.boundary = options.boundary;
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
+  if (!may_subdivide) {
+    // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
+    stage.cut_ahead = parallel::run_beside(
+        [problem = stage.problem, cones = run.cones, polygons = kept_polygons(run)] {
+          return cut_through(*problem, cones, polygons);
+        });
+  }
+  flow_to_flat(run, stage);
+  lap(result.timings.flow);
+  if (result.converged) {
+    cut_and_lay_out(run, stage, lap);
+    to_unit_square(result);
+  } else {
+    stage.drop_cut_ahead();
+    result.message = result.flow.message;
+  }
+  // The flows' results refer to the problem's triangulation as their input: it is handed over to
+  // them now that the stages are done with it (no copy).
+  if (stage.kept_topology) {
+    mesh_flow_internal::adopt_input_topology(
+        result.flow, std::make_shared<const Topology>(std::move(stage.problem->topology)));
+  }
+}
+
+}  // namespace
+
+ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options,
+                                       Topology topology) {
+  const auto start = Clock::now();
+  ParamResult result;
+  run_pipeline(input, options, std::move(topology), result);
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+}  // namespace ricci

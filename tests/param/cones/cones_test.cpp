@@ -1,0 +1,87 @@
+#include "ricci/param/cones/cones.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.hpp"
+#include "ricci/mesh/generate.hpp"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+TEST(ConeSelection, CountModeGivesThatManyDistinctCones) {
+  const Mesh sphere = make_icosphere(3);
+  ConeSelectionOptions options;
+  options.count = 6;
+  const ConeSelection s = select_cones(sphere, options);
+  ASSERT_EQ(s.vertices.size(), 6u);
+  std::vector<int> sorted = s.vertices;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  // The linearised cones carry the sphere's whole curvature 4 pi.
+  double total = 0;
+  for (double k : s.linear_curvature) total += k;
+  EXPECT_NEAR(total, 4 * kPi, 1e-6);
+}
+
+TEST(ConeSelection, MoreConesLowerTheAreaScale) {
+  // An elongated, bumpy closed surface distorts area strongly with few cones.
+  const Mesh surface = make_closed_surface(0, 16);
+  ConeSelectionOptions options;
+  options.max_log_scale = 1.2;
+  const ConeSelection s = select_cones(surface, options);
+  ASSERT_GE(s.max_log_scale.size(), 2u);
+  EXPECT_LE(s.max_log_scale.back(), 1.2);
+  EXPECT_LT(s.max_log_scale.back(), s.max_log_scale.front());
+  EXPECT_EQ(s.max_log_scale.size(), s.vertices.size());  // one solve per cone, the first seeded
+}
+
+TEST(ConeSelection, FlatDiskNeedsNoCone) {
+  ConeSelectionOptions options;
+  options.structure.scheme = Scheme::VertexScaling;  // reproduces the flat input exactly
+  const ConeSelection s = select_cones(make_disk(6), options);
+  EXPECT_TRUE(s.vertices.empty());
+  EXPECT_LT(s.max_log_scale.front(), 1e-9);
+}
+
+TEST(ConeSelection, RejectsBadOptionsAndSeveralComponents) {
+  ConeSelectionOptions options;
+  options.max_log_scale = 0;
+  EXPECT_THROW(select_cones(make_icosphere(1), options), InvalidInput);
+  Mesh two = make_tetrahedron();
+  Mesh both;
+  both.positions.resize(8, 3);
+  both.positions << two.positions, (two.positions.array() + 5.0).matrix();
+  both.triangles.resize(8, 3);
+  both.triangles << two.triangles, (two.triangles.array() + 4).matrix();
+  EXPECT_THROW(select_cones(both, {}), InvalidInput);
+}
+
+TEST(QuantizeCones, RoundsToQuarterTurnsKeepingTheSum) {
+  const std::vector<Cone> cones = {{1, 1.4}, {2, 1.7}, {3, 3.0}, {4, 6.5}, {5, 0.3}};
+  double raw = 0;
+  for (const Cone& c : cones) raw += c.curvature;
+  ASSERT_NEAR(raw, 12.9, 1e-12);  // about 4 pi = 12.566: the rounding must move it there
+  const std::vector<Cone> q = quantize_cones(cones, 4 * kPi);
+  double total = 0;
+  for (const Cone& c : q) {
+    const double units = c.curvature / (kPi / 2);
+    EXPECT_NEAR(units, std::round(units), 1e-12);
+    EXPECT_LT(c.curvature, 2 * kPi);
+    EXPECT_NE(c.curvature, 0.0);
+    total += c.curvature;
+  }
+  EXPECT_NEAR(total, 4 * kPi, 1e-12);
+  // A cone whose curvature rounds to nothing is dropped.
+  const std::vector<Cone> small =
+      quantize_cones({{1, kPi + 0.1}, {2, kPi - 0.1}, {3, kPi}, {4, kPi}, {5, 0.2}}, 4 * kPi);
+  ASSERT_EQ(small.size(), 4u);
+  for (const Cone& c : small) EXPECT_DOUBLE_EQ(c.curvature, kPi);
+}
+
+}  // namespace
+}  // namespace ricci
