@@ -20,14 +20,13 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/numerics/timer.hpp"
 #include "ricci/version.hpp"
 
 namespace ricci {
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);

@@ -14,14 +14,13 @@
 #include <map>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/timer.hpp"
 
 extern char** environ;
 
 namespace ricci {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();

@@ -11,11 +11,10 @@
 #include "flow/detail/mesh_flow_internal.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/doubled_topology.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 /// A component as a topology of its own, with the maps back to the whole mesh.
 struct ComponentView {

@@ -13,22 +13,17 @@
 
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/background.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// Outcome of evaluating the metric at trial log radii.
 enum class Evaluation { Valid, BadLength, TriangleInequality };

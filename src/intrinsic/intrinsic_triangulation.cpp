@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "numerics/detail/parallel.hpp"
-#include "ricci/numerics/complex.hpp"
-#include "ricci/errors.hpp"
-#include "ricci/metric/angles.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
-#include "ricci/numerics/mobius.hpp"
 #include "metric/detail/triangle_terms.hpp"
+#include "numerics/detail/parallel.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
+#include "ricci/metric/angles.hpp"
+#include "ricci/numerics/complex.hpp"
+#include "ricci/numerics/mobius.hpp"
 
 namespace ricci {
 namespace {
@@ -27,10 +27,6 @@ using WideComplex = std::complex<Wide>;
 struct FlipRecord {
   int h0, h1;
 };
-
-double cross(Complex a, Complex b) {
-  return a.real() * b.imag() - a.imag() * b.real();
-}
 
 /// Replays the flips on `t` in place, recording their halfedges.
 std::vector<FlipRecord> replay(Topology& t, const std::vector<int>& flipped_edges) {
@@ -160,7 +156,7 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
   d.lengths.resize(input.num_edges);
   auto side = [&](int h) {
     const auto& p = shapes[h / 3];
-    return complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    return fast_abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   };
   // In parallel: the largest mismatch (a maximum: the same however the edges are split) and
   // the counts.

@@ -13,11 +13,12 @@
 #include <Eigen/Geometry>
 
 #include "mesh/detail/corner_fans.hpp"
-#include "ricci/numerics/disjoint_sets.hpp"
+#include "mesh/detail/edge_name.hpp"
 #include "mesh/detail/face_keys.hpp"
 #include "mesh/detail/orientation.hpp"
-#include "ricci/errors.hpp"
 #include "mesh/detail/slivers.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
 
 namespace ricci {
 namespace {

@@ -5,15 +5,15 @@
 #include <numeric>
 #include <string>
 
-#include "ricci/numerics/disjoint_sets.hpp"
+#include "mesh/detail/edge_name.hpp"
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/build_counts.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
 
 namespace ricci {
 namespace {
 
-using mesh_detail::DisjointSets;
 using mesh_detail::edge_name;
 
 }  // namespace

@@ -11,8 +11,8 @@
 #include <Eigen/Geometry>
 
 #include "numerics/detail/parallel.hpp"
-#include "ricci/numerics/complex.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/numerics/complex.hpp"
 
 namespace ricci {
 namespace {
@@ -60,8 +60,8 @@ FaceMeasure measure_face(const Eigen::Vector3d (&p)[3], const Eigen::Vector2d (&
   const Complex z1(length1, 0.0), z2(e1.dot(e2) / length1, m.twice_area / length1);
   const Complex w1(u1.x(), u1.y()), w2(u2.x(), u2.y());
   // alpha D and beta D with D = z1 conj(z2) - z2 conj(z1), |D| = twice_area.
-  const double alpha_d = complex_length::length(w1 * std::conj(z2) - w2 * std::conj(z1));
-  const double beta_d = complex_length::length(z1 * w2 - z2 * w1);
+  const double alpha_d = fast_abs(w1 * std::conj(z2) - w2 * std::conj(z1));
+  const double beta_d = fast_abs(z1 * w2 - z2 * w1);
   // |D|^2 det = (2 twice_area)^2 (twice_layout_area / twice_area).
   const double sum = alpha_d + beta_d;
   m.angle_distortion = sum * sum / (4.0 * m.twice_area * std::abs(m.twice_layout_area));

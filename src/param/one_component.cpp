@@ -2,8 +2,8 @@
 
 #include "flow/detail/mesh_flow_internal.hpp"
 #include "numerics/detail/parallel.hpp"
-#include "param/layout/detail/layout_support.hpp"
 #include "param/detail/one_component.hpp"
+#include "param/layout/detail/layout_support.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
 
 #include <chrono>
@@ -18,6 +18,7 @@
 #include "ricci/flow/flow_problem.hpp"
 #include "ricci/mesh/polygons.hpp"
 #include "ricci/mesh/split.hpp"
+#include "ricci/numerics/timer.hpp"
 #include "ricci/param/layout/polygon_fans.hpp"
 
 namespace ricci {
@@ -29,7 +30,6 @@ std::vector<OptionFix> more_cones_fixes(std::size_t count) {
   return {OptionFix{"cones", std::to_string(2 * count + 2)}, OptionFix{"cones", "auto"}};
 }
 
-using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Automatic cones are chosen again, with more of them, while the flat metric's log scale

@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "param/atlas/detail/charts.hpp"
+#include "param/atlas/detail/unfolding.hpp"
 #include "param/detail/one_component.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/components.hpp"
@@ -24,9 +25,9 @@
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/scheme.hpp"
-#include "ricci/param/parameterize.hpp"
+#include "ricci/numerics/timer.hpp"
 #include "ricci/param/layout/polygon_fans.hpp"
-#include "param/atlas/detail/unfolding.hpp"
+#include "ricci/param/parameterize.hpp"
 
 namespace ricci {
 namespace {
@@ -40,7 +41,6 @@ using param_detail::PatchLayout;
 using param_detail::split_at_charts;
 using param_detail::unfolded_result;
 
-using Clock = std::chrono::steady_clock;
 using param_detail::Points;
 
 /// A component whose flow layout maps some face with sigma_max / sigma_min above this is
@@ -48,10 +48,6 @@ using param_detail::Points;
 /// (1.1 to 2 on the shared meshes); tens to 1e5 come from tiny closed parts given the few cones
 /// their topology needs (the repaired dragon's needle tetrahedra).
 constexpr double kUnfoldAbove = 10;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 /// One component on its way into the atlas.
 struct Piece {

@@ -16,6 +16,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/mesh/validate.hpp"
+#include "ricci/numerics/timer.hpp"
 #include "ricci/numerics/wide_float.hpp"
 #include "sphere/detail/sphere_support.hpp"
 
@@ -34,13 +35,8 @@ using sphere_support::smallest_altitude;
 using sphere_support::to_double;
 using sphere_support::untangle;
 
-using Clock = std::chrono::steady_clock;
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// Angle between two vectors, accurate for small and obtuse angles alike.
 double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

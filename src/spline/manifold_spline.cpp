@@ -6,16 +6,12 @@
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Vec3 = Eigen::Vector3d;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 /// Closest point of triangle abc to p, by the Voronoi regions of its vertices, edges and face.
 Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

@@ -9,11 +9,11 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Triplet = Eigen::Triplet<double>;
 using HessianMap = Eigen::Matrix<double, 3, 9>;
 

@@ -1,14 +1,15 @@
 #pragma once
-// Private to the mesh module: union-find and edge naming shared by topology and validation.
+/// \file
+/// The library's one union-find: components of faces, fans of corners, charts, cycles of a cut.
 
 #include <algorithm>
 #include <numeric>
-#include <string>
 #include <vector>
 
-namespace ricci::mesh_detail {
+namespace ricci {
 
-/// Union-find with path halving; the smaller index becomes the root, so roots are deterministic.
+/// Union-find with path halving; the smaller index becomes the root, so that roots (and every
+/// numbering taken from them) are deterministic.
 class DisjointSets {
  public:
   explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
@@ -19,19 +20,18 @@ class DisjointSets {
     }
     return x;
   }
-  void unite(int a, int b) {
+  /// Joins the sets of a and b; true when they were apart.
+  bool unite(int a, int b) {
     a = find(a);
     b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    if (a == b) return false;
+    parent_[std::max(a, b)] = std::min(a, b);
+    return true;
   }
+  int size() const { return static_cast<int>(parent_.size()); }
 
  private:
   std::vector<int> parent_;
 };
 
-/// "(a, b)" with the smaller index first.
-inline std::string edge_name(int a, int b) {
-  return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
-}
-
-}  // namespace ricci::mesh_detail
+}  // namespace ricci

@@ -13,11 +13,11 @@
 #include <Eigen/Geometry>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 constexpr double kPi = std::numbers::pi;
 /// The gutter never goes below this: the placement's rounding (a few ulps of 1) stays inside it.

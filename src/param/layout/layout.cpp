@@ -15,10 +15,10 @@
 #include <Eigen/SparseCore>
 
 #include "numerics/detail/parallel.hpp"
-#include "ricci/numerics/complex.hpp"
 #include "param/layout/detail/layout_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/angles.hpp"
+#include "ricci/numerics/complex.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
@@ -85,10 +85,6 @@ SeamTransition make_transition(int edge, int segment, const RigidFit& fit) {
   return t;
 }
 
-double cross(Complex a, Complex b) {
-  return a.real() * b.imag() - a.imag() * b.real();
-}
-
 /// A reduced basis (Lagrange-Gauss: |b1| <= |b2|, |<b1, b2>| <= |b1|^2 / 2, counter-clockwise)
 /// of the lattice the translations generate. Among the pairs that span the plane, the one with
 /// the smallest parallelogram is taken: for the theta and figure-eight cut graphs of a torus every
@@ -140,8 +136,8 @@ double length_error(const Topology& topology, const Topology& cut_topology,
         double worst = 0;
         for (int k = 0; k < 3; ++k) {
           const double l = lengths[topology.face_edges(f, k)];
-          const double d = complex_length::length(uv[cut_topology.triangles(f, (k + 1) % 3)] -
-                                                  uv[cut_topology.triangles(f, (k + 2) % 3)]);
+          const double d = fast_abs(uv[cut_topology.triangles(f, (k + 1) % 3)] -
+                                    uv[cut_topology.triangles(f, (k + 2) % 3)]);
           worst = std::max(worst, std::abs(d - l) / l);
         }
         return worst;
@@ -185,7 +181,7 @@ std::vector<Complex> lay_out_by_rotations(const Topology& cut_topology,
       // rotation[f] in_f / in_g up to the positive factor |in_g|^2, which the normalisation
       // drops: a multiplication by the conjugate instead of a complex division.
       const Complex turn = rotation[f] * (in_f * std::conj(in_g));
-      const double size = complex_length::length(turn);
+      const double size = fast_abs(turn);
       // A zero-length edge leaves the turn undetermined: keep the neighbour's.
       rotation[g] = std::isfinite(size) && size > 0 ? turn / size : rotation[f];
       queue.push_back(g);
@@ -444,7 +440,7 @@ Layout layout_flat_from_shapes(const Topology& topology, const FaceShapes& shape
   parallel::for_each(topology.num_edges, [&](std::int64_t e) {
     const int h = topology.edge_halfedges(e, 0);
     const auto& p = shapes[h / 3];
-    lengths[e] = complex_length::length(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
+    lengths[e] = fast_abs(p[(h % 3 + 2) % 3] - p[(h % 3 + 1) % 3]);
   });
   layout_support::check_inputs("layout_flat", topology, lengths, cut, cut_mesh, options.root_face);
   // Each face's turn at corner 0 from its shape (only that one places the face): the unit

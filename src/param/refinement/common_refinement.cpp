@@ -18,14 +18,13 @@
 #include "ricci/intrinsic/edge_overlay.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 
 using namespace refinement_support;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 /// Develops each input edge over the Delaunay triangles it crosses (the flat metric): where it
 /// crosses each Delaunay edge, along both.
