@@ -18,6 +18,13 @@
 namespace ricci {
 namespace {
 
+/// Diagonals of a quad whose squared lengths agree to this relative amount are a tie, broken the
+/// same way on every platform (the rounding of the coordinates must not choose).
+constexpr double kDiagonalTie = 1e-9;
+/// The icosahedron's vertices are exact up to rounding, its squared edge length 4: neighbours
+/// are the pairs at that distance to well within any rounding of the coordinates.
+constexpr double kIcosahedronEdgeSlack = 1e-9;
+
 using Point = Eigen::Vector3d;
 
 void require_at_least(const char* function, const char* name, long long value, long long least) {
@@ -50,7 +57,7 @@ void split_quad(const Positions& positions, const std::array<int, 4>& q,
                 std::vector<std::array<int, 3>>& triangles) {
   const double ac = (positions.row(q[2]) - positions.row(q[0])).squaredNorm();
   const double bd = (positions.row(q[3]) - positions.row(q[1])).squaredNorm();
-  if (bd < ac * (1.0 - 1e-9)) {
+  if (bd < ac * (1.0 - kDiagonalTie)) {
     triangles.push_back({q[0], q[1], q[3]});
     triangles.push_back({q[1], q[2], q[3]});
   } else {
@@ -374,7 +381,7 @@ Mesh make_icosphere(int subdivisions, double radius) {
     }
   }
   const auto adjacent = [&](int i, int j) {
-    return std::abs((points[i] - points[j]).squaredNorm() - 4.0) < 1e-9;
+    return std::abs((points[i] - points[j]).squaredNorm() - 4.0) < kIcosahedronEdgeSlack;
   };
   std::vector<std::array<int, 3>> faces;
   for (int i = 0; i < 12; ++i) {

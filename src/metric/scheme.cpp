@@ -13,6 +13,18 @@
 namespace ricci {
 namespace {
 
+/// The per-vertex fit's safeguarded Newton stops once its bracket is this small relative to its
+/// upper end (a few ulps: the radius is then exact to double) or after kMaxFitIterations steps
+/// (bisection alone halves the bracket 60 times: 1e-18 of its start).
+constexpr double kFitBracket = 1e-15;
+constexpr int kMaxFitIterations = 60;
+/// Keeps fitted radii and residuals positive (their logs are taken) without changing any that
+/// double can tell from zero.
+constexpr double kTinyPositive = 1e-300;
+/// The tangential fit's smallest radius, relative to the mean edge length: a radius may not
+/// vanish (its log is u), and a millionth of an edge keeps the lengths a + b exact to 1e-6.
+constexpr double kTangentialRadiusFloor = 1e-6;
+
 /// Vertex -> incident edges, compressed rows.
 struct VertexEdges {
   std::vector<int> offsets, edges;
@@ -75,7 +87,8 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
     hi = x;
   else
     lo = x;
-  for (int iteration = 0; iteration < 60 && hi - lo > 1e-15 * hi; ++iteration) {
+  for (int iteration = 0; iteration < kMaxFitIterations && hi - lo > kFitBracket * hi;
+       ++iteration) {
     double next = d2 > 0 ? x - d1 / d2 : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     x = next;
@@ -86,7 +99,7 @@ double fit_thurston_radius(double x, const std::vector<std::pair<double, double>
     else
       lo = x;
   }
-  return std::max(x, 1e-300);
+  return std::max(x, kTinyPositive);
 }
 
 /// Gauss-Seidel sweeps of the per-vertex fit; returns the sweeps used.
@@ -120,7 +133,7 @@ int fit_sweeps(const Topology& t, const VertexEdges& ve, const Eigen::VectorXd& 
     const double current = residual();
     const double improvement = previous - current;
     previous = current;
-    if (improvement <= options.fit_tolerance * std::max(current, 1e-300)) break;
+    if (improvement <= options.fit_tolerance * std::max(current, kTinyPositive)) break;
   }
   return sweep;
 }
@@ -217,7 +230,7 @@ StructureResult make_conformal_structure(const Topology& t, const Eigen::VectorX
             });
       } else {
         // Tangential lengths are gamma_i + gamma_j: each vertex step is a 1-D least squares.
-        double floor = 1e-6 * lbar.mean();
+        double floor = kTangentialRadiusFloor * lbar.mean();
         result.fit_sweeps = fit_sweeps(
             t, ve, lbar, gamma, options, [](double a, double b, double) { return a + b; },
             [floor](double, const std::vector<std::pair<double, double>>& nb) {

@@ -20,7 +20,9 @@ inline double cross(std::complex<double> a, std::complex<double> b) {
 /// std::abs.
 inline double fast_abs(std::complex<double> z) {
   const double r = std::sqrt(z.real() * z.real() + z.imag() * z.imag());
-  return r > 1e-140 && r < 1e140 ? r : std::abs(z);
+  // Squares of moduli in (1e-140, 1e140) stay inside double's normal range (1e-308 to 1e308).
+  constexpr double kSmall = 1e-140, kLarge = 1e140;
+  return r > kSmall && r < kLarge ? r : std::abs(z);
 }
 
 }  // namespace ricci

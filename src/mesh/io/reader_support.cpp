@@ -91,6 +91,11 @@ std::optional<std::int64_t> parse_integer(std::string_view token) {
 
 namespace {
 
+/// A fan triangle whose doubled area is below this fraction of its longest squared side is a
+/// sliver (a sine under 1e-12: the angle a few rounding errors make): the polygon is then ear
+/// clipped instead of fanned.
+constexpr double kSliverFanArea = 1e-12;
+
 /// Strips a trailing backslash (and the blanks around it) from `line`; true when there was one.
 bool strip_continuation(std::string_view& line) {
   std::string_view trimmed = line;
@@ -237,7 +242,7 @@ Triangulation triangulate(const RawMesh& raw) {
         const Eigen::Vector3d a = points[i] - points[0], b = points[i + 1] - points[0];
         const Eigen::Vector3d c = a.cross(b);
         const double longest = std::max({a.squaredNorm(), b.squaredNorm(), (b - a).squaredNorm()});
-        fan = c.dot(normal) > 0 && c.norm() > 1e-12 * longest;
+        fan = c.dot(normal) > 0 && c.norm() > kSliverFanArea * longest;
       }
       if (!fan && ear_clip(points, normal, local)) {
         ++out.ear_clipped;
