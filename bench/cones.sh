@@ -16,12 +16,10 @@
 # with every checker's JSON in OUT_DIR/rows.tsv.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-out=${2:-$build/cones}
-ricci="$PWD/$build/ricci"
-shared=${RICCI_SHARED_MESHES:-$PWD/../shared/meshes}
+# shellcheck source=bench/lib.sh
+source bench/lib.sh
+bench_paths cones "$@"
 reference=$PWD/../shared/reference/bff-cones.tsv
-checkuv=$PWD/../shared/tools/checkuv.py
 mkdir -p "$out"
 if [ ! -f "$reference" ] || [ ! -d "$shared" ]; then
   echo "cones.sh: needs $reference and $shared" >&2

@@ -9,11 +9,9 @@
 # Prints a markdown table on stdout; the outputs stay in OUT_DIR.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-out=${2:-$build/defaults}
-ricci="$PWD/$build/ricci"
-shared=${RICCI_SHARED_MESHES:-$PWD/../shared/meshes}
-checkuv=$PWD/../shared/tools/checkuv.py
+# shellcheck source=bench/lib.sh
+source bench/lib.sh
+bench_paths defaults "$@"
 mkdir -p "$out/generated"
 
 # name path genus boundary_loops (genus -1: not a manifold)

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
+#include <utility>
 
 #include "ricci/errors.hpp"
 #include "support/shared_meshes.hpp"
@@ -54,6 +56,13 @@ Fixture make_fixture(const std::string& name) {
 
 void write(const fs::path& path, const std::string& text) {
   testing::write_text_file(path, text);
+}
+
+/// Writes input meshes into f.in, each a (name, first lines) pair: the first line tells the fake
+/// ricci what to do (ok, exit N, segv, sleep).
+void write_inputs(const Fixture& f,
+                  std::initializer_list<std::pair<const char*, const char*>> inputs) {
+  for (const auto& [name, text] : inputs) write(f.in / name, text);
 }
 
 std::vector<std::string> lines(const fs::path& path) {
@@ -113,13 +122,13 @@ TEST(RunBatch, RunsLargestFirstAndRecordsEachMeshOnce) {
 
 TEST(RunBatch, OutcomesComeFromTheExitStatusSignalAndLimit) {
   const Fixture f = make_fixture("run_batch_outcomes");
-  write(f.in / "bad.obj", "exit 2\n");
-  write(f.in / "stuck.obj", "exit 3\n");
-  write(f.in / "bug.obj", "exit 4\n");
-  write(f.in / "hog.obj", "exit 5\n");
-  write(f.in / "crash.obj", "segv\n");
-  write(f.in / "hang.obj", "sleep\n");
-  write(f.in / "fine.obj", "ok\n");
+  write_inputs(f, {{"bad.obj", "exit 2\n"},
+                   {"stuck.obj", "exit 3\n"},
+                   {"bug.obj", "exit 4\n"},
+                   {"hog.obj", "exit 5\n"},
+                   {"crash.obj", "segv\n"},
+                   {"hang.obj", "sleep\n"},
+                   {"fine.obj", "ok\n"}});
   BatchOptions options = options_for(f, 2);
   options.limits.timeout_seconds = 0.5;
   options.limits.kill_grace_seconds = 0.5;
@@ -145,11 +154,11 @@ TEST(RunBatch, OutcomesComeFromTheExitStatusSignalAndLimit) {
 
 TEST(RunBatch, ARerunSkipsWhatStandsAndRunsWhatChanged) {
   const Fixture f = make_fixture("run_batch_rerun");
-  write(f.in / "a.obj", "ok\n");
-  write(f.in / "b.obj", "ok\n");
-  write(f.in / "c.obj", "exit 2\n");
-  write(f.in / "d.obj", "ok\n");
-  write(f.in / "e.obj", "ok\n");
+  write_inputs(f, {{"a.obj", "ok\n"},
+                   {"b.obj", "ok\n"},
+                   {"c.obj", "exit 2\n"},
+                   {"d.obj", "ok\n"},
+                   {"e.obj", "ok\n"}});
   const BatchOptions options = options_for(f);
   auto jobs = [&] { return list_batch_jobs(f.in.string(), f.out.string(), {}); };
   run_batch(jobs(), f.out.string(), options);

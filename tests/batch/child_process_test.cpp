@@ -15,6 +15,26 @@ ChildResult sh(const std::string& script, const ChildLimits& limits = {},
   return run_child({"/bin/sh", "-c", script}, env, limits);
 }
 
+/// Limits that stop the child after `timeout` seconds, with `grace` seconds between SIGTERM and
+/// SIGKILL.
+ChildLimits timeout_limits(double timeout, double grace) {
+  ChildLimits limits;
+  limits.timeout_seconds = timeout;
+  limits.kill_grace_seconds = grace;
+  return limits;
+}
+
+/// Seconds within which a timed-out child must have ended: its script sleeps 30 s, so ending
+/// well before that shows the timeout stopped it, with room for a loaded machine.
+constexpr double kTimedOutWithinSeconds = 5.0;
+
+/// A child stopped by its timeout: ended TimedOut by `signal`, long before its own 30 s.
+void expect_timed_out(const ChildResult& r, int signal) {
+  EXPECT_EQ(r.end, ChildEnd::TimedOut);
+  EXPECT_EQ(r.signal, signal);
+  EXPECT_LT(r.seconds, kTimedOutWithinSeconds);
+}
+
 TEST(ChildProcess, ReportsTheExitStatusAndTheEndOfStandardError) {
   const ChildResult r = sh("echo out; echo 'error: bad mesh' >&2; exit 3");
   EXPECT_EQ(r.end, ChildEnd::Exited);
@@ -43,24 +63,16 @@ TEST(ChildProcess, ASignalIsReportedAsSuch) {
 }
 
 TEST(ChildProcess, ATimeoutStopsTheChildAndItsProcessGroup) {
-  ChildLimits limits;
-  limits.timeout_seconds = 0.3;
-  limits.kill_grace_seconds = 0.5;
+  const ChildLimits limits = timeout_limits(0.3, 0.5);
   // A grandchild in the same group must go too, or the pipe would stay open.
   const ChildResult r = sh("sleep 30 & sleep 30", limits);
-  EXPECT_EQ(r.end, ChildEnd::TimedOut);
-  EXPECT_EQ(r.signal, SIGTERM);
-  EXPECT_LT(r.seconds, 5.0);
+  expect_timed_out(r, SIGTERM);
 }
 
 TEST(ChildProcess, ATimeoutEscalatesToSigkillWhenTermIsIgnored) {
-  ChildLimits limits;
-  limits.timeout_seconds = 0.2;
-  limits.kill_grace_seconds = 0.3;
+  const ChildLimits limits = timeout_limits(0.2, 0.3);
   const ChildResult r = sh("trap '' TERM; while :; do sleep 0.05; done", limits);
-  EXPECT_EQ(r.end, ChildEnd::TimedOut);
-  EXPECT_EQ(r.signal, SIGKILL);
-  EXPECT_LT(r.seconds, 5.0);
+  expect_timed_out(r, SIGKILL);
 }
 
 TEST(ChildProcess, SetsAndRemovesEnvironmentVariables) {

@@ -22,6 +22,13 @@ std::string write_file(const std::string& name, const std::string& content) {
   return testing::write_text_file(textured_tmp_dir() / name, content);
 }
 
+/// Reads one triangle, corners (0, 0, 0), (1, 0, 0), (0, 1, 0), whose corners take the three
+/// texture coordinates of `vt_lines` in order.
+TexturedMesh read_triangle_with_vt(const std::string& name, const std::string& vt_lines) {
+  return read_textured_obj(
+      write_file(name, "v 0 0 0\nv 1 0 0\nv 0 1 0\n" + vt_lines + "f 1/1 2/2 3/3\n"));
+}
+
 /// The message of the exception E that reading `content` throws (fails when none is thrown).
 template <class E>
 std::string error_of(const std::string& name, const std::string& content) {
@@ -86,16 +93,10 @@ TEST(TexturedObj, ReadsHomogeneousTextureCoordinates) {
     EXPECT_NEAR(t.uv(v, 1), grid.positions(v, 1), 1e-15);
   }
   // A third component of 0 (a common exporter habit) or missing on one vt: ordinary (u, v).
-  const TexturedMesh zero =
-      read_textured_obj(write_file("zero_w.obj",
-                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
-                                   "vt 0 0 0\nvt 1 0 0\nvt 0 1 0\nf 1/1 2/2 3/3\n"));
+  const TexturedMesh zero = read_triangle_with_vt("zero_w.obj", "vt 0 0 0\nvt 1 0 0\nvt 0 1 0\n");
   EXPECT_EQ(zero.uv_weights.size(), 0);
   EXPECT_EQ(zero.uv(1, 0), 1.0);
-  const TexturedMesh mixed =
-      read_textured_obj(write_file("mixed_w.obj",
-                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
-                                   "vt 0 0 2\nvt 1 0\nvt 0 1 2\nf 1/1 2/2 3/3\n"));
+  const TexturedMesh mixed = read_triangle_with_vt("mixed_w.obj", "vt 0 0 2\nvt 1 0\nvt 0 1 2\n");
   EXPECT_EQ(mixed.uv_weights.size(), 0);
   EXPECT_EQ(mixed.uv(2, 1), 1.0);
 }

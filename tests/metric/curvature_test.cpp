@@ -18,10 +18,9 @@ namespace ricci {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-const Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
-                              Scheme::VertexScaling, Scheme::VirtualRadius};
-
 using testing::curvature_at;
+using testing::kAllSchemes;
+using testing::structure_of;
 
 // Gauss-Bonnet holds for every metric, not only the input one: perturb u at random.
 TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
@@ -30,13 +29,8 @@ TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
     const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
     const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
     for (Scheme scheme : kAllSchemes) {
-      StructureOptions options;
-      options.scheme = scheme;
-      const ConformalStructure s = make_conformal_structure(t, lbar, options).structure;
-      // Packings with Phi in [0, pi/2] accept any radii; the others only small changes.
-      const bool any_radii = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
-      std::uniform_real_distribution<double> noise(any_radii ? -1.0 : -0.02,
-                                                   any_radii ? 1.0 : 0.02);
+      const ConformalStructure s = structure_of(t, lbar, scheme);
+      std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 1.0, 0.02);
       Eigen::VectorXd u = s.initial_u;
       for (int round = 0; round < 2; ++round) {
         const Eigen::VectorXd k = curvature_at(t, s, u);
@@ -80,10 +74,7 @@ TEST(Curvature, GaussBonnetOnEverySharedManifoldMesh) {
     const ReadResult read = read_mesh(shared.path);
     const Topology t = build_topology(read.mesh.triangles, read.mesh.num_vertices());
     for (Scheme scheme : kAllSchemes) {
-      StructureOptions options;
-      options.scheme = scheme;
-      const ConformalStructure s =
-          make_conformal_structure(t, input_edge_lengths(read.mesh, t), options).structure;
+      const ConformalStructure s = structure_of(read.mesh, t, scheme);
       Eigen::VectorXd l;
       CornerAngles a;
       ASSERT_EQ(edge_lengths(t, s, s.initial_u, l).invalid_edges, 0) << shared.file;

@@ -15,10 +15,9 @@
 namespace ricci {
 namespace {
 
-const Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
-                              Scheme::VertexScaling, Scheme::VirtualRadius};
-
 using testing::curvature_at;
+using testing::kAllSchemes;
+using testing::structure_of;
 
 Eigen::MatrixXd hessian_at(const Topology& t, const ConformalStructure& s,
                            const Eigen::VectorXd& u) {
@@ -45,12 +44,8 @@ TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
     const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
     const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
     for (Scheme scheme : kAllSchemes) {
-      StructureOptions options;
-      options.scheme = scheme;
-      const ConformalStructure s = make_conformal_structure(t, lbar, options).structure;
-      const bool any_radii = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
-      std::uniform_real_distribution<double> noise(any_radii ? -0.5 : -0.03,
-                                                   any_radii ? 0.5 : 0.03);
+      const ConformalStructure s = structure_of(t, lbar, scheme);
+      std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 0.5, 0.03);
       Eigen::VectorXd u = s.initial_u;
       for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
       ASSERT_GT(curvature_at(t, s, u).size(), 0) << name << " " << scheme_name(scheme);
@@ -77,10 +72,7 @@ TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
 TEST(Hessian, ThurstonHessianIsPositiveSemidefiniteWithConstantKernel) {
   const Mesh mesh = make_closed_surface(2, 6);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  StructureOptions thurston;
-  thurston.scheme = Scheme::Thurston;
-  const ConformalStructure s =
-      make_conformal_structure(t, input_edge_lengths(mesh, t), thurston).structure;
+  const ConformalStructure s = structure_of(mesh, t, Scheme::Thurston);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> noise(-1.0, 1.0);
   Eigen::VectorXd u = s.initial_u;
@@ -96,10 +88,7 @@ TEST(Hessian, ThurstonHessianIsPositiveSemidefiniteWithConstantKernel) {
 TEST(Hessian, VertexScalingWeightsAreHalfCotangents) {
   const Mesh mesh = make_disk(3, 0.4);
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  StructureOptions options;
-  options.scheme = Scheme::VertexScaling;
-  const ConformalStructure s =
-      make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
+  const ConformalStructure s = structure_of(mesh, t, Scheme::VertexScaling);
   Eigen::VectorXd l, hw;
   CornerAngles a;
   edge_lengths(t, s, s.initial_u, l);

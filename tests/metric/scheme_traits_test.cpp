@@ -9,24 +9,19 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/background.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "support/metric_helpers.hpp"
 
 namespace ricci {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-ConformalStructure structure_of(const Mesh& mesh, const Topology& t, Scheme scheme,
-                                Geometry geometry = Geometry::Euclidean) {
-  StructureOptions options;
-  options.scheme = scheme;
-  options.geometry = geometry;
-  return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
-}
+using testing::structure_of;
 
 TEST(SchemeTraits, OneRowPerSchemeInTheOrderOfTheEnum) {
   for (std::size_t i = 0; i < kSchemeTraits.size(); ++i) {

@@ -29,6 +29,22 @@ Complex random_point(std::mt19937& random, double max_radius = 0.95) {
   return std::polar(max_radius * std::sqrt(unit(random)), angle(random));
 }
 
+/// A random map f, two random points and their images, drawn in that order.
+struct MappedPair {
+  Mobius f;
+  Complex z1, z2, w1, w2;  ///< w = f(z)
+};
+
+MappedPair random_mapped_pair(std::mt19937& random) {
+  MappedPair p;
+  p.f = random_map(random);
+  p.z1 = random_point(random);
+  p.z2 = random_point(random);
+  p.w1 = apply_mobius(p.f, p.z1);
+  p.w2 = apply_mobius(p.f, p.z2);
+  return p;
+}
+
 /// 2 atanh(|z - w| / |1 - conj(z) w|) in long double: an independent reference, accurate for
 /// close points (atanh of a small argument), not for points near the circle.
 double reference_distance(Complex z, Complex w) {
@@ -86,9 +102,7 @@ TEST(Mobius, NormalizedRestoresDeterminantOneAndFixesTheSign) {
 TEST(Mobius, MapsPreserveTheDiskAndTheDistance) {
   std::mt19937 random(3);
   for (int trial = 0; trial < 500; ++trial) {
-    const Mobius f = random_map(random);
-    const Complex z = random_point(random), w = random_point(random);
-    const Complex fz = apply_mobius(f, z), fw = apply_mobius(f, w);
+    const auto [f, z, w, fz, fw] = random_mapped_pair(random);
     EXPECT_LT(std::abs(fz), 1.0);
     const double d = disk_distance(z, w);
     EXPECT_NEAR(disk_distance(fz, fw), d, 1e-11 * std::max(1.0, d));
@@ -115,9 +129,7 @@ TEST(Mobius, TranslationToOriginAndTranslationLength) {
 TEST(Mobius, DiskIsometryIsExactOnRandomPairs) {
   std::mt19937 random(5);
   for (int trial = 0; trial < 500; ++trial) {
-    const Mobius f = random_map(random);
-    const Complex z1 = random_point(random), z2 = random_point(random);
-    const Complex w1 = apply_mobius(f, z1), w2 = apply_mobius(f, z2);
+    const auto [f, z1, z2, w1, w2] = random_mapped_pair(random);
     double mismatch = -1;
     const Mobius g = disk_isometry(z1, z2, w1, w2, &mismatch);
     // Exact at z1, relative to the local scale 1 - |w1|^2 of the disk there.

@@ -30,13 +30,29 @@ inline Eigen::RowVector3d face_normal(const Mesh& mesh, int f) {
   return length > 0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
 }
 
+/// `mesh`'s vertices followed by `added`, with `faces` as its triangles: the assembly step of
+/// the edits below, which keep every old vertex at its index and append the new ones.
+inline Mesh with_added_vertices(const Mesh& mesh, const std::vector<Eigen::RowVector3d>& added,
+                                const std::vector<Eigen::Vector3i>& faces) {
+  Mesh out;
+  out.positions.resize(mesh.num_vertices() + static_cast<Eigen::Index>(added.size()), 3);
+  out.positions.topRows(mesh.num_vertices()) = mesh.positions;
+  for (std::size_t i = 0; i < added.size(); ++i) {
+    out.positions.row(mesh.num_vertices() + static_cast<Eigen::Index>(i)) = added[i];
+  }
+  out.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    out.triangles.row(static_cast<Eigen::Index>(i)) = faces[i].transpose();
+  }
+  return out;
+}
+
 /// Splits every `stride`-th face 1-to-3 at a point near its first corner (barycentric weights
 /// 0.8, 0.1, 0.1) and pushes the new vertex out along the face normal by `push` times the face's
 /// longest edge: a valence-3 vertex whose three tall faces meet at a spike (an angle sum far
 /// below 2 pi that vertex scaling cannot open without breaking a triangle), the shape a badly
 /// decimated or a hand-edited mesh has.
 inline Mesh with_valence3_spikes(const Mesh& mesh, int stride, double push) {
-  Mesh out = mesh;
   std::vector<Eigen::RowVector3d> added;
   std::vector<Eigen::Vector3i> faces;
   for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -54,16 +70,7 @@ inline Mesh with_valence3_spikes(const Mesh& mesh, int stride, double push) {
     faces.emplace_back(b, c, p);
     faces.emplace_back(c, a, p);
   }
-  out.positions.conservativeResize(mesh.num_vertices() + static_cast<Eigen::Index>(added.size()),
-                                   3);
-  for (std::size_t i = 0; i < added.size(); ++i) {
-    out.positions.row(mesh.num_vertices() + static_cast<Eigen::Index>(i)) = added[i];
-  }
-  out.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    out.triangles.row(static_cast<Eigen::Index>(i)) = faces[i].transpose();
-  }
-  return out;
+  return with_added_vertices(mesh, added, faces);
 }
 
 /// Splits every `stride`-th interior edge (skipping those with a face already split) at the
@@ -74,7 +81,6 @@ inline Mesh with_needles(const Mesh& mesh, int stride, double t) {
   const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
   std::vector<int> split_vertex(static_cast<std::size_t>(topology.num_edges), -1);
   std::vector<char> face_split(static_cast<std::size_t>(mesh.num_faces()), 0);
-  Mesh out;
   std::vector<Eigen::RowVector3d> added;
   for (int e = 0; e < topology.num_edges; e += stride) {
     const int h0 = topology.edge_halfedges(e, 0), h1 = topology.edge_halfedges(e, 1);
@@ -98,16 +104,7 @@ inline Mesh with_needles(const Mesh& mesh, int stride, double t) {
     faces.emplace_back(c, i, p);
     faces.emplace_back(c, p, j);
   }
-  out.positions.resize(mesh.num_vertices() + static_cast<Eigen::Index>(added.size()), 3);
-  out.positions.topRows(mesh.num_vertices()) = mesh.positions;
-  for (std::size_t i = 0; i < added.size(); ++i) {
-    out.positions.row(mesh.num_vertices() + static_cast<Eigen::Index>(i)) = added[i];
-  }
-  out.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    out.triangles.row(static_cast<Eigen::Index>(i)) = faces[i].transpose();
-  }
-  return out;
+  return with_added_vertices(mesh, added, faces);
 }
 
 /// Moves every vertex in its tangent plane (the plane normal to the area-weighted mean of its

@@ -1,13 +1,47 @@
 #pragma once
 /// \file
-/// Curvature at given log radii, for tests that probe K(u) directly.
+/// Conformal structures and their curvature at given log radii, for tests that probe K(u)
+/// directly.
+
+#include <random>
 
 #include <Eigen/Core>
 
+#include "ricci/mesh/mesh.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/metric/scheme.hpp"
 
 namespace ricci::testing {
+
+/// Every scheme, for the properties that must hold whichever one a caller picks.
+inline constexpr Scheme kAllSchemes[] = {Scheme::Tangential, Scheme::Thurston,
+                                         Scheme::InversiveDistance, Scheme::VertexScaling,
+                                         Scheme::VirtualRadius};
+
+/// The conformal structure of `scheme` (and `geometry`) fitted to the edge lengths `lbar`.
+inline ConformalStructure structure_of(const Topology& t, const Eigen::VectorXd& lbar,
+                                       Scheme scheme, Geometry geometry = Geometry::Euclidean) {
+  StructureOptions options;
+  options.scheme = scheme;
+  options.geometry = geometry;
+  return make_conformal_structure(t, lbar, options).structure;
+}
+
+/// The conformal structure of `scheme` (and `geometry`) fitted to the mesh's own edge lengths.
+inline ConformalStructure structure_of(const Mesh& mesh, const Topology& t, Scheme scheme,
+                                       Geometry geometry = Geometry::Euclidean) {
+  return structure_of(t, input_edge_lengths(mesh, t), scheme, geometry);
+}
+
+/// Random changes of u that keep `scheme`'s triangles valid: packings with Phi in [0, pi/2]
+/// (Thurston, tangential) accept any radii, so they draw from [-wide, wide]; the others only
+/// small changes, from [-narrow, narrow].
+inline std::uniform_real_distribution<double> u_noise(Scheme scheme, double wide, double narrow) {
+  const bool any_radii = scheme == Scheme::Thurston || scheme == Scheme::Tangential;
+  return std::uniform_real_distribution<double>(any_radii ? -wide : -narrow,
+                                                any_radii ? wide : narrow);
+}
 
 /// K(u) for a conformal structure; an empty vector when u breaks a length or a triangle
 /// inequality.
