@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <string>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
+#include "ricci/numerics/wide_float.hpp"
 
 namespace ricci {
 namespace {
@@ -17,15 +18,6 @@ std::string letter_text(int segment, int sign) {
   return "(" + std::to_string(segment) + ", " + std::to_string(sign) + ")";
 }
 
-/// Smallest representative of a union-find class, with path halving.
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
-
 /// Number of vertices of the polygon whose boundary word is `word` once its sides are glued in
 /// pairs: side i runs from corner i to corner i + 1 (mod n); the sides (s, +1) at i and (s, -1)
 /// at j are glued head to tail, corner i to corner j + 1 and corner i + 1 to corner j.
@@ -33,16 +25,13 @@ int polygon_vertex_count(const SegmentWord& word, int num_segments) {
   const int n = static_cast<int>(word.size());
   std::vector<int> plus(num_segments, -1), minus(num_segments, -1);
   for (int i = 0; i < n; ++i) (word[i].second > 0 ? plus : minus)[word[i].first] = i;
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto unite = [&](int x, int y) { parent[find_root(parent, x)] = find_root(parent, y); };
+  DisjointSets corners(n);
+  int classes = n;
   for (int s = 0; s < num_segments; ++s) {
     if (plus[s] < 0) continue;
-    unite(plus[s], (minus[s] + 1) % n);
-    unite((plus[s] + 1) % n, minus[s]);
+    classes -= corners.unite(plus[s], (minus[s] + 1) % n);
+    classes -= corners.unite((plus[s] + 1) % n, minus[s]);
   }
-  int classes = 0;
-  for (int i = 0; i < n; ++i) classes += find_root(parent, i) == i;
   return classes;
 }
 
@@ -52,6 +41,14 @@ SegmentWord concatenate(const SegmentWord& u, const SegmentWord& v) {
   return free_reduce(w);
 }
 
+/// Bounds of the greedy descent (moves, and letters of the two words together): they matter only
+/// for input that is not a Fuchsian group, where the descent need not stop.
+constexpr int kMaxShorteningMoves = 50;
+constexpr std::size_t kMaxHandleLetters = 4096;
+/// A move must shrink the sum of the log norms by more than this: a smaller gain is rounding
+/// (the candidates of a discrete group differ in size by far more).
+constexpr double kShorteningGain = 1e-6;
+
 /// Shortens one handle by the moves that keep its commutator: a -> a b^(+-1) and
 /// b -> b a^(+-1) ([a b, b] = [a b^-1, b] = [a, b a] = [a, b a^-1] = [a, b]), greedily while the
 /// sum of the logarithms of the two operator norms (about half the distances the two maps move
@@ -60,12 +57,13 @@ void shorten_handle(Mobius& a, Mobius& b, SegmentWord& wa, SegmentWord& wb) {
   auto size = [](const Mobius& m) { return std::log(operator_norm(m)); };
   // In a discrete group the sizes are discrete and the greedy descent stops after a few moves;
   // the bounds only matter for input that is not a Fuchsian group (e.g. commuting maps).
-  for (int move = 0; move < 50 && wa.size() + wb.size() < 4096; ++move) {
+  for (int move = 0; move < kMaxShorteningMoves && wa.size() + wb.size() < kMaxHandleLetters;
+       ++move) {
     const double now = size(a) + size(b);
     const Mobius candidates[4] = {compose(a, b), compose(a, inverse(b)), compose(b, a),
                                   compose(b, inverse(a))};
     int best = -1;
-    double best_size = now - 1e-6;
+    double best_size = now - kShorteningGain;
     for (int k = 0; k < 4; ++k) {
       const double total = size(candidates[k]) + (k < 2 ? size(b) : size(a));
       if (total < best_size) {
@@ -221,11 +219,7 @@ struct NormalForm {
 /// template (the textbook products and sums, no library calls), hence the test of __GLIBCXX__;
 /// only the algebra of ricci/numerics/mobius.hpp is used on it, and the square root and
 /// magnitudes below go through long double.
-#if defined(__SIZEOF_FLOAT128__) && defined(__GLIBCXX__)
-using Extended = __float128;
-#else
-using Extended = long double;
-#endif
+using Extended = Quad;
 using ExtendedComplex = std::complex<Extended>;
 using ExtendedMobius = BasicMobius<Extended>;
 
@@ -329,6 +323,10 @@ Handles read_handles(NormalForm form, const std::vector<std::pair<int, int>>& bl
   return handles;
 }
 
+/// A choice whose cost (a sum of log norms) exceeds the cheapest one's by more than this, new
+/// letters about e^3 = 20 times larger, is not tried.
+constexpr double kCostMargin = 3.0;
+
 /// Depth-first over the `breadth` cheapest cut-and-paste choices at each of `remaining` steps.
 void explore(const NormalForm& form, std::vector<std::pair<int, int>>& blocks, int remaining,
              int breadth, Handles& best) {
@@ -348,7 +346,7 @@ void explore(const NormalForm& form, std::vector<std::pair<int, int>>& blocks, i
   // Choices much dearer than the cheapest (new letters 20 times larger) are not worth trying;
   // the cheapest always is (even when the costs overflowed, as a high genus's can).
   const int tries = std::min(breadth, static_cast<int>(options.size()));
-  for (int t = 0; t < tries && (t == 0 || options[t].cost <= options[0].cost + 3.0); ++t) {
+  for (int t = 0; t < tries && (t == 0 || options[t].cost <= options[0].cost + kCostMargin); ++t) {
     NormalForm next = form;
     blocks.push_back(next.make_block(options[t]));
     explore(next, blocks, remaining - 1, breadth, best);
@@ -409,13 +407,18 @@ bool is_rotation(const SegmentWord& u, const SegmentWord& v) {
   return std::search(doubled.begin(), doubled.end(), v.begin(), v.end()) != doubled.end();
 }
 
-FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
-  const int num_segments = static_cast<int>(relations.segment_maps.size());
-  const int num_nodes = static_cast<int>(relations.node_words.size());
-  if (num_nodes == 0) throw InvalidInput(std::string(kFn) + ": there are no node words");
+namespace {
 
-  // Every letter in range, every segment once with each sign; the nodes at its two ends.
-  std::vector<int> plus_node(num_segments, -1), minus_node(num_segments, -1);
+/// The two node words each segment occurs in, with sign +1 and with sign -1.
+struct SegmentEnds {
+  std::vector<int> plus_node, minus_node;
+};
+
+/// Checks that every letter is in range and every segment occurs once with each sign; returns
+/// the nodes at each segment's two ends.
+SegmentEnds segment_ends(const SegmentRelations& relations, int num_segments) {
+  const int num_nodes = static_cast<int>(relations.node_words.size());
+  SegmentEnds ends{std::vector<int>(num_segments, -1), std::vector<int>(num_segments, -1)};
   for (int v = 0; v < num_nodes; ++v) {
     const SegmentWord& w = relations.node_words[v];
     if (w.empty()) {
@@ -427,7 +430,7 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
                            letter_text(segment, sign) + "; letters must be (segment in [0, " +
                            std::to_string(num_segments) + "), +1 or -1)");
       }
-      int& end = sign > 0 ? plus_node[segment] : minus_node[segment];
+      int& end = sign > 0 ? ends.plus_node[segment] : ends.minus_node[segment];
       if (end >= 0) {
         throw InvalidInput(std::string(kFn) + ": segment " + std::to_string(segment) +
                            " occurs more than once with sign " + std::to_string(sign) +
@@ -438,15 +441,22 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
     }
   }
   for (int s = 0; s < num_segments; ++s) {
-    if (plus_node[s] < 0 || minus_node[s] < 0) {
+    if (ends.plus_node[s] < 0 || ends.minus_node[s] < 0) {
       throw InvalidInput(std::string(kFn) + ": segment " + std::to_string(s) +
-                         (plus_node[s] < 0 && minus_node[s] < 0
+                         (ends.plus_node[s] < 0 && ends.minus_node[s] < 0
                               ? " occurs in no node word"
                               : " occurs only once (with sign " +
-                                    std::string(plus_node[s] < 0 ? "-1" : "+1") + ")") +
+                                    std::string(ends.plus_node[s] < 0 ? "-1" : "+1") + ")") +
                          "; each segment occurs once with each sign");
     }
   }
+  return ends;
+}
+
+/// The segment maps normalised to determinant 1 (throws for a determinant that is not
+/// positive).
+std::vector<Mobius> normalized_segment_maps(const SegmentRelations& relations) {
+  const int num_segments = static_cast<int>(relations.segment_maps.size());
   std::vector<Mobius> maps(num_segments);
   for (int s = 0; s < num_segments; ++s) {
     const double det = determinant(relations.segment_maps[s]);
@@ -456,8 +466,14 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
     }
     maps[s] = normalized(relations.segment_maps[s]);
   }
+  return maps;
+}
 
-  FuchsianGroup group;
+/// The segment maps in Extended: the wide ones where the relations carry them, else the double
+/// ones.
+std::vector<ExtendedMobius> extended_segment_maps(const SegmentRelations& relations,
+                                                  const std::vector<Mobius>& maps) {
+  const int num_segments = static_cast<int>(maps.size());
   std::vector<ExtendedMobius> extended(num_segments);
   for (int s = 0; s < num_segments; ++s) extended[s] = extend(maps[s]);
   if (static_cast<int>(relations.wide_segment_maps.size()) == num_segments) {
@@ -475,45 +491,60 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
                        std::to_string(relations.wide_segment_maps.size()) +
                        " wide segment maps for " + std::to_string(num_segments) + " segments");
   }
-  for (const SegmentWord& w : relations.node_words) {
-    group.node_residual =
-        std::max(group.node_residual, extended_distance_to_identity(word_product(w, extended)));
-  }
+  return extended;
+}
 
-  // Spanning tree of nodes (vertices) and segments (edges), breadth first from node 0.
+/// A spanning tree of the nodes (vertices) and segments (edges), breadth first from node 0.
+struct SpanningTree {
+  std::vector<int> order;  ///< the nodes in the order reached
+  std::vector<int> parent_segment, parent_node;
+  std::vector<char> in_tree;  ///< per segment
+};
+
+SpanningTree spanning_tree(const SegmentEnds& ends, int num_nodes) {
+  const int num_segments = static_cast<int>(ends.plus_node.size());
   std::vector<std::vector<int>> incident(num_nodes);
   for (int s = 0; s < num_segments; ++s) {
-    if (plus_node[s] == minus_node[s]) continue;  // a loop is never a tree edge
-    incident[plus_node[s]].push_back(s);
-    incident[minus_node[s]].push_back(s);
+    if (ends.plus_node[s] == ends.minus_node[s]) continue;  // a loop is never a tree edge
+    incident[ends.plus_node[s]].push_back(s);
+    incident[ends.minus_node[s]].push_back(s);
   }
-  std::vector<int> order = {0}, parent_segment(num_nodes, -1), parent_node(num_nodes, -1);
-  std::vector<char> reached(num_nodes, 0), in_tree(num_segments, 0);
+  SpanningTree tree{{0},
+                    std::vector<int>(num_nodes, -1),
+                    std::vector<int>(num_nodes, -1),
+                    std::vector<char>(num_segments, 0)};
+  std::vector<char> reached(num_nodes, 0);
   reached[0] = 1;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const int v = order[k];
+  for (std::size_t k = 0; k < tree.order.size(); ++k) {
+    const int v = tree.order[k];
     for (int s : incident[v]) {
-      const int u = plus_node[s] == v ? minus_node[s] : plus_node[s];
+      const int u = ends.plus_node[s] == v ? ends.minus_node[s] : ends.plus_node[s];
       if (reached[u]) continue;
       reached[u] = 1;
-      parent_segment[u] = s;
-      parent_node[u] = v;
-      in_tree[s] = 1;
-      order.push_back(u);
+      tree.parent_segment[u] = s;
+      tree.parent_node[u] = v;
+      tree.in_tree[s] = 1;
+      tree.order.push_back(u);
     }
   }
-  if (static_cast<int>(order.size()) != num_nodes) {
+  if (static_cast<int>(tree.order.size()) != num_nodes) {
     const int missing =
         static_cast<int>(std::find(reached.begin(), reached.end(), 0) - reached.begin());
     throw InvalidInput(std::string(kFn) + ": node " + std::to_string(missing) +
                        " is not connected to node 0 through shared segments");
   }
+  return tree;
+}
 
-  // Contract the tree leaves first: in node v's word p^e R, p = parent segment; the parent's
-  // letter p^-e becomes R (p^e = R^-1 substituted; the faces of v and its parent merge).
+/// Contracts the tree, leaves first: in node v's word p^e R, p = parent segment, the parent's
+/// letter p^-e becomes R (p^e = R^-1 substituted; the faces of v and its parent merge). Sets
+/// group.tree_segments, group.relator (node 0's word, cyclically reduced) and
+/// group.generator_segments (the segments outside the tree).
+void contract_tree(const SegmentRelations& relations, const SpanningTree& tree,
+                   FuchsianGroup& group) {
   std::vector<SegmentWord> words = relations.node_words;
-  for (std::size_t k = order.size(); k-- > 1;) {
-    const int v = order[k], p = parent_segment[v], u = parent_node[v];
+  for (std::size_t k = tree.order.size(); k-- > 1;) {
+    const int v = tree.order[k], p = tree.parent_segment[v], u = tree.parent_node[v];
     SegmentWord& child = words[v];
     const auto at = std::find_if(child.begin(), child.end(),
                                  [p](const std::pair<int, int>& l) { return l.first == p; });
@@ -529,11 +560,14 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
     SegmentWord().swap(child);
   }
   group.relator = cyclic_reduce(words[0]);
-  for (int s = 0; s < num_segments; ++s) {
-    if (!in_tree[s]) group.generator_segments.push_back(s);
+  for (int s = 0; s < static_cast<int>(tree.in_tree.size()); ++s) {
+    if (!tree.in_tree[s]) group.generator_segments.push_back(s);
   }
+}
 
-  // The relator must be the word of a one-vertex orientable polygon in all the other segments.
+/// The relator must be the word of a one-vertex orientable polygon in all the other segments;
+/// returns the genus.
+int relator_genus(const FuchsianGroup& group, int num_segments) {
   const int n = static_cast<int>(group.relator.size());
   if (n != 2 * static_cast<int>(group.generator_segments.size())) {
     throw InvalidInput(std::string(kFn) + ": the reduced relator has " + std::to_string(n) +
@@ -550,8 +584,20 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
                          "into one disk");
     }
   }
-  group.genus = n / 4;
+  return n / 4;
+}
 
+/// Number of finished normal forms the cut-and-paste search visits at most, in all.
+constexpr double kSearchedForms = 512;
+/// Rounding slack of the genus-th root of kSearchedForms (an exact power, 512 = 8^3, must not
+/// round down to 7.999...).
+constexpr double kBreadthSlack = 1e-9;
+
+/// The canonical generators' words: a small search over the cut-and-paste choices (the
+/// cheapest few at each step, about kSearchedForms finished forms in all), keeping the
+/// generators of least total size. Sets group.a_words and group.b_words.
+void canonical_words(const std::vector<Mobius>& maps, FuchsianGroup& group) {
+  const int num_segments = static_cast<int>(maps.size());
   NormalForm form;
   std::vector<int> symbol_of(num_segments, -1);
   for (int segment : group.generator_segments) {
@@ -562,19 +608,20 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
   }
   for (const auto& [segment, sign] : group.relator)
     form.word.emplace_back(symbol_of[segment], sign);
-  // A small search over the cut-and-paste choices (the cheapest few at each step, about 512
-  // finished forms in all), keeping the canonical generators of least total size.
   if (group.genus > 0) {
-    const int breadth =
-        std::clamp(static_cast<int>(std::pow(512.0, 1.0 / group.genus) + 1e-9), 1, 8);
+    const int breadth = std::clamp(
+        static_cast<int>(std::pow(kSearchedForms, 1.0 / group.genus) + kBreadthSlack), 1, 8);
     Handles best;
     std::vector<std::pair<int, int>> blocks;
     explore(form, blocks, group.genus, breadth, best);
     group.a_words = std::move(best.a_words);
     group.b_words = std::move(best.b_words);
   }
+}
 
-  // The generators evaluated afresh from their words, and the relation, in long double.
+/// The generators evaluated afresh from their words, and the relation, in Extended; sets
+/// group.a, group.b, their norms and the relation's residual.
+void evaluate_generators(const std::vector<ExtendedMobius>& extended, FuchsianGroup& group) {
   ExtendedMobius relation;
   for (int k = 0; k < group.genus; ++k) {
     const ExtendedMobius a = word_product(group.a_words[k], extended);
@@ -587,6 +634,27 @@ FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
     group.largest_generator_norm = std::max({group.largest_generator_norm, na, nb});
   }
   group.relation_residual = extended_distance_to_identity(relation);
+}
+
+}  // namespace
+
+FuchsianGroup fuchsian_group(const SegmentRelations& relations) {
+  const int num_segments = static_cast<int>(relations.segment_maps.size());
+  const int num_nodes = static_cast<int>(relations.node_words.size());
+  if (num_nodes == 0) throw InvalidInput(std::string(kFn) + ": there are no node words");
+  const SegmentEnds ends = segment_ends(relations, num_segments);
+  const std::vector<Mobius> maps = normalized_segment_maps(relations);
+
+  FuchsianGroup group;
+  const std::vector<ExtendedMobius> extended = extended_segment_maps(relations, maps);
+  for (const SegmentWord& w : relations.node_words) {
+    group.node_residual =
+        std::max(group.node_residual, extended_distance_to_identity(word_product(w, extended)));
+  }
+  contract_tree(relations, spanning_tree(ends, num_nodes), group);
+  group.genus = relator_genus(group, num_segments);
+  canonical_words(maps, group);
+  evaluate_generators(extended, group);
   return group;
 }
 

@@ -22,6 +22,10 @@ namespace {
 using Wide = long double;
 using WideComplex = std::complex<Wide>;
 
+/// The recentring stops when the area-weighted centre is this close to the origin: far below
+/// double resolution of the positions it moves (and the layout has converged long before).
+constexpr Wide kCentred = 1e-12;  // the double 1e-12, widened
+
 /// The orientation-preserving isometry taking z1 to w1 and the direction towards z2 to the
 /// direction towards w2, in long double (the directions compared in the frames of z1 and w1).
 WideMobius wide_isometry(WideComplex z1, WideComplex z2, WideComplex w1, WideComplex w2) {
@@ -130,7 +134,7 @@ HyperbolicLayout layout_from_angles(const Topology& topology, const WideVector& 
       }
       if (!(total > 0)) break;
       centre /= total;
-      if (std::abs(centre) < Wide{1e-12}) break;
+      if (std::abs(centre) < kCentred) break;
       for (int v = 0; v < ncv; ++v) {
         if (cut_topology.vertex_component[v] >= 0) uv[v] = to_frame(centre, uv[v]);
       }

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "numerics/detail/parallel.hpp"
+#include "param/detail/face_distortion.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/complex.hpp"
 
@@ -31,11 +32,7 @@ struct FaceMeasure {
   double angle_distortion = 0;   // meaningful only when twice_layout_area is finite and != 0
 };
 
-/// The map from the 3D triangle to its layout is w = alpha z + beta conj(z) in complex numbers,
-/// z in a frame of the triangle's plane. Its singular values are |alpha| + |beta| and
-/// ||alpha| - |beta||, and |alpha|^2 - |beta|^2 is its determinant, the area ratio. So
-/// sigma_max / sigma_min = (|alpha| + |beta|)^2 / |det|, which takes the determinant from the
-/// cross products instead of from the cancelling difference |alpha| - |beta|.
+/// The face's ratio in the determinant form of param/detail/face_distortion.hpp.
 FaceMeasure measure_face(const Eigen::Vector3d (&p)[3], const Eigen::Vector2d (&q)[3]) {
   // Both edges from the corner opposite the longest edge are the two shortest: the cross products
   // from there lose the least to cancellation.
@@ -46,25 +43,17 @@ FaceMeasure measure_face(const Eigen::Vector3d (&p)[3], const Eigen::Vector2d (&
     if (opposite > longest) longest = opposite, origin = c;
   }
   const int j = (origin + 1) % 3, k = (origin + 2) % 3;
-  const Eigen::Vector3d e1 = p[j] - p[origin], e2 = p[k] - p[origin];
   const Eigen::Vector2d u1 = q[j] - q[origin], u2 = q[k] - q[origin];
 
+  // The 3D triangle in its own plane, counter-clockwise: z0 = 0, z1 on the real axis.
+  const detail::PlaneTriangle z = detail::plane_triangle(p[j] - p[origin], p[k] - p[origin]);
   FaceMeasure m;
-  m.twice_area = e1.cross(e2).norm();
+  m.twice_area = z.twice_area;
   m.twice_layout_area = u1.x() * u2.y() - u1.y() * u2.x();
   if (!(std::isfinite(m.twice_area) && m.twice_area > 0)) return m;
   if (!(std::isfinite(m.twice_layout_area) && m.twice_layout_area != 0)) return m;
-
-  // The 3D triangle in its own plane, counter-clockwise: z0 = 0, z1 on the real axis.
-  const double length1 = e1.norm();
-  const Complex z1(length1, 0.0), z2(e1.dot(e2) / length1, m.twice_area / length1);
-  const Complex w1(u1.x(), u1.y()), w2(u2.x(), u2.y());
-  // alpha D and beta D with D = z1 conj(z2) - z2 conj(z1), |D| = twice_area.
-  const double alpha_d = fast_abs(w1 * std::conj(z2) - w2 * std::conj(z1));
-  const double beta_d = fast_abs(z1 * w2 - z2 * w1);
-  // |D|^2 det = (2 twice_area)^2 (twice_layout_area / twice_area).
-  const double sum = alpha_d + beta_d;
-  m.angle_distortion = sum * sum / (4.0 * m.twice_area * std::abs(m.twice_layout_area));
+  m.angle_distortion = detail::angle_distortion(z, Complex(u1.x(), u1.y()), Complex(u2.x(), u2.y()),
+                                                m.twice_layout_area, detail::Modulus::Fast);
   return m;
 }
 

@@ -13,6 +13,7 @@
 
 #include <Eigen/Dense>
 
+#include "param/detail/face_distortion.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/mesh/validate.hpp"
@@ -62,33 +63,17 @@ Centre centre_of_mass(const Positions& P, const Triangles& F, const Eigen::Vecto
   return out;
 }
 
-/// sigma_max / sigma_min of the linear map between two triangles of R^3, each in its own plane,
-/// and twice their areas (the second signed by `orientation`). In complex coordinates of the
-/// planes, w = alpha z + beta conj(z); the singular values are |alpha| +- |beta| and
-/// |alpha|^2 - |beta|^2 is the area ratio, so the ratio is (|alpha| + |beta|)^2 / |area ratio|
-/// (the determinant from the cross products, not from the cancelling |alpha| - |beta|).
+/// sigma_max / sigma_min of the linear map between two triangles of R^3, each in its own plane
+/// (the second mirrored when `orientation` is -1), in the determinant form of
+/// param/detail/face_distortion.hpp; infinity when either is degenerate.
 double angle_distortion(const Eigen::Vector3d (&p)[3], const Eigen::Vector3d (&q)[3],
                         double orientation) {
-  auto frame = [](const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, double sign, Complex& z1,
-                  Complex& z2) {
-    const double l1 = e1.norm();
-    const double twice_area = e1.cross(e2).norm();
-    z1 = Complex(l1, 0);
-    z2 = Complex(e1.dot(e2) / l1, sign * twice_area / l1);
-    return sign * twice_area;
-  };
-  Complex z1, z2, w1, w2;
-  const double twice_area = frame(p[1] - p[0], p[2] - p[0], 1.0, z1, z2);
-  const double twice_image = frame(q[1] - q[0], q[2] - q[0], orientation, w1, w2);
-  if (!(twice_area > 0) || twice_image == 0 || !std::isfinite(twice_image)) {
+  const detail::PlaneTriangle from = detail::plane_triangle(p[1] - p[0], p[2] - p[0]);
+  const detail::PlaneTriangle to = detail::plane_triangle(q[1] - q[0], q[2] - q[0], orientation);
+  if (!(from.twice_area > 0) || to.twice_area == 0 || !std::isfinite(to.twice_area)) {
     return std::numeric_limits<double>::infinity();
   }
-  // alpha D and beta D with D = z1 conj(z2) - z2 conj(z1), |D| = 2 twice_area, and
-  // |alpha|^2 - |beta|^2 = twice_image / twice_area.
-  const double alpha_d = std::abs(w1 * std::conj(z2) - w2 * std::conj(z1));
-  const double beta_d = std::abs(w2 * z1 - w1 * z2);
-  const double sum = alpha_d + beta_d;
-  return sum * sum / std::abs(4 * twice_area * twice_image);
+  return detail::angle_distortion(from, to.z1, to.z2, to.twice_area, detail::Modulus::Exact);
 }
 
 /// Least-squares circle through points (Kasa's algebraic fit: minimises the sum of

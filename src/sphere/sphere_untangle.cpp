@@ -16,6 +16,10 @@ struct StarSide {
   Point3<T> a, m;
 };
 
+/// A vertex of the linear programme may violate a constraint by this fraction of the box (the
+/// rounding of the 3 by 3 solve that produced it).
+constexpr double kFeasibilitySlack = 1e-12;
+
 /// The offset from x0 to the position deepest inside the constraints of a star (the largest
 /// least distance to its planes), within the tangent plane at x0 and a box of twice the
 /// shortest edge: a linear programme in (u, w, depth) solved by its vertices (each three active
@@ -54,7 +58,7 @@ Point3<T> deepest_offset(const Point3<T>& x0, const std::vector<StarSide<T>>& si
         if (!x.allFinite() || x[2] <= best_depth) continue;
         bool feasible = true;
         for (int c = 0; c < n && feasible; ++c) {
-          feasible = rows[c].dot(x) >= rhs[c] - 1e-12 * box;
+          feasible = rows[c].dot(x) >= rhs[c] - kFeasibilitySlack * box;
         }
         if (feasible) {
           best_depth = x[2];

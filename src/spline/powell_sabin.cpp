@@ -15,6 +15,9 @@ namespace {
 using Vec2 = Eigen::Vector2d;
 using Complex = std::complex<double>;
 
+/// The floor of a jump scale that is 0 (constant data): the relative jumps stay finite.
+constexpr double kTinyScale = 1e-300;
+
 constexpr int kA = 0, kC = 3, kD = 6, kE = 9, kBP = 12, kBQ = 15, kF = 18;
 
 Complex to_complex(const Vec2& v) {
@@ -373,8 +376,8 @@ ContinuityReport measure_continuity(const SplineDomain& d, const Eigen::MatrixXd
       r.gradient_scale > 0 ? r.max_gradient_jump / r.gradient_scale : r.max_gradient_jump;
   double worst = -1;
   for (int e = 0; e < d.num_edges; ++e) {
-    const double rel = std::max(edge_value_jump[e] / std::max(r.value_scale, 1e-300),
-                                edge_gradient_jump[e] / std::max(r.gradient_scale, 1e-300));
+    const double rel = std::max(edge_value_jump[e] / std::max(r.value_scale, kTinyScale),
+                                edge_gradient_jump[e] / std::max(r.gradient_scale, kTinyScale));
     if (rel > worst && (edge_value_jump[e] > 0 || edge_gradient_jump[e] > 0)) {
       worst = rel;
       r.worst_edge = e;

@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <limits>
 #include <string>
 
 #include <Eigen/Geometry>
 
+#include "param/detail/face_distortion.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
 
@@ -356,6 +358,79 @@ TEST(Distortion, SizeMismatchesAreInvalidInput) {
   expect_message(invalid_input_message(flat_face, grid.triangles, uv), "face 4 has zero area");
 
   expect_message(invalid_input_message(Mesh{}, Triangles(0, 3), uv), "no faces");
+}
+
+// The one-face kernel (param/detail/face_distortion.hpp) that measure_distortion, the sphere map
+// and the angle polish share.
+
+/// A triangle of R^3 off every coordinate plane, and a linear map of its plane.
+struct KernelCase {
+  Eigen::Vector3d e1{1.3, 0.4, -0.2}, e2{0.2, 0.9, 0.7};
+};
+
+TEST(FaceDistortionKernel, PlaneTriangleKeepsLengthsAndArea) {
+  const KernelCase k;
+  const detail::PlaneTriangle t = detail::plane_triangle(k.e1, k.e2);
+  EXPECT_NEAR(std::abs(t.z1), k.e1.norm(), kTight);
+  EXPECT_EQ(t.z1.imag(), 0);
+  EXPECT_NEAR(std::abs(t.z2), k.e2.norm(), kTight);
+  EXPECT_NEAR(std::abs(t.z2 - t.z1), (k.e2 - k.e1).norm(), kTight);
+  EXPECT_NEAR(t.twice_area, k.e1.cross(k.e2).norm(), kTight);
+  EXPECT_GT(t.z2.imag(), 0);
+  const detail::PlaneTriangle m = detail::plane_triangle(k.e1, k.e2, -1.0);
+  EXPECT_EQ(m.z1, t.z1);
+  EXPECT_EQ(m.z2, std::conj(t.z2));
+  EXPECT_EQ(m.twice_area, -t.twice_area);
+}
+
+TEST(FaceDistortionKernel, RatioOfKnownMaps) {
+  const KernelCase k;
+  const detail::PlaneTriangle t = detail::plane_triangle(k.e1, k.e2);
+  using C = std::complex<double>;
+  auto image = [&](const std::function<C(C)>& map, double& twice_image, C& w1, C& w2) {
+    w1 = map(t.z1), w2 = map(t.z2);
+    twice_image = w1.real() * w2.imag() - w1.imag() * w2.real();
+  };
+  double twice_image = 0;
+  C w1, w2;
+  for (const auto modulus : {detail::Modulus::Fast, detail::Modulus::Exact}) {
+    // A similarity and a mirrored one: conformal.
+    image([](C z) { return C(0.3, -1.7) * z; }, twice_image, w1, w2);
+    EXPECT_NEAR(detail::angle_distortion(t, w1, w2, twice_image, modulus), 1, kTight);
+    image([](C z) { return C(2.0, 0.5) * std::conj(z); }, twice_image, w1, w2);
+    EXPECT_LT(twice_image, 0);
+    EXPECT_NEAR(detail::angle_distortion(t, w1, w2, twice_image, modulus), 1, kTight);
+    // A stretch by 3 along one axis of the plane, then a rotation: sigma ratio 3.
+    image([](C z) { return C(0.6, 0.8) * C(3 * z.real(), z.imag()); }, twice_image, w1, w2);
+    EXPECT_NEAR(detail::angle_distortion(t, w1, w2, twice_image, modulus), 3, 4 * kTight);
+  }
+}
+
+TEST(FaceDistortionKernel, CoefficientsAndModuliFormAgreeWithTheDeterminantForm) {
+  const KernelCase k;
+  const detail::PlaneTriangle t = detail::plane_triangle(k.e1, k.e2);
+  const detail::FaceCoefficients c = detail::face_coefficients(t);
+  ASSERT_TRUE(c.valid);
+  using C = std::complex<double>;
+  // An affine image with a translation: the coefficients take the corners' images themselves.
+  auto map = [](C z) { return C(1.1, 0.3) * z + C(0.2, -0.4) * std::conj(z) + C(5, -2); };
+  const C w[3] = {map(0), map(t.z1), map(t.z2)};
+  C alpha_d = 0, beta_d = 0;
+  for (int i = 0; i < 3; ++i) alpha_d += c.a[i] * w[i], beta_d += c.b[i] * w[i];
+  // alpha D and beta D with D = -2 i twice_area.
+  const C d(0, -2 * t.twice_area);
+  EXPECT_NEAR(std::abs(alpha_d / d - C(1.1, 0.3)), 0, kTight);
+  EXPECT_NEAR(std::abs(beta_d / d - C(0.2, -0.4)), 0, kTight);
+  const C w1 = w[1] - w[0], w2 = w[2] - w[0];
+  const double twice_image = w1.real() * w2.imag() - w1.imag() * w2.real();
+  const double determinant_form =
+      detail::angle_distortion(t, w1, w2, twice_image, detail::Modulus::Exact);
+  EXPECT_NEAR(detail::ratio_from_moduli(std::abs(alpha_d), std::abs(beta_d)), determinant_form,
+              8 * kTight);
+  // |alpha| < |beta|: the image is mirrored, and the moduli form calls it flipped.
+  EXPECT_TRUE(std::isinf(detail::ratio_from_moduli(std::abs(beta_d), std::abs(alpha_d))));
+  // A degenerate 3D triangle has no coefficients.
+  EXPECT_FALSE(detail::face_coefficients(detail::plane_triangle(k.e1, 2 * k.e1)).valid);
 }
 
 }  // namespace

@@ -43,8 +43,10 @@ struct SphereOptions {
   /// Vertex sent to the north pole before the Moebius normalisation; -1 picks one (see
   /// choose_pole_vertex).
   int pole = -1;
-  /// Discrete metric of the disk's flow; Thurston by default: its packings never break a triangle,
-  /// and with Phi in [0, pi/2] and a convex boundary the layout is an embedding.
+  /// Discrete metric of the disk's flow; StructureOptions' default, vertex scaling (discrete
+  /// conformal equivalence with intrinsic Delaunay flips), reaches every target. Thurston's
+  /// packings (Scheme::Thurston) never break a triangle, and with Phi in [0, pi/2] and a convex
+  /// boundary their layout is an embedding.
   StructureOptions structure;
   /// Newton to 1e-12, as parameterize does: the layout closes around each interior vertex only as
   /// well as the metric is flat there. Edge flips (vertex scaling) change the disk's triangulation

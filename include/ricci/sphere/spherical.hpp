@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// Spherical background geometry (curvature +1), first piece: the spherical law of cosines for a
-/// geodesic triangle on the unit sphere. The sphere map (ricci/sphere/sphere.hpp) measures its
-/// spherical triangles with it.
+/// Spherical background geometry (curvature +1): the spherical law of cosines for a geodesic
+/// triangle on the unit sphere. The sphere map (ricci/sphere/sphere.hpp) does not call it (it
+/// takes a spherical triangle's area from the triple product of its corners); its tests check
+/// those areas against the angle sums computed here.
 
 namespace ricci {
 

@@ -73,6 +73,10 @@ RigidFit fit_rigid(const std::vector<Complex>& from, const std::vector<Complex>&
   return fit;
 }
 
+/// A rotation angle within this of -pi is a half turn, printed as +pi: std::arg returns
+/// [-pi, pi], and which end a half turn lands on is rounding.
+constexpr double kHalfTurnSlack = 1e-9;
+
 SeamTransition make_transition(int edge, int segment, const RigidFit& fit) {
   SeamTransition t;
   t.edge = edge;
@@ -81,9 +85,20 @@ SeamTransition make_transition(int edge, int segment, const RigidFit& fit) {
   t.translation = fit.translation;
   t.angle = std::arg(fit.rotation);
   // std::arg returns [-pi, pi]; a half turn must print the same however rounding falls.
-  if (t.angle <= -std::numbers::pi + 1e-9) t.angle += 2 * std::numbers::pi;
+  if (t.angle <= -std::numbers::pi + kHalfTurnSlack) t.angle += 2 * std::numbers::pi;
   return t;
 }
+
+/// Translations shorter than this fraction of the longest are zero (a segment whose two sides
+/// the flow's rounding alone moved apart); pairs whose parallelogram is below this fraction of
+/// the longest squared do not span the plane.
+constexpr double kNegligibleTranslation = 1e-9;
+/// A pair spans a sublattice when its parallelogram is above this fraction of the largest (an
+/// area below it is a rounding artefact of nearly parallel translations) ...
+constexpr double kSpanningArea = 1e-6;
+/// ... and it replaces the best pair so far only when smaller by more than this fraction (equal
+/// areas keep the first pair however rounding falls).
+constexpr double kSmallerArea = 1e-9;
 
 /// A reduced basis (Lagrange-Gauss: |b1| <= |b2|, |<b1, b2>| <= |b1|^2 / 2, counter-clockwise)
 /// of the lattice the translations generate. Among the pairs that span the plane, the one with
@@ -95,7 +110,7 @@ std::vector<Complex> reduced_lattice(const std::vector<Complex>& translations) {
   for (Complex t : translations) scale = std::max(scale, std::abs(t));
   std::vector<Complex> candidates;
   for (Complex t : translations) {
-    if (std::abs(t) > 1e-9 * scale) candidates.push_back(t);
+    if (std::abs(t) > kNegligibleTranslation * scale) candidates.push_back(t);
   }
   double largest = 0;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
@@ -103,13 +118,13 @@ std::vector<Complex> reduced_lattice(const std::vector<Complex>& translations) {
       largest = std::max(largest, std::abs(cross(candidates[i], candidates[j])));
     }
   }
-  if (!(largest > 1e-9 * scale * scale)) return {};
+  if (!(largest > kNegligibleTranslation * scale * scale)) return {};
   Complex b1, b2;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     for (std::size_t j = i + 1; j < candidates.size(); ++j) {
       const double area = std::abs(cross(candidates[i], candidates[j]));
-      if (area > 1e-6 * largest && area < best * (1 - 1e-9)) {
+      if (area > kSpanningArea * largest && area < best * (1 - kSmallerArea)) {
         best = area;
         b1 = candidates[i];
         b2 = candidates[j];

@@ -1,7 +1,6 @@
 #include "ricci/param/layout/polish.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -11,7 +10,9 @@
 
 #include <Eigen/Geometry>
 
+#include "param/detail/face_distortion.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
@@ -23,34 +24,12 @@ using Uv = Eigen::Matrix<double, Eigen::Dynamic, 2>;
   throw InvalidInput("polish_angles: " + what);
 }
 
-/// The map from a 3D triangle (in a frame of its plane, z_k) to its layout (w_k) is
-/// w = alpha z + beta conj(z); alpha D = sum_k a_k w_k and beta D = sum_k b_k w_k with fixed
-/// coefficients (D = z1 conj(z2) - z2 conj(z1), z0 = 0). Its singular values are |alpha| +
-/// |beta| and |alpha| - |beta| (orientation kept when |alpha| > |beta|), so the face's sigma
-/// ratio is (A + B) / (A - B) with A = |alpha D|, B = |beta D|: D cancels, and a vertex moving
-/// alone changes A and B as distances to two points (each is |P + a_k w|).
-struct FaceCoefficients {
-  Complex a[3], b[3];
-  bool valid = false;  // positive, finite 3D area
-};
-
-FaceCoefficients coefficients(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                              const Eigen::Vector3d& p2) {
-  FaceCoefficients c;
-  const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
-  const double twice_area = e1.cross(e2).norm();
-  const double length1 = e1.norm();
-  if (!(std::isfinite(twice_area) && twice_area > 0 && length1 > 0)) return c;
-  const Complex z1(length1, 0.0), z2(e1.dot(e2) / length1, twice_area / length1);
-  c.a[0] = -(std::conj(z2) - std::conj(z1));
-  c.a[1] = std::conj(z2);
-  c.a[2] = -std::conj(z1);
-  c.b[0] = -(z1 - z2);
-  c.b[1] = -z2;
-  c.b[2] = z1;
-  c.valid = true;
-  return c;
-}
+/// The map from a 3D triangle to its layout is w = alpha z + beta conj(z), alpha D and beta D
+/// linear in the corners' images (param/detail/face_distortion.hpp); the face's sigma ratio is
+/// (A + B) / (A - B) with A = |alpha D|, B = |beta D|, and a vertex moving alone changes A and B
+/// as distances to two points (each is |P + a_k w|).
+using detail::FaceCoefficients;
+using detail::ratio_from_moduli;
 
 /// Vertices of more faces than this are not moved to unflip one (see nearest_feasible_point).
 constexpr int kMaxUntangleValence = 24;
@@ -61,13 +40,6 @@ double magnitude(Complex z) {
   return std::sqrt(z.real() * z.real() + z.imag() * z.imag());
 }
 
-/// sigma_max / sigma_min from A and B; infinity when the face is flipped or degenerate.
-double ratio(double a, double b) {
-  // A - B below 1e-12 A: the face has collapsed to rounding.
-  if (!(a - b > 1e-12 * a)) return std::numeric_limits<double>::infinity();
-  return (a + b) / (a - b);
-}
-
 /// One face around the vertex being moved: A = |p + a w|, B = |q + b w|.
 struct Term {
   Complex p, q, a, b;
@@ -75,9 +47,14 @@ struct Term {
 
 double energy(const std::vector<Term>& terms, Complex w) {
   double sum = 0;
-  for (const Term& t : terms) sum += ratio(magnitude(t.p + t.a * w), magnitude(t.q + t.b * w));
+  for (const Term& t : terms)
+    sum += ratio_from_moduli(magnitude(t.p + t.a * w), magnitude(t.q + t.b * w));
   return sum;
 }
+
+/// B at most this fraction of A counts as B = 0 (a conformal face), where B has a kink and no
+/// gradient: B's terms are left out.
+constexpr double kConformalFace = 1e-14;
 
 /// Gradient and Hessian (in the plane, w = x + i y) of the sum of ratios.
 void derivatives(const std::vector<Term>& terms, Complex w, Eigen::Vector2d& g,
@@ -96,7 +73,7 @@ void derivatives(const std::vector<Term>& terms, Complex w, Eigen::Vector2d& g,
     Eigen::Matrix2d hb = Eigen::Matrix2d::Zero();
     const double c2 = std::norm(t.a);  // |a| = |b|: the length of the opposite edge
     const Eigen::Matrix2d ha = (Eigen::Matrix2d::Identity() - ga * ga.transpose() / c2) * c2 / a;
-    if (b > 1e-14 * a) {  // at B = 0 (a conformal face) B has a kink: no gradient there
+    if (b > kConformalFace * a) {  // at B = 0 (a conformal face) B has a kink: no gradient there
       const Complex zb = std::conj(yb) * t.b / b;
       gb = Eigen::Vector2d(zb.real(), -zb.imag());
       hb = (Eigen::Matrix2d::Identity() - gb * gb.transpose() / c2) * c2 / b;
@@ -109,6 +86,10 @@ void derivatives(const std::vector<Term>& terms, Complex w, Eigen::Vector2d& g,
          rab * (ga * gb.transpose() + gb * ga.transpose());
   }
 }
+
+/// The Hessian's eigenvalues are clamped to at least this fraction of the largest modulus: a
+/// direction of negative or no curvature gets a long but finite step (the caller caps it).
+constexpr double kEigenvalueFloor = 1e-6;
 
 /// Newton direction with the Hessian's eigenvalues clamped positive.
 Eigen::Vector2d newton_direction(const Eigen::Vector2d& g, const Eigen::Matrix2d& h) {
@@ -127,11 +108,18 @@ Eigen::Vector2d newton_direction(const Eigen::Vector2d& g, const Eigen::Matrix2d
   const Eigen::Vector2d v2(-v1.y(), v1.x());
   const double top = std::max(std::abs(l1), std::abs(l2));
   if (!(top > 0) || !std::isfinite(top)) return -g;
-  const double floor = 1e-6 * top;
+  const double floor = kEigenvalueFloor * top;
   l1 = std::max(l1, floor);
   l2 = std::max(l2, floor);
   return -(v1 * (v1.dot(g) / l1) + v2 * (v2.dot(g) / l2));
 }
+
+/// A candidate may violate a constraint by this fraction of the largest offset (the rounding of
+/// the projections and intersections that produced it).
+constexpr double kConstraintSlack = 1e-14;
+/// Two constraint lines (unit normals) whose normals' cross product is at most this are taken
+/// as parallel: they have no meeting point worth trying.
+constexpr double kParallelLines = 1e-12;
 
 /// The point nearest to `from` in the half-planes n_i . v >= c_i (|n_i| = 1), a quadratic
 /// programme in the plane: its optimum is `from`, the projection onto one constraint's line, or
@@ -142,7 +130,7 @@ bool nearest_feasible_point(const std::vector<Eigen::Vector2d>& n, const std::ve
   const int m = static_cast<int>(n.size());
   double scale = 0;
   for (double x : c) scale = std::max(scale, std::abs(x));
-  const double slack = 1e-14 * scale;
+  const double slack = kConstraintSlack * scale;
   double nearest = std::numeric_limits<double>::infinity();
   auto consider = [&](const Eigen::Vector2d& p) {
     const double d = (p - from).squaredNorm();
@@ -157,7 +145,7 @@ bool nearest_feasible_point(const std::vector<Eigen::Vector2d>& n, const std::ve
     consider(from + (c[i] - n[i].dot(from)) * n[i]);
     for (int j = i + 1; j < m; ++j) {
       const double det = n[i].x() * n[j].y() - n[i].y() * n[j].x();
-      if (!(std::abs(det) > 1e-12)) continue;
+      if (!(std::abs(det) > kParallelLines)) continue;
       consider(Eigen::Vector2d((c[i] * n[j].y() - c[j] * n[i].y()) / det,
                                (n[i].x() * c[j] - n[j].x() * c[i]) / det));
     }
@@ -165,11 +153,8 @@ bool nearest_feasible_point(const std::vector<Eigen::Vector2d>& n, const std::ve
   return std::isfinite(nearest);
 }
 
-}  // namespace
-
-PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
-                           const PolishOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+void check_inputs(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
+                  const PolishOptions& options) {
   const int num_faces = mesh.num_faces();
   const int num_uv = static_cast<int>(uv.rows());
   if (uv_triangles.rows() != num_faces) {
@@ -190,245 +175,313 @@ PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, cons
       }
     }
   }
+}
 
-  PolishResult result;
-  result.uv = uv;
-  auto w_of = [&](int i) { return Complex(result.uv(i, 0), result.uv(i, 1)); };
-
-  std::vector<FaceCoefficients> faces(num_faces);
+/// The uv vertices on a boundary edge of the uv mesh (an edge of one face there: the seams and
+/// the mesh boundary; also edges of three or more faces).
+std::vector<char> uv_boundary_vertices(const Triangles& uv_triangles, int num_uv) {
+  const int num_faces = static_cast<int>(uv_triangles.rows());
+  std::vector<char> fixed(num_uv, 0);
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * static_cast<size_t>(num_faces));
   for (int f = 0; f < num_faces; ++f) {
-    faces[f] = coefficients(mesh.positions.row(mesh.triangles(f, 0)).transpose(),
-                            mesh.positions.row(mesh.triangles(f, 1)).transpose(),
-                            mesh.positions.row(mesh.triangles(f, 2)).transpose());
+    for (int k = 0; k < 3; ++k) {
+      const auto i = static_cast<std::uint64_t>(uv_triangles(f, k));
+      const auto j = static_cast<std::uint64_t>(uv_triangles(f, (k + 1) % 3));
+      edges.push_back(std::min(i, j) << 32 | std::max(i, j));
+    }
   }
-  auto face_ratio = [&](int f) {
+  std::sort(edges.begin(), edges.end());
+  for (size_t s = 0; s < edges.size();) {
+    size_t e = s;
+    while (e < edges.size() && edges[e] == edges[s]) ++e;
+    if (e - s != 2) {
+      fixed[edges[s] >> 32] = 1;
+      fixed[edges[s] & 0xffffffffu] = 1;
+    }
+    s = e;
+  }
+  return fixed;
+}
+
+/// The corners (3 f + k) around each uv vertex, in compressed rows: those of vertex i are
+/// corners[offset[i]] .. corners[offset[i + 1] - 1].
+struct Incidence {
+  std::vector<int> offset, corners;
+};
+
+Incidence incident_corners(const Triangles& uv_triangles, int num_uv) {
+  const int num_faces = static_cast<int>(uv_triangles.rows());
+  Incidence in{std::vector<int>(num_uv + 1, 0),
+               std::vector<int>(3 * static_cast<size_t>(num_faces))};
+  for (int f = 0; f < num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) ++in.offset[uv_triangles(f, k) + 1];
+  }
+  for (int i = 0; i < num_uv; ++i) in.offset[i + 1] += in.offset[i];
+  std::vector<int> next(in.offset.begin(), in.offset.end() - 1);
+  for (int f = 0; f < num_faces; ++f) {
+    for (int k = 0; k < 3; ++k) in.corners[next[uv_triangles(f, k)]++] = 3 * f + k;
+  }
+  return in;
+}
+
+/// The layout being polished with its faces' coefficients: what every step reads.
+struct Drawing {
+  const Mesh& mesh;
+  const Triangles& uv_triangles;
+  std::vector<FaceCoefficients> faces;
+  Uv& uv;
+  Incidence incidence;
+
+  int num_faces() const { return static_cast<int>(faces.size()); }
+  Complex w_of(int i) const { return Complex(uv(i, 0), uv(i, 1)); }
+  double face_ratio(int f) const {
     Complex a = 0, b = 0;
     for (int k = 0; k < 3; ++k) {
       const Complex w = w_of(uv_triangles(f, k));
       a += faces[f].a[k] * w;
       b += faces[f].b[k] * w;
     }
-    return ratio(magnitude(a), magnitude(b));
-  };
-  // Mean over the faces with a finite ratio (positive 3D and layout area).
-  auto mean_ratio = [&] {
+    return ratio_from_moduli(magnitude(a), magnitude(b));
+  }
+  /// Mean over the faces with a finite ratio (positive 3D and layout area).
+  double mean_ratio() const {
     double sum = 0;
     int count = 0;
-    for (int f = 0; f < num_faces; ++f) {
+    for (int f = 0; f < num_faces(); ++f) {
       if (!faces[f].valid) continue;
       const double r = face_ratio(f);
       if (std::isfinite(r)) sum += r, ++count;
     }
     return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
-  };
-
-  // Free vertices: on no boundary edge of the uv mesh (an edge of one face there: the seams and
-  // the mesh boundary; also edges of three or more faces), on no degenerate or flipped face.
-  std::vector<char> fixed(num_uv, 0);
-  {
-    std::vector<std::uint64_t> edges;
-    edges.reserve(3 * static_cast<size_t>(num_faces));
-    for (int f = 0; f < num_faces; ++f) {
-      for (int k = 0; k < 3; ++k) {
-        const auto i = static_cast<std::uint64_t>(uv_triangles(f, k));
-        const auto j = static_cast<std::uint64_t>(uv_triangles(f, (k + 1) % 3));
-        edges.push_back(std::min(i, j) << 32 | std::max(i, j));
-      }
-    }
-    std::sort(edges.begin(), edges.end());
-    for (size_t s = 0; s < edges.size();) {
-      size_t e = s;
-      while (e < edges.size() && edges[e] == edges[s]) ++e;
-      if (e - s != 2) {
-        fixed[edges[s] >> 32] = 1;
-        fixed[edges[s] & 0xffffffffu] = 1;
-      }
-      s = e;
-    }
   }
-  // Faces around each uv vertex (compressed rows).
-  std::vector<int> offset(num_uv + 1, 0), incident(3 * static_cast<size_t>(num_faces));
-  for (int f = 0; f < num_faces; ++f) {
-    for (int k = 0; k < 3; ++k) ++offset[uv_triangles(f, k) + 1];
-  }
-  for (int i = 0; i < num_uv; ++i) offset[i + 1] += offset[i];
-  {
-    std::vector<int> next(offset.begin(), offset.end() - 1);
-    for (int f = 0; f < num_faces; ++f) {
-      for (int k = 0; k < 3; ++k) incident[next[uv_triangles(f, k)]++] = 3 * f + k;
-    }
-  }
-  // Untangle: a face drawn flipped (a needle or an obtuse sliver whose vertices' exact images
-  // fold it) may have a vertex that is free to move. Where the faces around it leave room, it
-  // moves as little as keeps each of them a fraction of its own height above its far edge (a
-  // half-plane per face), and the face unflips without flipping another; the sweeps below then
-  // smooth it.
-  auto signed_area = [&](int f) {
+  double signed_area(int f) const {
     const Complex a = w_of(uv_triangles(f, 0));
     const Complex b = w_of(uv_triangles(f, 1)) - a, c = w_of(uv_triangles(f, 2)) - a;
     return b.real() * c.imag() - b.imag() * c.real();
-  };
-  result.angle_distortion_before = mean_ratio();
-  std::vector<char> moved(num_uv, 0);
-  auto count_flipped = [&] {
+  }
+  int count_flipped() const {
     int n = 0;
-    for (int f = 0; f < num_faces; ++f) n += faces[f].valid && !(signed_area(f) > 0);
+    for (int f = 0; f < num_faces(); ++f) n += faces[f].valid && !(signed_area(f) > 0);
     return n;
-  };
-  if (options.enabled) {
-    const int flipped_before = count_flipped();
-    std::vector<Eigen::Vector2d> normals;
-    std::vector<double> heights, offsets;
-    for (int f = 0; f < num_faces; ++f) {
-      if (signed_area(f) > 0 || !faces[f].valid) continue;
-      for (int k = 0; k < 3 && !(signed_area(f) > 0); ++k) {
-        const int i = uv_triangles(f, k);
-        // The candidates are cubic in the vertex's valence: a CAD fan's hub is left alone.
-        if (fixed[i] || offset[i + 1] - offset[i] > kMaxUntangleValence) continue;
-        normals.clear();
-        heights.clear();
-        offsets.clear();
-        bool usable = true;
-        for (int s = offset[i]; s < offset[i + 1] && usable; ++s) {
-          const int g = incident[s] / 3, j = incident[s] % 3;
-          const Complex a = w_of(uv_triangles(g, (j + 1) % 3));
-          const Complex b = w_of(uv_triangles(g, (j + 2) % 3));
-          const Complex edge = b - a;
-          // The face's own height over that edge, at the scale the layout gives the edge: what
-          // it would have drawn undistorted.
-          const Eigen::Vector3d pa = mesh.positions.row(mesh.triangles(g, (j + 1) % 3));
-          const Eigen::Vector3d pb = mesh.positions.row(mesh.triangles(g, (j + 2) % 3));
-          const Eigen::Vector3d pv = mesh.positions.row(mesh.triangles(g, j));
-          const double edge_3d = (pb - pa).norm();
-          usable = magnitude(edge) > 0 && edge_3d > 0;
-          if (!usable) break;
-          const double height_3d = (pa - pv).cross(pb - pv).norm() / edge_3d;
-          // v left of a -> b: cross(b - a, v - a) > 0, i.e. n . v > n . a, n = i (b - a).
-          normals.emplace_back(Eigen::Vector2d(-edge.imag(), edge.real()) / magnitude(edge));
-          heights.push_back(height_3d * magnitude(edge) / edge_3d);
-          offsets.push_back(normals.back().dot(Eigen::Vector2d(a.real(), a.imag())));
-        }
-        if (!usable) continue;
-        // The least move that leaves every face around the vertex at least this fraction of
-        // its own height (so the unflipped face is not a new sliver), the largest that fits.
-        const Eigen::Vector2d from(result.uv(i, 0), result.uv(i, 1));
-        Eigen::Vector2d point;
-        bool found = false;
-        for (double fraction : {0.5, 0.1, 0.01}) {
-          std::vector<double> c(normals.size());
-          for (std::size_t q = 0; q < normals.size(); ++q)
-            c[q] = offsets[q] + fraction * heights[q];
-          if ((found = nearest_feasible_point(normals, c, from, point))) break;
-        }
-        if (!found) continue;
-        const Eigen::RowVector2d before = result.uv.row(i);
-        result.uv.row(i) = point.transpose();
-        bool all_positive = true;
-        for (int s = offset[i]; s < offset[i + 1] && all_positive; ++s) {
-          all_positive = signed_area(incident[s] / 3) > 0;
-        }
-        if (!all_positive) {
-          result.uv.row(i) = before;
-          continue;
-        }
-        moved[i] = 1;
+  }
+};
+
+/// The fractions of its own height each face around a moved vertex must keep, tried in turn:
+/// the largest that a position fits.
+constexpr double kHeightFractions[] = {0.5, 0.1, 0.01};
+
+/// Moves uv vertex i (free, of few faces) as little as keeps each face around it at least a
+/// fraction of its own height above its far edge (a half-plane per face), the largest fraction
+/// of kHeightFractions that fits. Returns true when it moved and every face around it is
+/// positive (else it stays where it was).
+bool unflip_vertex(Drawing& d, int i) {
+  const std::vector<int>& offset = d.incidence.offset;
+  const std::vector<int>& incident = d.incidence.corners;
+  std::vector<Eigen::Vector2d> normals;
+  std::vector<double> heights, offsets;
+  for (int s = offset[i]; s < offset[i + 1]; ++s) {
+    const int g = incident[s] / 3, j = incident[s] % 3;
+    const Complex a = d.w_of(d.uv_triangles(g, (j + 1) % 3));
+    const Complex b = d.w_of(d.uv_triangles(g, (j + 2) % 3));
+    const Complex edge = b - a;
+    // The face's own height over that edge, at the scale the layout gives the edge: what it
+    // would have drawn undistorted.
+    const Eigen::Vector3d pa = d.mesh.positions.row(d.mesh.triangles(g, (j + 1) % 3));
+    const Eigen::Vector3d pb = d.mesh.positions.row(d.mesh.triangles(g, (j + 2) % 3));
+    const Eigen::Vector3d pv = d.mesh.positions.row(d.mesh.triangles(g, j));
+    const double edge_3d = (pb - pa).norm();
+    if (!(magnitude(edge) > 0 && edge_3d > 0)) return false;
+    const double height_3d = (pa - pv).cross(pb - pv).norm() / edge_3d;
+    // v left of a -> b: cross(b - a, v - a) > 0, i.e. n . v > n . a, n = i (b - a).
+    normals.emplace_back(Eigen::Vector2d(-edge.imag(), edge.real()) / magnitude(edge));
+    heights.push_back(height_3d * magnitude(edge) / edge_3d);
+    offsets.push_back(normals.back().dot(Eigen::Vector2d(a.real(), a.imag())));
+  }
+  const Eigen::Vector2d from(d.uv(i, 0), d.uv(i, 1));
+  Eigen::Vector2d point;
+  bool found = false;
+  for (double fraction : kHeightFractions) {
+    std::vector<double> c(normals.size());
+    for (std::size_t q = 0; q < normals.size(); ++q) c[q] = offsets[q] + fraction * heights[q];
+    if ((found = nearest_feasible_point(normals, c, from, point))) break;
+  }
+  if (!found) return false;
+  const Eigen::RowVector2d before = d.uv.row(i);
+  d.uv.row(i) = point.transpose();
+  bool all_positive = true;
+  for (int s = offset[i]; s < offset[i + 1] && all_positive; ++s) {
+    all_positive = d.signed_area(incident[s] / 3) > 0;
+  }
+  if (!all_positive) d.uv.row(i) = before;
+  return all_positive;
+}
+
+/// Untangle: a face drawn flipped (a needle or an obtuse sliver whose vertices' exact images
+/// fold it) may have a vertex that is free to move. Where the faces around it leave room, it
+/// moves as little as keeps each of them a fraction of its own height above its far edge, and
+/// the face unflips without flipping another; the sweeps then smooth it. Returns the faces
+/// unflipped.
+int unflip_faces(Drawing& d, const std::vector<char>& fixed, std::vector<char>& moved) {
+  const std::vector<int>& offset = d.incidence.offset;
+  const int flipped_before = d.count_flipped();
+  for (int f = 0; f < d.num_faces(); ++f) {
+    if (d.signed_area(f) > 0 || !d.faces[f].valid) continue;
+    for (int k = 0; k < 3 && !(d.signed_area(f) > 0); ++k) {
+      const int i = d.uv_triangles(f, k);
+      // The candidates are cubic in the vertex's valence: a CAD fan's hub is left alone.
+      if (fixed[i] || offset[i + 1] - offset[i] > kMaxUntangleValence) continue;
+      if (unflip_vertex(d, i)) moved[i] = 1;
+    }
+  }
+  return flipped_before - d.count_flipped();
+}
+
+/// Newton steps per vertex visit.
+constexpr int kNewtonSteps = 2;
+/// A step moves the vertex by at most this fraction of its shortest edge: the ratios blow up
+/// where a face flips, and the line search should not have to find its way back from there.
+constexpr double kStepCap = 0.25;
+/// A decrease below this fraction of the sum is within its rounding: none (a conformal layout
+/// stays bit for bit).
+constexpr double kNegligibleDecrease = 1e-13;
+/// The line search halves the step down to this fraction of the Newton step.
+constexpr double kSmallestStep = 1e-6;
+
+/// The sum over vertex i's faces before and after relax_vertex, and how many faces.
+struct VertexEnergy {
+  double before = 0, after = 0;
+  std::size_t faces = 0;
+  bool moved = false;
+};
+
+/// Up to kNewtonSteps Newton steps (Hessian clamped positive, backtracking) of free vertex i on
+/// the sum of its faces' ratios; moves it when the sum decreased.
+VertexEnergy relax_vertex(Drawing& d, int i, std::vector<Term>& terms) {
+  const std::vector<int>& offset = d.incidence.offset;
+  const std::vector<int>& incident = d.incidence.corners;
+  terms.clear();
+  double shortest = std::numeric_limits<double>::infinity();
+  const Complex w0 = d.w_of(i);
+  for (int s = offset[i]; s < offset[i + 1]; ++s) {
+    const int f = incident[s] / 3, k = incident[s] % 3;
+    Term t{0, 0, d.faces[f].a[k], d.faces[f].b[k]};
+    for (int j = 0; j < 3; ++j) {
+      if (j == k) continue;
+      const Complex w = d.w_of(d.uv_triangles(f, j));
+      t.p += d.faces[f].a[j] * w;
+      t.q += d.faces[f].b[j] * w;
+      shortest = std::min(shortest, magnitude(w - w0));
+    }
+    terms.push_back(t);
+  }
+  Complex w = w0;
+  double e = energy(terms, w);
+  const double e0 = e;
+  for (int step = 0; step < kNewtonSteps; ++step) {
+    Eigen::Vector2d g;
+    Eigen::Matrix2d h;
+    derivatives(terms, w, g, h);
+    Eigen::Vector2d dir = newton_direction(g, h);
+    const double cap = kStepCap * shortest;
+    if (dir.norm() > cap) dir *= cap / dir.norm();
+    if (!dir.allFinite() || dir.norm() == 0) break;
+    const double negligible = kNegligibleDecrease * e;
+    if (!(-g.dot(dir) > negligible)) break;
+    bool accepted = false;
+    for (double t = 1; t > kSmallestStep; t *= 0.5) {
+      const Complex trial = w + t * Complex(dir.x(), dir.y());
+      const double et = energy(terms, trial);
+      if (et < e - negligible) {
+        w = trial, e = et, accepted = true;
+        break;
       }
     }
-    result.untangled_faces = flipped_before - count_flipped();
+    if (!accepted) break;
   }
-  // Faces degenerate in 3D, or still flipped or degenerate in the layout, keep their vertices.
-  for (int f = 0; f < num_faces; ++f) {
-    if (faces[f].valid && std::isfinite(face_ratio(f))) continue;
-    for (int k = 0; k < 3; ++k) fixed[uv_triangles(f, k)] = 1;
+  const bool moved = w != w0;
+  if (moved) {
+    d.uv(i, 0) = w.real();
+    d.uv(i, 1) = w.imag();
   }
-  std::vector<int> free;
-  for (int i = 0; i < num_uv; ++i) {
-    if (!fixed[i] && offset[i + 1] > offset[i]) free.push_back(i);
-  }
-  result.free_vertices = static_cast<int>(free.size());
-  result.angle_distortion_after = mean_ratio();
-  if (!options.enabled || free.empty()) {
-    result.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
-  }
+  return {e0, e, terms.size(), moved};
+}
 
+/// The sweeps over the free vertices: each visited vertex relaxes on its own faces until a
+/// sweep lowers the mean ratio's excess over 1 by less than options.tolerance of it. A vertex
+/// is visited again only when it, or a vertex of one of its faces, lowered its own faces'
+/// excess by a noticeable fraction in the sweep before: later sweeps touch the few places that
+/// still change (igea, 134k free vertices: 5 full sweeps took 1.6 s). Sets result.sweeps and
+/// result.angle_distortion_after (which holds the mean on entry).
+void sweep_free_vertices(Drawing& d, const std::vector<int>& free, const PolishOptions& options,
+                         std::vector<char>& moved, PolishResult& result) {
+  const std::vector<int>& offset = d.incidence.offset;
+  const std::vector<int>& incident = d.incidence.corners;
+  const int num_uv = static_cast<int>(d.uv.rows());
   std::vector<Term> terms;
   double mean = result.angle_distortion_after;
-  // A vertex is visited again only when it, or a vertex of one of its faces, lowered its own
-  // faces' excess by a noticeable fraction in the sweep before: later sweeps touch the few
-  // places that still change (igea, 134k free vertices: 5 full sweeps took 1.6 s).
   std::vector<char> active(num_uv, 1), next_active(num_uv, 0);
   for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
     for (const int i : free) {
       if (!active[i]) continue;
-      terms.clear();
-      double shortest = std::numeric_limits<double>::infinity();
-      const Complex w0 = w_of(i);
-      for (int s = offset[i]; s < offset[i + 1]; ++s) {
-        const int f = incident[s] / 3, k = incident[s] % 3;
-        Term t{0, 0, faces[f].a[k], faces[f].b[k]};
-        for (int j = 0; j < 3; ++j) {
-          if (j == k) continue;
-          const Complex w = w_of(uv_triangles(f, j));
-          t.p += faces[f].a[j] * w;
-          t.q += faces[f].b[j] * w;
-          shortest = std::min(shortest, magnitude(w - w0));
-        }
-        terms.push_back(t);
-      }
-      Complex w = w0;
-      double e = energy(terms, w);
-      const double e0 = e;
-      for (int step = 0; step < 2; ++step) {
-        Eigen::Vector2d g;
-        Eigen::Matrix2d h;
-        derivatives(terms, w, g, h);
-        Eigen::Vector2d d = newton_direction(g, h);
-        // At most a quarter of the shortest edge at a time: the ratios blow up where a face
-        // flips, and the line search should not have to find its way back from there.
-        const double cap = 0.25 * shortest;
-        if (d.norm() > cap) d *= cap / d.norm();
-        if (!d.allFinite() || d.norm() == 0) break;
-        // A decrease within rounding of the sum is none: a conformal layout stays bit for bit.
-        const double negligible = 1e-13 * e;
-        if (!(-g.dot(d) > negligible)) break;
-        bool accepted = false;
-        for (double t = 1; t > 1e-6; t *= 0.5) {
-          const Complex trial = w + t * Complex(d.x(), d.y());
-          const double et = energy(terms, trial);
-          if (et < e - negligible) {
-            w = trial, e = et, accepted = true;
-            break;
-          }
-        }
-        if (!accepted) break;
-      }
-      if (w != w0) {
-        result.uv(i, 0) = w.real();
-        result.uv(i, 1) = w.imag();
-        moved[i] = 1;
-      }
-      // e0 - #faces is the excess of the ratios over 1 on its faces.
-      if (e0 - e > options.tolerance * (e0 - static_cast<double>(terms.size()))) {
+      const VertexEnergy e = relax_vertex(d, i, terms);
+      if (e.moved) moved[i] = 1;
+      // before - #faces is the excess of the ratios over 1 on its faces.
+      if (e.before - e.after > options.tolerance * (e.before - static_cast<double>(e.faces))) {
         for (int s = offset[i]; s < offset[i + 1]; ++s) {
           const int f = incident[s] / 3;
-          for (int j = 0; j < 3; ++j) next_active[uv_triangles(f, j)] = 1;
+          for (int j = 0; j < 3; ++j) next_active[d.uv_triangles(f, j)] = 1;
         }
       }
     }
     active.swap(next_active);
     std::fill(next_active.begin(), next_active.end(), 0);
     ++result.sweeps;
-    const double now = mean_ratio();
+    const double now = d.mean_ratio();
     const double gain = mean - now;
     mean = now;
     if (!(gain > options.tolerance * (mean - 1))) break;
   }
   result.angle_distortion_after = mean;
+}
+
+}  // namespace
+
+PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
+                           const PolishOptions& options) {
+  const auto start = Clock::now();
+  check_inputs(mesh, uv_triangles, uv, options);
+  const int num_faces = mesh.num_faces();
+  const int num_uv = static_cast<int>(uv.rows());
+  PolishResult result;
+  result.uv = uv;
+  Drawing d{mesh, uv_triangles, std::vector<FaceCoefficients>(num_faces), result.uv,
+            incident_corners(uv_triangles, num_uv)};
+  for (int f = 0; f < num_faces; ++f) {
+    const Eigen::Vector3d p0 = mesh.positions.row(mesh.triangles(f, 0)).transpose();
+    const Eigen::Vector3d p1 = mesh.positions.row(mesh.triangles(f, 1)).transpose();
+    const Eigen::Vector3d p2 = mesh.positions.row(mesh.triangles(f, 2)).transpose();
+    d.faces[f] = detail::face_coefficients(detail::plane_triangle(p1 - p0, p2 - p0));
+  }
+  // Free vertices: on no boundary edge of the uv mesh, on no degenerate or flipped face.
+  std::vector<char> fixed = uv_boundary_vertices(uv_triangles, num_uv);
+  result.angle_distortion_before = d.mean_ratio();
+  std::vector<char> moved(num_uv, 0);
+  if (options.enabled) result.untangled_faces = unflip_faces(d, fixed, moved);
+  // Faces degenerate in 3D, or still flipped or degenerate in the layout, keep their vertices.
+  for (int f = 0; f < num_faces; ++f) {
+    if (d.faces[f].valid && std::isfinite(d.face_ratio(f))) continue;
+    for (int k = 0; k < 3; ++k) fixed[uv_triangles(f, k)] = 1;
+  }
+  std::vector<int> free;
+  for (int i = 0; i < num_uv; ++i) {
+    if (!fixed[i] && d.incidence.offset[i + 1] > d.incidence.offset[i]) free.push_back(i);
+  }
+  result.free_vertices = static_cast<int>(free.size());
+  result.angle_distortion_after = d.mean_ratio();
+  if (options.enabled && !free.empty()) sweep_free_vertices(d, free, options, moved, result);
   result.moved_vertices = static_cast<int>(std::count(moved.begin(), moved.end(), 1));
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
 }
 
