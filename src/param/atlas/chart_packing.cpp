@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -13,6 +12,9 @@
 #include <Eigen/Geometry>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/convex_hull.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
+#include "ricci/numerics/predicates.hpp"
 #include "ricci/numerics/timer.hpp"
 
 namespace ricci {
@@ -26,60 +28,26 @@ constexpr double kMinGutter = 1e-9;
 /// free rectangle per chart (quadratic: 38802 charts of a repaired tetrahedral mesh took 59 s),
 /// and with that many charts each is a small part of the square, where shelves lose little.
 constexpr int kShelvesAbove = 2000;
-
-/// a + b = x + y exactly (Knuth's two-sum; x the rounded sum, y its error).
-void two_sum(double a, double b, double& x, double& y) {
-  x = a + b;
-  const double bv = x - a;
-  const double av = x - bv;
-  y = (a - av) + (b - bv);
-}
-
-/// Adds b to a nonoverlapping expansion (components in increasing magnitude), exactly.
-void grow_expansion(std::vector<double>& h, double b) {
-  double q = b;
-  for (double& component : h) {
-    double sum, error;
-    two_sum(q, component, sum, error);
-    component = error;
-    q = sum;
-  }
-  h.push_back(q);
-}
-
-/// Sign of sum over terms of x_i y_i, exact unless a product underflows: each product is split
-/// into its rounded value and its error (fma), and the pieces summed as an expansion, whose sign
-/// is that of its largest nonzero component.
-int exact_sign_of_products(const std::array<std::array<double, 2>, 6>& products) {
-  std::vector<double> h;
-  h.reserve(12);
-  for (const auto& [x, y] : products) {
-    const double p = x * y;
-    grow_expansion(h, p);
-    grow_expansion(h, std::fma(x, y, -p));
-  }
-  for (auto it = h.rbegin(); it != h.rend(); ++it) {
-    if (*it > 0) return 1;
-    if (*it < 0) return -1;
-  }
-  return 0;
-}
-
-/// Whether an edge line of counter-clockwise triangle a has all of triangle b on its closed outer
-/// side. The interiors of two triangles are disjoint iff this holds one way or the other: the
-/// separating axes of two convex polygons are among their edge normals.
-bool separated_by_edges_of(const std::array<Eigen::Vector2d, 3>& a,
-                           const std::array<Eigen::Vector2d, 3>& b) {
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector2d& p = a[k];
-    const Eigen::Vector2d& q = a[(k + 1) % 3];
-    if (orientation_sign(p, q, b[0]) <= 0 && orientation_sign(p, q, b[1]) <= 0 &&
-        orientation_sign(p, q, b[2]) <= 0) {
-      return true;
-    }
-  }
-  return false;
-}
+/// The scale searches stop at this relative precision at the finest, whatever
+/// ChartPackingOptions::scale_tolerance asks: with 0 a bisection would stall an ulp apart and
+/// never end.
+constexpr double kMinScaleTolerance = 1e-12;
+/// The rectangles' search steps down from its upper bound by this factor until they fit, at most
+/// kScaleStepsDown times (0.8^60 is about 1.5e-6 of the bound; below that, zero size).
+constexpr double kScaleStepDown = 0.8;
+constexpr int kScaleStepsDown = 60;
+/// The shapes' search starts at the rectangles' scale, stepping down by this factor at most
+/// kShapeStartTries times while they do not fit (their cells round outlines and gutters up).
+constexpr double kShapeStartStepDown = 0.97;
+constexpr int kShapeStartTries = 4;
+/// From a scale where the shapes fit, the search steps up by this factor while they still fit.
+constexpr double kShapeStepUp = 1.1;
+/// The overlap grid's cell never goes below this (uv units), so that dividing by it stays finite
+/// however small the faces (the smallest normal double is 2e-308).
+constexpr double kMinOverlapCell = 1e-300;
+/// A cell joins a chart's raster when a triangle comes within this of it (uv units): far above
+/// the rounding of the placement (a few ulps of 1), so that no cell a triangle reaches is missed.
+constexpr double kRasterMargin = 1e-12;
 
 void check_input(const char* who, const Points& uv, const Triangles& triangles,
                  const std::vector<int>& per_face, const char* per_face_name) {
@@ -118,76 +86,19 @@ double twice_area(const Points& uv, const Triangles& triangles, Eigen::Index f) 
 /// Charts as connected pieces of the triangles (faces sharing a vertex), numbered in order of
 /// their first face.
 std::vector<int> connected_pieces(const Triangles& triangles, Eigen::Index num_points) {
-  std::vector<int> parent(num_points);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  DisjointSets pieces(static_cast<int>(num_points));
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (int k = 1; k < 3; ++k) {
-      const int a = find(triangles(f, 0)), b = find(triangles(f, k));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+    for (int k = 1; k < 3; ++k) pieces.unite(triangles(f, 0), triangles(f, k));
   }
   std::vector<int> root_chart(num_points, -1);
   std::vector<int> face_chart(triangles.rows());
   int charts = 0;
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    int& c = root_chart[find(triangles(f, 0))];
+    int& c = root_chart[pieces.find(triangles(f, 0))];
     if (c < 0) c = charts++;
     face_chart[f] = c;
   }
   return face_chart;
-}
-
-/// Convex hull (counter-clockwise, no collinear points) of a set of points, by Andrew's monotone
-/// chain with exact orientation tests.
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  p.erase(std::unique(p.begin(), p.end()), p.end());
-  if (p.size() < 3) return p;
-  std::vector<Eigen::Vector2d> hull(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && orientation_sign(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, lower = k + 1; i > 0; --i) {
-    while (k >= lower && orientation_sign(hull[k - 2], hull[k - 1], p[i - 1]) <= 0) --k;
-    hull[k++] = p[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
-/// Rotation angle (in (-pi/4, pi/4]) that turns a hull's minimal-area bounding rectangle onto
-/// the axes: that rectangle has a side along some hull edge, so each edge direction is tried.
-double minimal_rectangle_rotation(const std::vector<Eigen::Vector2d>& hull) {
-  if (hull.size() < 3) return 0;
-  double best_area = std::numeric_limits<double>::infinity(), best_angle = 0;
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    const Eigen::Vector2d d = hull[(i + 1) % hull.size()] - hull[i];
-    double angle = -std::atan2(d.y(), d.x());
-    // A quarter turn gives the same rectangle: keep the angle nearest to the chart as it is.
-    angle -= kPi / 2 * std::round(angle / (kPi / 2));
-    const double c = std::cos(angle), s = std::sin(angle);
-    double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-    for (const Eigen::Vector2d& q : hull) {
-      const double x = c * q.x() - s * q.y(), y = s * q.x() + c * q.y();
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    }
-    const double area = (x1 - x0) * (y1 - y0);
-    // Ties (a rectangle's four edges) within rounding keep the smaller turn.
-    if (area < best_area * (1 - 1e-12) ||
-        (area <= best_area * (1 + 1e-12) && std::abs(angle) < std::abs(best_angle))) {
-      best_area = std::min(area, best_area);
-      best_angle = angle;
-    }
-  }
-  return best_angle;
 }
 
 /// An axis-aligned rectangle [x0, x1] x [y0, y1]. Coordinates are only ever copied from one
@@ -479,6 +390,98 @@ struct Grid {
   int side = 0, dilation = 1;
 };
 
+/// The cells of a w x h bitmap (cells of side grid.cell) that the chart's triangles meet, up to
+/// kRasterMargin; the chart turned by its rotation, scaled, and moved by `offset` inside the box.
+std::vector<char> rasterise(const Points& layout, const Triangles& triangles,
+                            const PackedChart& chart, const ChartShape& shape, double scale,
+                            const Grid& grid, const Eigen::Vector2d& offset, int w, int h) {
+  const Eigen::Rotation2Dd turn(shape.rotation);
+  std::vector<char> bitmap(static_cast<std::size_t>(w) * h, 0);
+  for (int f : chart.faces) {
+    std::array<Eigen::Vector2d, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      t[k] = scale * (turn * point(layout, triangles(f, k)) - shape.lo) + offset;
+    }
+    const bool ccw =
+        (t[1] - t[0]).x() * (t[2] - t[0]).y() - (t[1] - t[0]).y() * (t[2] - t[0]).x() >= 0;
+    const Eigen::Vector2d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+    const Eigen::Vector2d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+    const int i0 = std::max(0, static_cast<int>(std::floor((lo.x() - kRasterMargin) / grid.cell)));
+    const int i1 =
+        std::min(w - 1, static_cast<int>(std::floor((hi.x() + kRasterMargin) / grid.cell)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((lo.y() - kRasterMargin) / grid.cell)));
+    const int j1 =
+        std::min(h - 1, static_cast<int>(std::floor((hi.y() + kRasterMargin) / grid.cell)));
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        char& cell = bitmap[static_cast<std::size_t>(j) * w + i];
+        if (!cell &&
+            triangle_meets_square(t, ccw, i * grid.cell, j * grid.cell, (i + 1) * grid.cell,
+                                  (j + 1) * grid.cell, kRasterMargin)) {
+          cell = 1;
+        }
+      }
+    }
+  }
+  return bitmap;
+}
+
+/// A w x h bitmap grown by d cells (the chart's cells lie d cells inside its bitmap, so nothing
+/// is lost): a square of side 2 d + 1 is a row window then a column window, each a running count.
+std::vector<char> dilate(const std::vector<char>& bitmap, int w, int h, int d) {
+  auto at = [w](int i, int j) { return static_cast<std::size_t>(j) * w + i; };
+  std::vector<char> across(bitmap.size(), 0), grown(bitmap.size(), 0);
+  for (int j = 0; j < h; ++j) {
+    int count = 0;
+    for (int i = 0; i < w + d; ++i) {
+      if (i < w) count += bitmap[at(i, j)];
+      if (i - 2 * d - 1 >= 0) count -= bitmap[at(i - 2 * d - 1, j)];
+      if (i - d >= 0) across[at(i - d, j)] = count > 0;
+    }
+  }
+  for (int i = 0; i < w; ++i) {
+    int count = 0;
+    for (int j = 0; j < h + d; ++j) {
+      if (j < h) count += across[at(i, j)];
+      if (j - 2 * d - 1 >= 0) count -= across[at(i, j - 2 * d - 1)];
+      if (j - d >= 0) grown[at(i, j - d)] = count > 0;
+    }
+  }
+  return grown;
+}
+
+/// The row spans of a w x h bitmap after `turns` quarter turns: (i, j) goes to (h - 1 - j, i)
+/// each.
+SpanMask span_mask(const std::vector<char>& grown, int w, int h, int turns) {
+  SpanMask m;
+  const bool swapped = turns % 2 == 1;
+  m.width = swapped ? h : w;
+  m.height = swapped ? w : h;
+  m.lo.assign(m.height, std::numeric_limits<int>::max());
+  m.hi.assign(m.height, -1);
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      if (!grown[static_cast<std::size_t>(j) * w + i]) continue;
+      int x = i, y = j;
+      for (int t = 0, tw = w, th = h; t < turns; ++t) {
+        const int nx = th - 1 - y;
+        y = x, x = nx;
+        std::swap(tw, th);
+      }
+      m.lo[y] = std::min(m.lo[y], x);
+      m.hi[y] = std::max(m.hi[y], x);
+    }
+  }
+  for (int y = 0; y < m.height; ++y) {
+    if (m.hi[y] < m.lo[y]) continue;
+    m.cells += m.hi[y] - m.lo[y] + 1;
+    m.widest_first.push_back(y);
+  }
+  std::stable_sort(m.widest_first.begin(), m.widest_first.end(),
+                   [&](int a, int b) { return m.hi[a] - m.lo[a] > m.hi[b] - m.lo[b]; });
+  return m;
+}
+
 /// Packs the charts by their shapes at `scale`: each rasterised (every cell its triangles meet,
 /// up to a margin that covers the rounding of the placement), grown by the dilation, rows filled
 /// between their first and last cell, in each of four quarter turns; placed largest first at the
@@ -488,12 +491,10 @@ bool pack_shapes(const Points& layout, const Triangles& triangles,
                  const std::vector<PackedChart>& charts, const std::vector<ChartShape>& shapes,
                  double scale, const Grid& grid, bool rotate, long long& work, long long budget,
                  std::vector<Placement>& placement) {
-  constexpr double kMargin = 1e-12;  // uv units: far above the placement's rounding
   const int n = static_cast<int>(charts.size());
   const int d = grid.dilation;
   std::vector<std::array<SpanMask, 4>> masks(n);
   std::vector<Placement> base(n);
-  std::vector<Eigen::Vector2d> q;
   for (int c = 0; c < n; ++c) {
     const ChartShape& shape = shapes[c];
     const Eigen::Vector2d size = scale * (shape.hi - shape.lo);
@@ -503,79 +504,10 @@ bool pack_shapes(const Points& layout, const Triangles& triangles,
     Placement& p = base[c];
     p.offset = Eigen::Vector2d::Constant(d * grid.cell);
     p.box = Eigen::Vector2d(w * grid.cell, h * grid.cell);
-    const Eigen::Rotation2Dd turn(shape.rotation);
-    std::vector<char> bitmap(static_cast<std::size_t>(w) * h, 0);
-    for (int f : charts[c].faces) {
-      std::array<Eigen::Vector2d, 3> t;
-      for (int k = 0; k < 3; ++k) {
-        t[k] = scale * (turn * point(layout, triangles(f, k)) - shape.lo) + p.offset;
-      }
-      const bool ccw =
-          (t[1] - t[0]).x() * (t[2] - t[0]).y() - (t[1] - t[0]).y() * (t[2] - t[0]).x() >= 0;
-      const Eigen::Vector2d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
-      const Eigen::Vector2d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
-      const int i0 = std::max(0, static_cast<int>(std::floor((lo.x() - kMargin) / grid.cell)));
-      const int i1 = std::min(w - 1, static_cast<int>(std::floor((hi.x() + kMargin) / grid.cell)));
-      const int j0 = std::max(0, static_cast<int>(std::floor((lo.y() - kMargin) / grid.cell)));
-      const int j1 = std::min(h - 1, static_cast<int>(std::floor((hi.y() + kMargin) / grid.cell)));
-      for (int j = j0; j <= j1; ++j) {
-        for (int i = i0; i <= i1; ++i) {
-          char& cell = bitmap[static_cast<std::size_t>(j) * w + i];
-          if (!cell && triangle_meets_square(t, ccw, i * grid.cell, j * grid.cell,
-                                             (i + 1) * grid.cell, (j + 1) * grid.cell, kMargin)) {
-            cell = 1;
-          }
-        }
-      }
-    }
-    // Grow by d cells (the chart's cells lie d cells inside its bitmap, so nothing is lost): a
-    // square of side 2 d + 1 is a row window then a column window, each a running count.
-    auto at = [w](int i, int j) { return static_cast<std::size_t>(j) * w + i; };
-    std::vector<char> across(bitmap.size(), 0), grown(bitmap.size(), 0);
-    for (int j = 0; j < h; ++j) {
-      int count = 0;
-      for (int i = 0; i < w + d; ++i) {
-        if (i < w) count += bitmap[at(i, j)];
-        if (i - 2 * d - 1 >= 0) count -= bitmap[at(i - 2 * d - 1, j)];
-        if (i - d >= 0) across[at(i - d, j)] = count > 0;
-      }
-    }
-    for (int i = 0; i < w; ++i) {
-      int count = 0;
-      for (int j = 0; j < h + d; ++j) {
-        if (j < h) count += across[at(i, j)];
-        if (j - 2 * d - 1 >= 0) count -= across[at(i, j - 2 * d - 1)];
-        if (j - d >= 0) grown[at(i, j - d)] = count > 0;
-      }
-    }
-    // Row spans of each quarter turn: (i, j) of the w x h bitmap goes to (h - 1 - j, i).
+    const std::vector<char> grown = dilate(
+        rasterise(layout, triangles, charts[c], shape, scale, grid, p.offset, w, h), w, h, d);
     for (int turns = 0; turns < (rotate ? 4 : 1); ++turns) {
-      SpanMask& m = masks[c][turns];
-      const bool swapped = turns % 2 == 1;
-      m.width = swapped ? h : w;
-      m.height = swapped ? w : h;
-      m.lo.assign(m.height, std::numeric_limits<int>::max());
-      m.hi.assign(m.height, -1);
-      for (int j = 0; j < h; ++j) {
-        for (int i = 0; i < w; ++i) {
-          if (!grown[static_cast<std::size_t>(j) * w + i]) continue;
-          int x = i, y = j;
-          for (int t = 0, tw = w, th = h; t < turns; ++t) {
-            const int nx = th - 1 - y;
-            y = x, x = nx;
-            std::swap(tw, th);
-          }
-          m.lo[y] = std::min(m.lo[y], x);
-          m.hi[y] = std::max(m.hi[y], x);
-        }
-      }
-      for (int y = 0; y < m.height; ++y) {
-        if (m.hi[y] < m.lo[y]) continue;
-        m.cells += m.hi[y] - m.lo[y] + 1;
-        m.widest_first.push_back(y);
-      }
-      std::stable_sort(m.widest_first.begin(), m.widest_first.end(),
-                       [&](int a, int b) { return m.hi[a] - m.lo[a] > m.hi[b] - m.lo[b]; });
+      masks[c][turns] = span_mask(grown, w, h, turns);
     }
   }
   std::vector<int> order(n);
@@ -607,35 +539,288 @@ bool pack_shapes(const Points& layout, const Triangles& triangles,
   return true;
 }
 
-}  // namespace
-
-int orientation_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const double left = (b.x() - a.x()) * (c.y() - a.y());
-  const double right = (b.y() - a.y()) * (c.x() - a.x());
-  const double det = left - right;
-  // Shewchuk's bound for this evaluation: (3 + 16 eps) eps (|left| + |right|), eps = 2^-53.
-  const double bound = 3.3306690738754716e-16 * (std::abs(left) + std::abs(right));
-  if (det > bound) return 1;
-  if (-det > bound) return -1;
-  // det = bx cy - bx ay - ax cy - by cx + by ax + ay cx (the ax ay terms cancel).
-  return exact_sign_of_products({{{b.x(), c.y()},
-                                  {-b.x(), a.y()},
-                                  {-a.x(), c.y()},
-                                  {-b.y(), c.x()},
-                                  {b.y(), a.x()},
-                                  {a.y(), c.x()}}});
-}
-
-bool triangles_overlap(const std::array<Eigen::Vector2d, 3>& a,
-                       const std::array<Eigen::Vector2d, 3>& b) {
-  std::array<Eigen::Vector2d, 3> p = a, q = b;
-  for (auto* t : {&p, &q}) {
-    const int sign = orientation_sign((*t)[0], (*t)[1], (*t)[2]);
-    if (sign == 0) return false;
-    if (sign < 0) std::swap((*t)[1], (*t)[2]);
+/// The charts' faces (face_chart as given, or the connected pieces when it is empty) into
+/// out.face_chart and out.charts.
+/// \throw InvalidInput for a negative chart index or a chart without faces
+void group_faces(const Triangles& triangles, Eigen::Index num_points,
+                 const std::vector<int>& face_chart, ChartPacking& out) {
+  out.face_chart = face_chart.empty() ? connected_pieces(triangles, num_points) : face_chart;
+  int num_charts = 0;
+  for (int c : out.face_chart) {
+    if (c < 0) throw InvalidInput("pack_charts: negative chart index " + std::to_string(c));
+    num_charts = std::max(num_charts, c + 1);
   }
-  return !separated_by_edges_of(p, q) && !separated_by_edges_of(q, p);
+  out.charts.resize(num_charts);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    out.charts[out.face_chart[f]].faces.push_back(static_cast<int>(f));
+  }
+  for (int c = 0; c < num_charts; ++c) {
+    if (out.charts[c].faces.empty()) {
+      throw InvalidInput("pack_charts: chart " + std::to_string(c) + " has no faces");
+    }
+  }
 }
+
+/// Each chart's vertices: those of its faces, in order of first use. A vertex shared by two
+/// charts would be placed twice, the last placement kept: a caller's mistake that
+/// find_uv_overlaps would not see, so it is refused.
+/// \throw InvalidInput for a vertex used by two charts
+std::vector<std::vector<int>> vertices_of_charts(const Triangles& triangles,
+                                                 Eigen::Index num_points,
+                                                 const std::vector<PackedChart>& charts) {
+  const int num_charts = static_cast<int>(charts.size());
+  std::vector<int> vertex_chart(num_points, -1);
+  std::vector<std::vector<int>> chart_vertices(num_charts);
+  for (int c = 0; c < num_charts; ++c) {
+    for (int f : charts[c].faces) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = triangles(f, k);
+        if (vertex_chart[v] == c) continue;
+        if (vertex_chart[v] >= 0) {
+          throw InvalidInput("pack_charts: position " + std::to_string(v) + " is used by charts " +
+                             std::to_string(vertex_chart[v]) + " and " + std::to_string(c));
+        }
+        vertex_chart[v] = c;
+        chart_vertices[c].push_back(v);
+      }
+    }
+  }
+  return chart_vertices;
+}
+
+/// Each chart's orientation (that of its minimal-area bounding rectangle when `rotate`, else
+/// none) and its box turned so.
+std::vector<ChartShape> chart_shapes(const Points& layout,
+                                     const std::vector<std::vector<int>>& chart_vertices,
+                                     bool rotate) {
+  std::vector<ChartShape> shapes(chart_vertices.size());
+  for (std::size_t c = 0; c < chart_vertices.size(); ++c) {
+    ChartShape& shape = shapes[c];
+    if (rotate) {
+      std::vector<Eigen::Vector2d> points;
+      points.reserve(chart_vertices[c].size());
+      for (int v : chart_vertices[c]) points.push_back(point(layout, v));
+      shape.rotation = minimal_rectangle_rotation(convex_hull(std::move(points)));
+    }
+    const Eigen::Rotation2Dd turn(shape.rotation);
+    shape.lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    shape.hi = -shape.lo;
+    for (int v : chart_vertices[c]) {
+      const Eigen::Vector2d q = turn * point(layout, v);
+      shape.lo = shape.lo.cwiseMin(q), shape.hi = shape.hi.cwiseMax(q);
+    }
+  }
+  return shapes;
+}
+
+/// The longest side of the charts' boxes (layout units).
+double longest_side(const std::vector<ChartShape>& shapes) {
+  double longest = 0;
+  for (const ChartShape& s : shapes) longest = std::max(longest, (s.hi - s.lo).maxCoeff());
+  return longest;
+}
+
+/// The item orders the rectangle packer tries at each scale (it is greedy: one order may fail
+/// where another fits): by decreasing longest side, area, shortest side and perimeter of the
+/// box, ties in chart order.
+std::vector<std::vector<int>> rectangle_orders(const std::vector<ChartShape>& shapes) {
+  std::vector<std::vector<int>> orders;
+  std::vector<int> base(shapes.size());
+  std::iota(base.begin(), base.end(), 0);
+  auto by = [&](auto key) {
+    std::vector<int> order = base;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) > key(b); });
+    orders.push_back(std::move(order));
+  };
+  auto size = [&](int c) -> Eigen::Vector2d { return shapes[c].hi - shapes[c].lo; };
+  by([&](int c) { return size(c).maxCoeff(); });
+  by([&](int c) { return size(c).prod(); });
+  by([&](int c) { return size(c).minCoeff(); });
+  by([&](int c) { return size(c).sum(); });
+  return orders;
+}
+
+/// The charts packed in their rectangles, each grown by the gutter: the largest common scale at
+/// which they fit, known to the relative `tolerance`, and where each chart goes at it. Upper
+/// bound: the rectangles' total area, and the longest side, must fit in the square. Then down by
+/// steps of kScaleStepDown to a scale that fits (rectangle packings usually fill 70 to 95% of the
+/// square), and bisection between it and the last that did not. `attempts` counts the packings.
+/// \throw SolverError when they do not fit even at zero size (cells_fit(gutter) rules it out)
+double pack_by_rectangles(const std::vector<ChartShape>& shapes, double gutter, double tolerance,
+                          bool rotate, int& attempts, std::vector<Placement>& placement) {
+  const int num_charts = static_cast<int>(shapes.size());
+  double box_area = 0;
+  for (const ChartShape& s : shapes) {
+    const Eigen::Vector2d d = s.hi - s.lo;
+    box_area += d.x() * d.y();
+  }
+  const double longest = longest_side(shapes);
+  const std::vector<std::vector<int>> orders = rectangle_orders(shapes);
+  std::vector<Eigen::Vector2d> padded(num_charts);
+  std::vector<Rect> placed, best_placed;
+  std::vector<char> turned, best_turned;
+  auto fits = [&](double scale) {
+    for (int c = 0; c < num_charts; ++c) {
+      padded[c] = scale * (shapes[c].hi - shapes[c].lo) + Eigen::Vector2d::Constant(gutter);
+    }
+    if (num_charts > kShelvesAbove) {
+      ++attempts;
+      return pack_shelves(padded, rotate, placed, turned);
+    }
+    for (const std::vector<int>& order : orders) {
+      ++attempts;
+      if (pack_rectangles(padded, order, rotate, placed, turned)) return true;
+    }
+    return false;
+  };
+  double high = longest > 0 ? (1 - gutter) / longest : 1.0;
+  if (box_area > 0) high = std::min(high, 1 / std::sqrt(box_area));
+  double low = high;
+  bool found = false;
+  for (int step = 0; step < kScaleStepsDown && !found; ++step) {
+    found = fits(low);
+    if (!found) high = low, low *= kScaleStepDown;
+  }
+  if (!found) {
+    low = 0;
+    if (!fits(0)) {
+      throw SolverError("pack_charts: " + std::to_string(num_charts) +
+                        " charts do not fit even at zero size");  // cells_fit guarantees they do
+    }
+  }
+  best_placed = placed, best_turned = turned;
+  while (low < high && high - low > tolerance * high) {
+    const double mid = 0.5 * (low + high);
+    if (fits(mid)) {
+      low = mid;
+      best_placed = placed, best_turned = turned;
+    } else {
+      high = mid;
+    }
+  }
+  placement.assign(num_charts, Placement{});
+  for (int c = 0; c < num_charts; ++c) {
+    placement[c].turns = static_cast<unsigned char>(best_turned[c]);  // 0..3 quarter turns
+    placement[c].box = low * (shapes[c].hi - shapes[c].lo);
+    placement[c].corner = Eigen::Vector2d(best_placed[c].x0, best_placed[c].y0) +
+                          Eigen::Vector2d::Constant(gutter / 2);
+  }
+  return low;
+}
+
+/// The grid of the shape packing: cells of about 1 / resolution, two dilations wide exactly the
+/// gutter when it is wider.
+Grid shape_grid(double gutter, int resolution) {
+  Grid grid;
+  const double target = 1.0 / resolution;
+  grid.dilation = std::max(1, static_cast<int>(std::lround(gutter / (2 * target))));
+  grid.cell = gutter >= 2 * target ? gutter / (2 * grid.dilation) : target;
+  grid.side = static_cast<int>(std::floor(1 / grid.cell));
+  return grid;
+}
+
+/// The charts packed by their shapes on a grid: worth it when charts leave their rectangles
+/// partly empty. Searched like the rectangles' scale, from the rectangles' scale up to the
+/// charts' own area bound; `scale` and `placement` are replaced (and out.by_shape set) only when
+/// the shapes do better. Adds to out.packing_attempts, sets out.raster_work.
+void pack_by_shapes(const Points& layout, const Triangles& triangles,
+                    const std::vector<ChartShape>& shapes, double gutter, double tolerance,
+                    const ChartPackingOptions& options, double& scale,
+                    std::vector<Placement>& placement, ChartPacking& out) {
+  const Grid grid = shape_grid(gutter, options.raster_resolution);
+  double chart_area = 0;
+  for (const PackedChart& chart : out.charts) {
+    for (int f : chart.faces) chart_area += 0.5 * std::abs(twice_area(layout, triangles, f));
+  }
+  const double longest = longest_side(shapes);
+  double bound = longest > 0 ? 1 / longest : 1.0;
+  if (chart_area > 0) bound = std::min(bound, 1 / std::sqrt(chart_area));
+  std::vector<Placement> shaped;
+  long long work = 0;
+  const long long budget = options.raster_work_limit;
+  auto shapes_fit = [&](double s) {
+    ++out.packing_attempts;
+    return pack_shapes(layout, triangles, out.charts, shapes, s, grid, options.rotate, work, budget,
+                       shaped);
+  };
+  // A scale where the shapes fit: the rectangles' (or a little less: a tight rectangle packing
+  // can leave no room for the cells a shape's outline and gutter round up to). Then up by steps
+  // of kShapeStepUp while they fit, then bisection; the work limit stops the search with the
+  // best packing found so far. The shapes are kept only when they beat the rectangles.
+  double shape_low = std::min(scale, bound);
+  bool fit = false;
+  for (int step = 0; step < kShapeStartTries && !fit && work <= budget;
+       ++step, shape_low *= kShapeStartStepDown) {
+    fit = shapes_fit(shape_low);
+    if (fit) break;
+  }
+  // Found below the rectangles' scale: worth going on only if the shapes also fit above it.
+  if (fit && shape_low < scale) {
+    shape_low = scale * (1 + tolerance);
+    fit = shape_low < bound && work <= budget && shapes_fit(shape_low);
+  }
+  if (fit) {
+    std::vector<Placement> best = shaped;
+    double shape_high = bound;
+    for (double s = shape_low * kShapeStepUp; work <= budget; s *= kShapeStepUp) {
+      if (s >= bound || !shapes_fit(s)) {
+        shape_high = std::min(s, bound);
+        break;
+      }
+      shape_low = s;
+      best = shaped;
+    }
+    while (work <= budget && shape_high - shape_low > tolerance * shape_high) {
+      const double mid = 0.5 * (shape_low + shape_high);
+      if (shapes_fit(mid)) {
+        shape_low = mid;
+        best = shaped;
+      } else {
+        shape_high = mid;
+      }
+    }
+    if (shape_low > scale) {
+      scale = shape_low;
+      placement = std::move(best);
+      out.by_shape = true;
+    }
+  }
+  out.raster_work = work;
+}
+
+/// Places the charts: each turned by its rotation, scaled by out.scale, turned by the packer's
+/// quarter turns inside its box, the box moved to its corner. Fills out.uv and per chart its
+/// rotation, translation, box and area, and the coverages.
+void place_charts(const Points& layout, const Triangles& triangles,
+                  const std::vector<ChartShape>& shapes,
+                  const std::vector<std::vector<int>>& chart_vertices,
+                  const std::vector<Placement>& placement, ChartPacking& out) {
+  out.uv = Points::Zero(layout.rows(), 2);
+  for (std::size_t c = 0; c < out.charts.size(); ++c) {
+    PackedChart& chart = out.charts[c];
+    const ChartShape& shape = shapes[c];
+    const Placement& p = placement[c];
+    chart.rotation = shape.rotation + p.turns * kPi / 2;
+    const Eigen::Rotation2Dd rotation(shape.rotation);
+    for (int v : chart_vertices[c]) {
+      const Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo) + p.offset;
+      out.uv.row(v) = (p.corner + turn_in_box(q, p.turns, p.box)).transpose();
+    }
+    // uv = scale R(rotation) p + translation: read the translation off the map of the origin.
+    chart.translation = p.corner + turn_in_box(-out.scale * shape.lo + p.offset, p.turns, p.box);
+    chart.box_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    chart.box_max = -chart.box_min;
+    for (int v : chart_vertices[c]) {
+      chart.box_min = chart.box_min.cwiseMin(point(out.uv, v));
+      chart.box_max = chart.box_max.cwiseMax(point(out.uv, v));
+    }
+    for (int f : chart.faces) chart.area += 0.5 * std::abs(twice_area(out.uv, triangles, f));
+    out.coverage += chart.area;
+    out.rectangle_coverage += (out.scale * (shape.hi - shape.lo)).prod();
+  }
+}
+
+}  // namespace
 
 UvOverlaps find_uv_overlaps(const Points& uv, const Triangles& triangles,
                             const std::vector<int>& face_group, int max_pairs) {
@@ -669,7 +854,7 @@ UvOverlaps find_uv_overlaps(const Points& uv, const Triangles& triangles,
   if (num_solid < 2) return out;
   // Grid cells about twice the mean face extent: a face touches a few cells, a cell holds a few
   // faces.
-  const double cell = std::max(2 * extent_sum / num_solid, 1e-300);
+  const double cell = std::max(2 * extent_sum / num_solid, kMinOverlapCell);
   const Eigen::Vector2d span = (hi - lo) / cell;
   const long long max_cells = 4LL * num_solid + 16;
   const double shrink = std::max(1.0, std::sqrt((span.x() + 1) * (span.y() + 1) / max_cells));
@@ -705,7 +890,7 @@ UvOverlaps find_uv_overlaps(const Points& uv, const Triangles& triangles,
           // Test each pair once: in the cell holding the low corner of their boxes' overlap.
           const double x = std::max(a.lo.x(), b.lo.x()), y = std::max(a.lo.y(), b.lo.y());
           if (cell_of(x, lo.x(), nx) != i || cell_of(y, lo.y(), ny) != j) continue;
-          if (separated_by_edges_of(a.p, b.p) || separated_by_edges_of(b.p, a.p)) continue;
+          if (!ccw_triangles_overlap(a.p, b.p)) continue;
           if (static_cast<int>(out.pairs.size()) < max_pairs) out.pairs.push_back({fa, fb});
           ++out.count;
         }
@@ -726,237 +911,24 @@ ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
                        " is not in [0, 0.5)");
   }
   ChartPacking out;
-  out.face_chart = face_chart.empty() ? connected_pieces(triangles, layout.rows()) : face_chart;
-  int num_charts = 0;
-  for (int c : out.face_chart) {
-    if (c < 0) throw InvalidInput("pack_charts: negative chart index " + std::to_string(c));
-    num_charts = std::max(num_charts, c + 1);
-  }
-  out.charts.resize(num_charts);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    out.charts[out.face_chart[f]].faces.push_back(static_cast<int>(f));
-  }
-  for (int c = 0; c < num_charts; ++c) {
-    if (out.charts[c].faces.empty()) {
-      throw InvalidInput("pack_charts: chart " + std::to_string(c) + " has no faces");
-    }
-  }
-
-  // Each chart's orientation and rotated box. The chart's vertices: those of its faces (a
-  // vertex shared by two charts would be placed twice, the last placement kept: a caller's
-  // mistake that find_uv_overlaps below would not see, so it is refused).
-  std::vector<int> vertex_chart(layout.rows(), -1);
-  std::vector<std::vector<int>> chart_vertices(num_charts);
-  for (int c = 0; c < num_charts; ++c) {
-    for (int f : out.charts[c].faces) {
-      for (int k = 0; k < 3; ++k) {
-        const int v = triangles(f, k);
-        if (vertex_chart[v] == c) continue;
-        if (vertex_chart[v] >= 0) {
-          throw InvalidInput("pack_charts: position " + std::to_string(v) + " is used by charts " +
-                             std::to_string(vertex_chart[v]) + " and " + std::to_string(c));
-        }
-        vertex_chart[v] = c;
-        chart_vertices[c].push_back(v);
-      }
-    }
-  }
-  std::vector<ChartShape> shapes(num_charts);
-  for (int c = 0; c < num_charts; ++c) {
-    ChartShape& shape = shapes[c];
-    if (options.rotate) {
-      std::vector<Eigen::Vector2d> points;
-      points.reserve(chart_vertices[c].size());
-      for (int v : chart_vertices[c]) points.push_back(point(layout, v));
-      shape.rotation = minimal_rectangle_rotation(convex_hull(std::move(points)));
-    }
-    const Eigen::Rotation2Dd turn(shape.rotation);
-    shape.lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    shape.hi = -shape.lo;
-    for (int v : chart_vertices[c]) {
-      const Eigen::Vector2d q = turn * point(layout, v);
-      shape.lo = shape.lo.cwiseMin(q), shape.hi = shape.hi.cwiseMax(q);
-    }
-  }
-
-  // The largest common scale at which the padded rectangles pack, by bisection. Several item
-  // orders are tried at each scale (the packing is greedy; one order may fail where another
-  // fits).
+  group_faces(triangles, layout.rows(), face_chart, out);
+  const std::vector<std::vector<int>> chart_vertices =
+      vertices_of_charts(triangles, layout.rows(), out.charts);
+  const std::vector<ChartShape> shapes = chart_shapes(layout, chart_vertices, options.rotate);
   double gutter = std::max(options.gutter, kMinGutter);
-  while (!cells_fit(num_charts, gutter)) gutter /= 2;
-  double box_area = 0, longest = 0;
-  for (const ChartShape& s : shapes) {
-    const Eigen::Vector2d d = s.hi - s.lo;
-    box_area += d.x() * d.y();
-    longest = std::max(longest, d.maxCoeff());
-  }
-  std::vector<std::vector<int>> orders;
-  {
-    std::vector<int> base(num_charts);
-    std::iota(base.begin(), base.end(), 0);
-    auto by = [&](auto key) {
-      std::vector<int> order = base;
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) > key(b); });
-      orders.push_back(std::move(order));
-    };
-    auto size = [&](int c) -> Eigen::Vector2d { return shapes[c].hi - shapes[c].lo; };
-    by([&](int c) { return size(c).maxCoeff(); });
-    by([&](int c) { return size(c).prod(); });
-    by([&](int c) { return size(c).minCoeff(); });
-    by([&](int c) { return size(c).sum(); });
-  }
-  std::vector<Eigen::Vector2d> padded(num_charts);
-  std::vector<Rect> placed, best_placed;
-  std::vector<char> turned, best_turned;
-  auto fits = [&](double scale) {
-    for (int c = 0; c < num_charts; ++c) {
-      padded[c] = scale * (shapes[c].hi - shapes[c].lo) + Eigen::Vector2d::Constant(gutter);
-    }
-    if (num_charts > kShelvesAbove) {
-      ++out.packing_attempts;
-      return pack_shelves(padded, options.rotate, placed, turned);
-    }
-    for (const std::vector<int>& order : orders) {
-      ++out.packing_attempts;
-      if (pack_rectangles(padded, order, options.rotate, placed, turned)) return true;
-    }
-    return false;
-  };
-  // Upper bound: the rectangles' total area, and the longest side, must fit in the square. Then
-  // down by steps of 0.8 to a scale that fits (rectangle packings usually fill 70 to 95% of the
-  // square), and bisection between it and the last that did not.
-  double high = longest > 0 ? (1 - gutter) / longest : 1.0;
-  if (box_area > 0) high = std::min(high, 1 / std::sqrt(box_area));
-  double low = high;
-  bool found = false;
-  for (int step = 0; step < 60 && !found; ++step) {
-    found = fits(low);
-    if (!found) high = low, low *= 0.8;
-  }
-  if (!found) {
-    low = 0;
-    if (!fits(0)) {
-      throw SolverError("pack_charts: " + std::to_string(num_charts) +
-                        " charts do not fit even at zero size");  // cells_fit guarantees they do
-    }
-  }
-  best_placed = placed, best_turned = turned;
-  const double tolerance = std::max(options.scale_tolerance, 1e-12);
-  while (low < high && high - low > tolerance * high) {
-    const double mid = 0.5 * (low + high);
-    if (fits(mid)) {
-      low = mid;
-      best_placed = placed, best_turned = turned;
-    } else {
-      high = mid;
-    }
-  }
-  double scale = low;
-  std::vector<Placement> placement(num_charts);
-  for (int c = 0; c < num_charts; ++c) {
-    placement[c].turns = static_cast<unsigned char>(best_turned[c]);  // 0..3 quarter turns
-    placement[c].box = scale * (shapes[c].hi - shapes[c].lo);
-    placement[c].corner = Eigen::Vector2d(best_placed[c].x0, best_placed[c].y0) +
-                          Eigen::Vector2d::Constant(gutter / 2);
-  }
-
-  // By shape, on a grid: worth it when charts leave their rectangles partly empty. Searched like
-  // the rectangles' scale, from the charts' own area bound down to the rectangles' scale; kept
-  // only when it does better.
+  while (!cells_fit(out.charts.size(), gutter)) gutter /= 2;
+  const double tolerance = std::max(options.scale_tolerance, kMinScaleTolerance);
+  std::vector<Placement> placement;
+  double scale = pack_by_rectangles(shapes, gutter, tolerance, options.rotate, out.packing_attempts,
+                                    placement);
   if (options.raster_resolution > 0) {
-    Grid grid;
-    // Cells of about 1 / resolution, two dilations wide exactly the gutter when it is wider.
-    const double target = 1.0 / options.raster_resolution;
-    grid.dilation = std::max(1, static_cast<int>(std::lround(gutter / (2 * target))));
-    grid.cell = gutter >= 2 * target ? gutter / (2 * grid.dilation) : target;
-    grid.side = static_cast<int>(std::floor(1 / grid.cell));
-    double chart_area = 0;
-    for (const PackedChart& chart : out.charts) {
-      for (int f : chart.faces) chart_area += 0.5 * std::abs(twice_area(layout, triangles, f));
-    }
-    double bound = longest > 0 ? 1 / longest : 1.0;
-    if (chart_area > 0) bound = std::min(bound, 1 / std::sqrt(chart_area));
-    std::vector<Placement> shaped;
-    long long work = 0;
-    const long long budget = options.raster_work_limit;
-    auto shapes_fit = [&](double s) {
-      ++out.packing_attempts;
-      return pack_shapes(layout, triangles, out.charts, shapes, s, grid, options.rotate, work,
-                         budget, shaped);
-    };
-    // A scale where the shapes fit: the rectangles' (or a little less: a tight rectangle
-    // packing can leave no room for the cells a shape's outline and gutter round up to). Then up
-    // by 10% steps while they fit, then bisection; the work limit stops the search with the best
-    // packing found so far. The shapes are kept only when they beat the rectangles.
-    double shape_low = std::min(scale, bound);
-    bool fit = false;
-    for (int step = 0; step < 4 && !fit && work <= budget; ++step, shape_low *= 0.97) {
-      fit = shapes_fit(shape_low);
-      if (fit) break;
-    }
-    // Found below the rectangles' scale: worth going on only if the shapes also fit above it.
-    if (fit && shape_low < scale) {
-      shape_low = scale * (1 + tolerance);
-      fit = shape_low < bound && work <= budget && shapes_fit(shape_low);
-    }
-    if (fit) {
-      std::vector<Placement> best = shaped;
-      double shape_high = bound;
-      for (double s = shape_low * 1.1; work <= budget; s *= 1.1) {
-        if (s >= bound || !shapes_fit(s)) {
-          shape_high = std::min(s, bound);
-          break;
-        }
-        shape_low = s;
-        best = shaped;
-      }
-      while (work <= budget && shape_high - shape_low > tolerance * shape_high) {
-        const double mid = 0.5 * (shape_low + shape_high);
-        if (shapes_fit(mid)) {
-          shape_low = mid;
-          best = shaped;
-        } else {
-          shape_high = mid;
-        }
-      }
-      if (shape_low > scale) {
-        scale = shape_low;
-        placement = std::move(best);
-        out.by_shape = true;
-      }
-    }
-    out.raster_work = work;
+    pack_by_shapes(layout, triangles, shapes, gutter, tolerance, options, scale, placement, out);
   }
   out.scale = scale;
   out.gutter = gutter;
-
-  // Placement: each chart turned, scaled, turned by the packer's quarter turns inside its box,
-  // the box moved to its corner.
-  out.uv = Points::Zero(layout.rows(), 2);
-  for (int c = 0; c < num_charts; ++c) {
-    PackedChart& chart = out.charts[c];
-    const ChartShape& shape = shapes[c];
-    const Placement& p = placement[c];
-    chart.rotation = shape.rotation + p.turns * kPi / 2;
-    const Eigen::Rotation2Dd rotation(shape.rotation);
-    for (int v : chart_vertices[c]) {
-      const Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo) + p.offset;
-      out.uv.row(v) = (p.corner + turn_in_box(q, p.turns, p.box)).transpose();
-    }
-    // uv = scale R(rotation) p + translation: read the translation off the map of the origin.
-    chart.translation = p.corner + turn_in_box(-out.scale * shape.lo + p.offset, p.turns, p.box);
-    chart.box_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    chart.box_max = -chart.box_min;
-    for (int v : chart_vertices[c]) {
-      chart.box_min = chart.box_min.cwiseMin(point(out.uv, v));
-      chart.box_max = chart.box_max.cwiseMax(point(out.uv, v));
-    }
-    for (int f : chart.faces) chart.area += 0.5 * std::abs(twice_area(out.uv, triangles, f));
-    out.coverage += chart.area;
-    out.rectangle_coverage += (out.scale * (shape.hi - shape.lo)).prod();
-  }
+  place_charts(layout, triangles, shapes, chart_vertices, placement, out);
   out.overlapping_face_pairs = find_uv_overlaps(out.uv, triangles, out.face_chart, 0).count;
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = seconds_since(start);
   return out;
 }
 

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <queue>
 #include <utility>
 
@@ -14,6 +13,7 @@
 #include "ricci/mesh/components.hpp"
 #include "ricci/mesh/polygons.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
 #include "ricci/param/atlas/chart_packing.hpp"
 #include "ricci/param/layout/polygon_fans.hpp"
 #include "ricci/param/layout/untangle.hpp"
@@ -71,12 +71,7 @@ Mesh faces_as_mesh(const Mesh& mesh, const std::vector<int>& faces, std::vector<
     }
   }
   std::sort(keys.begin(), keys.end());
-  std::vector<int> parent(3 * faces.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets corners(3 * n);
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
     if (keys[i][0] != keys[i + 1][0] || keys[i][1] != keys[i + 1][1]) continue;
     const int f = keys[i][2], g = keys[i + 1][2];
@@ -84,8 +79,7 @@ Mesh faces_as_mesh(const Mesh& mesh, const std::vector<int>& faces, std::vector<
       for (int j = 0; j < 3; ++j) {
         const int v = mesh.triangles(faces[f], k);
         if (v != mesh.triangles(faces[g], j) || (v != keys[i][0] && v != keys[i][1])) continue;
-        const int a = find(3 * f + k), b = find(3 * g + j);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        corners.unite(3 * f + k, 3 * g + j);
       }
     }
   }
@@ -94,7 +88,7 @@ Mesh faces_as_mesh(const Mesh& mesh, const std::vector<int>& faces, std::vector<
   std::vector<int> id(3 * faces.size(), -1);
   source.clear();
   for (int c = 0; c < 3 * n; ++c) {
-    int& v = id[find(c)];
+    int& v = id[corners.find(c)];
     if (v < 0)
       v = static_cast<int>(source.size()), source.push_back(mesh.triangles(faces[c / 3], c % 3));
     out.triangles(c / 3, c % 3) = v;
@@ -147,46 +141,89 @@ std::vector<int> faces_to_take_out(const ParamResult& p) {
   return out;
 }
 
-}  // namespace
-
-ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
-                            const std::vector<int>& cut_through) {
-  ChartsLayout out;
-  const int nf = mesh.num_faces();
-  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
-  // A polygon mesh's polygons stay whole: no cut along a diagonal, and a polygon leaves a chart
-  // or joins a piece or a patch with all its triangles.
-  const Polygons& polygons = options.polygons;
+/// The component cut open into a disk along a cut graph through `cut_through` (a sphere with
+/// fewer: along a path between two vertices far apart), never along a polygon's diagonal.
+/// `cut_vertices`: the vertices the cut went through.
+CutMesh cut_open(const Topology& t, const Eigen::VectorXd& lengths, const Polygons& polygons,
+                 const std::vector<int>& cut_through, std::vector<int>& cut_vertices) {
   CutGraphOptions cut_options;
   cut_options.cones = cut_through;
   cut_options.uncut_edges = polygon_diagonals(t, polygons);
   const Component& component = t.components.front();
   if (component.num_boundary_loops == 0 && component.genus == 0 && cut_through.size() < 2) {
-    // A sphere opens along a path between two vertices far apart.
     const int a = farthest_vertex(t, lengths, component.vertices.front());
     cut_options.cones = {a, farthest_vertex(t, lengths, a)};
   }
-  out.cut_vertices = cut_options.cones;
-  const CutGraph cut = cut_graph(t, lengths, cut_options);
-  const CutMesh sliced = slice(t, cut);
-  Mesh disk;
-  disk.triangles = sliced.triangles;
-  disk.positions.resize(static_cast<Eigen::Index>(sliced.to_original.size()), 3);
-  for (std::size_t v = 0; v < sliced.to_original.size(); ++v) {
-    disk.positions.row(static_cast<Eigen::Index>(v)) = mesh.positions.row(sliced.to_original[v]);
-  }
+  cut_vertices = cut_options.cones;
+  return slice(t, cut_graph(t, lengths, cut_options));
+}
 
+/// The pipeline's options for one piece of the disk: free boundary (u = 0 there), no cones, no
+/// quantization, and no untangling (done here with the boundary fixed: the pipeline's own
+/// untangling moves a free boundary, which would take the seams off their 3D lengths).
+ParamOptions piece_options(const ParamOptions& options) {
   ParamOptions inner = options;
   inner.cone_mode = ConeMode::None;
   inner.cones.clear();
   inner.quantize = false;
   inner.boundary = BoundaryMode::Free;
-  // Untangled here, with the boundary fixed (the pipeline's own untangling moves a free
-  // boundary, which would take the seams off their 3D lengths).
   inner.fold_free.untangle = false;
-  UntangleOptions untangle;  // the boundary (u = 0, the seams) stays
-  std::vector<char> unfolded(nf, 0);
+  return inner;
+}
+
+/// Flattens one piece (the pipeline, then untangling with the boundary fixed) into flat.param;
+/// false when the pipeline failed or its layout is not usable. `flipped`: the piece's faces
+/// (indices into flat.faces) that cannot stay (faces_to_take_out). The untangling's figures are
+/// added to out.untangle.
+bool flatten_piece(const Mesh& piece, const ParamOptions& options, ParamOptions& inner, Flat& flat,
+                   std::vector<int>& flipped, ChartsLayout& out) {
+  bool ok = false;
+  inner.polygons = polygons_of_faces(options.polygons, flat.faces);
+  try {
+    flat.param = parameterize_one_component(piece, inner);
+    ok = usable(flat.param, options);
+  } catch (const Error&) {
+    ok = false;
+  }
+  if (!ok) return false;
+  const UntangleOptions untangle;  // the boundary (u = 0, the seams) stays
+  UntangleResult u = untangle_layout(flat.param.mesh, flat.param.cut_mesh.triangles,
+                                     flat.param.layout.uv, untangle);
+  flat.param.layout.uv = std::move(u.uv);
+  u.uv.resize(0, 2);
+  out.untangle.flipped_before += u.flipped_before;
+  out.untangle.moved_vertices += u.moved_vertices;
+  out.untangle.region_faces += u.region_faces;
+  out.untangle.rounds += u.rounds;
+  out.untangle.newton_iterations += u.newton_iterations;
+  out.untangle.seconds += u.seconds;
+  flipped = faces_to_take_out(flat.param);
+  return true;
+}
+
+/// Marks the flipped faces of a flat unfolded, with the rest of each polygon they belong to.
+void take_out(const Flat& flat, const std::vector<int>& flipped, const Polygons& polygons,
+              std::vector<char>& unfolded) {
+  for (int f : flipped) unfolded[flat.faces[f]] = 1;
+  for (std::size_t i = 0; i < flat.faces.size() && !polygons.empty(); ++i) {
+    for (int f : flipped) {
+      if (polygons.triangle_polygon[flat.faces[i]] == polygons.triangle_polygon[flat.faces[f]]) {
+        unfolded[flat.faces[i]] = 1;
+      }
+    }
+  }
+}
+
+/// The disk flattened in rounds (at most kRounds): each round flattens every connected piece of
+/// the faces not yet taken out, except those unchanged since the last round, which keep their
+/// flattening. Returns the flats of the last round; `unfolded` marks the faces taken out (the
+/// flats' flipped faces, pieces that failed or still fold in the last round, and faces no flat
+/// holds at the end).
+std::vector<Flat> flatten_in_rounds(const Mesh& disk, const ParamOptions& options,
+                                    std::vector<char>& unfolded, ChartsLayout& out) {
+  const int nf = disk.num_faces();
+  ParamOptions inner = piece_options(options);
+  unfolded.assign(nf, 0);
   std::vector<Flat> flats;
   // The flat that holds each face (-1: none yet, or taken out), so that a piece whose faces did
   // not change keeps its flattening.
@@ -219,28 +256,8 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
         continue;
       }
       ++out.rounds;
-      bool ok = false;
-      inner.polygons = polygons_of_faces(polygons, flat.faces);
-      try {
-        flat.param = parameterize_one_component(piece.mesh, inner);
-        ok = usable(flat.param, options);
-      } catch (const Error&) {
-        ok = false;
-      }
       std::vector<int> flipped;
-      if (ok) {
-        UntangleResult u = untangle_layout(flat.param.mesh, flat.param.cut_mesh.triangles,
-                                           flat.param.layout.uv, untangle);
-        flat.param.layout.uv = std::move(u.uv);
-        u.uv.resize(0, 2);
-        out.untangle.flipped_before += u.flipped_before;
-        out.untangle.moved_vertices += u.moved_vertices;
-        out.untangle.region_faces += u.region_faces;
-        out.untangle.rounds += u.rounds;
-        out.untangle.newton_iterations += u.newton_iterations;
-        out.untangle.seconds += u.seconds;
-        flipped = faces_to_take_out(flat.param);
-      }
+      const bool ok = flatten_piece(piece.mesh, options, inner, flat, flipped, out);
       // A piece that failed, or that still folds in the last round, is laid out in its own
       // shape; otherwise its folded faces are, and it is flattened again next round.
       if (!ok || (!flipped.empty() && round == kRounds - 1)) {
@@ -249,16 +266,7 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
         continue;
       }
       if (!flipped.empty()) {
-        for (int f : flipped) unfolded[flat.faces[f]] = 1;
-        // The rest of each polygon goes with its folded triangles.
-        for (std::size_t i = 0; i < flat.faces.size() && !polygons.empty(); ++i) {
-          for (int f : flipped) {
-            if (polygons.triangle_polygon[flat.faces[i]] ==
-                polygons.triangle_polygon[flat.faces[f]]) {
-              unfolded[flat.faces[i]] = 1;
-            }
-          }
-        }
+        take_out(flat, flipped, options.polygons, unfolded);
         changed = true;
         continue;
       }
@@ -273,20 +281,27 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
   for (int f = 0; f < nf; ++f) {
     if (owner[f] < 0) unfolded[f] = 1;
   }
+  return flats;
+}
 
-  // Every chart's layout vertices in one array: the flats' (split where a flat overlaps itself)
-  // and the unfolded faces' patches (edge-connected groups laid out in their 3D shape).
+/// Every chart's layout vertices in one array, with the disk vertex each copies, and per face of
+/// the disk its corners' indices into the array.
+struct ChartVertices {
   std::vector<Eigen::RowVector2d> positions;
-  std::vector<int> position_disk_vertex;
-  Triangles corners(nf, 3);
-  out.face_chart.assign(nf, -1);
-  int charts = 0;
+  std::vector<int> disk_vertex;
+  Triangles corners;
+};
+
+/// Adds the flats' layouts to `vertices` as charts from `charts` on (a flat that overlaps itself
+/// split into pieces that do not), writing out.face_chart of their faces. Returns the next chart.
+int add_flat_charts(const std::vector<Flat>& flats, const Polygons& polygons, int charts,
+                    ChartVertices& vertices, ChartsLayout& out) {
   for (const Flat& flat : flats) {
     const ParamResult& p = flat.param;
-    const int offset = static_cast<int>(positions.size());
+    const int offset = static_cast<int>(vertices.positions.size());
     for (Eigen::Index v = 0; v < p.layout.uv.rows(); ++v) {
-      positions.emplace_back(p.layout.uv.row(v));
-      position_disk_vertex.push_back(flat.vertices[p.cut_mesh.to_original[v]]);
+      vertices.positions.emplace_back(p.layout.uv.row(v));
+      vertices.disk_vertex.push_back(flat.vertices[p.cut_mesh.to_original[v]]);
     }
     int count = 1;
     std::vector<int> piece_of(flat.faces.size(), 0);
@@ -298,43 +313,78 @@ ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
       const int f = flat.faces[i];
       out.face_chart[f] = charts + piece_of[i];
       for (int k = 0; k < 3; ++k)
-        corners(f, k) = offset + p.cut_mesh.triangles(static_cast<Eigen::Index>(i), k);
+        vertices.corners(f, k) = offset + p.cut_mesh.triangles(static_cast<Eigen::Index>(i), k);
     }
     charts += count;
   }
-  out.flow_charts = charts;
+  return charts;
+}
+
+/// Adds the faces taken out (unfolded), laid out in patches of their own 3D shape, to `vertices`
+/// as charts from `charts` on, writing out.face_chart and out.unfolded_faces. Returns the next
+/// chart.
+int add_unfolded_charts(const Mesh& disk, const std::vector<char>& unfolded,
+                        const Polygons& polygons, int charts, ChartVertices& vertices,
+                        ChartsLayout& out) {
   std::vector<int> taken;
-  for (int f = 0; f < nf; ++f) {
+  for (int f = 0; f < disk.num_faces(); ++f) {
     if (unfolded[f]) taken.push_back(f);
   }
   out.unfolded_faces = static_cast<int>(taken.size());
-  if (!taken.empty()) {
-    // The taken-out faces, laid out in patches of their own shape.
-    std::vector<int> loose_disk_vertex;
-    const Mesh loose = faces_as_mesh(disk, taken, loose_disk_vertex);
-    const PatchLayout patches = develop_patches(loose, polygons_of_faces(polygons, taken));
-    const int offset = static_cast<int>(positions.size());
-    for (Eigen::Index v = 0; v < patches.layout.rows(); ++v) {
-      positions.emplace_back(patches.layout.row(v));
-      position_disk_vertex.push_back(loose_disk_vertex[patches.vertex[v]]);
-    }
-    for (std::size_t i = 0; i < taken.size(); ++i) {
-      out.face_chart[taken[i]] = charts + patches.face_patch[i];
-      for (int k = 0; k < 3; ++k)
-        corners(taken[i], k) = offset + patches.triangles(static_cast<Eigen::Index>(i), k);
-    }
-    charts += patches.num_patches;
+  if (taken.empty()) return charts;
+  std::vector<int> loose_disk_vertex;
+  const Mesh loose = faces_as_mesh(disk, taken, loose_disk_vertex);
+  const PatchLayout patches = develop_patches(loose, polygons_of_faces(polygons, taken));
+  const int offset = static_cast<int>(vertices.positions.size());
+  for (Eigen::Index v = 0; v < patches.layout.rows(); ++v) {
+    vertices.positions.emplace_back(patches.layout.row(v));
+    vertices.disk_vertex.push_back(loose_disk_vertex[patches.vertex[v]]);
   }
-  out.num_charts = charts;
+  for (std::size_t i = 0; i < taken.size(); ++i) {
+    out.face_chart[taken[i]] = charts + patches.face_patch[i];
+    for (int k = 0; k < 3; ++k)
+      vertices.corners(taken[i], k) = offset + patches.triangles(static_cast<Eigen::Index>(i), k);
+  }
+  return charts + patches.num_patches;
+}
+
+}  // namespace
+
+ChartsLayout lay_out_charts(const Mesh& mesh, const ParamOptions& options,
+                            const std::vector<int>& cut_through) {
+  ChartsLayout out;
+  const int nf = mesh.num_faces();
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd lengths = input_edge_lengths(mesh, t);
+  // A polygon mesh's polygons stay whole: no cut along a diagonal, and a polygon leaves a chart
+  // or joins a piece or a patch with all its triangles.
+  const Polygons& polygons = options.polygons;
+  const CutMesh sliced = cut_open(t, lengths, polygons, cut_through, out.cut_vertices);
+  Mesh disk;
+  disk.triangles = sliced.triangles;
+  disk.positions.resize(static_cast<Eigen::Index>(sliced.to_original.size()), 3);
+  for (std::size_t v = 0; v < sliced.to_original.size(); ++v) {
+    disk.positions.row(static_cast<Eigen::Index>(v)) = mesh.positions.row(sliced.to_original[v]);
+  }
+  std::vector<char> unfolded;
+  const std::vector<Flat> flats = flatten_in_rounds(disk, options, unfolded, out);
+
+  // Every chart's layout vertices in one array: the flats' (split where a flat overlaps itself)
+  // and the unfolded faces' patches (edge-connected groups laid out in their 3D shape).
+  ChartVertices vertices;
+  vertices.corners.resize(nf, 3);
+  out.face_chart.assign(nf, -1);
+  out.flow_charts = add_flat_charts(flats, polygons, 0, vertices, out);
+  out.num_charts = add_unfolded_charts(disk, unfolded, polygons, out.flow_charts, vertices, out);
   // One vertex per fan of each chart.
-  const std::vector<int> source =
-      split_at_charts(corners, static_cast<int>(positions.size()), out.face_chart);
-  out.triangles = std::move(corners);
+  const std::vector<int> source = split_at_charts(
+      vertices.corners, static_cast<int>(vertices.positions.size()), out.face_chart);
+  out.triangles = std::move(vertices.corners);
   out.vertex.resize(source.size());
   out.layout.resize(static_cast<Eigen::Index>(source.size()), 2);
   for (std::size_t v = 0; v < source.size(); ++v) {
-    out.vertex[v] = sliced.to_original[position_disk_vertex[source[v]]];
-    out.layout.row(static_cast<Eigen::Index>(v)) = positions[source[v]];
+    out.vertex[v] = sliced.to_original[vertices.disk_vertex[source[v]]];
+    out.layout.row(static_cast<Eigen::Index>(v)) = vertices.positions[source[v]];
   }
   out.message = std::to_string(out.num_charts) + " charts (" + std::to_string(out.flow_charts) +
                 " flattened with free boundary, " + std::to_string(out.unfolded_faces) +

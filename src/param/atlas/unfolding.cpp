@@ -1,17 +1,19 @@
 #include "param/atlas/detail/unfolding.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <numeric>
 
 #include <Eigen/Geometry>
 
+#include "param/atlas/detail/triangle_grid.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
 #include "ricci/param/layout/polygon_fans.hpp"
-#include "param/atlas/detail/triangle_grid.hpp"
 
 namespace ricci::param_detail {
 namespace {
@@ -23,6 +25,223 @@ constexpr double kFlatCurvature = 1e-9;
 /// put their shared vertex when the vertex between them is flat: closer than this (relative to
 /// the face's longest edge) it takes that position exactly and the two faces are glued.
 constexpr double kSnap = 1e-9;
+/// The grid cell of embedded_pieces never goes below this (layout units), so that dividing by it
+/// stays finite however small the faces (the smallest normal double is 2e-308).
+constexpr double kMinCell = 1e-300;
+
+/// A face laid out across the edge of a face already placed: its corners, and the corners it is
+/// glued to (across that edge, and across its other edges where it snapped).
+struct FacePlacement {
+  int face = -1;
+  int apex = 0;                                                     ///< the corner laid out
+  std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};     ///< own corner, other's
+  std::array<std::array<int, 2>, 2> snapped{{{-1, -1}, {-1, -1}}};  ///< other's apex, shared
+};
+
+/// The state of develop_patches: corner positions, the union-find of glued corners, the grid of
+/// the current patch's faces and its frontier, the faces of the polygon joining.
+class PatchDevelopment {
+ public:
+  PatchDevelopment(const Mesh& mesh, const Topology& t, const Polygons& polygons, PatchLayout& out)
+      : mesh_(mesh),
+        t_(t),
+        polygons_(polygons),
+        out_(out),
+        corner_(3 * t.num_faces),
+        glued_(3 * t.num_faces),
+        grid_(2 * total_edge_length(mesh, t) / std::max(1, t.num_edges)),
+        placing_(t.num_faces, -1) {}
+
+  /// Grows a new patch from `seed` breadth first: a face (with its polygon) joins across an edge
+  /// of the patch unless it overlaps a face of the patch (it may still join from another side,
+  /// or seed a patch of its own).
+  void grow_patch(int seed) {
+    const int patch = out_.num_patches++;
+    grid_.clear();
+    corner_[3 * seed] = Eigen::Vector2d::Zero();
+    corner_[3 * seed + 1] = Eigen::Vector2d((position(seed, 1) - position(seed, 0)).norm(), 0);
+    corner_[3 * seed + 2] = apex(seed, 2, corner_[3 * seed], corner_[3 * seed + 1]);
+    placements_.assign(1, FacePlacement{});
+    placements_[0].face = seed;
+    placing_[seed] = patch;
+    place_polygon(patch);
+    join(patch);
+    while (!frontier_.empty()) {
+      const int h = frontier_.front();
+      frontier_.pop_front();
+      const int g = Topology::face_of(t_.halfedge_twin[h]);
+      if (out_.face_patch[g] >= 0) continue;
+      placements_.clear();
+      place(h, patch);
+      place_polygon(patch);
+      bool overlaps = false;
+      for (const FacePlacement& placement : placements_) {
+        overlaps = overlaps ||
+                   grid_.overlaps(triangle(placement.face), [this](int f) { return triangle(f); });
+      }
+      if (overlaps) {
+        for (const FacePlacement& placement : placements_) placing_[placement.face] = -1;
+        continue;
+      }
+      join(patch);
+    }
+  }
+
+  /// The cut-mesh vertices: one per class of glued corners, numbered in order of first corner,
+  /// at the position of the class's smallest corner.
+  void number_vertices() {
+    const int nf = t_.num_faces;
+    std::vector<int> id(3 * nf, -1);
+    out_.triangles.resize(nf, 3);
+    std::vector<Eigen::Vector2d> positions;
+    for (int c = 0; c < 3 * nf; ++c) {
+      int& v = id[glued_.find(c)];
+      if (v < 0) {
+        v = static_cast<int>(out_.vertex.size());
+        out_.vertex.push_back(t_.triangles(c / 3, c % 3));
+        positions.push_back(corner_[glued_.find(c)]);
+      }
+      out_.triangles(c / 3, c % 3) = v;
+    }
+    out_.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      out_.layout.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
+    }
+  }
+
+ private:
+  /// The sum of the 3D edge lengths: the grid's cells are twice their mean.
+  static double total_edge_length(const Mesh& mesh, const Topology& t) {
+    double mean_length = 0;
+    for (int e = 0; e < t.num_edges; ++e) {
+      mean_length +=
+          (mesh.positions.row(t.edge_vertices(e, 0)) - mesh.positions.row(t.edge_vertices(e, 1)))
+              .norm();
+    }
+    return mean_length;
+  }
+
+  Eigen::Vector3d position(int f, int k) const {
+    return mesh_.positions.row(t_.triangles(f, k % 3)).transpose();
+  }
+
+  /// Where the corner k of face f goes, given where corners k + 1 and k + 2 went: its offset
+  /// from corner k + 1 along and across that edge, taken from the 3D triangle (no angle formula,
+  /// so a needle face cannot produce NaN).
+  Eigen::Vector2d apex(int f, int k, const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
+    const Eigen::Vector3d e = position(f, k + 2) - position(f, k + 1);
+    const Eigen::Vector3d d = position(f, k) - position(f, k + 1);
+    const double l = e.norm();
+    const Eigen::Vector2d u = (to - from).normalized();
+    return Eigen::Vector2d(from + d.dot(e) / l * u +
+                           e.cross(d).norm() / l * Eigen::Vector2d(-u.y(), u.x()));
+  }
+
+  PlanarTriangle triangle(int f) const {
+    return PlanarTriangle{corner_[3 * f], corner_[3 * f + 1], corner_[3 * f + 2]};
+  }
+
+  /// Across a polygon's diagonals (its triangles' shared edges) its faces always stay together.
+  bool same_polygon(int h) const {
+    const int twin = t_.halfedge_twin[h];
+    return !polygons_.empty() && twin >= 0 &&
+           polygons_.triangle_polygon[Topology::face_of(h)] ==
+               polygons_.triangle_polygon[Topology::face_of(twin)];
+  }
+
+  /// Face f joins the grid, and its edges towards faces of no patch the frontier.
+  void add(int f) {
+    grid_.insert(f, triangle(f));
+    for (int k = 0; k < 3; ++k) {
+      const int twin = t_.halfedge_twin[3 * f + k];
+      if (twin >= 0 && out_.face_patch[Topology::face_of(twin)] < 0) frontier_.push_back(3 * f + k);
+    }
+  }
+
+  /// Lays out the face across halfedge h (of a face already placed) for `patch`.
+  void place(int h, int patch) {
+    // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
+    // apex) lies on its left.
+    const int twin = t_.halfedge_twin[h];
+    const int g = Topology::face_of(twin);
+    const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
+    const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
+    PlanarTriangle shape;
+    shape[kg] = apex(g, kg, corner_[cq], corner_[cp]);
+    shape[(kg + 1) % 3] = corner_[cq];
+    shape[(kg + 2) % 3] = corner_[cp];
+    FacePlacement placement;
+    placement.face = g;
+    placement.apex = kg;
+    placement.glue[0] = {3 * g + (kg + 1) % 3, cq};
+    placement.glue[1] = {3 * g + (kg + 2) % 3, cp};
+    // Across g's other two edges: a face of the patch that already holds the shared end at
+    // exactly this position and the apex within rounding (the vertex between them is flat)
+    // gives the apex its position, and g is glued to it too.
+    const double snap = kSnap * (corner_[cq] - corner_[cp]).norm();
+    for (int side = 1; side <= 2; ++side) {
+      const int other = t_.halfedge_twin[3 * g + (kg + side) % 3];
+      if (other < 0) continue;
+      const int g2 = Topology::face_of(other), k2 = other % 3;
+      if (out_.face_patch[g2] != patch) continue;
+      // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
+      // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
+      const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
+      const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
+      const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
+      if (corner_[c_shared] != shape[shared]) continue;
+      if ((corner_[c_apex] - shape[kg]).norm() > snap) continue;
+      shape[kg] = corner_[c_apex];
+      placement.snapped[side - 1] = {c_apex, c_shared};
+    }
+    for (int k = 0; k < 3; ++k) corner_[3 * g + k] = shape[k];
+    placing_[g] = patch;
+    placements_.push_back(placement);
+  }
+
+  /// The rest of the polygon of the first placement, across its diagonals.
+  void place_polygon(int patch) {
+    for (std::size_t i = 0; i < placements_.size(); ++i) {
+      const int f = placements_[i].face;
+      for (int k = 0; k < 3; ++k) {
+        const int twin = t_.halfedge_twin[3 * f + k];
+        if (!same_polygon(3 * f + k) || placing_[Topology::face_of(twin)] == patch) continue;
+        place(3 * f + k, patch);
+      }
+    }
+  }
+
+  /// The placed faces join `patch`: their corners glued, then the faces added to the grid.
+  void join(int patch) {
+    for (const FacePlacement& placement : placements_) {
+      const int g = placement.face, kg = placement.apex;
+      out_.face_patch[g] = patch;
+      for (const auto& [own, other] : placement.glue) {
+        if (own >= 0) glued_.unite(own, other);
+      }
+      for (int side = 1; side <= 2; ++side) {
+        const auto& [c_apex, c_shared] = placement.snapped[side - 1];
+        if (c_apex < 0) continue;
+        // A snapped apex keeps its position only if the shared end also matched.
+        if (corner_[3 * g + kg] != corner_[c_apex]) continue;
+        glued_.unite(3 * g + kg, c_apex);
+        glued_.unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), c_shared);
+      }
+    }
+    for (const FacePlacement& placement : placements_) add(placement.face);
+  }
+
+  const Mesh& mesh_;
+  const Topology& t_;
+  const Polygons& polygons_;
+  PatchLayout& out_;
+  std::vector<Eigen::Vector2d> corner_;    ///< position of corner 3 f + k
+  DisjointSets glued_;                     ///< corners glued together
+  TriangleGrid grid_;                      ///< the faces of the current patch
+  std::deque<int> frontier_;               ///< halfedges of patch faces whose other face may join
+  std::vector<FacePlacement> placements_;  ///< the faces of the polygon joining
+  std::vector<int> placing_;               ///< the patch a face is being placed into
+};
 
 }  // namespace
 
@@ -37,187 +256,13 @@ void fit_unit_square(ParamResult& r) {
 
 PatchLayout develop_patches(const Mesh& mesh, const Polygons& polygons) {
   const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  const int nf = t.num_faces;
   PatchLayout out;
-  out.face_patch.assign(nf, -1);
-  std::vector<Eigen::Vector2d> corner(3 * nf);  // position of corner 3 f + k
-  std::vector<int> parent(3 * nf);              // union-find of corners glued together
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int c) {
-    while (parent[c] != c) c = parent[c] = parent[parent[c]];
-    return c;
-  };
-  auto unite = [&](int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
-  auto position = [&](int f, int k) -> Eigen::Vector3d {
-    return mesh.positions.row(t.triangles(f, k % 3)).transpose();
-  };
-  // Where the corner k of face f goes, given where corners k + 1 and k + 2 went: its offset from
-  // corner k + 1 along and across that edge, taken from the 3D triangle (no angle formula, so a
-  // needle face cannot produce NaN).
-  auto apex = [&](int f, int k, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-    const Eigen::Vector3d e = position(f, k + 2) - position(f, k + 1);
-    const Eigen::Vector3d d = position(f, k) - position(f, k + 1);
-    const double l = e.norm();
-    const Eigen::Vector2d u = (to - from).normalized();
-    return Eigen::Vector2d(from + d.dot(e) / l * u +
-                           e.cross(d).norm() / l * Eigen::Vector2d(-u.y(), u.x()));
-  };
-  auto triangle = [&](int f) {
-    return std::array<Eigen::Vector2d, 3>{corner[3 * f], corner[3 * f + 1], corner[3 * f + 2]};
-  };
-  // Across a polygon's diagonals (its triangles' shared edges) its faces always stay together.
-  auto same_polygon = [&](int h) {
-    const int twin = t.halfedge_twin[h];
-    return !polygons.empty() && twin >= 0 &&
-           polygons.triangle_polygon[Topology::face_of(h)] ==
-               polygons.triangle_polygon[Topology::face_of(twin)];
-  };
-  // The faces of the current patch by grid cell, cells twice the mean edge length.
-  double mean_length = 0;
-  for (int e = 0; e < t.num_edges; ++e) {
-    mean_length +=
-        (mesh.positions.row(t.edge_vertices(e, 0)) - mesh.positions.row(t.edge_vertices(e, 1)))
-            .norm();
+  out.face_patch.assign(t.num_faces, -1);
+  PatchDevelopment development(mesh, t, polygons, out);
+  for (int seed = 0; seed < t.num_faces; ++seed) {
+    if (out.face_patch[seed] < 0) development.grow_patch(seed);
   }
-  TriangleGrid grid(2 * mean_length / std::max(1, t.num_edges));
-  std::deque<int> frontier;  // halfedges of patch faces whose other face may join
-  auto add = [&](int f) {
-    grid.insert(f, triangle(f));
-    for (int k = 0; k < 3; ++k) {
-      const int twin = t.halfedge_twin[3 * f + k];
-      if (twin >= 0 && out.face_patch[Topology::face_of(twin)] < 0) frontier.push_back(3 * f + k);
-    }
-  };
-  // A face laid out across the edge of halfedge h of a face already placed: its corners, and the
-  // corners it is glued to (across h, and across its other edges where it snapped).
-  struct Placement {
-    int face = -1;
-    int apex = 0;                                                     // the corner laid out
-    std::array<std::array<int, 2>, 2> glue{{{-1, -1}, {-1, -1}}};     // own corner, other's
-    std::array<std::array<int, 2>, 2> snapped{{{-1, -1}, {-1, -1}}};  // other's apex, shared
-  };
-  std::vector<Placement> placements;  // the faces of the polygon joining
-  std::vector<int> placing(nf, -1);   // the patch a face is being placed into
-  auto place = [&](int h, int patch) {
-    // h runs from p to q in its face f; the twin runs from q to p in g, whose corner kg (the
-    // apex) lies on its left.
-    const int twin = t.halfedge_twin[h];
-    const int g = Topology::face_of(twin);
-    const int f = Topology::face_of(h), kf = h % 3, kg = twin % 3;
-    const int cp = 3 * f + (kf + 1) % 3, cq = 3 * f + (kf + 2) % 3;
-    std::array<Eigen::Vector2d, 3> shape;
-    shape[kg] = apex(g, kg, corner[cq], corner[cp]);
-    shape[(kg + 1) % 3] = corner[cq];
-    shape[(kg + 2) % 3] = corner[cp];
-    Placement placement;
-    placement.face = g;
-    placement.apex = kg;
-    placement.glue[0] = {3 * g + (kg + 1) % 3, cq};
-    placement.glue[1] = {3 * g + (kg + 2) % 3, cp};
-    // Across g's other two edges: a face of the patch that already holds the shared end at
-    // exactly this position and the apex within rounding (the vertex between them is flat)
-    // gives the apex its position, and g is glued to it too.
-    const double snap = kSnap * (corner[cq] - corner[cp]).norm();
-    for (int side = 1; side <= 2; ++side) {
-      const int other = t.halfedge_twin[3 * g + (kg + side) % 3];
-      if (other < 0) continue;
-      const int g2 = Topology::face_of(other), k2 = other % 3;
-      if (out.face_patch[g2] != patch) continue;
-      // side 1: the edge from p (corner kg + 2) to the apex, whose twin runs apex -> p;
-      // side 2: the edge from the apex to q (corner kg + 1), whose twin runs q -> apex.
-      const int shared = side == 1 ? (kg + 2) % 3 : (kg + 1) % 3;
-      const int c_apex = 3 * g2 + (side == 1 ? (k2 + 1) % 3 : (k2 + 2) % 3);
-      const int c_shared = 3 * g2 + (side == 1 ? (k2 + 2) % 3 : (k2 + 1) % 3);
-      if (corner[c_shared] != shape[shared]) continue;
-      if ((corner[c_apex] - shape[kg]).norm() > snap) continue;
-      shape[kg] = corner[c_apex];
-      placement.snapped[side - 1] = {c_apex, c_shared};
-    }
-    for (int k = 0; k < 3; ++k) corner[3 * g + k] = shape[k];
-    placing[g] = patch;
-    placements.push_back(placement);
-  };
-  // The rest of the polygon of the first placement, across its diagonals.
-  auto place_polygon = [&](int patch) {
-    for (std::size_t i = 0; i < placements.size(); ++i) {
-      const int f = placements[i].face;
-      for (int k = 0; k < 3; ++k) {
-        const int twin = t.halfedge_twin[3 * f + k];
-        if (!same_polygon(3 * f + k) || placing[Topology::face_of(twin)] == patch) continue;
-        place(3 * f + k, patch);
-      }
-    }
-  };
-  auto join = [&](int patch) {
-    for (const Placement& placement : placements) {
-      const int g = placement.face, kg = placement.apex;
-      out.face_patch[g] = patch;
-      for (const auto& [own, other] : placement.glue) {
-        if (own >= 0) unite(own, other);
-      }
-      for (int side = 1; side <= 2; ++side) {
-        const auto& [c_apex, c_shared] = placement.snapped[side - 1];
-        if (c_apex < 0) continue;
-        // A snapped apex keeps its position only if the shared end also matched.
-        if (corner[3 * g + kg] != corner[c_apex]) continue;
-        unite(3 * g + kg, c_apex);
-        unite(3 * g + (side == 1 ? (kg + 2) % 3 : (kg + 1) % 3), c_shared);
-      }
-    }
-    for (const Placement& placement : placements) add(placement.face);
-  };
-  for (int seed = 0; seed < nf; ++seed) {
-    if (out.face_patch[seed] >= 0) continue;
-    const int patch = out.num_patches++;
-    grid.clear();
-    corner[3 * seed] = Eigen::Vector2d::Zero();
-    corner[3 * seed + 1] = Eigen::Vector2d((position(seed, 1) - position(seed, 0)).norm(), 0);
-    corner[3 * seed + 2] = apex(seed, 2, corner[3 * seed], corner[3 * seed + 1]);
-    placements.assign(1, Placement{});
-    placements[0].face = seed;
-    placing[seed] = patch;
-    place_polygon(patch);
-    join(patch);
-    while (!frontier.empty()) {
-      const int h = frontier.front();
-      frontier.pop_front();
-      const int g = Topology::face_of(t.halfedge_twin[h]);
-      if (out.face_patch[g] >= 0) continue;
-      placements.clear();
-      place(h, patch);
-      place_polygon(patch);
-      bool overlaps = false;
-      for (const Placement& placement : placements) {
-        overlaps = overlaps || grid.overlaps(triangle(placement.face), triangle);
-      }
-      // g may still join from another side, or seed a patch
-      if (overlaps) {
-        for (const Placement& placement : placements) placing[placement.face] = -1;
-        continue;
-      }
-      join(patch);
-    }
-  }
-  // Cut-mesh vertices: one per class of glued corners, numbered in order of first corner.
-  std::vector<int> id(3 * nf, -1);
-  out.triangles.resize(nf, 3);
-  std::vector<Eigen::Vector2d> positions;
-  for (int c = 0; c < 3 * nf; ++c) {
-    int& v = id[find(c)];
-    if (v < 0) {
-      v = static_cast<int>(out.vertex.size());
-      out.vertex.push_back(t.triangles(c / 3, c % 3));
-      positions.push_back(corner[find(c)]);
-    }
-    out.triangles(c / 3, c % 3) = v;
-  }
-  out.layout.resize(static_cast<Eigen::Index>(positions.size()), 2);
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    out.layout.row(static_cast<Eigen::Index>(v)) = positions[v].transpose();
-  }
+  development.number_vertices();
   out.is_glued_edge = glued_edges(t, out.triangles);
   return out;
 }
@@ -306,7 +351,7 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
     const auto p = triangle(f);
     mean += (p[0].cwiseMax(p[1]).cwiseMax(p[2]) - p[0].cwiseMin(p[1]).cwiseMin(p[2])).maxCoeff();
   }
-  TriangleGrid grid(std::max(2 * mean / std::max(1, nf), 1e-300));
+  TriangleGrid grid(std::max(2 * mean / std::max(1, nf), kMinCell));
   std::deque<int> frontier;
   count = 0;
   for (int seed = 0; seed < nf; ++seed) {
@@ -344,12 +389,7 @@ std::vector<int> embedded_pieces(const Points& uv, const Triangles& triangles, i
 std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
                                  const std::vector<int>& face_chart) {
   const Topology t = build_topology(triangles, num_layout_vertices);
-  std::vector<int> parent(3 * t.num_faces);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets corners(3 * t.num_faces);
   for (int h = 0; h < 3 * t.num_faces; ++h) {
     const int twin = t.halfedge_twin[h];
     if (twin < h || face_chart[h / 3] != face_chart[twin / 3]) continue;
@@ -357,15 +397,14 @@ std::vector<int> split_at_charts(Triangles& triangles, int num_layout_vertices,
     for (const auto& [a, b] :
          {std::pair{3 * (h / 3) + (h % 3 + 1) % 3, 3 * (twin / 3) + (twin % 3 + 2) % 3},
           std::pair{3 * (h / 3) + (h % 3 + 2) % 3, 3 * (twin / 3) + (twin % 3 + 1) % 3}}) {
-      const int ra = find(a), rb = find(b);
-      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      corners.unite(a, b);
     }
   }
   std::vector<int> id(3 * t.num_faces, -1);
   std::vector<int> source;
   for (int corner = 0; corner < 3 * t.num_faces; ++corner) {
     const int f = corner / 3, k = corner % 3;
-    int& copy = id[find(corner)];
+    int& copy = id[corners.find(corner)];
     if (copy < 0) {
       copy = static_cast<int>(source.size());
       source.push_back(triangles(f, k));

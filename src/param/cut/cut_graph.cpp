@@ -14,6 +14,7 @@
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/build_counts.hpp"
+#include "ricci/numerics/disjoint_sets.hpp"
 
 namespace ricci {
 
@@ -189,21 +190,14 @@ void check_inputs(const Topology& topology, const Eigen::VectorXd& lengths,
   // The triangles joined across uncut edges must form trees (the cotree takes every uncut edge):
   // an uncut edge between two triangles already joined closes a loop, around which the surface
   // could not be cut open.
-  std::vector<int> group(topology.num_faces);
-  std::iota(group.begin(), group.end(), 0);
-  auto find = [&](int f) {
-    while (group[f] != f) f = group[f] = group[group[f]];
-    return f;
-  };
+  DisjointSets joined(topology.num_faces);
   for (int e = 0; e < topology.num_edges; ++e) {
     const int h0 = topology.edge_halfedges(e, 0), h1 = topology.edge_halfedges(e, 1);
     if (!uncut[e] || h0 < 0 || h1 < 0) continue;
-    const int a = find(Topology::face_of(h0)), b = find(Topology::face_of(h1));
-    if (a == b) {
+    if (!joined.unite(Topology::face_of(h0), Topology::face_of(h1))) {
       throw InvalidInput("cut_graph: the uncut edges join triangles in a loop (edge " +
                          std::to_string(e) + " closes it), which no cut could open");
     }
-    group[std::max(a, b)] = std::min(a, b);
   }
 }
 
@@ -636,28 +630,15 @@ CutMesh slice(const Topology& topology, const CutGraph& cut) {
   // Corners around a vertex that meet across an interior edge not on the cut share a copy:
   // union-find over corners, the smallest corner of each class its root.
   const int nc = 3 * topology.num_faces;
-  std::vector<int> parent(nc);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  };
-  auto unite = [&](int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
+  DisjointSets corners(nc);
   for (int h = 0; h < nc; ++h) {
     const int g = topology.halfedge_twin[h];
     if (g < h || cut.is_cut_edge[topology.halfedge_edge[h]]) continue;  // each pair once
     // h runs a -> b in its face, g runs b -> a in the other; corner 3f + k sits at triangles(f, k)
     // and halfedge 3f + j runs from corner (j+1)%3 to corner (j+2)%3.
     const int fh = h - h % 3, jh = h % 3, fg = g - g % 3, jg = g % 3;
-    unite(fh + (jh + 1) % 3, fg + (jg + 2) % 3);  // a
-    unite(fh + (jh + 2) % 3, fg + (jg + 1) % 3);  // b
+    corners.unite(fh + (jh + 1) % 3, fg + (jg + 2) % 3);  // a
+    corners.unite(fh + (jh + 2) % 3, fg + (jg + 1) % 3);  // b
   }
 
   // The first copy of every vertex keeps its index; further copies are numbered from #V on, in
@@ -669,7 +650,7 @@ CutMesh slice(const Topology& topology, const CutGraph& cut) {
   std::vector<char> has_copy(nv, 0);
   std::vector<int> corner_vertex(nc);
   for (int c = 0; c < nc; ++c) {
-    const int root = find(c);
+    const int root = corners.find(c);
     if (root != c) {
       corner_vertex[c] = corner_vertex[root];
       continue;

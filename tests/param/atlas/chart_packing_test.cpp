@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "ricci/errors.hpp"
+#include "ricci/numerics/predicates.hpp"
 
 namespace ricci {
 namespace {
@@ -131,49 +132,6 @@ void expect_valid_packing(const Layout& input, const ChartPacking& p, double gut
   }
   EXPECT_EQ(overlaps, 0);
   EXPECT_GE(nearest, gutter - kRounding);
-}
-
-TEST(OrientationSign, ExactWhereTheNaiveDeterminantRoundsWrongly) {
-  // Points a few ulps off the diagonal through (12, 12) and (24, 24): the determinant is exactly
-  // 12 (p_y - p_x), whose sign the plain double evaluation gets wrong or zero for many of them.
-  const Eigen::Vector2d b(12, 12), c(24, 24);
-  int naive_wrong = 0;
-  for (int i = 0; i < 64; ++i) {
-    for (int j = 0; j < 64; ++j) {
-      const Eigen::Vector2d p(0.5 + i * std::ldexp(1.0, -53), 0.5 + j * std::ldexp(1.0, -53));
-      const int expected = (p.y() > p.x()) - (p.y() < p.x());
-      EXPECT_EQ(orientation_sign(p, b, c), expected) << i << " " << j;
-      const double naive = (b.x() - p.x()) * (c.y() - p.y()) - (b.y() - p.y()) * (c.x() - p.x());
-      naive_wrong += ((naive > 0) - (naive < 0)) != expected;
-    }
-  }
-  EXPECT_GT(naive_wrong, 0);  // the test exercises the exact path
-}
-
-TEST(TrianglesOverlap, TouchingIsNotOverlapping) {
-  const Triangle a{Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)};
-  // Sharing an edge, on the other side.
-  EXPECT_FALSE(
-      triangles_overlap(a, {Eigen::Vector2d(1, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(0, 1)}));
-  // Sharing a vertex only; touching the hypotenuse at its midpoint; far apart.
-  EXPECT_FALSE(
-      triangles_overlap(a, {Eigen::Vector2d(1, 0), Eigen::Vector2d(2, 0), Eigen::Vector2d(2, 1)}));
-  EXPECT_FALSE(triangles_overlap(
-      a, {Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(2, 1), Eigen::Vector2d(1, 2)}));
-  EXPECT_FALSE(
-      triangles_overlap(a, {Eigen::Vector2d(5, 5), Eigen::Vector2d(6, 5), Eigen::Vector2d(5, 6)}));
-  // Crossing; one inside the other (given clockwise); the same triangle.
-  EXPECT_TRUE(triangles_overlap(
-      a, {Eigen::Vector2d(0.2, -0.5), Eigen::Vector2d(0.8, -0.5), Eigen::Vector2d(0.5, 2)}));
-  EXPECT_TRUE(triangles_overlap(
-      a, {Eigen::Vector2d(0.1, 0.1), Eigen::Vector2d(0.1, 0.2), Eigen::Vector2d(0.2, 0.1)}));
-  EXPECT_TRUE(triangles_overlap(a, a));
-  // The same edge shared, both on the same side (a fold): overlapping.
-  EXPECT_TRUE(triangles_overlap(
-      a, {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0.5, 0.2)}));
-  // Zero area: no interior.
-  EXPECT_FALSE(triangles_overlap(
-      a, {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(0.5, 0.5)}));
 }
 
 TEST(FindUvOverlaps, AgreesWithEveryPairTested) {

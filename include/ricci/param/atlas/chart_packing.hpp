@@ -5,10 +5,10 @@
 /// hull), all charts are scaled by one common factor (so that their relative sizes, and with them
 /// the texel density, stay as given), and packed without overlap, the largest factor that fits
 /// found by search: first their rectangles, each grown by a gutter (MaxRects with
-/// best-short-side fit, quarter turns allowed), then their shapes on a grid (conservative
-/// rasterisation grown by half the gutter, bottom-left first fit), whichever reaches the larger
-/// factor. Charts in disjoint rectangles, or on disjoint sets of cells, cannot overlap;
-/// find_uv_overlaps checks it anyway, exactly, triangle against triangle.
+/// best-short-side fit, quarter turns allowed; shelves past 2000 charts), then their shapes on a
+/// grid (conservative rasterisation grown by half the gutter, bottom-left first fit), whichever
+/// reaches the larger factor. Charts in disjoint rectangles, or on disjoint sets of cells, cannot
+/// overlap; find_uv_overlaps checks it anyway, exactly, triangle against triangle.
 
 #include <array>
 #include <vector>
@@ -74,8 +74,8 @@ struct ChartPacking {
   /// The charts were placed by shape (ChartPackingOptions::raster_resolution), not in their
   /// rectangles (which may then overlap; the charts do not).
   bool by_shape = false;
-  long long raster_work =
-      0;                     ///< work the shape search did (ChartPackingOptions::raster_work_limit)
+  /// Work the shape search did (ChartPackingOptions::raster_work_limit).
+  long long raster_work = 0;
   int packing_attempts = 0;  ///< packings tried (rectangles and shapes) during the searches
   double seconds = 0;
 };
@@ -115,15 +115,5 @@ struct UvOverlaps {
 UvOverlaps find_uv_overlaps(const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv,
                             const Triangles& triangles, const std::vector<int>& face_group = {},
                             int max_pairs = 16);
-
-/// Whether the interiors of two triangles intersect (find_uv_overlaps' test; either orientation;
-/// a triangle of zero area has no interior).
-bool triangles_overlap(const std::array<Eigen::Vector2d, 3>& a,
-                       const std::array<Eigen::Vector2d, 3>& b);
-
-/// Sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear, exact
-/// unless a product of two coordinates underflows (a floating-point filter, then expansion
-/// arithmetic).
-int orientation_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
 
 }  // namespace ricci

@@ -1,8 +1,8 @@
 #pragma once
 // Private to the param module: the faces of a growing planar patch by cell of a hashed square
 // grid, and whether a new triangle overlaps one of them. The unfolding of a component into patches
-// and the split of a layout into embedded pieces (parameterize_components.cpp) both grow patches
-// breadth first and ask this of every face before it joins.
+// and the split of a layout into embedded pieces (unfolding.cpp) both grow patches breadth first
+// and ask this of every face before it joins.
 
 #include <array>
 #include <cmath>
@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "ricci/param/atlas/chart_packing.hpp"
+#include "ricci/numerics/predicates.hpp"
 
 namespace ricci::param_detail {
 

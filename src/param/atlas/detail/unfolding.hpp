@@ -1,7 +1,7 @@
 #pragma once
 // Private to the param module: a mesh laid out in its own 3D shape (patches grown face by face
 // across edges, none overlapping another), and a layout split into pieces in none of which two
-// faces overlap. parameterize_components.cpp lays out components this way when the flow fails or
+// faces overlap. parameterize_components() lays out components this way when the flow fails or
 // distorts them; charts.cpp lays out the faces its charts give up; both split overlapping
 // layouts into pieces.
 
