@@ -37,18 +37,18 @@ struct Stages {
   SlicedFaces sliced;
   std::vector<Piece> all_pieces;  // before number_vertices renames the corners
   std::vector<int> raw_of;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> exact_uv;
   std::vector<std::array<Complex, 3>> corner_uv;
 };
 
 const Stages& stages() {
-  static const std::unique_ptr<Stages> s = [] {
+  static const std::unique_ptr<Stages> made = [] {
     auto s = std::make_unique<Stages>();
     ParamOptions options;
     options.structure.scheme = Scheme::VertexScaling;
     options.cone_mode = ConeMode::User;
     options.cones = {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}};
     options.flow.tolerance = 1e-12;
-    options.polish.enabled = false;
     s->param = parameterize(testing::icosphere_split_near_corners(1, 0.05), options);
     s->flow = flow_input(s->param);
     s->c = std::make_unique<Context>(s->flow.mesh, s->param, s->flow.u);
@@ -67,15 +67,17 @@ const Stages& stages() {
     s->all_pieces = s->sliced.pieces;
     s->raw_of = number_vertices(c, s->sliced.pieces, s->result);
     write_vertices_and_pieces(c, s->raw_of, s->sliced.pieces, {}, s->result);
-    s->corner_uv =
-        lay_out_pieces(c, s->sliced.pieces, s->flow.front_faces, s->param.layout.uv, s->result);
+    // As common_refinement: the flat metric's own positions, from before the angle polish.
+    const bool polished = s->param.polish.moved_vertices > 0;
+    s->exact_uv = polished ? s->param.polish.uv : s->param.layout.uv;
+    s->corner_uv = lay_out_pieces(c, s->sliced.pieces, s->flow.front_faces, s->exact_uv, s->result);
     write_texture_coordinates(c, s->sliced.pieces, s->raw_of, s->corner_uv, s->flow.front_faces,
-                              false, s->param.layout.uv, s->result);
+                              polished, s->exact_uv, s->result);
     measure_refinement(c, s->sliced.pieces, s->sliced.on_final_all, s->flow.final_lengths,
                        s->result);
     return s;
   }();
-  return *s;
+  return *made;
 }
 
 TEST(RefinementStages, TheFlowFlipsBothWays) {
@@ -268,7 +270,9 @@ TEST(RefinementStages, PiecesLaidOutFitTheLayoutsCorners) {
   EXPECT_LT(s.result.max_corner_mismatch, 1e-9);
   // The input vertices' copies are the layout's, and the corners of the pieces sit on them.
   const CommonRefinement& r = s.result;
-  EXPECT_EQ(r.uv.topRows(s.param.uv.rows()), s.param.uv);
+  const Eigen::Matrix<double, Eigen::Dynamic, 2> exact =
+      (s.exact_uv.rowwise() - s.param.uv_offset.transpose()) * s.param.uv_scale;
+  EXPECT_EQ(r.uv.topRows(s.param.uv.rows()), exact);
   const int nv = s.param.mesh.num_vertices();
   for (std::size_t p = 0; p < s.sliced.pieces.size(); ++p) {
     for (int k = 0; k < 3; ++k) {
