@@ -14,6 +14,12 @@
 namespace ricci {
 namespace {
 
+/// An isometric flip's new diagonal shorter than this fraction of the quad's longest side joins
+/// two corners that nearly coincide (see flip_to_delaunay). The corners are rounded at about
+/// 1e-16 of the quad's size, so a diagonal of 1e-9 of it still has its direction to about seven
+/// digits.
+constexpr double kShortestDiagonal = 1e-9;
+
 /// The quad of interior edge e: halfedge h0 = a -> b in face f0 with opposite corner c, its twin
 /// h1 = b -> a in face f1 with opposite corner d.
 struct Quad {
@@ -86,6 +92,18 @@ double lambda_length(double length, Geometry geometry) {
 
 double length_from_lambda(double lambda, Geometry geometry) {
   return geometry == Geometry::Hyperbolic ? 2.0 * std::asinh(lambda) : lambda;
+}
+
+double ptolemy_diagonal(const QuadLengths& q, Geometry geometry) {
+  // Ptolemy's relation for the decorated quad a, d, b, c, on the lambda lengths.
+  auto lambda = [&](double length) { return lambda_length(length, geometry); };
+  return length_from_lambda(
+      (lambda(q.ca) * lambda(q.db) + lambda(q.da) * lambda(q.cb)) / lambda(q.ab), geometry);
+}
+
+double isometric_diagonal(const QuadLengths& q, Geometry geometry) {
+  return geometry == Geometry::Hyperbolic ? hyperbolic_diagonal(q.ab, q.ca, q.cb, q.da, q.db)
+                                          : euclidean_diagonal(q.ab, q.ca, q.cb, q.da, q.db);
 }
 
 double hyperbolic_delaunay_margin(double ab, double ca, double cb, double da, double db) {
@@ -186,29 +204,18 @@ void set_flipped_edge(Topology& t, ConformalStructure& structure, const Eigen::V
 }
 
 /// The Delaunay margin of the quad's edge ab in the given background (the flips' one test of the
-/// background besides lambda_length and the isometric diagonal).
-double margin_in(Geometry geometry, double ab, double ca, double cb, double da, double db) {
-  return geometry == Geometry::Hyperbolic ? hyperbolic_delaunay_margin(ab, ca, cb, da, db)
-                                          : delaunay_margin(ab, ca, cb, da, db);
+/// background besides the lambda lengths and the isometric diagonal).
+double margin_in(Geometry geometry, const QuadLengths& q) {
+  return geometry == Geometry::Hyperbolic ? hyperbolic_delaunay_margin(q.ab, q.ca, q.cb, q.da, q.db)
+                                          : delaunay_margin(q.ab, q.ca, q.cb, q.da, q.db);
 }
 
-/// The Delaunay margin of edge e.
-double margin_of(const Eigen::VectorXd& l, int e, const Quad& q, Geometry geometry) {
-  return margin_in(geometry, l[e], l[q.ca], l[q.cb], l[q.da], l[q.db]);
-}
-
-/// An interior edge whose Delaunay margin is below -tolerance.
+/// An interior edge whose Delaunay margin is below -tolerance (the test of every edge at every
+/// trial point: quad_lengths reads only the four sides' edges, no vertex look-ups).
 bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double tolerance,
                      Geometry geometry) {
-  const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
-  if (h1 < 0) return false;
-  // margin_of(l, e, quad_of(t, e), geometry), reading only the four sides' edges (the test of
-  // every edge at every trial point: no vertex look-ups).
-  const int f0 = h0 / 3, k0 = h0 % 3, f1 = h1 / 3, k1 = h1 % 3;
-  const double ab = l[e];
-  const double cb = l[t.face_edges(f0, (k0 + 1) % 3)], ca = l[t.face_edges(f0, (k0 + 2) % 3)];
-  const double da = l[t.face_edges(f1, (k1 + 1) % 3)], db = l[t.face_edges(f1, (k1 + 2) % 3)];
-  return margin_in(geometry, ab, ca, cb, da, db) < -tolerance;
+  if (t.edge_halfedges(e, 1) < 0) return false;
+  return margin_in(geometry, quad_lengths(t, l, t.edge_halfedges(e, 0))) < -tolerance;
 }
 
 }  // namespace
@@ -216,11 +223,7 @@ bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double 
 double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
                     Eigen::VectorXd& l, int e) {
   const Quad q = quad_of(t, e);
-  // Ptolemy: the diagonals of the (decorated) quad a, d, b, c, on the lambda lengths.
-  const Geometry g = structure.geometry;
-  auto lambda = [&](int edge) { return lambda_length(l[edge], g); };
-  const double cd = length_from_lambda(
-      (lambda(q.ca) * lambda(q.db) + lambda(q.da) * lambda(q.cb)) / lambda(e), g);
+  const double cd = ptolemy_diagonal(quad_lengths(t, l, q.h0), structure.geometry);
   set_flipped_edge(t, structure, u, l, e, q, cd);
   return cd;
 }
@@ -270,7 +273,8 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     queued[e] = 0;
     if (!touched[e] && !failing[e]) continue;
     const Quad q = quad_of(t, e);
-    if (!(margin_of(l, e, q, geometry) < -options.tolerance)) continue;
+    const QuadLengths lengths = quad_lengths(t, l, q.h0);
+    if (!(margin_in(geometry, lengths) < -options.tolerance)) continue;
     if (!can_flip_edge(t, e, options.keep_simplicial)) {
       ++result.blocked;
       continue;
@@ -280,14 +284,12 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
       break;
     }
     if (options.isometric) {
-      const double ab = l[e], ca = l[q.ca], cb = l[q.cb], da = l[q.da], db = l[q.db];
-      const double cd = geometry == Geometry::Hyperbolic ? hyperbolic_diagonal(ab, ca, cb, da, db)
-                                                         : euclidean_diagonal(ab, ca, cb, da, db);
+      const double cd = isometric_diagonal(lengths, geometry);
       // A diagonal of almost no length joins two corners that nearly coincide: a loop around a
       // needle (the doubled Stanford dragon folds its 0.04-degree boundary ears onto
       // themselves). Its direction is lost to rounding, and with it the relative position of
       // its two faces, so it is not made: the edge stays, counted as blocked.
-      if (!(cd > 1e-9 * std::max({ca, cb, da, db}))) {
+      if (!(cd > kShortestDiagonal * std::max({lengths.ca, lengths.cb, lengths.da, lengths.db}))) {
         ++result.blocked;
         continue;
       }

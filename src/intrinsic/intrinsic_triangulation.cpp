@@ -18,6 +18,10 @@
 namespace ricci {
 namespace {
 
+/// A developed face whose doubled area is below this fraction of its longest side squared is
+/// counted degenerate (zero area up to the rounding of the flips undone, a few ulps per flip).
+constexpr double kDegenerateFace = 1e-14;
+
 using Complex = std::complex<double>;
 using Wide = long double;
 using WideComplex = std::complex<Wide>;
@@ -28,19 +32,25 @@ struct FlipRecord {
   int h0, h1;
 };
 
+/// Throws InvalidInput in the name of `caller` unless flip i of a log, of edge e, can be made in
+/// `t`.
+void check_flippable(const char* caller, const Topology& t, std::size_t i, int e) {
+  if (e < 0 || e >= t.num_edges || !can_flip_edge(t, e)) {
+    throw InvalidInput(std::string(caller) + ": flip " + std::to_string(i) + " names edge " +
+                       std::to_string(e) + ", which " +
+                       (e < 0 || e >= t.num_edges ? "does not exist"
+                                                  : "cannot be flipped in the triangulation "
+                                                    "the earlier flips leave"));
+  }
+}
+
 /// Replays the flips on `t` in place, recording their halfedges.
 std::vector<FlipRecord> replay(Topology& t, const std::vector<int>& flipped_edges) {
   std::vector<FlipRecord> records;
   records.reserve(flipped_edges.size());
   for (std::size_t i = 0; i < flipped_edges.size(); ++i) {
     const int e = flipped_edges[i];
-    if (e < 0 || e >= t.num_edges || !can_flip_edge(t, e)) {
-      throw InvalidInput("replay_flips: flip " + std::to_string(i) + " names edge " +
-                         std::to_string(e) + ", which " +
-                         (e < 0 || e >= t.num_edges ? "does not exist"
-                                                    : "cannot be flipped in the triangulation "
-                                                      "the earlier flips leave"));
-    }
+    check_flippable("replay_flips", t, i, e);
     records.push_back({t.edge_halfedges(e, 0), t.edge_halfedges(e, 1)});
     flip_edge(t, e);
   }
@@ -90,6 +100,23 @@ Topology replay_flips(const Topology& input, const std::vector<int>& flipped_edg
   Topology t = input;
   replay(t, flipped_edges);
   return t;
+}
+
+OverlaidReplay replay_flips_with_overlay(const Topology& start, const Eigen::VectorXd& lengths,
+                                         const std::vector<int>& flipped_edges, FlipLength kind,
+                                         Geometry geometry) {
+  OverlaidReplay r{start, identity_overlay(start), lengths};
+  for (std::size_t i = 0; i < flipped_edges.size(); ++i) {
+    const int e = flipped_edges[i];
+    check_flippable("replay_flips_with_overlay", r.topology, i, e);
+    // The new length from the quad before the flip changes it.
+    const QuadLengths quad = quad_lengths(r.topology, r.lengths, r.topology.edge_halfedges(e, 0));
+    const double diagonal = kind == FlipLength::Isometric ? isometric_diagonal(quad, geometry)
+                                                          : ptolemy_diagonal(quad, geometry);
+    flip_edge_with_overlay(r.topology, r.overlay, e);
+    r.lengths[e] = diagonal;
+  }
+  return r;
 }
 
 FaceShapes face_shapes_from_lengths(const Topology& topology, const Eigen::VectorXd& lengths) {
@@ -179,7 +206,7 @@ Development develop_input_faces(const Topology& input, const std::vector<int>& f
     const double area = cross(p[1] - p[0], p[2] - p[0]);
     const double scale =
         std::max({squared(p[1] - p[0]), squared(p[2] - p[1]), squared(p[0] - p[2])});
-    kind[f] = std::abs(area) <= 1e-14 * scale ? 1 : area < 0 ? 2 : 0;
+    kind[f] = std::abs(area) <= kDegenerateFace * scale ? 1 : area < 0 ? 2 : 0;
   });
   d.degenerate_faces = static_cast<int>(
       parallel::count_if(input.num_faces, [&](std::int64_t f) { return kind[f] == 1; }));
@@ -251,7 +278,7 @@ HyperbolicDevelopment develop_input_faces_hyperbolic(const Topology& input,
     const WideComplex e1 = p[1] - p[0], e2 = p[2] - p[0];
     const Wide area = e1.real() * e2.imag() - e1.imag() * e2.real();
     const Wide scale = std::max({std::norm(e1), std::norm(p[2] - p[1]), std::norm(e2)});
-    if (std::abs(area) <= Wide{1e-14} * scale) {
+    if (std::abs(area) <= Wide{kDegenerateFace} * scale) {
       ++d.degenerate_faces;
     } else if (area < 0) {
       ++d.flipped_faces;

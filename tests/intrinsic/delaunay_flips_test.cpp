@@ -126,6 +126,38 @@ TEST(FlipEdge, RefusesBoundaryEdgesAndDuplicateEdges) {
   }
 }
 
+TEST(QuadLengths, ReadFromEitherHalfedgeSwapTheRolesOfTheApexes) {
+  const Mesh mesh = make_closed_surface(2, 8);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd l = input_edge_lengths(mesh, t);
+  for (int e = 0; e < t.num_edges; ++e) {
+    const QuadLengths q0 = quad_lengths(t, l, t.edge_halfedges(e, 0));
+    const QuadLengths q1 = quad_lengths(t, l, t.edge_halfedges(e, 1));
+    // From b -> a the apex c is d, and a and b trade places.
+    EXPECT_EQ(q0.ab, l[e]);
+    EXPECT_EQ(q1.ab, q0.ab);
+    EXPECT_EQ(q1.ca, q0.db);
+    EXPECT_EQ(q1.cb, q0.da);
+    EXPECT_EQ(q1.da, q0.cb);
+    EXPECT_EQ(q1.db, q0.ca);
+  }
+}
+
+TEST(QuadDiagonals, PtolemyOnTheLambdaLengthsAndTheIsometricDiagonal) {
+  // Unit square with diagonal ab: both flips give the other diagonal, sqrt 2.
+  const QuadLengths square{std::sqrt(2.0), 1, 1, 1, 1};
+  EXPECT_NEAR(ptolemy_diagonal(square, Geometry::Euclidean), std::sqrt(2.0), 1e-15);
+  EXPECT_EQ(isometric_diagonal(square, Geometry::Euclidean),
+            euclidean_diagonal(std::sqrt(2.0), 1, 1, 1, 1));
+  // In the hyperbolic background Ptolemy holds for sinh(l / 2).
+  const QuadLengths q{0.9, 0.5, 0.6, 0.7, 0.4};
+  const auto s = [](double x) { return std::sinh(0.5 * x); };
+  EXPECT_NEAR(ptolemy_diagonal(q, Geometry::Hyperbolic),
+              2 * std::asinh((s(q.ca) * s(q.db) + s(q.da) * s(q.cb)) / s(q.ab)), 1e-15);
+  EXPECT_EQ(isometric_diagonal(q, Geometry::Hyperbolic),
+            hyperbolic_diagonal(q.ab, q.ca, q.cb, q.da, q.db));
+}
+
 TEST(FlipToDelaunay, PtolemyGivesTheTrueDiagonalOfACyclicQuad) {
   // Four points on the unit circle, triangulated by the diagonal 0-2 that is not Delaunay for a
   // slightly moved point: on the circle every diagonal is allowed and Ptolemy is exact.

@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/hyperbolic.hpp"
-#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "support/hard_meshes.hpp"
@@ -112,6 +112,62 @@ TEST(IntrinsicTriangulation, EuclideanDiagonalOfASquareAndOfAKite) {
   EXPECT_NEAR(
       euclidean_diagonal(2, std::sqrt(10.0), std::sqrt(10.0), std::sqrt(2.0), std::sqrt(2.0)), 4.0,
       1e-14);
+}
+
+// The common refinement's replay (replay_flips_with_overlay) and the flips share one kernel:
+// replaying a flip log gives the flips' own topology and, bit for bit, their own lengths.
+TEST(ReplayFlipsWithOverlay, ReproducesTheIsometricFlipsBitForBit) {
+  const Mesh mesh = testing::icosphere_split_near_corners(1, 0.05);
+  const Flipped f = flip_isometrically(mesh);
+  ASSERT_GT(f.flips.flips, 0);
+  const OverlaidReplay r = replay_flips_with_overlay(f.input, f.input_lengths,
+                                                     f.flips.flipped_edges, FlipLength::Isometric);
+  EXPECT_EQ(r.topology.triangles, f.flipped.triangles);
+  EXPECT_EQ(r.topology.halfedge_twin, f.flipped.halfedge_twin);
+  EXPECT_EQ(r.topology.edge_halfedges, f.flipped.edge_halfedges);
+  EXPECT_EQ(r.lengths, f.lengths);
+  // The input's edges over the result: an edge never flipped is its own curve; the curves of
+  // the flipped ones cross the new edges.
+  std::vector<char> flipped(static_cast<std::size_t>(f.input.num_edges), 0);
+  for (int e : f.flips.flipped_edges) flipped[e] = 1;
+  std::size_t crossings = 0;
+  for (int e = 0; e < f.input.num_edges; ++e) {
+    if (!flipped[e]) {
+      EXPECT_NE(r.overlay.coincident[e], 0) << e;
+    }
+    crossings += r.overlay.crossings[e].size();
+  }
+  EXPECT_GT(crossings, 0u);
+}
+
+TEST(ReplayFlipsWithOverlay, ReproducesThePtolemyFlipsBitForBit) {
+  const Mesh mesh = testing::icosphere_split_near_corners(1, 0.05);
+  const Topology input = build_topology(mesh.triangles, mesh.num_vertices());
+  const Eigen::VectorXd input_lengths = input_edge_lengths(mesh, input);
+  StructureOptions vertex_scaling;
+  vertex_scaling.scheme = Scheme::VertexScaling;
+  ConformalStructure s = make_conformal_structure(input, input_lengths, vertex_scaling).structure;
+  Topology t = input;
+  Eigen::VectorXd l = input_lengths;
+  const DelaunayFlipResult flips = flip_to_delaunay(t, s, s.initial_u, l);
+  ASSERT_GT(flips.flips, 0);
+  const OverlaidReplay r =
+      replay_flips_with_overlay(input, input_lengths, flips.flipped_edges, FlipLength::Ptolemy);
+  EXPECT_EQ(r.topology.triangles, t.triangles);
+  EXPECT_EQ(r.lengths, l);
+}
+
+TEST(ReplayFlipsWithOverlay, RefusesAFlipItCannotMake) {
+  const Mesh disk = make_disk(3);
+  const Topology t = build_topology(disk.triangles, disk.num_vertices());
+  const Eigen::VectorXd l = input_edge_lengths(disk, t);
+  int boundary_edge = -1;
+  for (int e = 0; e < t.num_edges && boundary_edge < 0; ++e) {
+    if (t.is_boundary_edge[e]) boundary_edge = e;
+  }
+  EXPECT_THROW(replay_flips_with_overlay(t, l, {boundary_edge}, FlipLength::Isometric),
+               InvalidInput);
+  EXPECT_THROW(replay_flips_with_overlay(t, l, {t.num_edges}, FlipLength::Ptolemy), InvalidInput);
 }
 
 // ---- Hyperbolic metrics: the development in the Poincare disk ----

@@ -47,6 +47,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/mesh/topology.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -81,6 +82,36 @@ double hyperbolic_delaunay_margin(double ab, double ca, double cb, double da, do
 /// sinh(ca) sinh(da) sin^2(alpha / 2), alpha the angle of the quad at a (no cancellation for
 /// short or nearly straight diagonals). \pre both triangles are valid hyperbolic triangles
 double hyperbolic_diagonal(double ab, double ca, double cb, double da, double db);
+
+/// The five lengths of the quad around an interior edge ab, named as for delaunay_margin: the
+/// one reading of a quad that the flips, the Delaunay test and the common refinement's replay
+/// share.
+struct QuadLengths {
+  double ab, ca, cb, da, db;
+};
+
+/// The quad of halfedge h = a -> b: its face (c, a, b) with c at corner h % 3, and its twin's
+/// face (d, b, a). Inline: the Delaunay test reads it for every edge at every trial point.
+/// \pre h has a twin
+inline QuadLengths quad_lengths(const Topology& topology, const Eigen::VectorXd& lengths, int h) {
+  const int twin = topology.halfedge_twin[h];
+  const int f0 = h / 3, k0 = h % 3, f1 = twin / 3, k1 = twin % 3;
+  // In face f0 the side opposite a (corner k0 + 1) is bc, the side opposite b is ca; in f1 the
+  // side opposite b (corner k1 + 1) is ad, the side opposite a is db.
+  return {lengths[topology.halfedge_edge[h]], lengths[topology.face_edges(f0, (k0 + 2) % 3)],
+          lengths[topology.face_edges(f0, (k0 + 1) % 3)],
+          lengths[topology.face_edges(f1, (k1 + 1) % 3)],
+          lengths[topology.face_edges(f1, (k1 + 2) % 3)]};
+}
+
+/// The length a Ptolemy flip gives the new diagonal cd: (lambda_ca lambda_db + lambda_da
+/// lambda_cb) / lambda_ab on the lambda lengths of the background (the lengths themselves in the
+/// Euclidean one), turned back into a length.
+double ptolemy_diagonal(const QuadLengths& quad, Geometry geometry);
+
+/// The length an isometric flip gives the new diagonal cd: euclidean_diagonal or
+/// hyperbolic_diagonal. \pre both triangles are valid in the background
+double isometric_diagonal(const QuadLengths& quad, Geometry geometry);
 
 /// Whether interior edge e can be flipped: its two faces differ and, with keep_simplicial, the
 /// opposite vertices c, d are distinct and not yet joined by an edge.

@@ -28,8 +28,9 @@
 /// current (flipped) one, the conformal structure carried onto it (eta per intrinsic edge) and
 /// the flip log that is its correspondence to the input. The flow (RicciFlow) flips it, and the
 /// flow's and the mesh flow's results (FlowResult::intrinsic, MeshFlowResult::intrinsic), the
-/// refinement, the layouts and the writers read it; only this module writes Topology arrays of a
-/// flipped triangulation.
+/// layouts and the writers read it; the common refinement replays its log through
+/// replay_flips_with_overlay and reads what that returns. The Topology arrays of a flipped
+/// triangulation are written by this module only (flip_edge and the functions built on it).
 
 #include <array>
 #include <complex>
@@ -38,8 +39,9 @@
 
 #include <Eigen/Core>
 
-#include "ricci/mesh/topology.hpp"
 #include "ricci/intrinsic/delaunay_flips.hpp"
+#include "ricci/intrinsic/edge_overlay.hpp"
+#include "ricci/mesh/topology.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/scheme.hpp"
 
@@ -53,6 +55,32 @@ using FaceShapes = std::vector<std::array<std::complex<double>, 3>>;
 /// \throw InvalidInput naming the position in the list when an edge is out of range or cannot be
 ///        flipped (boundary edge, or inside one self-glued face)
 Topology replay_flips(const Topology& input, const std::vector<int>& flipped_edges);
+
+/// What replay_flips_with_overlay returns: the start triangulation after the flips, its edges as
+/// curves over the result, and the lengths the flips give the new edges.
+struct OverlaidReplay {
+  Topology topology;        ///< the start triangulation after the flips
+  EdgeOverlay overlay;      ///< the start's edges over `topology`
+  Eigen::VectorXd lengths;  ///< #E: the start's lengths, each flipped edge given its new one
+};
+
+/// How replay_flips_with_overlay lengthens a flipped edge.
+enum class FlipLength {
+  Isometric,  ///< isometric_diagonal: the same surface, retriangulated
+  Ptolemy,    ///< ptolemy_diagonal: the same conformal class
+};
+
+/// Applies flip_edge_with_overlay to each edge in order, on a copy of `start` with the start's
+/// edges as curves (identity_overlay), and gives each flipped edge the diagonal of its quad at
+/// the lengths before that flip (ricci/intrinsic/delaunay_flips.hpp, in `geometry`). This is how
+/// the common refinement replays a flow's flip log: T0 over T1 by isometric flips, T1 over T' by
+/// Ptolemy flips.
+/// \param lengths #E lengths of start's edges
+/// \throw InvalidInput naming the position in the list when an edge is out of range or cannot be
+///        flipped; as flip_edge_with_overlay
+OverlaidReplay replay_flips_with_overlay(const Topology& start, const Eigen::VectorXd& lengths,
+                                         const std::vector<int>& flipped_edges, FlipLength kind,
+                                         Geometry geometry = Geometry::Euclidean);
 
 /// What develop_input_faces returns.
 struct Development {
@@ -135,8 +163,8 @@ WideFaceShapes hyperbolic_face_shapes_from_lengths(const Topology& topology,
 /// per intrinsic edge (a structure passed in would carry a second eta, stale after a flip). The
 /// correspondence to the input is the log: how each intrinsic edge crosses the input edges
 /// (normal coordinates, ricci/intrinsic/edge_overlay.hpp) is replayed from it where needed
-/// (ricci/param/refinement/common_refinement.hpp). Components of a mesh flow on their own triangulations and
-/// are gathered into the whole mesh's with gather_component.
+/// (ricci/param/refinement/common_refinement.hpp). Components of a mesh flow on their own
+/// triangulations and are gathered into the whole mesh's with gather_component.
 class IntrinsicTriangulation {
  public:
   /// Empty: no input, no connectivity (a result not filled in).

@@ -17,6 +17,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/intrinsic/edge_overlay.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
+#include "ricci/numerics/complex.hpp"
 #include "ricci/param/refinement/common_refinement.hpp"
 
 namespace ricci::refinement_support {
@@ -47,18 +48,6 @@ inline Row lerp_rows(const Row& a, const Row& b, double t) {
     }
   }
   return r;
-}
-
-/// Lengths around interior edge e as in delaunay_flips: faces (c, a, b) and (d, b, a).
-struct QuadLengths {
-  double ab, ca, cb, da, db;
-};
-
-inline QuadLengths quad_lengths(const Topology& t, const Eigen::VectorXd& l, int e) {
-  const int h0 = t.edge_halfedges(e, 0), h1 = t.edge_halfedges(e, 1);
-  const int f0 = h0 / 3, k0 = h0 % 3, f1 = h1 / 3, k1 = h1 % 3;
-  return {l[e], l[t.face_edges(f0, (k0 + 2) % 3)], l[t.face_edges(f0, (k0 + 1) % 3)],
-          l[t.face_edges(f1, (k1 + 1) % 3)], l[t.face_edges(f1, (k1 + 2) % 3)]};
 }
 
 /// A point that lies on a final edge: its parameter from the tail of the edge's halfedge 0 in
@@ -117,15 +106,13 @@ inline Rigid segment_motion(Complex p0, Complex p1, Complex q0, Complex q1) {
   return {a, 0.5 * (q0 + q1) - a * 0.5 * (p0 + p1)};
 }
 
-inline double cross(Complex a, Complex b) {
-  return a.real() * b.imag() - a.imag() * b.real();
-}
-
 /// The state common_refinement builds step by step and the slicing of each Delaunay triangle
 /// reads: the three triangulations, the overlays, the points on the Delaunay edges.
 struct Context {
   const Mesh& mesh;  ///< the surface flowed: the mesh parameterized, or its double
   const ParamResult& param;
+  /// T0, T1 and T': the input, and the replays replay_flips_with_overlay returns (read only here:
+  /// the intrinsic module writes a flipped triangulation's arrays)
   Topology t0, t1, tp;
   Eigen::VectorXd l0, l1;
   EdgeOverlay o01;  ///< input edges over T1
