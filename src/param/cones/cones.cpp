@@ -9,23 +9,34 @@
 #include <Eigen/Dense>
 #include <numbers>
 
+#include "param/cones/detail/cone_selection_steps.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/build_counts.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
-#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/bounded_least_squares.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
 
 namespace ricci {
+
+using cone_steps::ConeModelData;
+
 namespace {
+
+/// The penalty that holds a vertex at u = 0, relative to the largest diagonal entry of the
+/// Laplacian (at least 1): large enough that a held vertex's u is about 1e-10 of its
+/// neighbours' (held as if exactly), and a large diagonal entry costs the Cholesky factorisation
+/// no accuracy.
+constexpr double kHeldPenalty = 1e10;
 
 /// Whether L plus a large penalty on vertex 0 (the gauge) factorises: a connected component's
 /// Laplacian with non-negative enough weights does.
 bool positive_definite_with_one_pin(const Eigen::SparseMatrix<double>& L) {
   Eigen::SparseMatrix<double> A = L;
-  A.coeffRef(0, 0) += 1e10 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  A.coeffRef(0, 0) += kHeldPenalty * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
   SparseCholesky cholesky;
   try {
     cholesky.factorize(A);
@@ -125,7 +136,6 @@ constexpr int kSeparationRings = 3;
 /// whole rings, a CAD cylinder's fan centres hid every vertex and the spread read 0.
 constexpr double kRingArea = 0.02;
 
-/// A third of the 3D area of the faces around each vertex, normalised to a total of 1.
 /// Each face's share of the 3D area (summing to 1).
 Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t) {
   Eigen::VectorXd area(t.num_faces);
@@ -147,6 +157,7 @@ Eigen::VectorXd vertex_areas(const Topology& t, const Eigen::VectorXd& face_area
   return area;
 }
 
+/// Each vertex's neighbours along the edges, in edge order.
 std::vector<std::vector<int>> vertex_neighbours(const Topology& t) {
   std::vector<std::vector<int>> neighbours(t.num_vertices);
   for (int e = 0; e < t.num_edges; ++e) {
@@ -156,148 +167,56 @@ std::vector<std::vector<int>> vertex_neighbours(const Topology& t) {
   return neighbours;
 }
 
-}  // namespace
+/// The ring count of a vertex no cone's rings reach: above any count of rings.
+constexpr int kFarFromCones = std::numeric_limits<int>::max() / 2;
 
-namespace {
+/// Automatic selection's cap on the number of cones when options.max_cones is 0.
+constexpr int kDefaultMaxCones = 64;
+/// The greedy adds max(1, #S / kBatchDivisor) cones a step (one fit per batch, not per cone).
+constexpr int kBatchDivisor = 8;
 
-/// Quadratic programmes of more cones than this activate violated bounds in batches.
-constexpr int kBatchedActiveSet = 64;
+/// Curvature sums (radians) meet 2 pi chi within this, relative to 1 + |2 pi chi|; a lower
+/// bound sum may exceed 2 pi chi by this (absolute): rounding of a sum of a few dozen
+/// curvatures of order pi, far below any cone that matters.
+constexpr double kCurvatureSumSlack = 1e-9;
+/// A curvature within this of its bound counts as at the bound (not free) when the sum
+/// constraint's multiplier is estimated from the free cones.
+constexpr double kAtBound = 1e-9;
+/// An exchange is kept when it lowers the objective by more than this, relative to 1 + |F|:
+/// a smaller gain is rounding, and the exchange would only move cones around.
+constexpr double kExchangeGain = 1e-9;
+/// Quarter-turn curvatures may exceed their bounds by this: k pi / 2 against a bound that is
+/// itself a multiple of pi / 2 (2 pi - 3 pi / 2) differs by rounding only.
+constexpr double kQuarterTurnSlack = 1e-12;
+/// A quarter-turn move is kept when it lowers the objective by more than this, relative to
+/// 1 + |F| (a smaller gain is rounding).
+constexpr double kQuantizeGain = 1e-12;
+/// Quarter-turn moves tried per round, best predicted first.
+constexpr std::size_t kMovesTried = 8;
 
-/// min 1/2 k^T M k + r^T k subject to lo <= k <= hi and, with `sum_constraint`, sum k = total:
-/// a small dense quadratic programme, solved by an active-set method (the KKT system of the free
-/// variables, bounds fixed one violation at a time and released when their multiplier turns).
-/// Returns whether the bounds could all be met; when they cannot, the equality-constrained
-/// minimiser without bounds is returned.
-bool bounded_least_squares(const Eigen::MatrixXd& M, const Eigen::VectorXd& r,
-                           const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
-                           bool sum_constraint, double total, Eigen::VectorXd& k,
-                           double& multiplier) {
-  const int m = static_cast<int>(r.size());
-  const double ridge = 1e-12 * std::max(1e-300, M.diagonal().cwiseAbs().maxCoeff());
-  // state: 0 free, -1 at lo, +1 at hi
-  std::vector<int> state(m, 0);
-  auto solve_free = [&](Eigen::VectorXd& x, double& lambda) -> bool {
-    std::vector<int> free;
-    for (int i = 0; i < m; ++i) {
-      if (state[i] == 0) free.push_back(i);
-    }
-    x.resize(m);
-    for (int i = 0; i < m; ++i) {
-      if (state[i] < 0) x[i] = lo[i];
-      if (state[i] > 0) x[i] = hi[i];
-    }
-    const int nf = static_cast<int>(free.size());
-    const int rows = nf + (sum_constraint ? 1 : 0);
-    lambda = 0;
-    if (nf == 0)
-      return !sum_constraint || std::abs(x.sum() - total) <= 1e-9 * (1 + std::abs(total));
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(rows, rows);
-    Eigen::VectorXd b(rows);
-    for (int a = 0; a < nf; ++a) {
-      double fixed_part = 0;
-      for (int j = 0; j < m; ++j) {
-        if (state[j] != 0) fixed_part += M(free[a], j) * x[j];
-      }
-      b[a] = -r[free[a]] - fixed_part;
-      for (int c = 0; c < nf; ++c) K(a, c) = M(free[a], free[c]);
-      K(a, a) += ridge;
-    }
-    if (sum_constraint) {
-      double fixed_sum = 0;
-      for (int j = 0; j < m; ++j) {
-        if (state[j] != 0) fixed_sum += x[j];
-      }
-      for (int a = 0; a < nf; ++a) K(a, nf) = K(nf, a) = 1.0;
-      b[nf] = total - fixed_sum;
-    }
-    // M restricted to the free variables is positive definite (M is, plus the ridge): one
-    // Cholesky factorisation, and the sum constraint by its Schur complement. (A full-pivoting
-    // LU of the whole KKT system took 95 % of a genus-150 selection of 912 cones: 149 s.)
-    const Eigen::LLT<Eigen::MatrixXd> llt(K.topLeftCorner(nf, nf));
-    Eigen::VectorXd y(rows);
-    if (llt.info() == Eigen::Success) {
-      const Eigen::VectorXd yb = llt.solve(b.head(nf));
-      if (sum_constraint) {
-        const Eigen::VectorXd y1 = llt.solve(Eigen::VectorXd::Ones(nf));
-        const double mu = (yb.sum() - b[nf]) / y1.sum();
-        y.head(nf) = yb - mu * y1;
-        y[nf] = mu;
-      } else {
-        y = yb;
-      }
-    } else {
-      y = K.fullPivLu().solve(b);
-    }
-    for (int a = 0; a < nf; ++a) x[free[a]] = y[a];
-    if (sum_constraint) lambda = y[nf];
-    return y.allFinite();
-  };
-
-  if (sum_constraint && (lo.sum() > total || hi.sum() < total)) {
-    std::fill(state.begin(), state.end(), 0);
-    solve_free(k, multiplier);
-    return false;
-  }
-  // The active-set iterations; `batched`: violated bounds among the free variables become
-  // active all at once (one at a time, a genus-150 surface whose 900 cones sit at their lower
-  // bounds took 900 factorisations per programme: 149 s for its selection). The optimum is
-  // unique (M is positive definite), so the path does not change it, but a batch can leave the
-  // sum constraint a single free variable it cannot meet; then the one-at-a-time path runs.
-  auto run = [&](bool batched) -> bool {
-    std::fill(state.begin(), state.end(), 0);
-    Eigen::VectorXd x;
-    double lambda = 0;
-    for (int iteration = 0; iteration < 4 * m + 8; ++iteration) {
-      if (!solve_free(x, lambda)) break;
-      int worst = -1;
-      double worst_violation = 1e-12;
-      std::vector<int> violated;
-      for (int i = 0; i < m; ++i) {
-        if (state[i] != 0) continue;
-        const double v = std::max(lo[i] - x[i], x[i] - hi[i]);
-        if (v > 1e-12) violated.push_back(i);
-        if (v > worst_violation) {
-          worst_violation = v;
-          worst = i;
-        }
-      }
-      if (worst >= 0) {
-        int free_count = 0;
-        for (int st : state) free_count += st == 0;
-        if (sum_constraint && free_count == 1) break;  // the sum needs one free variable
-        if (!batched || (sum_constraint && static_cast<int>(violated.size()) >= free_count)) {
-          violated = {worst};  // the worst violated bound becomes active
-        }
-        for (int i : violated) state[i] = x[i] < lo[i] ? -1 : 1;
-        continue;
-      }
-      // Feasible: release the active bound whose multiplier has the wrong sign, if any. The
-      // gradient of the Lagrangian at a bound at lo must be >= 0 (at hi <= 0).
-      const Eigen::VectorXd gradient = M * x + r + Eigen::VectorXd::Constant(m, lambda);
-      int release = -1;
-      double most = 1e-12 * (1 + gradient.cwiseAbs().maxCoeff());
-      for (int i = 0; i < m; ++i) {
-        const double wrong = state[i] < 0 ? -gradient[i] : state[i] > 0 ? gradient[i] : 0.0;
-        if (wrong > most) {
-          most = wrong;
-          release = i;
-        }
-      }
-      if (release < 0) {
-        k = x;
-        multiplier = lambda;
-        return true;
-      }
-      state[release] = 0;
-    }
-    return false;
-  };
-  if (m > kBatchedActiveSet && run(true)) return true;
-  if (run(false)) return true;
-  std::fill(state.begin(), state.end(), 0);
-  solve_free(k, multiplier);
-  return false;
-}
+/// The quasi-Newton iterations of minimise_cone_objective: at most kObjectiveIterations steps.
+constexpr int kObjectiveIterations = 60;
+/// The ridge on the model Hessian, relative to its largest diagonal entry: keeps it positive
+/// definite where green or M are only semi-definite (a cone on a held vertex's neighbour).
+constexpr double kModelHessianRidge = 1e-9;
+/// Floor of the scale the ridge is relative to (a zero Hessian still gets a positive ridge).
+constexpr double kSmallestScale = 1e-300;
+/// A step whose largest curvature change is below this (radians) is no step: converged.
+constexpr double kSmallestStep = 1e-12;
+/// Armijo's sufficient decrease: the step is taken once F falls by this times the slope. The
+/// same value as FlowOptions::armijo's default (1e-4), chosen on its own (the flow's line search
+/// works on another function).
+constexpr double kArmijo = 1e-4;
+/// Line-search halvings before giving up (FlowOptions::max_backtracks is 50: 2^-30 of a
+/// quasi-Newton step is already no step for curvatures).
+constexpr int kBacktracks = 30;
+/// Each backtrack halves the step.
+constexpr double kBacktrackFactor = 0.5;
+/// The BFGS update is skipped unless s.y exceeds this times |s| |y| (curvature condition, with
+/// room for rounding): keeps B positive definite.
+constexpr double kCurvatureCondition = 1e-12;
+/// Stop once a step lowers F by at most this, relative to 1 + |F|.
+constexpr double kRelativeDecrease = 1e-8;
 
 /// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
 ///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
@@ -417,7 +336,7 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
   // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
   Eigen::MatrixXd model_hessian = 8 * M + 2 * objective.smooth * green;
   model_hessian.diagonal().array() +=
-      1e-9 * std::max(1e-300, model_hessian.diagonal().cwiseAbs().maxCoeff());
+      kModelHessianRidge * std::max(kSmallestScale, model_hessian.diagonal().cwiseAbs().maxCoeff());
   Eigen::MatrixXd start = model_hessian;
   const int kept = static_cast<int>(std::min<Eigen::Index>(B.rows(), m));
   if (kept > 0 && B.cols() == B.rows()) {
@@ -425,29 +344,31 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     if (start.llt().info() != Eigen::Success) start = model_hessian;
   }
   B = std::move(start);
-  for (int iteration = 0; iteration < 60; ++iteration) {
-    Eigen::VectorXd target;
-    double multiplier = 0;
+  for (int iteration = 0; iteration < kObjectiveIterations; ++iteration) {
     const Eigen::VectorXd linear = g - B * k;
-    if (!bounded_least_squares(B, linear, lo, hi, closed, total, target, multiplier)) break;
-    const Eigen::VectorXd direction = target - k;
-    if (direction.cwiseAbs().maxCoeff() < 1e-12) break;
+    BoundedLeastSquaresOptions sum;
+    sum.sum_constraint = closed;
+    sum.total = total;
+    const BoundedLeastSquaresResult step_target = bounded_least_squares(B, linear, lo, hi, sum);
+    if (!step_target.feasible) break;
+    const Eigen::VectorXd direction = step_target.x - k;
+    if (direction.cwiseAbs().maxCoeff() < kSmallestStep) break;
     const double slope = g.dot(direction);
     if (!(slope < 0)) break;
     double step = 1;
     Eigen::VectorXd k_new, u_new;
     double value_new = INFINITY;
-    for (int tries = 0; tries < 30; ++tries, step *= 0.5) {
+    for (int tries = 0; tries < kBacktracks; ++tries, step *= kBacktrackFactor) {
       k_new = k + step * direction;
       u_new = objective.solve_u(k_new);
       value_new = objective.value(u_new, k_new);
-      if (value_new <= value + 1e-4 * step * slope) break;
+      if (value_new <= value + kArmijo * step * slope) break;
     }
     if (!(value_new < value)) break;
     const Eigen::VectorXd g_new = objective.gradient(u_new);
     const Eigen::VectorXd s = k_new - k, y = g_new - g;
     const double sy = s.dot(y);
-    if (sy > 1e-12 * s.norm() * y.norm()) {
+    if (sy > kCurvatureCondition * s.norm() * y.norm()) {
       const Eigen::VectorXd Bs = B * s;
       B += y * y.transpose() / sy - Bs * Bs.transpose() / s.dot(Bs);
     }
@@ -456,34 +377,11 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     u = u_new;
     g = g_new;
     value = value_new;
-    if (decrease <= 1e-8 * (1 + std::abs(value))) break;
+    if (decrease <= kRelativeDecrease * (1 + std::abs(value))) break;
   }
   if (gradient_all) *gradient_all = objective.gradient_everywhere(u);
   return u;
 }
-
-/// The flow linearised at the input metric, factorised once: what the selection and the
-/// refinement of cone curvatures share.
-struct ConeModelData {
-  const Topology* topology = nullptr;  ///< the problem's
-  int nv = 0;
-  bool closed = false;
-  int chi = 0;
-  int gauge = -1;          ///< closed surfaces: the vertex held at u = 0
-  std::vector<char> held;  ///< boundary vertices and the gauge, held at u = 0
-  Eigen::VectorXd curvature, area, angle_sum, largest_corner;
-  Eigen::VectorXd face_area;  ///< each face's share of the 3D area
-  CornerAngles angles;
-  Eigen::SparseMatrix<double> A;  ///< L plus the penalty on the held vertices
-  SparseCholesky cholesky;
-  Eigen::VectorXd rhs0;  ///< -K off the held vertices: u0 = A^-1 rhs0
-
-  /// P x = a (x - mean_a x): J = u^T P u.
-  Eigen::VectorXd spread(const Eigen::VectorXd& x) const {
-    const double mean = area.dot(x);
-    return (area.array() * (x.array() - mean)).matrix();
-  }
-};
 
 void check_cone_options(const ConeSelectionOptions& options) {
   if (options.count < 0 || options.max_cones < 0 || !(options.max_log_scale > 0) ||
@@ -496,8 +394,6 @@ void check_cone_options(const ConeSelectionOptions& options) {
 }
 
 }  // namespace
-
-struct ConeModel::Data : ConeModelData {};
 
 ConeModel::ConeModel(std::unique_ptr<Data> data) : data_(std::move(data)) {}
 ConeModel::ConeModel(ConeModel&&) noexcept = default;
@@ -561,7 +457,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
     model.gauge = 0;
     model.held[0] = 1;
   }
-  const double penalty = 1e10 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  const double penalty = kHeldPenalty * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
   model.A = L;
   for (int v = 0; v < nv; ++v) {
     if (model.held[v]) model.A.coeffRef(v, v) += penalty;
@@ -584,7 +480,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   return ConeModel(std::move(data));
 }
 
-namespace {
+namespace cone_steps {
 
 /// Cone bounds: drawable on the input's faces, and a positive angle. Near a cone the map scales
 /// the angles at the vertex by about (its cone angle) / (its angle sum in the input), so the
@@ -596,7 +492,485 @@ double cone_lower_bound(const ConeModelData& model, const ConeSelectionOptions& 
   return 2 * std::numbers::pi - std::min(by_average, by_largest);
 }
 
+ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionOptions& options) {
+  const Topology& t = *model.topology;
+  const int nv = model.nv;
+  ConeSelector selector(model, options);
+  selector.u0 = model.cholesky.solve(model.rhs0);
+  selector.Pu0 = model.spread(selector.u0);
+  selector.upper = options.max_curvature;
+  selector.neighbours = vertex_neighbours(t);
+  selector.separation = kSeparationRings;
+  selector.ring.assign(nv, kFarFromCones);
+  selector.M.resize(0, 0);
+  selector.green.resize(0, 0);
+  selector.smooth = options.smoothness / t.num_faces;
+  selector.r.resize(0);
+  selector.is_cone.assign(nv, 0);
+  selector.max_cones = options.max_cones;
+  if (selector.max_cones == 0) {
+    selector.max_cones = kDefaultMaxCones;
+    // Each cone can take at most about pi of negative curvature on a valence-6 vertex.
+    if (model.closed && model.chi < 0) {
+      selector.max_cones = std::max(selector.max_cones, 6 * -model.chi);
+    }
+  }
+  selector.wanted =
+      options.count > 0 ? std::min(options.count, std::max(selector.max_cones, 1)) : -1;
+  selector.total = 2 * std::numbers::pi * model.chi;
+  selector.on_sliver.assign(nv, 0);
+  for (int f = 0; f < t.num_faces; ++f) {
+    if (model.angles.row(f).maxCoeff() <= options.max_corner_angle) continue;
+    for (int c = 0; c < 3; ++c) selector.on_sliver[t.triangles(f, c)] = 1;
+  }
+  return selector;
+}
+
+void add_cone(ConeSelector& selector, int v) {
+  ConeSelector& s = selector;
+  const ConeModelData& model = s.model;
+  const int nv = model.nv;
+  const int m = static_cast<int>(s.S.size());
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(nv);
+  e[v] = 1;
+  Eigen::VectorXd g = model.cholesky.solve(e);
+  const Eigen::VectorXd Pg = model.spread(g);
+  const bool keep = static_cast<double>(nv) * (m + 1) <= kColumnValues &&
+                    s.columns.size() == static_cast<std::size_t>(m);
+  s.M.conservativeResize(m + 1, m + 1);
+  s.green.conservativeResize(m + 1, m + 1);
+  s.r.conservativeResize(m + 1);
+  if (keep) {
+    // M_im = g_i^T P g_m (= (A^-1 P g_m)_{S_i}: A is symmetric).
+    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = s.columns[i].dot(Pg);
+    s.M(m, m) = g.dot(Pg);
+  } else {
+    s.columns.clear();
+    const Eigen::VectorXd h = model.cholesky.solve(Pg);
+    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = h[s.S[i]];
+    s.M(m, m) = h[v];
+  }
+  s.S.push_back(v);
+  s.is_cone[v] = 1;
+  for (int i = 0; i <= m; ++i) s.green(i, m) = s.green(m, i) = g[s.S[i]];
+  s.r[m] = g.dot(s.Pu0);
+  if (keep) s.columns.push_back(std::move(g));
+  grow_rings(s.neighbours, v, s.separation, s.ring);
+}
+
+void reset_rings(ConeSelector& selector) {
+  std::fill(selector.ring.begin(), selector.ring.end(), kFarFromCones);
+  for (int v : selector.S) grow_rings(selector.neighbours, v, selector.separation, selector.ring);
+}
+
+std::vector<int> first_cone_candidates(const ConeSelector& selector) {
+  const ConeModelData& model = selector.model;
+  const int nv = model.nv, chi = model.chi, gauge = model.gauge;
+  const Eigen::VectorXd& curvature = model.curvature;
+  int first = 1 % nv;
+  for (int v = 0; v < nv; ++v) {
+    if (v == gauge) continue;
+    if ((chi > 0 && curvature[v] > curvature[first]) ||
+        (chi < 0 && curvature[v] < curvature[first])) {
+      first = v;
+    }
+  }
+  std::vector<int> candidates = {first};
+  std::vector<int> hops(nv, std::numeric_limits<int>::max());
+  grow_rings(selector.neighbours, first, std::numeric_limits<int>::max(), hops);
+  while (static_cast<int>(candidates.size()) <
+         std::max(1, selector.options.try_first_cone_candidates)) {
+    int far = -1;
+    for (int v = 0; v < nv; ++v) {
+      if (v != gauge && (far < 0 || hops[v] > hops[far])) far = v;
+    }
+    if (far < 0 || hops[far] == 0) break;
+    candidates.push_back(far);
+    grow_rings(selector.neighbours, far, std::numeric_limits<int>::max(), hops);
+  }
+  return candidates;
+}
+
+int seed_cone(const ConeSelector& selector) {
+  const ConeModelData& model = selector.model;
+  const std::vector<int> candidates = first_cone_candidates(selector);
+  int best = candidates.front();
+  double best_energy = INFINITY;
+  for (int c : candidates) {
+    Eigen::VectorXd rhs = model.rhs0;
+    rhs[c] += selector.total;
+    const Eigen::VectorXd u = model.cholesky.solve(rhs);
+    const double energy = u.dot(model.spread(u));
+    if (energy < best_energy) {
+      best_energy = energy;
+      best = c;
+    }
+  }
+  return best;
+}
+
+SetFit fit_cone_set(ConeSelector& selector, const Eigen::VectorXd* start, bool need_q) {
+  ConeSelector& s = selector;
+  const ConeModelData& model = s.model;
+  const std::vector<int>& S = s.S;
+  const int m = static_cast<int>(S.size());
+  SetFit fit;
+  Eigen::VectorXd lo(m), hi(m);
+  for (int i = 0; i < m; ++i) {
+    lo[i] = cone_lower_bound(model, s.options, S[i]);
+    hi[i] = s.upper;
+  }
+  if (m > 0) {
+    BoundedLeastSquaresOptions sum;
+    sum.sum_constraint = model.closed;
+    sum.total = s.total;
+    BoundedLeastSquaresResult l2 = bounded_least_squares(s.M, s.r, lo, hi, sum);
+    fit.within = l2.feasible;
+    fit.k = std::move(l2.x);
+    fit.lambda = l2.multiplier;
+  }
+  if (m > 0 && fit.within) {
+    // From the L2 minimiser to the area distortion's: the gradient of F at it chooses the next
+    // cone, so the greedy measures what the texture shows. A start within the bounds (the
+    // previous step's minimiser) saves most iterations; `hessian` holds the previous estimate.
+    const ConeObjective objective{model.cholesky,  model.rhs0, s.u0,      *model.topology,
+                                  model.face_area, S,          s.columns, s.smooth};
+    if (start && start->size() == m) {
+      bool inside =
+          std::abs(start->sum() - fit.k.sum()) <= kCurvatureSumSlack * (1 + std::abs(s.total));
+      for (int i = 0; i < m; ++i) {
+        inside = inside && (*start)[i] >= lo[i] && (*start)[i] <= hi[i];
+      }
+      if (inside) fit.k = *start;
+    }
+    fit.u = minimise_cone_objective(objective, s.M, s.green, lo, hi, model.closed, s.total, fit.k,
+                                    s.hessian, need_q ? &fit.q : nullptr, fit.value);
+    fit.lambda = 0;
+    if (model.closed && need_q) {
+      int free = 0;
+      for (int i = 0; i < m; ++i) {
+        if (fit.k[i] > lo[i] + kAtBound && fit.k[i] < hi[i] - kAtBound) {
+          fit.lambda -= fit.q[S[i]];
+          ++free;
+        }
+      }
+      fit.lambda /= std::max(free, 1);
+    }
+  } else {
+    Eigen::VectorXd rhs = model.rhs0;
+    for (int i = 0; i < m; ++i) rhs[S[i]] += fit.k[i];
+    fit.u = model.cholesky.solve(rhs);
+    fit.q = model.cholesky.solve(model.spread(fit.u));
+  }
+  return fit;
+}
+
+namespace {
+
+/// Whether v may take a new cone: not held, not a cone, in the mesh, outside the cones' rings,
+/// and (on pass 0) not on a sliver.
+bool open_for_cone(const ConeSelector& s, int v, int pass) {
+  if (s.model.held[v] || s.is_cone[v] || s.model.topology->vertex_component[v] < 0 ||
+      s.ring[v] <= s.separation) {
+    return false;
+  }
+  return !(pass == 0 && s.on_sliver[v]);
+}
+
+/// The sum of the cones' lower bounds.
+double lower_bound_sum(const ConeSelector& s) {
+  double lower_sum = 0;
+  for (int c : s.S) lower_sum += cone_lower_bound(s.model, s.options, c);
+  return lower_sum;
+}
+
 }  // namespace
+
+int best_candidate(const ConeSelector& selector, const SetFit& fit) {
+  const ConeSelector& s = selector;
+  const double lower_sum = lower_bound_sum(s);
+  int best = -1;
+  for (int pass = 0; pass < 2 && best < 0; ++pass) {
+    double best_gain = -1;
+    for (int v = 0; v < s.model.nv; ++v) {
+      if (!open_for_cone(s, v, pass)) continue;
+      const double gain = std::abs(fit.q[v] + fit.lambda);
+      if (gain <= best_gain) continue;
+      const double lo_v = cone_lower_bound(s.model, s.options, v);
+      if (s.model.closed && lo_v > 0 && lower_sum + lo_v > s.total + kCurvatureSumSlack) continue;
+      best = v;
+      best_gain = gain;
+    }
+  }
+  return best;
+}
+
+bool add_cones(ConeSelector& selector, const SetFit& fit) {
+  ConeSelector& s = selector;
+  const int m = static_cast<int>(s.S.size());
+  // dF/dk_t (or dJ/dk_t) for every vertex t at once: q = A^-1 dF/du (A is symmetric); on a
+  // closed surface a new cone's curvature comes out of the others', whose common gradient is
+  // -lambda.
+  const int batch = std::max(1, m / kBatchDivisor);
+  const int room = (s.wanted >= 0 ? s.wanted : s.max_cones) - m;
+  std::vector<std::pair<double, int>> order;
+  for (int pass = 0; pass < 2 && order.empty(); ++pass) {
+    for (int v = 0; v < s.model.nv; ++v) {
+      if (open_for_cone(s, v, pass)) order.emplace_back(-std::abs(fit.q[v] + fit.lambda), v);
+    }
+  }
+  if (order.empty()) {
+    if (s.separation == 0) return false;
+    --s.separation;  // crowded (high genus on a coarse mesh): let cones come closer
+    reset_rings(s);
+    return true;
+  }
+  std::sort(order.begin(), order.end());
+  // On a closed surface the cones' curvatures sum to 2 pi chi, so their lower bounds must not
+  // exceed it: a vertex with a corner near pi (a CAD sliver) must take a strong positive cone,
+  // and a few of them made the bounds infeasible (unbounded curvatures of 3 pi on a needle
+  // cylinder). Candidates with a positive lower bound are skipped once they would.
+  double lower_sum = lower_bound_sum(s);
+  int added = 0;
+  for (const auto& [gain, v] : order) {
+    if (added >= std::min(batch, room)) break;
+    if (s.ring[v] <= s.separation) continue;  // next to a cone added in this batch
+    const double lo_v = cone_lower_bound(s.model, s.options, v);
+    if (s.model.closed && lo_v > 0 && lower_sum + lo_v > s.total + kCurvatureSumSlack) continue;
+    add_cone(s, v);
+    lower_sum += lo_v;
+    ++added;
+  }
+  return added != 0;  // none: no candidate keeps the bounds feasible
+}
+
+namespace {
+
+/// Records a greedy step's fit in result (in bounds, area energy, the log scale's spread
+/// outside the rings and its rms) and in last_good; returns the spread.
+double record_fit(ConeSelector& s, const SetFit& fit, ConeSelection& result) {
+  const ConeModelData& model = s.model;
+  const int m = static_cast<int>(s.S.size());
+  result.within_bounds = fit.within;
+  const Eigen::VectorXd& u = fit.u;
+  if (m > 0 && fit.within) {
+    result.area_energy = std::expm1(area_energy(*model.topology, model.face_area, u, nullptr));
+  }
+  const Eigen::VectorXd Pu = model.spread(u);
+  const double mean = model.area.dot(u);
+  double largest = 0;
+  for (int v = 0; v < model.nv; ++v) {
+    if (s.ring[v] > s.separation) largest = std::max(largest, std::abs(u[v] - mean));
+  }
+  result.max_log_scale.push_back(largest);
+  result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(Pu)));
+  if (result.within_bounds && m > 0) {
+    s.last_good = {m, fit.k, result.log_scale_rms};
+  }
+  return largest;
+}
+
+}  // namespace
+
+SetFit grow_cone_set(ConeSelector& selector, ConeSelection& result) {
+  ConeSelector& s = selector;
+  SetFit fit;
+  for (;;) {
+    const int m = static_cast<int>(s.S.size());
+    Eigen::VectorXd warm;
+    if (fit.k.size() > 0 && fit.k.size() < m && fit.within) {
+      warm = Eigen::VectorXd::Zero(m);  // the new cones at 0
+      warm.head(fit.k.size()) = fit.k;
+    }
+    fit = fit_cone_set(s, &warm, true);
+    const double largest = record_fit(s, fit, result);
+    const bool done =
+        s.wanted >= 0
+            ? m >= s.wanted
+            : (largest <= s.options.max_log_scale && result.within_bounds) || m >= s.max_cones;
+    if (done || !add_cones(s, fit)) break;
+  }
+  return fit;
+}
+
+namespace {
+
+/// Removes row and column i of the square X.
+void erase_row_and_column(Eigen::MatrixXd& X, int i) {
+  const int n = static_cast<int>(X.rows());
+  Eigen::MatrixXd Y(n - 1, n - 1);
+  for (int a = 0, ya = 0; a < n; ++a) {
+    if (a == i) continue;
+    for (int b = 0, yb = 0; b < n; ++b) {
+      if (b == i) continue;
+      Y(ya, yb++) = X(a, b);
+    }
+    ++ya;
+  }
+  X = std::move(Y);
+}
+
+/// What an exchange restores when it is not kept.
+struct ConeSetBackup {
+  std::vector<int> S;
+  Eigen::MatrixXd M, green, hessian;
+  Eigen::VectorXd r;
+  std::vector<int> ring;
+  int removed = -1;
+  bool had_columns = false;
+  Eigen::VectorXd removed_column;
+};
+
+/// Takes cone i out of the set (its rows of M, green, r, the Hessian and its column); returns
+/// what restore_cone_set puts back.
+ConeSetBackup take_out_cone(ConeSelector& s, int i) {
+  ConeSetBackup before;
+  before.S = s.S;
+  before.M = s.M;
+  before.green = s.green;
+  before.r = s.r;
+  before.ring = s.ring;
+  before.removed = s.S[i];
+  before.had_columns = s.columns.size() == s.S.size();
+  if (before.had_columns) before.removed_column = std::move(s.columns[i]);
+  erase_row_and_column(s.M, i);
+  erase_row_and_column(s.green, i);
+  Eigen::VectorXd r_less(s.r.size() - 1);
+  for (int a = 0, ya = 0; a < s.r.size(); ++a) {
+    if (a != i) r_less[ya++] = s.r[a];
+  }
+  s.r = std::move(r_less);
+  s.S.erase(s.S.begin() + i);
+  if (before.had_columns) s.columns.erase(s.columns.begin() + i);
+  s.is_cone[before.removed] = 0;
+  reset_rings(s);
+  before.hessian = s.hessian;
+  if (s.hessian.rows() == static_cast<int>(before.S.size())) {
+    erase_row_and_column(s.hessian, i);  // a principal submatrix: still positive definite
+  } else {
+    s.hessian.resize(0, 0);
+  }
+  return before;
+}
+
+/// Puts cone i back where take_out_cone found it (a candidate added since at the end dropped).
+void restore_cone_set(ConeSelector& s, ConeSetBackup&& before, int i) {
+  if (before.had_columns) {
+    if (s.columns.size() > before.S.size() - 1) s.columns.pop_back();
+    s.columns.insert(s.columns.begin() + i, std::move(before.removed_column));
+  } else {
+    s.columns.clear();
+  }
+  s.S = before.S;
+  s.M = before.M;
+  s.green = before.green;
+  s.r = before.r;
+  s.ring = before.ring;
+  s.hessian = before.hessian;
+  s.is_cone[before.removed] = 1;
+}
+
+/// Cone i taken out and the best candidate for the others put in; kept (fit becomes the new
+/// set's, the new cone at the end of S) when the objective falls. Returns whether it was kept.
+bool exchange_cone(ConeSelector& s, SetFit& fit, int i) {
+  ConeSetBackup before = take_out_cone(s, i);
+  // Start: cone i's curvature shared by the others (the sum is kept).
+  Eigen::VectorXd start(s.S.size());
+  for (int a = 0, ya = 0; a < fit.k.size(); ++a) {
+    if (a != i) start[ya++] = fit.k[a] + fit.k[i] / static_cast<double>(s.S.size());
+  }
+  const SetFit without = fit_cone_set(s, &start, true);
+  const int v = without.within ? best_candidate(s, without) : -1;
+  if (v >= 0 && v != before.removed) {
+    add_cone(s, v);
+    Eigen::VectorXd extended = Eigen::VectorXd::Zero(static_cast<int>(s.S.size()));
+    extended.head(without.k.size()) = without.k;
+    const SetFit with = fit_cone_set(s, &extended, false);
+    if (with.within && with.value < fit.value - kExchangeGain * (1 + std::abs(fit.value))) {
+      fit = with;
+      return true;
+    }
+    s.is_cone[v] = 0;
+  }
+  restore_cone_set(s, std::move(before), i);
+  return false;
+}
+
+}  // namespace
+
+bool exchange_cones(ConeSelector& selector, SetFit& fit) {
+  const int chosen = static_cast<int>(selector.S.size());
+  const int passes = chosen <= kExchangeTwice ? 2 : 1;
+  bool any = false;
+  for (int pass = 0; pass < passes; ++pass) {
+    bool improved = false;
+    for (int i = 0; i < static_cast<int>(selector.S.size()); ++i) {
+      if (exchange_cone(selector, fit, i)) improved = true;
+    }
+    any = any || improved;
+    if (!improved) break;
+  }
+  return any;
+}
+
+Eigen::VectorXd quantize_in_model(const ConeSelector& selector, const std::vector<int>& cones,
+                                  const Eigen::VectorXd& k_real) {
+  const ConeSelector& s = selector;
+  const ConeModelData& model = s.model;
+  const int m = static_cast<int>(cones.size());
+  const double quarter = std::numbers::pi / 2;
+  std::vector<Cone> real(m);
+  double sum = 0;
+  for (int i = 0; i < m; ++i) {
+    real[i] = {i, k_real[i]};
+    sum += k_real[i];
+  }
+  const double units_total = std::round((model.closed ? s.total : sum) / quarter) * quarter;
+  Eigen::VectorXd kq = Eigen::VectorXd::Zero(m);
+  for (const Cone& c : quantize_cones(real, units_total)) kq[c.vertex] = c.curvature;
+  auto allowed = [&](int i, double value) {
+    return value <= s.options.max_curvature + kQuarterTurnSlack &&
+           value >= cone_lower_bound(model, s.options, cones[i]) - kQuarterTurnSlack;
+  };
+  const ConeObjective objective{model.cholesky,  model.rhs0, s.u0,      *model.topology,
+                                model.face_area, cones,      s.columns, s.smooth};
+  Eigen::VectorXd u = objective.solve_u(kq);
+  double value = objective.value(u, kq);
+  for (int move = 0; move < 4 * m + 8; ++move) {
+    const Eigen::VectorXd g = objective.gradient(u);
+    std::vector<std::pair<double, std::pair<int, int>>> moves;  // predicted change, (to, from)
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < m; ++j) {
+        if (i == j || !allowed(i, kq[i] + quarter) || !allowed(j, kq[j] - quarter)) continue;
+        moves.push_back({quarter * (g[i] - g[j]), {i, j}});
+      }
+    }
+    std::sort(moves.begin(), moves.end());
+    bool improved = false;
+    for (std::size_t a = 0; a < std::min<std::size_t>(moves.size(), kMovesTried) && !improved;
+         ++a) {
+      const auto [i, j] = moves[a].second;
+      Eigen::VectorXd trial = kq;
+      trial[i] += quarter;
+      trial[j] -= quarter;
+      const Eigen::VectorXd u_trial = objective.solve_u(trial);
+      const double v = objective.value(u_trial, trial);
+      if (v < value - kQuantizeGain * (1 + std::abs(value))) {
+        kq = trial;
+        u = u_trial;
+        value = v;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return kq;
+}
+
+}  // namespace cone_steps
+
+using cone_steps::ConeSelector;
+using cone_steps::SetFit;
 
 ConeSelection select_cones(const Mesh& mesh, const ConeSelectionOptions& options) {
   check_cone_options(options);
@@ -608,438 +982,41 @@ ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& 
   check_cone_options(options);
   const ConeModelData& model = handle.data();
   const Topology& t = *model.topology;
-  const int nv = model.nv;
-  constexpr double kPi = std::numbers::pi;
-  const Eigen::VectorXd& curvature = model.curvature;
-  const Eigen::VectorXd& area = model.area;
-  auto spread = [&](const Eigen::VectorXd& x) { return model.spread(x); };
-  const bool closed = model.closed;
-  const int chi = model.chi;
-  const std::vector<char>& held = model.held;
-  const int gauge = model.gauge;
-  const SparseCholesky& cholesky = model.cholesky;
-  const Eigen::VectorXd& rhs0 = model.rhs0;
-  const Eigen::VectorXd u0 = cholesky.solve(rhs0);
-  const Eigen::VectorXd Pu0 = spread(u0);
-  auto lower_bound = [&](int v) { return cone_lower_bound(model, options, v); };
-  const double upper = options.max_curvature;
-
-  const std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
-  // A cone of curvature k makes u behave like -(k / 2 pi) log r next to it: the cone itself,
-  // not distortion more cones could remove. Vertices within `separation` rings of a cone are
-  // left out of the measure and of the candidates (else cones pile up next to each other).
-  int separation = kSeparationRings;
-  std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
+  ConeSelector selector = cone_steps::make_cone_selector(model, options);
+  std::vector<int>& S = selector.S;
+  if (model.closed && model.chi != 0) add_cone(selector, seed_cone(selector));
 
   ConeSelection result;
-  std::vector<int>& S = result.vertices;
-  Eigen::MatrixXd M(0, 0), green(0, 0);
-  // Weight of the Dirichlet energy per face (see ConeObjective).
-  const double smooth = options.smoothness / t.num_faces;
-  Eigen::VectorXd r(0);
-  std::vector<char> is_cone(nv, 0);
-  // The cones' columns of A^-1, kept while they fit in kColumnValues doubles (the objective's
-  // iterations then take no solve, and M comes from dot products).
-  std::vector<Eigen::VectorXd> columns;
-  auto add_cone = [&](int v) {
-    const int m = static_cast<int>(S.size());
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(nv);
-    e[v] = 1;
-    Eigen::VectorXd g = cholesky.solve(e);
-    const Eigen::VectorXd Pg = spread(g);
-    const bool keep = static_cast<double>(nv) * (m + 1) <= kColumnValues &&
-                      columns.size() == static_cast<std::size_t>(m);
-    M.conservativeResize(m + 1, m + 1);
-    green.conservativeResize(m + 1, m + 1);
-    r.conservativeResize(m + 1);
-    if (keep) {
-      // M_im = g_i^T P g_m (= (A^-1 P g_m)_{S_i}: A is symmetric).
-      for (int i = 0; i < m; ++i) M(i, m) = M(m, i) = columns[i].dot(Pg);
-      M(m, m) = g.dot(Pg);
-    } else {
-      columns.clear();
-      const Eigen::VectorXd h = cholesky.solve(Pg);
-      for (int i = 0; i < m; ++i) M(i, m) = M(m, i) = h[S[i]];
-      M(m, m) = h[v];
-    }
-    S.push_back(v);
-    is_cone[v] = 1;
-    for (int i = 0; i <= m; ++i) green(i, m) = green(m, i) = g[S[i]];
-    r[m] = g.dot(Pu0);
-    if (keep) columns.push_back(std::move(g));
-    grow_rings(neighbours, v, separation, ring);
-  };
-  auto reset_rings = [&]() {
-    std::fill(ring.begin(), ring.end(), std::numeric_limits<int>::max() / 2);
-    for (int v : S) grow_rings(neighbours, v, separation, ring);
-  };
-
-  int max_cones = options.max_cones;
-  if (max_cones == 0) {
-    max_cones = 64;
-    // Each cone can take at most about pi of negative curvature on a valence-6 vertex.
-    if (closed && chi < 0) max_cones = std::max(max_cones, 6 * -chi);
-  }
-  const int wanted = options.count > 0 ? std::min(options.count, std::max(max_cones, 1)) : -1;
-  const double total = 2 * kPi * chi;
-
-  if (closed && chi != 0) {
-    // The first cone makes the problem solvable: among well-spread candidates (farthest-point
-    // samples in edge hops, from the vertex of most extreme curvature), the one whose single
-    // cone of 2 pi chi spreads u least.
-    int first = 1 % nv;
-    for (int v = 0; v < nv; ++v) {
-      if (v == gauge) continue;
-      if ((chi > 0 && curvature[v] > curvature[first]) ||
-          (chi < 0 && curvature[v] < curvature[first])) {
-        first = v;
-      }
-    }
-    std::vector<int> candidates = {first};
-    std::vector<int> hops(nv, std::numeric_limits<int>::max());
-    grow_rings(neighbours, first, std::numeric_limits<int>::max(), hops);
-    while (static_cast<int>(candidates.size()) < std::max(1, options.try_first_cone_candidates)) {
-      int far = -1;
-      for (int v = 0; v < nv; ++v) {
-        if (v != gauge && (far < 0 || hops[v] > hops[far])) far = v;
-      }
-      if (far < 0 || hops[far] == 0) break;
-      candidates.push_back(far);
-      grow_rings(neighbours, far, std::numeric_limits<int>::max(), hops);
-    }
-    int best = first;
-    double best_energy = INFINITY;
-    for (int c : candidates) {
-      Eigen::VectorXd rhs = rhs0;
-      rhs[c] += total;
-      const Eigen::VectorXd u = cholesky.solve(rhs);
-      const double energy = u.dot(spread(u));
-      if (energy < best_energy) {
-        best_energy = energy;
-        best = c;
-      }
-    }
-    add_cone(best);
-  }
-
-  Eigen::VectorXd k;
-  // The objective's quasi-Newton Hessian at the previous fit.
-  Eigen::MatrixXd hessian;
-  // The last cone set whose curvatures met their bounds: when automatic selection ends out of
-  // bounds (the cap, or cones so close together on a needle mesh that the bounded problem had
-  // no solution and its unbounded fallback gave curvatures of +-36), it returns that one.
-  struct Good {
-    int m = 0;
-    Eigen::VectorXd k;
-    double rms = 0;
-  } last_good;
-  // The curvatures of the current cone set: the J minimiser (a bounded quadratic programme),
-  // then the objective's (warm-started from the previous greedy step when `warm`).
-  struct SetFit {
-    bool within = true;  ///< the bounds could be met
-    double value = INFINITY, lambda = 0;
-    Eigen::VectorXd k, u, q;  ///< q: the gradient at every vertex (J's when out of bounds)
-  };
-  auto fit_set = [&](const Eigen::VectorXd* start, bool need_q) {
-    const int m = static_cast<int>(S.size());
-    SetFit fit;
-    Eigen::VectorXd lo(m), hi(m);
-    for (int i = 0; i < m; ++i) {
-      lo[i] = lower_bound(S[i]);
-      hi[i] = upper;
-    }
-    if (m > 0) {
-      fit.within = bounded_least_squares(M, r, lo, hi, closed, total, fit.k, fit.lambda);
-    }
-    if (m > 0 && fit.within) {
-      // From the L2 minimiser to the area distortion's: the gradient of F at it chooses the next
-      // cone, so the greedy measures what the texture shows. A start within the bounds (the
-      // previous step's minimiser) saves most iterations; `hessian` holds the previous estimate.
-      const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, S, columns, smooth};
-      if (start && start->size() == m) {
-        bool inside = std::abs(start->sum() - fit.k.sum()) <= 1e-9 * (1 + std::abs(total));
-        for (int i = 0; i < m; ++i) {
-          inside = inside && (*start)[i] >= lo[i] && (*start)[i] <= hi[i];
-        }
-        if (inside) fit.k = *start;
-      }
-      fit.u = minimise_cone_objective(objective, M, green, lo, hi, closed, total, fit.k, hessian,
-                                      need_q ? &fit.q : nullptr, fit.value);
-      fit.lambda = 0;
-      if (closed && need_q) {
-        int free = 0;
-        for (int i = 0; i < m; ++i) {
-          if (fit.k[i] > lo[i] + 1e-9 && fit.k[i] < hi[i] - 1e-9) {
-            fit.lambda -= fit.q[S[i]];
-            ++free;
-          }
-        }
-        fit.lambda /= std::max(free, 1);
-      }
-    } else {
-      Eigen::VectorXd rhs = rhs0;
-      for (int i = 0; i < m; ++i) rhs[S[i]] += fit.k[i];
-      fit.u = cholesky.solve(rhs);
-      fit.q = cholesky.solve(spread(fit.u));
-    }
-    return fit;
-  };
-  // Vertices of a face with a corner above max_corner_angle: a cone there steepens u across
-  // that face, whose angle distortion (the checker's face mean) then explodes or whose corner
-  // images cross (a CAD cylinder's fan: one 178.5-degree face next to an exchanged cone took
-  // sigma ratio 2836 and the mean from 1.79 to 4.15; lifted valence-3 spikes, 141-degree
-  // corners: 6 flipped faces, 2 with this). They are candidates only when no other vertex is.
-  std::vector<char> on_sliver(nv, 0);
-  for (int f = 0; f < t.num_faces; ++f) {
-    if (model.angles.row(f).maxCoeff() <= options.max_corner_angle) continue;
-    for (int c = 0; c < 3; ++c) on_sliver[t.triangles(f, c)] = 1;
-  }
-  // The best candidate for a new cone by the gradient q (not held, not a cone, outside the
-  // rings of the cones, and on a closed surface with a lower bound the total can still pay);
-  // -1 when there is none.
-  auto best_candidate = [&](const SetFit& fit) {
-    double lower_sum = 0;
-    for (int c : S) lower_sum += lower_bound(c);
-    int best = -1;
-    for (int pass = 0; pass < 2 && best < 0; ++pass) {
-      double best_gain = -1;
-      for (int v = 0; v < nv; ++v) {
-        if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
-        if (pass == 0 && on_sliver[v]) continue;
-        const double gain = std::abs(fit.q[v] + fit.lambda);
-        if (gain <= best_gain) continue;
-        const double lo_v = lower_bound(v);
-        if (closed && lo_v > 0 && lower_sum + lo_v > total + 1e-9) continue;
-        best = v;
-        best_gain = gain;
-      }
-    }
-    return best;
-  };
-  // Curvatures in quarter turns for the cones S: rounded (the sum kept, as quantize_cones does),
-  // then a quarter turn moved from one cone to another while the objective falls; the moves
-  // tried first are those its gradient predicts to gain most. A cone that ends at 0 is none.
-  auto quantize_in_model = [&](const std::vector<int>& cones, const Eigen::VectorXd& k_real) {
-    const int m = static_cast<int>(cones.size());
-    const double quarter = kPi / 2;
-    std::vector<Cone> real(m);
-    double sum = 0;
-    for (int i = 0; i < m; ++i) {
-      real[i] = {i, k_real[i]};
-      sum += k_real[i];
-    }
-    const double units_total = std::round((closed ? total : sum) / quarter) * quarter;
-    Eigen::VectorXd kq = Eigen::VectorXd::Zero(m);
-    for (const Cone& c : quantize_cones(real, units_total)) kq[c.vertex] = c.curvature;
-    auto allowed = [&](int i, double value) {
-      return value <= options.max_curvature + 1e-12 && value >= lower_bound(cones[i]) - 1e-12;
-    };
-    const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, cones, columns, smooth};
-    Eigen::VectorXd u = objective.solve_u(kq);
-    double value = objective.value(u, kq);
-    for (int move = 0; move < 4 * m + 8; ++move) {
-      const Eigen::VectorXd g = objective.gradient(u);
-      std::vector<std::pair<double, std::pair<int, int>>> moves;  // predicted change, (to, from)
-      for (int i = 0; i < m; ++i) {
-        for (int j = 0; j < m; ++j) {
-          if (i == j || !allowed(i, kq[i] + quarter) || !allowed(j, kq[j] - quarter)) continue;
-          moves.push_back({quarter * (g[i] - g[j]), {i, j}});
-        }
-      }
-      std::sort(moves.begin(), moves.end());
-      bool improved = false;
-      for (std::size_t a = 0; a < std::min<std::size_t>(moves.size(), 8) && !improved; ++a) {
-        const auto [i, j] = moves[a].second;
-        Eigen::VectorXd trial = kq;
-        trial[i] += quarter;
-        trial[j] -= quarter;
-        const Eigen::VectorXd u_trial = objective.solve_u(trial);
-        const double v = objective.value(u_trial, trial);
-        if (v < value - 1e-12 * (1 + std::abs(value))) {
-          kq = trial;
-          u = u_trial;
-          value = v;
-          improved = true;
-        }
-      }
-      if (!improved) break;
-    }
-    return kq;
-  };
-  SetFit fit;
-  for (;;) {
-    const int m = static_cast<int>(S.size());
-    Eigen::VectorXd warm;
-    if (fit.k.size() > 0 && fit.k.size() < m && fit.within) {
-      warm = Eigen::VectorXd::Zero(m);  // the new cones at 0
-      warm.head(fit.k.size()) = fit.k;
-    }
-    fit = fit_set(&warm, true);
-    result.within_bounds = fit.within;
-    k = fit.k;
-    const Eigen::VectorXd& u = fit.u;
-    const Eigen::VectorXd& q = fit.q;
-    const double lambda = fit.lambda;
-    if (m > 0 && fit.within)
-      result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
-    const Eigen::VectorXd Pu = spread(u);
-    const double mean = area.dot(u);
-    double largest = 0;
-    for (int v = 0; v < nv; ++v) {
-      if (ring[v] > separation) largest = std::max(largest, std::abs(u[v] - mean));
-    }
-    result.max_log_scale.push_back(largest);
-    result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(Pu)));
-    if (result.within_bounds && m > 0) {
-      last_good = {m, k, result.log_scale_rms};
-    }
-    const bool done =
-        wanted >= 0 ? m >= wanted
-                    : (largest <= options.max_log_scale && result.within_bounds) || m >= max_cones;
-    if (done) break;
-    // dF/dk_t (or dJ/dk_t) for every vertex t at once: q = A^-1 dF/du (A is symmetric); on a
-    // closed surface a new cone's curvature comes out of the others', whose common gradient is
-    // -lambda.
-    const int batch = std::max(1, m / 8);
-    const int room = (wanted >= 0 ? wanted : max_cones) - m;
-    std::vector<std::pair<double, int>> order;
-    for (int pass = 0; pass < 2 && order.empty(); ++pass) {
-      for (int v = 0; v < nv; ++v) {
-        if (held[v] || is_cone[v] || t.vertex_component[v] < 0 || ring[v] <= separation) continue;
-        if (pass == 0 && on_sliver[v]) continue;
-        order.emplace_back(-std::abs(q[v] + lambda), v);
-      }
-    }
-    if (order.empty()) {
-      if (separation == 0) break;
-      --separation;  // crowded (high genus on a coarse mesh): let cones come closer
-      reset_rings();
-      continue;
-    }
-    std::sort(order.begin(), order.end());
-    // On a closed surface the cones' curvatures sum to 2 pi chi, so their lower bounds must not
-    // exceed it: a vertex with a corner near pi (a CAD sliver) must take a strong positive cone,
-    // and a few of them made the bounds infeasible (unbounded curvatures of 3 pi on a needle
-    // cylinder). Candidates with a positive lower bound are skipped once they would.
-    double lower_sum = 0;
-    for (int c : S) lower_sum += lower_bound(c);
-    int added = 0;
-    for (const auto& [gain, v] : order) {
-      if (added >= std::min(batch, room)) break;
-      if (ring[v] <= separation) continue;  // next to a cone added in this batch
-      const double lo_v = lower_bound(v);
-      if (closed && lo_v > 0 && lower_sum + lo_v > total + 1e-9) continue;
-      add_cone(v);
-      lower_sum += lo_v;
-      ++added;
-    }
-    if (added == 0) break;  // no candidate keeps the bounds feasible
-  }
+  SetFit fit = grow_cone_set(selector, result);
+  Eigen::VectorXd k = fit.k;
   // Exchange: the greedy order is not the best placement of its cones (the first ones were
-  // chosen when the others were missing). Each cone in turn is taken out and the best candidate
-  // for the others put in its place; kept when the objective falls.
+  // chosen when the others were missing).
   const int chosen = static_cast<int>(S.size());
+  const int wanted = selector.wanted;
   if (result.within_bounds && chosen > 0 && chosen <= kExchangeCones &&
       (wanted < 0 || chosen == wanted) && fit.value < INFINITY) {
-    const int passes = chosen <= kExchangeTwice ? 2 : 1;
-    for (int pass = 0; pass < passes; ++pass) {
-      bool improved = false;
-      for (int i = 0; i < static_cast<int>(S.size()); ++i) {
-        const std::vector<int> S_before = S;
-        const Eigen::MatrixXd M_before = M, green_before = green;
-        const Eigen::VectorXd r_before = r;
-        const std::vector<int> ring_before = ring;
-        const int removed = S[i];
-        Eigen::VectorXd removed_column;
-        const bool had_columns = columns.size() == S.size();
-        if (had_columns) removed_column = std::move(columns[i]);
-        auto erase = [&](Eigen::MatrixXd& X) {
-          const int n = static_cast<int>(X.rows());
-          Eigen::MatrixXd Y(n - 1, n - 1);
-          for (int a = 0, ya = 0; a < n; ++a) {
-            if (a == i) continue;
-            for (int b = 0, yb = 0; b < n; ++b) {
-              if (b == i) continue;
-              Y(ya, yb++) = X(a, b);
-            }
-            ++ya;
-          }
-          X = std::move(Y);
-        };
-        erase(M);
-        erase(green);
-        Eigen::VectorXd r_less(r.size() - 1);
-        for (int a = 0, ya = 0; a < r.size(); ++a) {
-          if (a != i) r_less[ya++] = r[a];
-        }
-        r = std::move(r_less);
-        S.erase(S.begin() + i);
-        if (had_columns) columns.erase(columns.begin() + i);
-        is_cone[removed] = 0;
-        reset_rings();
-        const Eigen::MatrixXd hessian_before = hessian;
-        if (hessian.rows() == static_cast<int>(S_before.size())) {
-          erase(hessian);  // a principal submatrix: still positive definite
-        } else {
-          hessian.resize(0, 0);
-        }
-        // Start: cone i's curvature shared by the others (the sum is kept).
-        Eigen::VectorXd start(S.size());
-        for (int a = 0, ya = 0; a < fit.k.size(); ++a) {
-          if (a != i) start[ya++] = fit.k[a] + fit.k[i] / static_cast<double>(S.size());
-        }
-        const SetFit without = fit_set(&start, true);
-        const int v = without.within ? best_candidate(without) : -1;
-        bool accepted = false;
-        if (v >= 0 && v != removed) {
-          add_cone(v);
-          Eigen::VectorXd extended = Eigen::VectorXd::Zero(static_cast<int>(S.size()));
-          extended.head(without.k.size()) = without.k;
-          const SetFit with = fit_set(&extended, false);
-          if (with.within && with.value < fit.value - 1e-9 * (1 + std::abs(fit.value))) {
-            // (The new cone goes to the end of `vertices`.)
-            fit = with;
-            accepted = improved = true;
-          } else {
-            is_cone[v] = 0;
-          }
-        }
-        if (!accepted) {
-          if (had_columns) {
-            if (columns.size() > S_before.size() - 1) columns.pop_back();
-            columns.insert(columns.begin() + i, std::move(removed_column));
-          } else {
-            columns.clear();
-          }
-          S = S_before;
-          M = M_before;
-          green = green_before;
-          r = r_before;
-          ring = ring_before;
-          hessian = hessian_before;
-          is_cone[removed] = 1;
-        }
-      }
-      if (!improved) break;
-    }
+    exchange_cones(selector, fit);
     k = fit.k;
     result.area_energy = std::expm1(area_energy(t, model.face_area, fit.u, nullptr));
-    result.log_scale_rms = std::sqrt(std::max(0.0, fit.u.dot(spread(fit.u))));
+    result.log_scale_rms = std::sqrt(std::max(0.0, fit.u.dot(model.spread(fit.u))));
   }
+  const cone_steps::LastGood& last_good = selector.last_good;
   if (!result.within_bounds && wanted < 0 && last_good.m > 0) {
     S.resize(static_cast<std::size_t>(last_good.m));
-    if (columns.size() > S.size()) columns.resize(S.size());
+    if (selector.columns.size() > S.size()) selector.columns.resize(S.size());
     k = last_good.k;
     result.log_scale_rms = last_good.rms;
     result.within_bounds = true;
   }
   if (options.quantize && result.within_bounds && !S.empty()) {
-    k = quantize_in_model(S, k);
-    const ConeObjective objective{cholesky, rhs0, u0, t, model.face_area, S, columns, smooth};
+    k = quantize_in_model(selector, S, k);
+    const ConeObjective objective{model.cholesky,  model.rhs0, selector.u0,      t,
+                                  model.face_area, S,          selector.columns, selector.smooth};
     const Eigen::VectorXd u = objective.solve_u(k);
     result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
-    result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(spread(u))));
+    result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(model.spread(u))));
   }
+  result.vertices = std::move(S);
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;
 }
@@ -1050,7 +1027,7 @@ double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Ei
                         const std::vector<int>& cones) {
   const int nv = t.num_vertices;
   std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
-  std::vector<int> ring(nv, std::numeric_limits<int>::max() / 2);
+  std::vector<int> ring(nv, kFarFromCones);
   for (int c : cones) grow_rings_within(neighbours, c, kSeparationRings, area, kRingArea, ring);
   double mean = 0, weight = 0;
   for (int v = 0; v < nv; ++v) {
@@ -1058,7 +1035,7 @@ double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Ei
     mean += area[v] * u[v];
     weight += area[v];
   }
-  mean /= std::max(weight, 1e-300);
+  mean /= std::max(weight, kSmallestScale);
   double largest = 0;
   for (int v = 0; v < nv; ++v) {
     if (t.vertex_component[v] < 0 || ring[v] <= kSeparationRings) continue;

@@ -1,0 +1,178 @@
+// The named steps of select_cones (src/param/cones/detail/cone_selection_steps.hpp), each
+// against its contract on a generated closed surface.
+#include "param/cones/detail/cone_selection_steps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "ricci/flow/flow_problem.hpp"
+#include "ricci/mesh/generate.hpp"
+
+namespace ricci {
+namespace {
+
+using namespace cone_steps;
+
+constexpr double kPi = std::numbers::pi;
+/// The bounded programme meets its sum to the active-set solve's rounding (1e-12 relative to
+/// curvatures of order pi) and its bounds to the violation tolerance 1e-12.
+constexpr double kTolerance = 1e-9;
+
+/// A problem, its model and a selector on it (the model points into the problem).
+struct Fixture {
+  explicit Fixture(const Mesh& mesh, ConeSelectionOptions selection = {})
+      : options(std::move(selection)),
+        problem(make_flow_problem(mesh, options.structure)),
+        model(build_cone_model(problem)) {}
+  ConeSelectionOptions options;
+  FlowProblem problem;
+  ConeModel model;
+  const ConeModelData& data() const { return model.data(); }
+  ConeSelector selector() const { return make_cone_selector(data(), options); }
+};
+
+/// u^T P u of the single cone of 2 pi chi at c.
+double single_cone_spread(const ConeModelData& model, double total, int c) {
+  Eigen::VectorXd rhs = model.rhs0;
+  rhs[c] += total;
+  const Eigen::VectorXd u = model.cholesky.solve(rhs);
+  return u.dot(model.spread(u));
+}
+
+TEST(ConeSteps, SeedTakesTheLeastSpreadingOfWellSpreadCandidates) {
+  const Fixture fixture(make_closed_surface(0, 16));
+  const ConeModelData& model = fixture.data();
+  const ConeSelector selector = fixture.selector();
+  ASSERT_TRUE(model.closed);
+  ASSERT_EQ(model.chi, 2);
+  const std::vector<int> candidates = first_cone_candidates(selector);
+  ASSERT_FALSE(candidates.empty());
+  EXPECT_LE(static_cast<int>(candidates.size()), fixture.options.try_first_cone_candidates);
+  // The first candidate: the vertex of largest curvature (chi > 0), never the gauge.
+  for (int v = 0; v < model.nv; ++v) {
+    if (v != model.gauge) {
+      EXPECT_LE(model.curvature[v], model.curvature[candidates[0]]);
+    }
+  }
+  std::vector<int> sorted = candidates;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  EXPECT_EQ(std::count(candidates.begin(), candidates.end(), model.gauge), 0);
+  // The seed is the candidate whose single cone spreads u least.
+  const int seed = seed_cone(selector);
+  ASSERT_NE(std::find(candidates.begin(), candidates.end(), seed), candidates.end());
+  const double seed_spread = single_cone_spread(model, selector.total, seed);
+  for (int c : candidates) EXPECT_LE(seed_spread, single_cone_spread(model, selector.total, c));
+}
+
+TEST(ConeSteps, AddExtendsTheModelMatricesSymmetrically) {
+  const Fixture fixture(make_closed_surface(0, 16));
+  ConeSelector selector = fixture.selector();
+  add_cone(selector, seed_cone(selector));
+  const SetFit fit = fit_cone_set(selector, nullptr, true);
+  const int v = best_candidate(selector, fit);
+  ASSERT_GE(v, 0);
+  EXPECT_FALSE(selector.is_cone[v]);
+  EXPECT_GT(selector.ring[v], selector.separation);
+  add_cone(selector, v);
+  ASSERT_EQ(selector.S.size(), 2u);
+  EXPECT_EQ(selector.S.back(), v);
+  EXPECT_TRUE(selector.is_cone[v]);
+  EXPECT_EQ(selector.ring[v], 0);
+  ASSERT_EQ(selector.M.rows(), 2);
+  ASSERT_EQ(selector.green.rows(), 2);
+  ASSERT_EQ(selector.r.size(), 2);
+  EXPECT_EQ(selector.M(0, 1), selector.M(1, 0));
+  EXPECT_EQ(selector.green(0, 1), selector.green(1, 0));
+  // green = A^-1 restricted to S: its entry (1, 1) is the solve of the unit source at v.
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(fixture.data().nv);
+  e[v] = 1;
+  EXPECT_NEAR(selector.green(1, 1), fixture.data().cholesky.solve(e)[v], 1e-12);
+}
+
+TEST(ConeSteps, FitSatisfiesGaussBonnetAndTheBounds) {
+  const Fixture fixture(make_closed_surface(0, 16));
+  ConeSelector selector = fixture.selector();
+  add_cone(selector, seed_cone(selector));
+  int within = 0;
+  for (int n = 0; n < 6; ++n) {
+    const SetFit fit = fit_cone_set(selector, nullptr, true);
+    const int m = static_cast<int>(selector.S.size());
+    ASSERT_EQ(fit.k.size(), m);
+    EXPECT_EQ(fit.q.size(), fixture.data().nv);
+    // The sum holds in bounds and out (one cone cannot carry 4 pi: the fallback ignores the
+    // bounds, not the sum).
+    EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+    if (fit.within) {
+      ++within;
+      for (int i = 0; i < m; ++i) {
+        EXPECT_GE(fit.k[i],
+                  cone_lower_bound(fixture.data(), fixture.options, selector.S[i]) - kTolerance);
+        EXPECT_LE(fit.k[i], selector.upper + kTolerance);
+      }
+      EXPECT_TRUE(std::isfinite(fit.value));
+    }
+    ASSERT_TRUE(add_cones(selector, fit));
+  }
+  EXPECT_GT(within, 0);
+}
+
+TEST(ConeSteps, GrowStopsAtTheWantedCount) {
+  ConeSelectionOptions options;
+  options.count = 5;
+  const Fixture fixture(make_closed_surface(0, 16), options);
+  ConeSelector selector = fixture.selector();
+  add_cone(selector, seed_cone(selector));
+  ConeSelection result;
+  const SetFit fit = grow_cone_set(selector, result);
+  EXPECT_EQ(selector.S.size(), 5u);
+  EXPECT_EQ(fit.k.size(), 5);
+  EXPECT_TRUE(result.within_bounds);
+  EXPECT_FALSE(result.max_log_scale.empty());
+  EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+}
+
+TEST(ConeSteps, ExchangeNeverIncreasesTheObjective) {
+  ConeSelectionOptions options;
+  options.count = 6;
+  const Fixture fixture(make_closed_surface(0, 16), options);
+  ConeSelector selector = fixture.selector();
+  add_cone(selector, seed_cone(selector));
+  ConeSelection result;
+  SetFit fit = grow_cone_set(selector, result);
+  ASSERT_TRUE(fit.within);
+  const double before = fit.value;
+  exchange_cones(selector, fit);
+  EXPECT_LE(fit.value, before);
+  EXPECT_TRUE(fit.within);
+  ASSERT_EQ(selector.S.size(), 6u);
+  std::vector<int> sorted = selector.S;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  for (int v : selector.S) EXPECT_TRUE(selector.is_cone[v]);
+  EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+}
+
+TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
+  ConeSelectionOptions options;
+  options.count = 8;
+  const Fixture fixture(make_closed_surface(0, 16), options);
+  ConeSelector selector = fixture.selector();
+  add_cone(selector, seed_cone(selector));
+  ConeSelection result;
+  const SetFit fit = grow_cone_set(selector, result);
+  const Eigen::VectorXd kq = quantize_in_model(selector, selector.S, fit.k);
+  ASSERT_EQ(kq.size(), fit.k.size());
+  for (int i = 0; i < kq.size(); ++i) {
+    const double units = kq[i] / (kPi / 2);
+    EXPECT_NEAR(units, std::round(units), 1e-12);
+    EXPECT_LE(kq[i], selector.upper + 1e-12);
+  }
+  EXPECT_NEAR(kq.sum(), 4 * kPi, 1e-12);
+}
+
+}  // namespace
+}  // namespace ricci
