@@ -36,20 +36,20 @@ ComponentView restrict_to(const Topology& whole, const Component& comp) {
       triangles(static_cast<Eigen::Index>(f), k) = local[whole.triangles(comp.faces[f], k)];
     }
   }
-  view.topology = build_topology(triangles, static_cast<int>(comp.vertices.size()));
   // Faces keep their corner order, so halfedge 3 f + k of the component is halfedge
   // 3 faces[f] + k of the whole mesh.
-  view.edge_map.resize(view.topology.num_edges);
   auto whole_halfedge = [&](int h) { return 3 * comp.faces[h / 3] + h % 3; };
+  // The same first halfedge as the whole mesh's edge: flip_edge orients its new faces by it,
+  // so flips replayed on the whole mesh (MeshFlowResult::intrinsic) give the same faces.
+  std::vector<char> first_halfedge(3 * comp.faces.size());
+  for (std::size_t h = 0; h < first_halfedge.size(); ++h) {
+    const int wh = whole_halfedge(static_cast<int>(h));
+    first_halfedge[h] = whole.edge_halfedges(whole.halfedge_edge[wh], 0) == wh;
+  }
+  view.topology = build_topology(triangles, static_cast<int>(comp.vertices.size()), first_halfedge);
+  view.edge_map.resize(view.topology.num_edges);
   for (int e = 0; e < view.topology.num_edges; ++e) {
-    const int h = view.topology.edge_halfedges(e, 0);
-    const int ew = whole.halfedge_edge[whole_halfedge(h)];
-    view.edge_map[e] = ew;
-    // The same first halfedge as the whole mesh's edge: flip_edge orients its new faces by it,
-    // so flips replayed on the whole mesh (MeshFlowResult::intrinsic) give the same faces.
-    if (whole.edge_halfedges(ew, 0) != whole_halfedge(h)) {
-      std::swap(view.topology.edge_halfedges(e, 0), view.topology.edge_halfedges(e, 1));
-    }
+    view.edge_map[e] = whole.halfedge_edge[whole_halfedge(view.topology.edge_halfedges(e, 0))];
   }
   return view;
 }
@@ -203,6 +203,65 @@ void gather_doubled(const ComponentFlow& out, const Topology& t, const std::vect
   }
 }
 
+/// The component's conformal structure and target (copies of the whole mesh's values).
+struct LocalProblem {
+  ConformalStructure structure;
+  Target target;
+};
+
+LocalProblem restrict_problem(const ComponentView& view, const ConformalStructure& structure,
+                              const Target& whole_target) {
+  const int nv = view.topology.num_vertices, ne = view.topology.num_edges;
+  LocalProblem p;
+  ConformalStructure& local = p.structure;
+  local.scheme = structure.scheme;
+  local.geometry = structure.geometry;
+  local.length_scale = structure.length_scale;
+  local.epsilon.resize(nv);
+  local.initial_u.resize(nv);
+  local.eta.resize(ne);
+  Target& target = p.target;
+  target.curvature.resize(nv);
+  target.fixed.resize(nv);
+  target.description = whole_target.description;
+  for (int i = 0; i < nv; ++i) {
+    const int v = view.vertex_map[i];
+    local.epsilon[i] = structure.epsilon[v];
+    local.initial_u[i] = structure.initial_u[v];
+    target.curvature[i] = whole_target.curvature[v];
+    target.fixed[i] = whole_target.fixed[v];
+  }
+  for (int e = 0; e < ne; ++e) local.eta[e] = structure.eta[view.edge_map[e]];
+  return p;
+}
+
+/// The whole mesh's status, fixes and message from its components' flows: converged when every
+/// component converged, else the first failed component's status; the message says why each
+/// component stopped, prefixed by its index when there are several.
+void summarise_components(MeshFlowResult& result) {
+  result.status = FlowStatus::Converged;
+  for (std::size_t c = 0; c < result.components.size(); ++c) {
+    const FlowResult& flow = result.components[c].flow;
+    if (!flow.converged && result.status == FlowStatus::Converged) result.status = flow.status;
+    for (const OptionFix& fix : flow.fixes) {
+      if (std::find(result.fixes.begin(), result.fixes.end(), fix) == result.fixes.end()) {
+        result.fixes.push_back(fix);
+      }
+    }
+    if (result.components.size() == 1) {
+      result.message = flow.message;
+    } else {
+      result.message +=
+          (c ? "; " : "") + std::string("component ") + std::to_string(c) + ": " + flow.message;
+    }
+  }
+}
+
+/// A developed face whose doubled area is at most this times its longest squared side counts
+/// as degenerate rather than flipped: the rounding of the developed corners (a few eps of the
+/// squared sides) stays below it, so its sign says nothing.
+constexpr double degenerate_area_ratio = 1e-14;
+
 }  // namespace
 
 Development develop_input_faces(const Mesh& mesh, const MeshFlowResult& flow) {
@@ -255,7 +314,7 @@ Development develop_input_faces(const Topology& input, const MeshFlowResult& flo
       const std::complex<double> a = p[1] - p[0], b = p[2] - p[0];
       const double area = a.real() * b.imag() - a.imag() * b.real();
       const double scale = std::max({std::norm(a), std::norm(b), std::norm(p[2] - p[1])});
-      if (std::abs(area) <= 1e-14 * scale) {
+      if (std::abs(area) <= degenerate_area_ratio * scale) {
         ++d.degenerate_faces;
       } else if (area < 0) {
         ++d.flipped_faces;
@@ -328,7 +387,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
   admissibility.vertex_labels = options.vertex_labels;
   admissibility.edge_flips = uses_edge_flips(structure, options.flow);
   check_admissible(whole, structure, result.target, admissibility);
-  result.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  result.setup_seconds = seconds_since(start);
 
   // Starting values, which the components' flows overwrite (a mesh of one component: every
   // one of them, so no copy is made). `eta` becomes the whole triangulation's at the end.
@@ -377,25 +436,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
       const auto component_topology = std::make_shared<const Topology>(std::move(view.topology));
       const Topology& t = *component_topology;
       const int nv = t.num_vertices, ne = t.num_edges;
-      ConformalStructure local;
-      local.scheme = structure.scheme;
-      local.geometry = structure.geometry;
-      local.length_scale = structure.length_scale;
-      local.epsilon.resize(nv);
-      local.initial_u.resize(nv);
-      local.eta.resize(ne);
-      Target target;
-      target.curvature.resize(nv);
-      target.fixed.resize(nv);
-      target.description = result.target.description;
-      for (int i = 0; i < nv; ++i) {
-        const int v = view.vertex_map[i];
-        local.epsilon[i] = structure.epsilon[v];
-        local.initial_u[i] = structure.initial_u[v];
-        target.curvature[i] = result.target.curvature[v];
-        target.fixed[i] = result.target.fixed[v];
-      }
-      for (int e = 0; e < ne; ++e) local.eta[e] = structure.eta[view.edge_map[e]];
+      const auto [local, target] = restrict_problem(view, structure, result.target);
       out.flow = ricci_flow(t, local, target, options.flow);
       out.flow.intrinsic.adopt_input(component_topology);
       if (worth_doubling(t, local, options.flow, out.flow)) {
@@ -423,24 +464,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
     result.max_error = std::max(result.max_error, out.flow.max_error);
     result.components.push_back(std::move(out));
   }
-  // Converged when every component converged, else the first failed component's status; the
-  // message says why each component stopped, prefixed by its index when there are several.
-  result.status = FlowStatus::Converged;
-  for (std::size_t c = 0; c < result.components.size(); ++c) {
-    const FlowResult& flow = result.components[c].flow;
-    if (!flow.converged && result.status == FlowStatus::Converged) result.status = flow.status;
-    for (const OptionFix& fix : flow.fixes) {
-      if (std::find(result.fixes.begin(), result.fixes.end(), fix) == result.fixes.end()) {
-        result.fixes.push_back(fix);
-      }
-    }
-    if (result.components.size() == 1) {
-      result.message = flow.message;
-    } else {
-      result.message +=
-          (c ? "; " : "") + std::string("component ") + std::to_string(c) + ": " + flow.message;
-    }
-  }
+  summarise_components(result);
   if (!whole_is_flow) {
     gathered.set_eta(std::move(eta));
     result.intrinsic = std::move(gathered);
@@ -448,7 +472,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
   // The result refers to the caller's topology as its input (a copy here would cost tens of
   // milliseconds on a million faces): the caller hands it over (adopt_input_topology).
   kept_input_topology = true;
-  result.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  result.total_seconds = seconds_since(start);
   return result;
 }
 

@@ -193,14 +193,12 @@ Target values_target(const Topology& t, const Eigen::VectorXd& values) {
   return target;
 }
 
-void check_admissible(const Topology& t, const ConformalStructure& structure, const Target& target,
-                      const AdmissibilityOptions& options) {
-  if (target.curvature.size() != t.num_vertices ||
-      static_cast<int>(target.fixed.size()) != t.num_vertices) {
-    throw InvalidInput("check_admissible: the target has " +
-                       std::to_string(target.curvature.size()) + " values for " +
-                       std::to_string(t.num_vertices) + " vertices");
-  }
+namespace {
+
+/// Each free vertex's target below its top (2 pi inside, pi on the boundary) and, without edge
+/// flips, above the single-vertex bound.
+void check_vertex_targets(const Topology& t, const ConformalStructure& structure,
+                          const Target& target, const AdmissibilityOptions& options) {
   const SchemeTraits& scheme = scheme_traits(structure.scheme);
 
   // Sum over the faces of each vertex of (pi - Phi of the opposite edge): the single-vertex
@@ -253,6 +251,12 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                                : fixes_of({{"scheme", "vertex-scaling"}}));
     }
   }
+}
+
+/// Gauss-Bonnet of each component's target (fixed vertices exempt it): sum K-bar = 2 pi chi, or
+/// above it by the area in the hyperbolic background.
+void check_gauss_bonnet(const Topology& t, const ConformalStructure& structure,
+                        const Target& target, const AdmissibilityOptions& options) {
   for (std::size_t c = 0; c < t.components.size(); ++c) {
     const Component& comp = t.components[c];
     bool any_fixed = false;
@@ -294,6 +298,20 @@ void check_admissible(const Topology& t, const ConformalStructure& structure, co
                          fixes_of({{"target", "natural"}, {"target", "uniform"}}));
     }
   }
+}
+
+}  // namespace
+
+void check_admissible(const Topology& t, const ConformalStructure& structure, const Target& target,
+                      const AdmissibilityOptions& options) {
+  if (target.curvature.size() != t.num_vertices ||
+      static_cast<int>(target.fixed.size()) != t.num_vertices) {
+    throw InvalidInput("check_admissible: the target has " +
+                       std::to_string(target.curvature.size()) + " values for " +
+                       std::to_string(t.num_vertices) + " vertices");
+  }
+  check_vertex_targets(t, structure, target, options);
+  check_gauss_bonnet(t, structure, target, options);
 }
 
 double parse_curvature(const std::string& raw) {

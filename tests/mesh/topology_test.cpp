@@ -184,6 +184,37 @@ TEST(BuildTopology, ThrowsOnInconsistentOrientation) {
   }
 }
 
+TEST(BuildTopology, FirstHalfedgeFlagsPickEachEdgesFirstHalfedge) {
+  const Topology plain = build_topology(torus(6, 4), 24);
+  // Flag the halfedge the plain build puts second on every interior edge: they all swap, and
+  // nothing else changes.
+  std::vector<char> first(3 * plain.num_faces, 0);
+  for (int e = 0; e < plain.num_edges; ++e) {
+    first[plain.edge_halfedges(e, 1) >= 0 ? plain.edge_halfedges(e, 1)
+                                          : plain.edge_halfedges(e, 0)] = 1;
+  }
+  const Topology t = build_topology(torus(6, 4), 24, first);
+  expect_consistent(t);
+  ASSERT_EQ(t.num_edges, plain.num_edges);
+  for (int e = 0; e < t.num_edges; ++e) {
+    EXPECT_EQ(t.edge_halfedges(e, 0), plain.edge_halfedges(e, 1));
+    EXPECT_EQ(t.edge_halfedges(e, 1), plain.edge_halfedges(e, 0));
+  }
+  EXPECT_EQ(t.halfedge_edge, plain.halfedge_edge);
+  EXPECT_EQ(t.components[0].num_edges, plain.components[0].num_edges);
+  // The plain build's own choice flagged: the same edges.
+  std::vector<char> own(3 * plain.num_faces, 0);
+  for (int e = 0; e < plain.num_edges; ++e) own[plain.edge_halfedges(e, 0)] = 1;
+  EXPECT_EQ(build_topology(torus(6, 4), 24, own).edge_halfedges, plain.edge_halfedges);
+}
+
+TEST(BuildTopology, FirstHalfedgeFlagsKeepABoundaryEdgesOnlyHalfedge) {
+  const Topology plain = build_topology(kSquare, 4);
+  const Topology t = build_topology(kSquare, 4, std::vector<char>(3 * plain.num_faces, 0));
+  EXPECT_EQ(t.edge_halfedges, plain.edge_halfedges);
+  EXPECT_THROW(build_topology(kSquare, 4, std::vector<char>(5, 0)), InvalidInput);
+}
+
 TEST(BuildTopology, ThrowsInvalidInputOnBadIndices) {
   EXPECT_THROW(build_topology(make_triangles({{0, 1, 4}}), 4), InvalidInput);
   EXPECT_THROW(build_topology(make_triangles({{0, 1, -1}}), 4), InvalidInput);

@@ -14,8 +14,8 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/flow/target.hpp"
-#include "ricci/metric/angles.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
+#include "ricci/metric/angles.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -115,6 +115,18 @@ struct FlowOptions {
   bool simplicial_flips = false;
   FlowProgress progress;  ///< optional callback after each iteration
 };
+
+/// The flow options of the layouts (parameterize, parameterize_hyperbolic, sphere_map): the
+/// defaults with Newton run to max |K-bar - K| <= 1e-12. A layout closes around each interior
+/// vertex only as well as the metric has converged there: 1e-10 leaves length errors of 2e-9 on
+/// meshes of ~5k vertices.
+inline FlowOptions layout_flow_options() {
+  /// The curvature error (radians) a layout asks of the flow, see above.
+  constexpr double layout_tolerance = 1e-12;
+  FlowOptions f;
+  f.tolerance = layout_tolerance;
+  return f;
+}
 
 /// Whether a flow with these options flips edges (Auto: exactly for vertex scaling).
 /// \throw InvalidInput for EdgeFlips::Delaunay with a scheme other than vertex scaling

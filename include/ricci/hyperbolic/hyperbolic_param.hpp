@@ -22,13 +22,8 @@ namespace ricci {
 /// Options of parameterize_hyperbolic.
 struct HyperbolicParamOptions {
   StructureOptions structure;  ///< scheme and initial packing (the geometry is set to hyperbolic)
-  /// Newton to 1e-12: the layout closes up around each vertex only as well as the metric has
-  /// zero curvature there.
-  FlowOptions flow = [] {
-    FlowOptions f;
-    f.tolerance = 1e-12;
-    return f;
-  }();
+  /// Newton to 1e-12, see layout_flow_options.
+  FlowOptions flow = layout_flow_options();
   HyperbolicLayoutOptions layout;
   /// Closed surfaces: how many cuts (tree-cotree from different root vertices) to try at most;
   /// the one whose canonical generators satisfy the relation best is kept.

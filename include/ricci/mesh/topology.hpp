@@ -68,4 +68,16 @@ struct Topology {
 /// \throw InvalidInput when an index is out of range or a face repeats a vertex
 Topology build_topology(const Triangles& triangles, int num_vertices);
 
+/// build_topology with a given first halfedge per interior edge: edge_halfedges(e, 0) is the
+/// halfedge of e whose first_halfedge entry is 1 (a boundary edge keeps its only halfedge first).
+/// A part of a mesh rebuilt on its own (a component) keeps the whole mesh's choice this way:
+/// flip_edge orients its new faces by the first halfedge, so flips replayed on the whole mesh give
+/// the same faces.
+/// \param first_halfedge 3#F: 1 for the halfedge that comes first on its edge; of the two
+///        halfedges of an interior edge, the one flagged 1 comes first (the builder's own choice
+///        when both or neither are)
+/// \throw as build_topology; InvalidInput when first_halfedge does not have 3#F entries
+Topology build_topology(const Triangles& triangles, int num_vertices,
+                        const std::vector<char>& first_halfedge);
+
 }  // namespace ricci

@@ -79,13 +79,8 @@ struct ParamOptions {
   ChartPackingOptions packing;
   BoundaryMode boundary = BoundaryMode::Free;  ///< free or disk boundary
   StructureOptions structure;                  ///< discrete metric scheme
-  /// Newton to 1e-12: the layout closes around each interior vertex only as well as the metric
-  /// is flat there, and 1e-10 leaves length errors of 2e-9 on meshes of ~5k vertices.
-  FlowOptions flow = [] {
-    FlowOptions f;
-    f.tolerance = 1e-12;
-    return f;
-  }();
+  /// Newton to 1e-12, see layout_flow_options.
+  FlowOptions flow = layout_flow_options();
   /// Without edge flips (the circle packings): split edges around cones whose valence breaks the
   /// single-vertex bound (tutorial 5.3), and subdivide once when the flow still degenerates.
   /// With flips (vertex scaling, the default) every admissible target is reached on the input's

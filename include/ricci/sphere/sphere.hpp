@@ -48,14 +48,10 @@ struct SphereOptions {
   /// packings (Scheme::Thurston) never break a triangle, and with Phi in [0, pi/2] and a convex
   /// boundary their layout is an embedding.
   StructureOptions structure;
-  /// Newton to 1e-12, as parameterize does: the layout closes around each interior vertex only as
-  /// well as the metric is flat there. Edge flips (vertex scaling) change the disk's triangulation
-  /// but the output keeps the input's faces, whose images are then checked like any other.
-  FlowOptions flow = [] {
-    FlowOptions f;
-    f.tolerance = 1e-12;
-    return f;
-  }();
+  /// Newton to 1e-12, see layout_flow_options. Edge flips (vertex scaling) change the disk's
+  /// triangulation but the output keeps the input's faces, whose images are then checked like any
+  /// other.
+  FlowOptions flow = layout_flow_options();
   /// Stop the Moebius normalisation when |centre of mass| is at most this.
   double centre_tolerance = 1e-12;
   int max_centre_iterations = 100;  ///< most Newton steps of the normalisation
