@@ -23,7 +23,8 @@
 namespace ricci {
 namespace {
 
-// The module's shared helpers (disjoint sets, edge names, the orientation search, face keys).
+// The module's shared helpers (edge names, corner fans, the orientation search, face keys,
+// the zero-area test).
 using namespace mesh_detail;
 
 constexpr int kNumKinds = static_cast<int>(DefectKind::UnreferencedVertex) + 1;
@@ -91,6 +92,266 @@ bool is_topological(DefectKind kind) {
          kind == DefectKind::InconsistentOrientation || kind == DefectKind::NonOrientable;
 }
 
+/// The halfedges of a triangle list: h = 3 f + k lies opposite corner k of face f.
+struct FaceHalfedges {
+  const Triangles& T;
+  int tail(int h) const { return T(h / 3, (h % 3 + 1) % 3); }
+  int head(int h) const { return T(h / 3, (h % 3 + 2) % 3); }
+};
+
+/// Vertices with a non-finite coordinate, reported; #V: 1 for the finite ones.
+std::vector<char> check_coordinates(const Positions& P, DefectCollector& out) {
+  const int nv = static_cast<int>(P.rows());
+  std::vector<char> finite(nv, 1);
+  for (int v = 0; v < nv; ++v) {
+    if (std::isfinite(P(v, 0)) && std::isfinite(P(v, 1)) && std::isfinite(P(v, 2))) continue;
+    finite[v] = 0;
+    out.add(DefectKind::NonFiniteCoordinate, v, [&] {
+      return "vertex " + std::to_string(v) + " has a non-finite coordinate (" +
+             format_number(P(v, 0)) + ", " + format_number(P(v, 1)) + ", " +
+             format_number(P(v, 2)) + ")";
+    });
+  }
+  return finite;
+}
+
+/// Which faces the connectivity checks take, and which vertices some face names.
+struct FaceUse {
+  /// #F: 1 where the face's indices are valid and distinct. Duplicate faces stay usable: their
+  /// edges really are shared by more than two faces, and counting them so agrees with how other
+  /// tools count non-manifold edges and vertices.
+  std::vector<char> usable;
+  std::vector<char> referenced;  ///< #V: 1 where a face names the vertex
+};
+
+/// Faces with an index out of range, then faces that use a vertex twice, reported.
+FaceUse check_indices(const Triangles& T, int nv, DefectCollector& out) {
+  const int nf = static_cast<int>(T.rows());
+  FaceUse use;
+  use.usable.assign(nf, 1);
+  use.referenced.assign(nv, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = T(f, k);
+      if (v >= 0 && v < nv) {
+        use.referenced[v] = 1;
+      } else if (use.usable[f]) {
+        use.usable[f] = 0;
+        out.add(DefectKind::IndexOutOfRange, f, [&] {
+          return "face " + std::to_string(f) + " uses vertex " + std::to_string(v) +
+                 ", outside [0, " + std::to_string(nv) + ")";
+        });
+      }
+    }
+  }
+  for (int f = 0; f < nf; ++f) {
+    if (!use.usable[f]) continue;
+    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    if (a != b && b != c && a != c) continue;
+    use.usable[f] = 0;
+    out.add(DefectKind::RepeatedVertex, f, [&] {
+      const int twice = (a == b || a == c) ? a : b;
+      return "face " + std::to_string(f) + " uses vertex " + std::to_string(twice) +
+             " more than once " + face_vertices(T, f);
+    });
+  }
+  return use;
+}
+
+/// Duplicate faces: sort faces by their sorted vertex triple; equal neighbours are duplicates,
+/// each reported with the first face on its vertices.
+void check_duplicate_faces(const Triangles& T, const std::vector<char>& usable,
+                           DefectCollector& out) {
+  const int nf = static_cast<int>(T.rows());
+  const std::vector<std::array<int, 4>> keyed =
+      sorted_face_keys(T, [&](int f) { return usable[f] != 0; });
+  std::vector<int> first_copy(nf, -1);
+  for (std::size_t i = 1; i < keyed.size(); ++i) {
+    if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[i - 1].begin())) {
+      const int earlier =
+          first_copy[keyed[i - 1][3]] >= 0 ? first_copy[keyed[i - 1][3]] : keyed[i - 1][3];
+      first_copy[keyed[i][3]] = earlier;
+    }
+  }
+  for (int f = 0; f < nf; ++f) {
+    if (first_copy[f] < 0) continue;
+    out.add(DefectKind::DuplicateFace, f, [&] {
+      return "face " + std::to_string(f) + " " + face_vertices(T, f) +
+             " has the same vertices as face " + std::to_string(first_copy[f]) + " " +
+             face_vertices(T, first_copy[f]);
+    });
+  }
+}
+
+/// Edges: sort the halfedges of usable faces on their undirected edge key; edges with more than
+/// two faces are reported (by their first face). #H: the other halfedge of each two-faced edge,
+/// -1 elsewhere.
+std::vector<int> check_edges(const Triangles& T, const std::vector<char>& usable,
+                             DefectCollector& out) {
+  const FaceHalfedges halfedges{T};
+  const int nh = 3 * static_cast<int>(T.rows());
+  std::vector<std::pair<std::uint64_t, int>> keyed;
+  keyed.reserve(nh);
+  for (int h = 0; h < nh; ++h) {
+    if (!usable[h / 3]) continue;
+    const auto a = static_cast<std::uint64_t>(halfedges.tail(h));
+    const auto b = static_cast<std::uint64_t>(halfedges.head(h));
+    keyed.emplace_back((std::min(a, b) << 32) | std::max(a, b), h);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<int> twin(nh, -1);
+  std::vector<std::pair<int, std::size_t>> non_manifold;  // (first face, start in keyed)
+  for (std::size_t i = 0; i < keyed.size();) {
+    std::size_t j = i + 1;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    if (j - i == 2) {
+      twin[keyed[i].second] = keyed[i + 1].second;
+      twin[keyed[i + 1].second] = keyed[i].second;
+    } else if (j - i > 2) {
+      non_manifold.emplace_back(keyed[i].second / 3, i);
+    }
+    i = j;
+  }
+  std::sort(non_manifold.begin(), non_manifold.end());
+  for (const auto& [face, start] : non_manifold) {
+    // Init-capture: clang 14 cannot capture structured bindings.
+    out.add(DefectKind::NonManifoldEdge, face, [&, start = start] {
+      std::size_t end = start;
+      while (end < keyed.size() && keyed[end].first == keyed[start].first) ++end;
+      const int h = keyed[start].second;
+      std::string faces;
+      for (std::size_t i = start; i < end && i < start + 6; ++i) {
+        faces += (i == start ? "" : ", ") + std::to_string(keyed[i].second / 3);
+      }
+      if (end - start > 6) faces += ", ...";
+      return "non-manifold edge " + edge_name(halfedges.tail(h), halfedges.head(h)) +
+             " is shared by " + std::to_string(end - start) + " faces (" + faces + ")";
+    });
+  }
+  return twin;
+}
+
+/// Fans: join the corners at each end of every two-faced edge. A manifold vertex has one fan;
+/// the others are reported.
+void check_fans(const Triangles& T, const std::vector<int>& twin, const std::vector<char>& usable,
+                int nv, DefectCollector& out) {
+  const FaceHalfedges halfedges{T};
+  auto tail = [&](int h) { return halfedges.tail(h); };
+  auto head = [&](int h) { return halfedges.head(h); };
+  const int nh = static_cast<int>(twin.size());
+  DisjointSets fans(nh);
+  for (int h = 0; h < nh; ++h) {
+    const int g = twin[h];
+    if (g < h) continue;
+    unite_fans_across(fans, h, g, tail, head);
+  }
+  std::vector<int> fan_count(nv, 0), first_fan_face(nv, -1), second_fan_face(nv, -1);
+  for (int c = 0; c < nh; ++c) {
+    if (!usable[c / 3] || fans.find(c) != c) continue;
+    const int v = T(c / 3, c % 3);
+    if (fan_count[v]++ == 0) {
+      first_fan_face[v] = c / 3;
+    } else if (fan_count[v] == 2) {
+      second_fan_face[v] = c / 3;
+    }
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (fan_count[v] < 2) continue;
+    out.add(DefectKind::NonManifoldVertex, v, [&] {
+      return "non-manifold vertex " + std::to_string(v) + ": its faces form " +
+             std::to_string(fan_count[v]) + " fans that meet only at the vertex (e.g. faces " +
+             std::to_string(first_fan_face[v]) + " and " + std::to_string(second_fan_face[v]) + ")";
+    });
+  }
+}
+
+/// An edge whose two faces traverse it in the same direction, in an orientable component.
+struct Inconsistency {
+  int face;     // the face on the minority side of its component: reversing it helps
+  int other;    // the face across the edge
+  int h;        // one halfedge of the shared edge, for the vertex names
+  int to_flip;  // faces of the component on the minority side
+  bool operator<(const Inconsistency& o) const {
+    return std::tie(face, other) < std::tie(o.face, o.other);
+  }
+};
+
+/// The inconsistent edges of an orientable component, each reported from the minority side.
+void add_inconsistencies(const FaceHalfedges& halfedges, const std::vector<int>& twin,
+                         const OrientationSearch& search, const OrientationComponent& component,
+                         std::vector<Inconsistency>& inconsistent) {
+  const int minority = component.minority();
+  for (int i = component.begin; i < component.end; ++i) {
+    const int f = search.order[i];
+    for (int k = 0; k < 3; ++k) {
+      const int h = 3 * f + k, g = twin[h];
+      if (g < h || halfedges.tail(h) != halfedges.tail(g)) continue;
+      const int reported = search.side[f] == minority ? f : g / 3;
+      inconsistent.push_back({reported, reported == f ? g / 3 : f, h, component.to_reverse()});
+    }
+  }
+}
+
+/// Orientation: breadth-first search across two-faced edges assigns each face a flip bit so
+/// that neighbours traverse their shared edge in opposite directions. A contradiction means no
+/// consistent orientation exists (non-orientable); otherwise every same-direction edge is an
+/// inconsistency that flipping the faces with the minority bit of the component would fix.
+void check_orientation(const Triangles& T, const std::vector<int>& twin,
+                       const std::vector<char>& usable, DefectCollector& out) {
+  const FaceHalfedges halfedges{T};
+  auto tail = [&](int h) { return halfedges.tail(h); };
+  auto head = [&](int h) { return halfedges.head(h); };
+  std::vector<Inconsistency> inconsistent;
+  const OrientationSearch search =
+      search_orientation(twin, tail, [&](int f) { return usable[f] != 0; });
+  for (const OrientationComponent& component : search.components) {
+    if (component.conflict < 0) {
+      add_inconsistencies(halfedges, twin, search, component, inconsistent);
+      continue;
+    }
+    out.add(DefectKind::NonOrientable, component.seed, [&] {
+      const int h = component.conflict, g = twin[h];
+      return "non-orientable surface (like a Moebius strip): the " +
+             std::to_string(component.size()) + " faces connected to face " +
+             std::to_string(component.seed) +
+             " cannot be oriented consistently (the contradiction closes at edge " +
+             edge_name(tail(h), head(h)) + " between faces " + std::to_string(h / 3) + " and " +
+             std::to_string(g / 3) + ")";
+    });
+  }
+  std::sort(inconsistent.begin(), inconsistent.end());
+  for (const Inconsistency& bad : inconsistent) {
+    out.add(DefectKind::InconsistentOrientation, bad.face, [&] {
+      return "inconsistent orientation: faces " + std::to_string(bad.face) + " and " +
+             std::to_string(bad.other) + " traverse edge " + edge_name(tail(bad.h), head(bad.h)) +
+             " in the same direction (from " + std::to_string(tail(bad.h)) + " to " +
+             std::to_string(head(bad.h)) + "); the surface is orientable: reversing face " +
+             std::to_string(bad.face) +
+             (bad.to_flip > 1
+                  ? " and the other " + std::to_string(bad.to_flip - 1) + " faces on its side"
+                  : std::string()) +
+             " makes it consistent";
+    });
+  }
+}
+
+/// Zero area: twice the area against the longest edge squared (zero_area.hpp, the test that
+/// repair_mesh's sliver removal answers), on usable faces with finite corners.
+void check_zero_area(const Positions& P, const Triangles& T, const std::vector<char>& usable,
+                     const std::vector<char>& finite, double tolerance, DefectCollector& out) {
+  for (int f = 0; f < static_cast<int>(T.rows()); ++f) {
+    if (!usable[f]) continue;
+    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
+    if (!finite[a] || !finite[b] || !finite[c]) continue;
+    const AreaMeasure measure = area_measure(P, a, b, c);
+    if (!is_zero_area(measure, tolerance)) continue;
+    out.add(DefectKind::ZeroAreaFace, f, [&] {
+      return "face " + std::to_string(f) + " " + face_vertices(T, f) +
+             " has zero area (twice its area is " + format_number(measure.twice_area) +
+             ", its longest edge squared " + format_number(measure.longest_squared) + ")";
+    });
+  }
+}
 }  // namespace
 
 const char* defect_name(DefectKind kind) {
@@ -114,222 +375,16 @@ bool ValidationReport::ok() const {
 ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options) {
   const Positions& P = mesh.positions;
   const Triangles& T = mesh.triangles;
-  const int nv = mesh.num_vertices();
-  const int nf = mesh.num_faces();
   DefectCollector out(options.max_defects_per_kind);
-
-  std::vector<char> finite(nv, 1);
-  for (int v = 0; v < nv; ++v) {
-    if (std::isfinite(P(v, 0)) && std::isfinite(P(v, 1)) && std::isfinite(P(v, 2))) continue;
-    finite[v] = 0;
-    out.add(DefectKind::NonFiniteCoordinate, v, [&] {
-      return "vertex " + std::to_string(v) + " has a non-finite coordinate (" +
-             format_number(P(v, 0)) + ", " + format_number(P(v, 1)) + ", " +
-             format_number(P(v, 2)) + ")";
-    });
-  }
-
-  // A face is "usable" for the connectivity checks when its indices are valid and distinct.
-  // Duplicate faces stay usable: their edges really are shared by more than two faces, and
-  // counting them so agrees with how other tools count non-manifold edges and vertices.
-  std::vector<char> usable(nf, 1);
-  std::vector<char> referenced(nv, 0);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = T(f, k);
-      if (v >= 0 && v < nv) {
-        referenced[v] = 1;
-      } else if (usable[f]) {
-        usable[f] = 0;
-        out.add(DefectKind::IndexOutOfRange, f, [&] {
-          return "face " + std::to_string(f) + " uses vertex " + std::to_string(v) +
-                 ", outside [0, " + std::to_string(nv) + ")";
-        });
-      }
-    }
-  }
-  for (int f = 0; f < nf; ++f) {
-    if (!usable[f]) continue;
-    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
-    if (a != b && b != c && a != c) continue;
-    usable[f] = 0;
-    out.add(DefectKind::RepeatedVertex, f, [&] {
-      const int twice = (a == b || a == c) ? a : b;
-      return "face " + std::to_string(f) + " uses vertex " + std::to_string(twice) +
-             " more than once " + face_vertices(T, f);
-    });
-  }
-
-  // Duplicate faces: sort faces by their sorted vertex triple; equal neighbours are duplicates.
-  {
-    const std::vector<std::array<int, 4>> keyed =
-        sorted_face_keys(T, [&](int f) { return usable[f] != 0; });
-    std::vector<int> first_copy(nf, -1);
-    for (std::size_t i = 1; i < keyed.size(); ++i) {
-      if (std::equal(keyed[i].begin(), keyed[i].begin() + 3, keyed[i - 1].begin())) {
-        const int earlier =
-            first_copy[keyed[i - 1][3]] >= 0 ? first_copy[keyed[i - 1][3]] : keyed[i - 1][3];
-        first_copy[keyed[i][3]] = earlier;
-      }
-    }
-    for (int f = 0; f < nf; ++f) {
-      if (first_copy[f] < 0) continue;
-      out.add(DefectKind::DuplicateFace, f, [&] {
-        return "face " + std::to_string(f) + " " + face_vertices(T, f) +
-               " has the same vertices as face " + std::to_string(first_copy[f]) + " " +
-               face_vertices(T, first_copy[f]);
-      });
-    }
-  }
-
-  // Edges: sort the halfedges of usable faces on their undirected edge key.
-  const int nh = 3 * nf;
-  auto tail = [&](int h) { return T(h / 3, (h % 3 + 1) % 3); };
-  auto head = [&](int h) { return T(h / 3, (h % 3 + 2) % 3); };
-  std::vector<std::pair<std::uint64_t, int>> keyed;
-  keyed.reserve(nh);
-  for (int h = 0; h < nh; ++h) {
-    if (!usable[h / 3]) continue;
-    const auto a = static_cast<std::uint64_t>(tail(h));
-    const auto b = static_cast<std::uint64_t>(head(h));
-    keyed.emplace_back((std::min(a, b) << 32) | std::max(a, b), h);
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<int> twin(nh, -1);  // only across edges with exactly two faces
-  {
-    std::vector<std::pair<int, std::size_t>> non_manifold;  // (first face, start in keyed)
-    for (std::size_t i = 0; i < keyed.size();) {
-      std::size_t j = i + 1;
-      while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
-      if (j - i == 2) {
-        twin[keyed[i].second] = keyed[i + 1].second;
-        twin[keyed[i + 1].second] = keyed[i].second;
-      } else if (j - i > 2) {
-        non_manifold.emplace_back(keyed[i].second / 3, i);
-      }
-      i = j;
-    }
-    std::sort(non_manifold.begin(), non_manifold.end());
-    for (const auto& [face, start] : non_manifold) {
-      // Init-capture: clang 14 cannot capture structured bindings.
-      out.add(DefectKind::NonManifoldEdge, face, [&, start = start] {
-        std::size_t end = start;
-        while (end < keyed.size() && keyed[end].first == keyed[start].first) ++end;
-        const int h = keyed[start].second;
-        std::string faces;
-        for (std::size_t i = start; i < end && i < start + 6; ++i) {
-          faces += (i == start ? "" : ", ") + std::to_string(keyed[i].second / 3);
-        }
-        if (end - start > 6) faces += ", ...";
-        return "non-manifold edge " + edge_name(tail(h), head(h)) + " is shared by " +
-               std::to_string(end - start) + " faces (" + faces + ")";
-      });
-    }
-  }
-
-  // Fans: join the corners at each end of every two-faced edge. A manifold vertex has one fan.
-  {
-    DisjointSets fans(nh);
-    for (int h = 0; h < nh; ++h) {
-      const int g = twin[h];
-      if (g < h) continue;
-      unite_fans_across(fans, h, g, tail, head);
-    }
-    std::vector<int> fan_count(nv, 0), first_fan_face(nv, -1), second_fan_face(nv, -1);
-    for (int c = 0; c < nh; ++c) {
-      if (!usable[c / 3] || fans.find(c) != c) continue;
-      const int v = T(c / 3, c % 3);
-      if (fan_count[v]++ == 0) {
-        first_fan_face[v] = c / 3;
-      } else if (fan_count[v] == 2) {
-        second_fan_face[v] = c / 3;
-      }
-    }
-    for (int v = 0; v < nv; ++v) {
-      if (fan_count[v] < 2) continue;
-      out.add(DefectKind::NonManifoldVertex, v, [&] {
-        return "non-manifold vertex " + std::to_string(v) + ": its faces form " +
-               std::to_string(fan_count[v]) + " fans that meet only at the vertex (e.g. faces " +
-               std::to_string(first_fan_face[v]) + " and " + std::to_string(second_fan_face[v]) +
-               ")";
-      });
-    }
-  }
-
-  // Orientation: breadth-first search across two-faced edges assigns each face a flip bit so
-  // that neighbours traverse their shared edge in opposite directions. A contradiction means no
-  // consistent orientation exists (non-orientable); otherwise every same-direction edge is an
-  // inconsistency that flipping the faces with the minority bit of the component would fix.
-  {
-    struct Inconsistency {
-      int face;     // the face on the minority side of its component: reversing it helps
-      int other;    // the face across the edge
-      int h;        // one halfedge of the shared edge, for the vertex names
-      int to_flip;  // faces of the component on the minority side
-      bool operator<(const Inconsistency& o) const {
-        return std::tie(face, other) < std::tie(o.face, o.other);
-      }
-    };
-    std::vector<Inconsistency> inconsistent;
-    const OrientationSearch search =
-        search_orientation(twin, tail, [&](int f) { return usable[f] != 0; });
-    for (const OrientationComponent& component : search.components) {
-      if (component.conflict >= 0) {
-        out.add(DefectKind::NonOrientable, component.seed, [&] {
-          const int h = component.conflict, g = twin[h];
-          return "non-orientable surface (like a Moebius strip): the " +
-                 std::to_string(component.size()) + " faces connected to face " +
-                 std::to_string(component.seed) +
-                 " cannot be oriented consistently (the contradiction closes at edge " +
-                 edge_name(tail(h), head(h)) + " between faces " + std::to_string(h / 3) + " and " +
-                 std::to_string(g / 3) + ")";
-        });
-        continue;
-      }
-      const int minority = component.minority();
-      for (int i = component.begin; i < component.end; ++i) {
-        const int f = search.order[i];
-        for (int k = 0; k < 3; ++k) {
-          const int h = 3 * f + k, g = twin[h];
-          if (g < h || tail(h) != tail(g)) continue;
-          const int reported = search.side[f] == minority ? f : g / 3;
-          inconsistent.push_back({reported, reported == f ? g / 3 : f, h, component.to_reverse()});
-        }
-      }
-    }
-    std::sort(inconsistent.begin(), inconsistent.end());
-    for (const Inconsistency& bad : inconsistent) {
-      out.add(DefectKind::InconsistentOrientation, bad.face, [&] {
-        return "inconsistent orientation: faces " + std::to_string(bad.face) + " and " +
-               std::to_string(bad.other) + " traverse edge " + edge_name(tail(bad.h), head(bad.h)) +
-               " in the same direction (from " + std::to_string(tail(bad.h)) + " to " +
-               std::to_string(head(bad.h)) + "); the surface is orientable: reversing face " +
-               std::to_string(bad.face) +
-               (bad.to_flip > 1
-                    ? " and the other " + std::to_string(bad.to_flip - 1) + " faces on its side"
-                    : std::string()) +
-               " makes it consistent";
-      });
-    }
-  }
-
-  // Zero area: twice the area against the longest edge squared (zero_area.hpp, the test that
-  // repair_mesh's sliver removal answers).
-  for (int f = 0; f < nf; ++f) {
-    if (!usable[f]) continue;
-    const int a = T(f, 0), b = T(f, 1), c = T(f, 2);
-    if (!finite[a] || !finite[b] || !finite[c]) continue;
-    const AreaMeasure measure = area_measure(P, a, b, c);
-    if (!is_zero_area(measure, options.zero_area_tolerance)) continue;
-    out.add(DefectKind::ZeroAreaFace, f, [&] {
-      return "face " + std::to_string(f) + " " + face_vertices(T, f) +
-             " has zero area (twice its area is " + format_number(measure.twice_area) +
-             ", its longest edge squared " + format_number(measure.longest_squared) + ")";
-    });
-  }
-
-  for (int v = 0; v < nv; ++v) {
-    if (referenced[v]) continue;
+  const std::vector<char> finite = check_coordinates(P, out);
+  const FaceUse use = check_indices(T, mesh.num_vertices(), out);
+  check_duplicate_faces(T, use.usable, out);
+  const std::vector<int> twin = check_edges(T, use.usable, out);
+  check_fans(T, twin, use.usable, mesh.num_vertices(), out);
+  check_orientation(T, twin, use.usable, out);
+  check_zero_area(P, T, use.usable, finite, options.zero_area_tolerance, out);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (use.referenced[v]) continue;
     out.add(DefectKind::UnreferencedVertex, v,
             [&] { return "vertex " + std::to_string(v) + " is not used by any face"; });
   }

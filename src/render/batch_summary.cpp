@@ -17,6 +17,10 @@ using render_detail::draw_text;
 using render_detail::nice_step;
 using render_detail::set_colour;
 
+/// The count axis runs to y_hi inclusive; the step's rounding error must not drop the last tick
+/// (ticks are whole counts, so any slack below 1 does).
+constexpr double kTickSlack = 1e-9;
+
 const Rgb kInk{0.1, 0.1, 0.1};
 const Rgb kGrid{0.86, 0.86, 0.86};
 const Rgb kOkColour{0.2, 0.6, 0.3};
@@ -87,7 +91,7 @@ void draw_histogram(cairo_t* cr, Frame& f, const std::vector<int>& counts, const
   f.y_hi = std::ceil(most / step) * step;
   if (f.y_hi < most * 1.05) f.y_hi += step;  // room above the tallest bar
   cairo_set_line_width(cr, 1.0);
-  for (double y = 0; y <= f.y_hi + 1e-9; y += step) {
+  for (double y = 0; y <= f.y_hi + kTickSlack; y += step) {
     set_colour(cr, kGrid);
     cairo_move_to(cr, f.left, f.py(y));
     cairo_line_to(cr, f.right, f.py(y));

@@ -16,12 +16,17 @@ using render_detail::draw_text;
 using render_detail::nice_step;
 using render_detail::set_colour;
 
+/// The linear iteration ticks run to the last iteration inclusive; the step's rounding error
+/// must not drop the last tick (iterations are whole numbers, so any slack below 1 does).
+constexpr double kTickSlack = 1e-9;
+
 /// Axes and their mapping onto the picture.
 struct Frame {
   double left = 0, right = 0, top = 0, bottom = 0;  ///< plot rectangle, pixels
   double x_lo = 0, x_hi = 1;                        ///< iteration axis (log10 of it + 1 if log)
   int decade_lo = 0, decade_hi = 1;                 ///< error axis: 10^lo .. 10^hi
   bool log_x = false;
+  std::size_t last = 1;  ///< the last iteration with a plottable error (at least 1)
 
   double px(double iteration) const {
     const double x = log_x ? std::log10(iteration + 1) : iteration;
@@ -60,13 +65,10 @@ bool use_log_axis(const std::vector<ConvergenceCurve>& curves, IterationAxis axi
   return longest > 100 && longest > 10 * shortest;
 }
 
-void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
-               const ConvergencePlotOptions& options) {
+/// The plot rectangle and the ranges of both axes, from the plottable errors and the tolerance.
+Frame fit_frame(const std::vector<ConvergenceCurve>& curves, const ConvergencePlotOptions& options,
+                double font) {
   const double w = options.width, h = options.height;
-  const double font = std::clamp(std::min(w, h) / 40.0, 9.0, 18.0);
-  set_colour(cr, {1, 1, 1});
-  cairo_paint(cr);
-
   Frame frame;
   frame.log_x = use_log_axis(curves, options.iteration_axis);
   frame.left = 4.6 * font + 10;
@@ -91,11 +93,16 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
   frame.decade_lo = static_cast<int>(std::floor(std::log10(lo)));
   frame.decade_hi = static_cast<int>(std::ceil(std::log10(hi)));
   if (frame.decade_hi <= frame.decade_lo) frame.decade_hi = frame.decade_lo + 1;
+  frame.last = last;
   frame.x_lo = 0;
   frame.x_hi = frame.log_x ? std::log10(static_cast<double>(last) + 1) : static_cast<double>(last);
   if (frame.x_hi <= frame.x_lo) frame.x_hi = frame.x_lo + 1;
+  return frame;
+}
 
-  // Grid and tick labels.
+/// The error axis: a line per decade, light lines at its multiples 2..9 when there are few
+/// decades, and powers of ten as labels (at most twelve of them).
+void draw_error_grid(cairo_t* cr, const Frame& frame, double font) {
   cairo_set_line_width(cr, 1.0);
   const int decades = frame.decade_hi - frame.decade_lo;
   const int label_every = (decades + 11) / 12;
@@ -119,15 +126,23 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
       draw_power_of_ten(cr, e, frame.left - 6, y, font);
     }
   }
-  auto x_tick = [&](double iteration, const std::string& label) {
-    const double x = frame.px(iteration);
-    set_colour(cr, {0.88, 0.88, 0.88});
-    cairo_move_to(cr, x, frame.top);
-    cairo_line_to(cr, x, frame.bottom);
-    cairo_stroke(cr);
-    set_colour(cr, {0.1, 0.1, 0.1});
-    draw_text(cr, label, x, frame.bottom + 6, font, 0.5, 0);
-  };
+}
+
+/// A vertical grid line at `iteration`, labelled below the plot.
+void draw_iteration_tick(cairo_t* cr, const Frame& frame, double iteration,
+                         const std::string& label, double font) {
+  const double x = frame.px(iteration);
+  set_colour(cr, {0.88, 0.88, 0.88});
+  cairo_move_to(cr, x, frame.top);
+  cairo_line_to(cr, x, frame.bottom);
+  cairo_stroke(cr);
+  set_colour(cr, {0.1, 0.1, 0.1});
+  draw_text(cr, label, x, frame.bottom + 6, font, 0.5, 0);
+}
+
+/// The iteration axis: ticks at powers of ten (log) or at a round step (linear).
+void draw_iteration_grid(cairo_t* cr, const Frame& frame, double font) {
+  const std::size_t last = frame.last;
   if (frame.log_x) {
     // Ticks where iteration + 1 is a power of ten; light lines at its multiples 2..9.
     const double end = static_cast<double>(last) + 1;
@@ -140,18 +155,24 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
     }
     cairo_stroke(cr);
     for (int e = 0; std::pow(10.0, e) <= end; ++e) {
-      x_tick(std::pow(10.0, e) - 1,
-             e <= 5 ? std::to_string(static_cast<long long>(std::llround(std::pow(10.0, e))))
-                    : "1e" + std::to_string(e));
+      draw_iteration_tick(
+          cr, frame, std::pow(10.0, e) - 1,
+          e <= 5 ? std::to_string(static_cast<long long>(std::llround(std::pow(10.0, e))))
+                 : "1e" + std::to_string(e),
+          font);
     }
   } else {
     const double step = std::max(1.0, nice_step(static_cast<double>(last), 6));
-    for (double it = 0; it <= static_cast<double>(last) + 1e-9; it += step) {
-      x_tick(it, std::to_string(static_cast<long long>(std::llround(it))));
+    for (double it = 0; it <= static_cast<double>(last) + kTickSlack; it += step) {
+      draw_iteration_tick(cr, frame, it, std::to_string(static_cast<long long>(std::llround(it))),
+                          font);
     }
   }
+}
 
-  // Tolerance, curves, legend.
+/// The tolerance (dashed) and the curves, clipped to the plot rectangle.
+void draw_curves(cairo_t* cr, const Frame& frame, const std::vector<ConvergenceCurve>& curves,
+                 const ConvergencePlotOptions& options, double font) {
   cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
   cairo_save(cr);
   cairo_clip(cr);
@@ -195,12 +216,11 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
     }
   }
   cairo_restore(cr);
+}
 
-  set_colour(cr, {0.2, 0.2, 0.2});
-  cairo_set_line_width(cr, 1.2);
-  cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
-  cairo_stroke(cr);
-
+/// The legend (curves with a label), in the plot's top right corner.
+void draw_legend(cairo_t* cr, const Frame& frame, const std::vector<ConvergenceCurve>& curves,
+                 double font) {
   double ly = frame.top + 1.2 * font;
   for (const ConvergenceCurve& c : curves) {
     if (c.label.empty()) continue;
@@ -218,6 +238,24 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
     draw_text(cr, c.label, lx + 2.5 * font, ly, font, 0, 0.5);
     ly += 1.5 * font;
   }
+}
+
+void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
+               const ConvergencePlotOptions& options) {
+  const double w = options.width, h = options.height;
+  const double font = std::clamp(std::min(w, h) / 40.0, 9.0, 18.0);
+  set_colour(cr, {1, 1, 1});
+  cairo_paint(cr);
+  const Frame frame = fit_frame(curves, options, font);
+  draw_error_grid(cr, frame, font);
+  draw_iteration_grid(cr, frame, font);
+  draw_curves(cr, frame, curves, options, font);
+
+  set_colour(cr, {0.2, 0.2, 0.2});
+  cairo_set_line_width(cr, 1.2);
+  cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
+  cairo_stroke(cr);
+  draw_legend(cr, frame, curves, font);
 
   set_colour(cr, {0.1, 0.1, 0.1});
   draw_text(cr, frame.log_x ? options.x_label + " + 1" : options.x_label,

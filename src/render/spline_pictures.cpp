@@ -10,12 +10,16 @@
 namespace ricci {
 namespace {
 
+/// Barycentric coordinates below this are round-off: the points pictured lie on a side or at a
+/// corner exactly, and their coordinates come out within a few ulps of 0.
+constexpr double kBarycentricRoundOff = 1e-12;
+
 /// A point's barycentric coordinates with round-off entries (a point on a side or at a corner)
 /// set to exactly 0, so that both faces of an edge weigh its two ends alike.
 Eigen::Vector3d clean_barycentric(const Eigen::Vector3d& w) {
   Eigen::Vector3d out = w;
   for (int c = 0; c < 3; ++c) {
-    if (std::abs(out[c]) < 1e-12) out[c] = 0;
+    if (std::abs(out[c]) < kBarycentricRoundOff) out[c] = 0;
   }
   const double sum = out.sum();
   return sum > 0 ? Eigen::Vector3d(out / sum) : w;

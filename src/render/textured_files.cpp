@@ -234,40 +234,38 @@ bool glb_supported() {
 
 namespace {
 
-/// glb_writer's writer; write_mesh has checked the indices and coordinates.
-void write_glb(const std::string& path, const TexturedMesh& textured, const GlbOptions& options) {
+#ifdef RICCI_HAVE_GLTF
+/// The vertex data of a glb file, as stored: one glTF vertex per (position, uv) pair, so that a
+/// seam vertex appears once per side.
+struct GlbVertices {
+  std::size_t count = 0;
+  std::vector<float> positions, normals, texcoords;  ///< 3, 3 and 2 per vertex
+  std::vector<double> low, high;                     ///< the stored positions' box
+  std::vector<std::uint32_t> indices;                ///< 3 per face
+};
+
+/// The glTF vertices of a textured mesh, with area-weighted vertex normals when asked (else
+/// +z, which the writer leaves out).
+GlbVertices glb_vertices(const TexturedMesh& textured, bool with_normals) {
   const Mesh& mesh = textured.mesh;
   const Triangles& uv_triangles = textured.uv_triangles;
   const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv = textured.uv;
   const int n = mesh.num_faces();
-  const std::string texture = options.texture_path.empty() ? encode_png(checkerboard_texture())
-                                                           : read_bytes(options.texture_path);
-  const std::string mime = image_mime_type(
-      texture, options.texture_path.empty() ? std::string("checkerboard") : options.texture_path);
-#ifndef RICCI_HAVE_GLTF
-  (void)mime;
-  (void)n;
-  (void)uv_triangles;
-  (void)uv;
-  throw IoError("write_glb: " + path +
-                ": this ricci was built without tinygltf (install libtinygltf-dev and rebuild)");
-#else
-  // One glTF vertex per (position, uv) pair: a seam vertex appears once per side.
+  GlbVertices out;
   std::map<std::pair<int, int>, std::uint32_t> vertex_of;
   std::vector<std::pair<int, int> > corners_of;
-  std::vector<std::uint32_t> indices;
-  indices.reserve(static_cast<std::size_t>(3) * n);
+  out.indices.reserve(static_cast<std::size_t>(3) * n);
   for (int f = 0; f < n; ++f) {
     for (int c = 0; c < 3; ++c) {
       const std::pair<int, int> key{mesh.triangles(f, c), uv_triangles(f, c)};
       const auto [it, fresh] =
           vertex_of.emplace(key, static_cast<std::uint32_t>(corners_of.size()));
       if (fresh) corners_of.push_back(key);
-      indices.push_back(it->second);
+      out.indices.push_back(it->second);
     }
   }
   Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.num_vertices(), 3);
-  if (options.normals) {
+  if (with_normals) {
     for (int f = 0; f < n; ++f) {
       const Eigen::Vector3d a = mesh.positions.row(mesh.triangles(f, 0));
       const Eigen::Vector3d b = mesh.positions.row(mesh.triangles(f, 1));
@@ -277,69 +275,97 @@ void write_glb(const std::string& path, const TexturedMesh& textured, const GlbO
     }
   }
   const std::size_t count = corners_of.size();
-  std::vector<float> positions(3 * count), normal_data(3 * count), texcoords(2 * count);
-  std::vector<double> low(3, std::numeric_limits<double>::infinity());
-  std::vector<double> high(3, -std::numeric_limits<double>::infinity());
+  out.count = count;
+  out.positions.resize(3 * count);
+  out.normals.resize(3 * count);
+  out.texcoords.resize(2 * count);
+  out.low.assign(3, std::numeric_limits<double>::infinity());
+  out.high.assign(3, -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < count; ++i) {
     const auto [v, t] = corners_of[i];
     Eigen::Vector3d normal = normals.row(v);
     normal = normal.norm() > 0 ? normal.normalized() : Eigen::Vector3d(0, 0, 1);
     for (int k = 0; k < 3; ++k) {
-      positions[3 * i + k] = static_cast<float>(mesh.positions(v, k));
-      normal_data[3 * i + k] = static_cast<float>(normal[k]);
-      low[k] = std::min(low[k], static_cast<double>(positions[3 * i + k]));
-      high[k] = std::max(high[k], static_cast<double>(positions[3 * i + k]));
+      out.positions[3 * i + k] = static_cast<float>(mesh.positions(v, k));
+      out.normals[3 * i + k] = static_cast<float>(normal[k]);
+      out.low[k] = std::min(out.low[k], static_cast<double>(out.positions[3 * i + k]));
+      out.high[k] = std::max(out.high[k], static_cast<double>(out.positions[3 * i + k]));
     }
-    texcoords[2 * i] = static_cast<float>(uv(t, 0));
-    texcoords[2 * i + 1] = static_cast<float>(1.0 - uv(t, 1));  // glTF's t runs downwards
+    out.texcoords[2 * i] = static_cast<float>(uv(t, 0));
+    out.texcoords[2 * i + 1] = static_cast<float>(1.0 - uv(t, 1));  // glTF's t runs downwards
   }
+  return out;
+}
 
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = "ricci";
+/// Appends `bytes` at the next 4-byte boundary of the model's one buffer as a new buffer view;
+/// its index.
+int add_view(tinygltf::Model& model, tinygltf::Buffer& buffer, const void* data, std::size_t bytes,
+             int target) {
+  while (buffer.data.size() % 4 != 0) buffer.data.push_back(0);  // 4-byte alignment
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = buffer.data.size();
+  view.byteLength = bytes;
+  view.target = target;
+  const auto* first = static_cast<const unsigned char*>(data);
+  buffer.data.insert(buffer.data.end(), first, first + bytes);
+  model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size() - 1);
+}
+
+/// A new accessor of `elements` elements on buffer view `view`; its index.
+int add_accessor(tinygltf::Model& model, int view, int component, int type, std::size_t elements) {
+  tinygltf::Accessor accessor;
+  accessor.bufferView = view;
+  accessor.componentType = component;
+  accessor.type = type;
+  accessor.count = elements;
+  model.accessors.push_back(accessor);
+  return static_cast<int>(model.accessors.size() - 1);
+}
+
+/// The accessors of the vertex data, and the buffer view of the texture image.
+struct GlbData {
+  int positions = -1, normals = -1, texcoords = -1, indices = -1;
+  int image_view = -1;
+};
+
+/// The model's one buffer: the vertex data, then the texture image's bytes.
+GlbData add_buffer(tinygltf::Model& model, const GlbVertices& v, const std::string& texture) {
   tinygltf::Buffer buffer;
-  auto add_view = [&](const void* data, std::size_t bytes, int target) {
-    while (buffer.data.size() % 4 != 0) buffer.data.push_back(0);  // 4-byte alignment
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = buffer.data.size();
-    view.byteLength = bytes;
-    view.target = target;
-    const auto* first = static_cast<const unsigned char*>(data);
-    buffer.data.insert(buffer.data.end(), first, first + bytes);
-    model.bufferViews.push_back(view);
-    return static_cast<int>(model.bufferViews.size() - 1);
-  };
-  auto add_accessor = [&](int view, int component, int type, std::size_t elements) {
-    tinygltf::Accessor accessor;
-    accessor.bufferView = view;
-    accessor.componentType = component;
-    accessor.type = type;
-    accessor.count = elements;
-    model.accessors.push_back(accessor);
-    return static_cast<int>(model.accessors.size() - 1);
-  };
-  const int position_accessor = add_accessor(
-      add_view(positions.data(), positions.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
-      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
-  model.accessors[position_accessor].minValues = low;
-  model.accessors[position_accessor].maxValues = high;
-  const int normal_accessor =
-      add_accessor(add_view(normal_data.data(), normal_data.size() * sizeof(float),
+  GlbData data;
+  const std::size_t count = v.count;
+  data.positions =
+      add_accessor(model,
+                   add_view(model, buffer, v.positions.data(), v.positions.size() * sizeof(float),
                             TINYGLTF_TARGET_ARRAY_BUFFER),
                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
-  const int uv_accessor = add_accessor(
-      add_view(texcoords.data(), texcoords.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
-      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, count);
-  const int index_accessor =
-      add_accessor(add_view(indices.data(), indices.size() * sizeof(std::uint32_t),
-                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
-  const int image_view = add_view(texture.data(), texture.size(), 0);
-  model.bufferViews[image_view].target = 0;  // images are not vertex data
+  model.accessors[data.positions].minValues = v.low;
+  model.accessors[data.positions].maxValues = v.high;
+  data.normals =
+      add_accessor(model,
+                   add_view(model, buffer, v.normals.data(), v.normals.size() * sizeof(float),
+                            TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
+  data.texcoords =
+      add_accessor(model,
+                   add_view(model, buffer, v.texcoords.data(), v.texcoords.size() * sizeof(float),
+                            TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, count);
+  data.indices = add_accessor(
+      model,
+      add_view(model, buffer, v.indices.data(), v.indices.size() * sizeof(std::uint32_t),
+               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, v.indices.size());
+  data.image_view = add_view(model, buffer, texture.data(), texture.size(), 0);
+  model.bufferViews[data.image_view].target = 0;  // images are not vertex data
   buffer.data.resize((buffer.data.size() + 3) / 4 * 4, 0);
   model.buffers.push_back(std::move(buffer));
+  return data;
+}
 
+/// The texture (repeated, filtered) and the one material that shows it.
+void add_material(tinygltf::Model& model, int image_view, const std::string& mime) {
   tinygltf::Image image;
   image.name = "texture";
   image.bufferView = image_view;
@@ -362,16 +388,20 @@ void write_glb(const std::string& path, const TexturedMesh& textured, const GlbO
   material.pbrMetallicRoughness.roughnessFactor = 0.9;
   material.doubleSided = true;
   model.materials.push_back(material);
+}
 
+/// One mesh of one primitive (named `name`), in one node of the default scene.
+void add_scene(tinygltf::Model& model, const GlbData& data, bool with_normals,
+               const std::string& name) {
   tinygltf::Primitive primitive;
-  primitive.attributes["POSITION"] = position_accessor;
-  if (options.normals) primitive.attributes["NORMAL"] = normal_accessor;
-  primitive.attributes["TEXCOORD_0"] = uv_accessor;
-  primitive.indices = index_accessor;
+  primitive.attributes["POSITION"] = data.positions;
+  if (with_normals) primitive.attributes["NORMAL"] = data.normals;
+  primitive.attributes["TEXCOORD_0"] = data.texcoords;
+  primitive.indices = data.indices;
   primitive.material = 0;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   tinygltf::Mesh gl_mesh;
-  gl_mesh.name = fs::path(path).stem().string();
+  gl_mesh.name = name;
   gl_mesh.primitives.push_back(primitive);
   model.meshes.push_back(gl_mesh);
   tinygltf::Node node;
@@ -382,7 +412,28 @@ void write_glb(const std::string& path, const TexturedMesh& textured, const GlbO
   scene.nodes.push_back(0);
   model.scenes.push_back(scene);
   model.defaultScene = 0;
+}
+#endif
 
+/// glb_writer's writer; write_mesh has checked the indices and coordinates.
+void write_glb(const std::string& path, const TexturedMesh& textured, const GlbOptions& options) {
+  const std::string texture = options.texture_path.empty() ? encode_png(checkerboard_texture())
+                                                           : read_bytes(options.texture_path);
+  const std::string mime = image_mime_type(
+      texture, options.texture_path.empty() ? std::string("checkerboard") : options.texture_path);
+#ifndef RICCI_HAVE_GLTF
+  (void)mime;
+  (void)textured;
+  throw IoError("write_glb: " + path +
+                ": this ricci was built without tinygltf (install libtinygltf-dev and rebuild)");
+#else
+  const GlbVertices vertices = glb_vertices(textured, options.normals);
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "ricci";
+  const GlbData data = add_buffer(model, vertices, texture);
+  add_material(model, data.image_view, mime);
+  add_scene(model, data, options.normals, fs::path(path).stem().string());
   write_file_atomically(path, [&](std::ostream& out) {
     tinygltf::TinyGLTF writer;
     if (!writer.WriteGltfSceneToStream(&model, out, false, true)) {

@@ -177,8 +177,9 @@ TilingDrawing prepare(const char* fn, const DiskPoints& positions, const Triangl
 
   // Breadth first over reduced words; an element is known by its image of the reference point
   // (images below the pixel threshold are never expanded, so the points kept are at least a few
-  // pixels from the circle, where distinct orbit points are far apart compared to 1e-9).
-  PointSet seen(1e-9);
+  // pixels from the circle, where distinct orbit points are far apart compared to this).
+  constexpr double kSameOrbitPoint = 1e-9;
+  PointSet seen(kSameOrbitPoint);
   seen.insert(reference);
   struct Element {
     Mobius map;

@@ -60,11 +60,13 @@ UvChart analyse_uv_chart(const Mesh& mesh, const Triangles& uv_triangles,
   });
 
   // Texture coordinates divided out of homogeneous ones (TexturedMesh::uv_weights) agree only up
-  // to rounding where the file repeats a corner per face: equal within 1e-12 of the layout's
-  // extent counts as the same.
-  const double extent = uv.rows() > 0 ? std::max(uv.cwiseAbs().maxCoeff(), 1e-300) : 1.0;
+  // to rounding where the file repeats a corner per face: equal within kSameUv of the layout's
+  // extent counts as the same (a few thousand ulps; distinct corners of a layout are far apart).
+  // An all-zero layout keeps a tiny positive extent, so that only equal coordinates match.
+  constexpr double kSameUv = 1e-12, kTinyExtent = 1e-300;
+  const double extent = uv.rows() > 0 ? std::max(uv.cwiseAbs().maxCoeff(), kTinyExtent) : 1.0;
   auto same_uv = [&](int t0, int t1) {
-    return t0 == t1 || (uv.row(t0) - uv.row(t1)).cwiseAbs().maxCoeff() <= 1e-12 * extent;
+    return t0 == t1 || (uv.row(t0) - uv.row(t1)).cwiseAbs().maxCoeff() <= kSameUv * extent;
   };
   UvChart chart;
   std::vector<char> on_boundary(nv, 0), on_seam(nv, 0);

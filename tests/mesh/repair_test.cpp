@@ -85,6 +85,27 @@ void expect_pieces_cover_their_faces(const Mesh& input, const RepairResult& r) {
   }
 }
 
+/// nv random vertices in [-1, 1]^3 (with on_a_line: all but every third on the x axis, so that
+/// slivers and chains of them arise) and nf random faces among them, drawn in that order.
+Mesh random_soup(std::mt19937& random, int nv, int nf, bool on_a_line) {
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  std::uniform_int_distribution<int> vertex(0, nv - 1);
+  Mesh mesh;
+  mesh.positions.resize(nv, 3);
+  for (int v = 0; v < nv; ++v) {
+    if (on_a_line && v % 3 != 2) {
+      mesh.positions.row(v) << coordinate(random), 0, 0;
+    } else {
+      mesh.positions.row(v) << coordinate(random), coordinate(random), coordinate(random);
+    }
+  }
+  mesh.triangles.resize(nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    mesh.triangles.row(f) << vertex(random), vertex(random), vertex(random);
+  }
+  return mesh;
+}
+
 /// The maps are what the header promises: every output vertex sits where its input vertex does,
 /// and every output face is its input face (corners 1 and 2 exchanged when flipped) up to the
 /// vertices that were welded, or a piece of it.
@@ -481,23 +502,8 @@ TEST(RepairMesh, NeedlesAreLeftAndSaidSo) {
 // chains arise, repair ends, the maps hold, and what it says it left is what validation finds.
 TEST(RepairMesh, RandomSliverSoupsEnd) {
   std::mt19937 random(11);
-  std::uniform_real_distribution<double> coordinate(-1, 1);
   for (int trial = 0; trial < 300; ++trial) {
-    const int nv = 5 + trial % 8, nf = 2 + trial % 30;
-    std::uniform_int_distribution<int> vertex(0, nv - 1);
-    Mesh mesh;
-    mesh.positions.resize(nv, 3);
-    for (int v = 0; v < nv; ++v) {
-      if (v % 3 == 2) {
-        mesh.positions.row(v) << coordinate(random), coordinate(random), coordinate(random);
-      } else {
-        mesh.positions.row(v) << coordinate(random), 0, 0;
-      }
-    }
-    mesh.triangles.resize(nf, 3);
-    for (int f = 0; f < nf; ++f) {
-      mesh.triangles.row(f) << vertex(random), vertex(random), vertex(random);
-    }
+    const Mesh mesh = random_soup(random, 5 + trial % 8, 2 + trial % 30, true);
     SCOPED_TRACE("trial " + std::to_string(trial));
     const RepairResult r = repair_mesh(mesh);
     expect_maps_consistent(mesh, r);
@@ -526,20 +532,9 @@ TEST(RepairMesh, OptionsSwitchStepsOff) {
 // maps must hold, and a second repair (without welding) must leave the mesh as it is.
 TEST(RepairMesh, RandomSoupsComeOutManifoldAndOriented) {
   std::mt19937 random(5);
-  std::uniform_real_distribution<double> coordinate(-1, 1);
   int non_orientable = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    const int nv = 4 + trial % 9, nf = 1 + trial % 40;
-    std::uniform_int_distribution<int> vertex(0, nv - 1);
-    Mesh mesh;
-    mesh.positions.resize(nv, 3);
-    for (int v = 0; v < nv; ++v) {
-      mesh.positions.row(v) << coordinate(random), coordinate(random), coordinate(random);
-    }
-    mesh.triangles.resize(nf, 3);
-    for (int f = 0; f < nf; ++f) {
-      mesh.triangles.row(f) << vertex(random), vertex(random), vertex(random);
-    }
+    const Mesh mesh = random_soup(random, 4 + trial % 9, 1 + trial % 40, false);
     SCOPED_TRACE("trial " + std::to_string(trial));
     const RepairResult r = repair_mesh(mesh);
     expect_maps_consistent(mesh, r);
