@@ -215,15 +215,20 @@ FlowInput flow_input(const ParamResult& param) {
 
 }  // namespace
 
-CommonRefinement common_refinement(const ParamResult& param,
+CommonRefinement common_refinement(const MeshParamResult& param,
                                    const CommonRefinementOptions& options) {
-  const auto started = Clock::now();
   if (!param.components.empty()) {
     throw InvalidInput(
         "common_refinement: the parameterization covers " +
         std::to_string(param.components.size()) +
         " components; take the refinement of each one's own result (components[c].param)");
   }
+  return common_refinement(static_cast<const ParamResult&>(param), options);
+}
+
+CommonRefinement common_refinement(const ParamResult& param,
+                                   const CommonRefinementOptions& options) {
+  const auto started = Clock::now();
   if (!param.converged) {
     throw InvalidInput("common_refinement: the parameterization did not converge" +
                        (param.message.empty() ? std::string() : ": " + param.message));
