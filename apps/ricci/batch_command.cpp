@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "batch_mpi.hpp"
-#include "commands.hpp"
+#include "param_command.hpp"
 #include "ricci/batch/batch.hpp"
 #include "ricci/errors.hpp"
 #ifdef RICCI_HAVE_RENDER
@@ -191,6 +191,12 @@ int run_batch_command(BatchArgs& args, const CLI::App& command, const std::strin
     print_summary(result, args.output, picture);
   }
   return result.all_ok ? kOk : kSomeFailed;
+}
+
+Subcommand add_batch_command(CLI::App& app, const std::string& argv0) {
+  auto args = std::make_shared<BatchArgs>();
+  CLI::App* cmd = add_batch_subcommand(app, *args);
+  return {cmd, [args, cmd, argv0] { return run_batch_command(*args, *cmd, argv0); }};
 }
 
 }  // namespace ricci::cli

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "commands.hpp"
+
 namespace CLI {
 class App;
 }  // namespace CLI
@@ -32,5 +34,7 @@ CLI::App* add_batch_subcommand(CLI::App& app, BatchArgs& args);
 /// is Ok, kSomeFailed otherwise.
 /// \param argv0 the program's own argv[0] (used when /proc/self/exe cannot be read)
 int run_batch_command(BatchArgs& args, const CLI::App& command, const std::string& argv0);
+/// `ricci batch` as a Subcommand of the program; \param argv0 as for run_batch_command.
+Subcommand add_batch_command(CLI::App& app, const std::string& argv0);
 
 }  // namespace ricci::cli

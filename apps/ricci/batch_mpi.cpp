@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "commands.hpp"
+#include "param_command.hpp"
 #include "ricci/errors.hpp"
 
 #ifdef RICCI_HAVE_MPI

@@ -5,11 +5,11 @@
 #include <nlohmann/json.hpp>
 
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/mesh/info.hpp"
 #include "ricci/mesh/repair.hpp"
-#include "ricci/param/refinement/common_refinement.hpp"
-#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/sphere/sphere.hpp"
 #include "ricci/spline/manifold_spline.hpp"
 

@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <set>
 
-#include "commands.hpp"
+#include "param_command.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::cli {

@@ -325,4 +325,16 @@ void write_manifold_spline_pictures(const std::string& folder, const SplineResul
   std::cerr << "\n";
 }
 
+Subcommand add_render_command(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* cmd = add_render_subcommand(app, *args);
+  return {cmd, [args] { return run_render(*args); }};
+}
+
+Subcommand add_view_command(CLI::App& app) {
+  auto args = std::make_shared<ViewArgs>();
+  CLI::App* cmd = add_view_subcommand(app, *args);
+  return {cmd, [args] { return run_view(*args); }};
+}
+
 }  // namespace ricci::cli

@@ -8,10 +8,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "commands.hpp"
 #include "input_options.hpp"
-#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/spline/manifold_spline.hpp"
 
 namespace ricci::cli {
@@ -50,6 +51,11 @@ struct ViewArgs {
 CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args);
 
 int run_view(const ViewArgs& args);
+
+/// `ricci render` as a Subcommand of the program.
+Subcommand add_render_command(CLI::App& app);
+/// `ricci view` as a Subcommand of the program.
+Subcommand add_view_command(CLI::App& app);
 
 /// `param --pictures DIR`: writes the pictures of a parameterization into DIR and says so on
 /// stderr; view.html (the web viewer, titled with `input`'s file name) shows `refinement` when

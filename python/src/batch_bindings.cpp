@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "commands.hpp"
+#include "param_command.hpp"
 #include "ricci/batch/batch.hpp"
 #include "ricci/errors.hpp"
 

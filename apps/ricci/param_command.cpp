@@ -1,4 +1,5 @@
-#include "commands.hpp"
+// `ricci param`: the run of the parameterization command (its options: param_options.cpp).
+#include "param_command.hpp"
 
 #include <unistd.h>
 
@@ -15,20 +16,16 @@
 #include <optional>
 #include <sstream>
 
+#include "command_support.hpp"
 #include "fixes.hpp"
 #include "json_output.hpp"
 #include "progress.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
-#include "ricci/mesh/generate.hpp"
-#include "ricci/mesh/hard_cases.hpp"
-#include "ricci/mesh/info.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/param/output_mesh.hpp"
 #include "ricci/param/parameterize.hpp"
-#include "ricci/sphere/sphere.hpp"
-#include "ricci/spline/manifold_spline.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
 #include "ricci/render/textured_files.hpp"
@@ -37,356 +34,6 @@
 namespace ricci::cli {
 namespace {
 
-/// Refuses to write a result over one of the inputs.
-void check_output_is_not_input(const std::string& output, const std::vector<std::string>& inputs) {
-  std::error_code ec;
-  if (!std::filesystem::exists(output, ec)) return;
-  for (const std::string& input : inputs) {
-    if (!input.empty() && std::filesystem::exists(input, ec) &&
-        std::filesystem::equivalent(output, input, ec)) {
-      throw InvalidInput(output + ": the output would overwrite the input " + input +
-                         "; choose another -o");
-    }
-  }
-}
-
-/// Topological counts are -1 where defects leave them undefined.
-std::string or_na(int value) {
-  return value >= 0 ? std::to_string(value) : "n/a (not a manifold surface)";
-}
-
-void print_warnings(const ReadResult& read) {
-  for (const std::string& w : read.warnings) std::cerr << "warning: " << w << "\n";
-}
-
-/// The "repair" object of the JSON reports: what changed, and the mode that repaired.
-nlohmann::json repair_json(const ReadResult& read, const InputArgs& input) {
-  nlohmann::json j = to_json(read.repair);
-  j["mode"] = repair_mode_name(repair_mode(input));
-  return j;
-}
-
-/// File vertex index -> mesh vertex index (-1 for vertices the reader dropped).
-std::vector<int> inverse_map(const std::vector<int>& vertex_map) {
-  int top = -1;
-  for (int v : vertex_map) top = std::max(top, v);
-  std::vector<int> inverse(top + 1, -1);
-  for (std::size_t i = 0; i < vertex_map.size(); ++i) inverse[vertex_map[i]] = static_cast<int>(i);
-  return inverse;
-}
-
-std::vector<Cone> read_cones(const std::string& spec) {
-  if (spec.empty()) return {};
-  if (std::filesystem::is_regular_file(spec)) return read_cone_file(spec);
-  if (spec.find(':') == std::string::npos) {
-    throw InvalidInput(
-        "--cones: '" + spec +
-        "' is neither a file nor a list VERTEX:CURVATURE,... (e.g. 12:pi/2,40:pi/2)");
-  }
-  return parse_cone_list(spec);
-}
-
-/// Runs a pipeline with the progress display the flags ask for (into `flow.progress`); an
-/// InvalidInput gets the mesh's name in front.
-template <class Run>
-auto run_with_progress(const std::string& mesh, bool progress_flag, bool json, const char* what,
-                       FlowOptions& flow, Run run) {
-  const ProgressStyle progress = choose_progress_style(progress_flag, json);
-  flow.progress = make_progress(progress, what, flow.tolerance);
-  try {
-    auto result = run();
-    finish_progress(progress);
-    return result;
-  } catch (const TopologyError& e) {
-    finish_progress(progress);
-    throw TopologyError(mesh + ": " + e.what());
-  } catch (const InvalidInput& e) {
-    finish_progress(progress);
-    throw InvalidInput(mesh + ": " + e.what(), e.fixes());  // the fixes stay
-  }
-}
-
-/// Adds input, output and repair to a report and writes it where --report asks; when the flow
-/// did not converge says why on stderr. Returns whether it converged.
-bool finish_report(const std::string& mesh, const std::string& output,
-                   const std::string& report_path, const ReadResult& read, const InputArgs& input,
-                   nlohmann::json& report, bool converged, const std::string& why) {
-  report["input"] = mesh;
-  report["output"] = output;
-  if (read.repaired) report["repair"] = repair_json(read, input);
-  if (!report_path.empty()) {
-    write_file_atomically(report_path, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
-  }
-  if (!converged) std::cerr << "error: " << mesh << ": " << why << "\n";
-  return converged;
-}
-
-/// --cones of param and spline: auto, N, none, one, or 'V:K,...' / a file (file vertex indices).
-void apply_cones_option(const std::string& c, const std::string& mesh, const ReadResult& read,
-                        ParamOptions& options) {
-  // The modes by name, from their one table (param/parameterize.hpp); "user" is not a name
-  // here: the user's cones are given as a list or a file.
-  const std::optional<ConeMode> named = find_enum<ConeMode>(c);
-  if (named && *named != ConeMode::User) {
-    options.cone_mode = *named;
-  } else if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos) {
-    options.cone_mode = ConeMode::Auto;
-    options.auto_cones.count = std::stoi(c);
-    if (options.auto_cones.count < 1) throw InvalidInput("--cones: a cone count must be >= 1");
-  } else {
-    options.cone_mode = ConeMode::User;
-    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
-    for (Cone cone : read_cones(c)) {
-      if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
-        throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) +
-                           " is not a vertex of " + mesh + " used by any face");
-      }
-      cone.vertex = to_mesh[cone.vertex];
-      options.cones.push_back(cone);
-    }
-  }
-}
-
-}  // namespace
-
-int run_info(const InfoArgs& args) {
-  // info reports every defect instead of stopping at the first; in the auto mode it describes
-  // the file as it is, and what the other commands' repair would make of it.
-  const RepairMode mode = repair_mode(args.input);
-  ReadResult read;
-  if (mode == RepairMode::Auto) {
-    ReadOptions as_it_is;
-    as_it_is.validate = false;
-    read = read_mesh(args.mesh, as_it_is);
-  } else {
-    read = read_input(args.mesh, args.input, false);
-  }
-  const MeshInfo info = mesh_info(read.mesh);
-  // The auto mode's preview: what repair changes, and the defects it leaves.
-  std::optional<ReadResult> preview;
-  std::optional<ValidationReport> after;
-  if (mode == RepairMode::Auto && !info.validation.ok()) {
-    ReadOptions repairing;
-    repairing.validate = false;
-    repairing.repair = true;
-    preview = read_mesh(args.mesh, repairing);
-    after = find_defects(preview->mesh);
-  }
-  if (args.json) {
-    nlohmann::json j = to_json(info);
-    j["file"] = args.mesh;
-    j["warnings"] = read.warnings;
-    j["dropped_vertices"] = read.dropped_vertices.size();
-    if (read.repaired) j["repair"] = repair_json(read, args.input);
-    if (mode == RepairMode::Auto) {
-      nlohmann::json would = {{"would_repair", preview.has_value()}};
-      if (preview) {
-        would["valid_after"] = after->ok();
-        would["repair"] = to_json(preview->repair);
-        nlohmann::json left = nlohmann::json::object();
-        for (const auto& [kind, count] : after->counts) {
-          if (kind != DefectKind::UnreferencedVertex) left[defect_name(kind)] = count;
-        }
-        would["defects_after"] = left;
-      }
-      j["auto_repair"] = would;
-    }
-    std::cout << j.dump(2) << "\n";
-  } else {
-    print_warnings(read);
-    std::cout << args.mesh << "\n"
-              << "  vertices             " << info.vertices;
-    if (!read.dropped_vertices.empty()) {
-      std::cout << " (" << read.dropped_vertices.size() << " unreferenced dropped)";
-    }
-    std::cout << "\n  edges                " << or_na(info.edges) << "\n"
-              << "  faces                " << info.faces << "\n"
-              << "  components           " << or_na(info.components) << "\n"
-              << "  boundary loops       " << or_na(info.boundary_loops) << "\n"
-              << "  Euler characteristic " << or_na(info.euler_characteristic) << "\n"
-              << "  genus                " << or_na(info.genus) << "\n"
-              << "  smallest angle       " << std::setprecision(4) << info.min_angle_degrees
-              << " deg\n"
-              << "  largest angle        " << info.max_angle_degrees << " deg\n";
-    if (info.component_info.size() > 1) {
-      for (std::size_t c = 0; c < info.component_info.size(); ++c) {
-        const ComponentInfo& ci = info.component_info[c];
-        std::cout << "  component " << c << ": V " << ci.vertices << ", F " << ci.faces
-                  << ", boundary loops " << ci.boundary_loops << ", chi " << ci.euler_characteristic
-                  << ", genus " << ci.genus << "\n";
-      }
-    }
-    if (info.validation.defects.empty()) {
-      std::cout << "  defects              none\n";
-    } else {
-      std::cout << "  defects:\n";
-      for (const auto& [kind, count] : info.validation.counts) {
-        std::cout << "    " << defect_name(kind) << ": " << count << "\n";
-      }
-      for (const Defect& d : info.validation.defects) std::cout << "    - " << d.message << "\n";
-    }
-    if (preview && after->ok()) {
-      std::cout << "  repair:              the other commands repair this mesh (their default "
-                   "--repair=auto; --strict refuses it), and it is valid afterwards ("
-                << preview->mesh.num_vertices() << " vertices, " << preview->mesh.num_faces()
-                << " faces):\n";
-    } else if (preview) {
-      std::cout << "  repair:              repair leaves defects, so the other commands refuse "
-                   "this mesh:\n";
-    }
-    if (preview) {
-      for (const std::string& m : preview->repair.messages) std::cout << "    - " << m << "\n";
-      for (const Defect& d : after->defects) {
-        if (d.kind == DefectKind::UnreferencedVertex) continue;
-        std::cout << "    - after repair: " << d.message << "\n";
-        break;
-      }
-    }
-  }
-  return info.validation.ok() ? kOk : kBadInput;
-}
-
-int run_flow(const FlowArgs& args) {
-  MeshFlowOptions options;
-  options.structure.scheme = parse_scheme(args.scheme);
-  options.structure.geometry = parse_geometry(args.geometry);
-  const bool hyperbolic = options.structure.geometry == Geometry::Hyperbolic;
-  options.structure.packing_init = parse_enum<PackingInit>(args.init, "--init");
-  options.flow.solver = parse_flow_solver(args.solver);
-  options.flow.flips = parse_edge_flips(args.flips);
-  options.flow.tolerance = args.tolerance;
-  options.flow.max_iterations = args.max_iterations;
-  options.flow.gradient_step = args.step;
-  if (!args.output.empty()) {
-    check_output_is_not_input(args.output, {args.mesh, args.cones, args.target});
-  }
-
-  const ReadResult read = read_input(args.mesh, args.input);
-  print_warnings(read);
-  const Mesh& mesh = read.mesh;
-
-  TargetSpec& spec = options.target;
-  spec.boundary = !args.boundary.empty() ? parse_boundary_mode(args.boundary)
-                  : hyperbolic           ? BoundaryMode::Geodesic
-                                         : BoundaryMode::Free;
-  if (args.target == "natural") {
-    spec.kind = TargetKind::Natural;
-  } else if (args.target == "flat") {
-    spec.kind = TargetKind::Flat;
-  } else if (args.target == "free" || args.target == "disk" || args.target == "disk-length" ||
-             args.target == "geodesic") {
-    spec.kind = TargetKind::Flat;
-    spec.boundary = parse_boundary_mode(args.target);
-  } else if (args.target == "uniform") {
-    spec.kind = TargetKind::Uniform;
-  } else if (std::filesystem::is_regular_file(args.target)) {
-    // Values are listed per vertex of the file; drop the rows of unreferenced vertices.
-    const Eigen::VectorXd file_values = read_values_file(args.target);
-    const auto file_vertices = static_cast<Eigen::Index>(read.file_vertices);
-    const bool per_file_vertex = file_values.size() == file_vertices;
-    if (!per_file_vertex && file_values.size() != mesh.num_vertices()) {
-      throw InvalidInput(args.target + ": " + std::to_string(file_values.size()) +
-                         " curvature values for the " + std::to_string(file_vertices) +
-                         " vertices of " + args.mesh);
-    }
-    spec.kind = TargetKind::Values;
-    spec.values.resize(mesh.num_vertices());
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      spec.values[v] = file_values[per_file_vertex ? read.vertex_map[v] : v];
-    }
-  } else {
-    throw InvalidInput("--target: '" + args.target +
-                       "' is neither natural, flat, free, disk, disk-length, geodesic, uniform "
-                       "nor a file of per-vertex curvatures");
-  }
-  // Cone vertices are numbered as in the file (0-based).
-  const std::vector<int> to_mesh = inverse_map(read.vertex_map);
-  for (Cone cone : read_cones(args.cones)) {
-    if (cone.vertex >= static_cast<int>(to_mesh.size()) || to_mesh[cone.vertex] < 0) {
-      throw InvalidInput("--cones: vertex " + std::to_string(cone.vertex) + " is not a vertex of " +
-                         args.mesh + " used by any face");
-    }
-    cone.vertex = to_mesh[cone.vertex];
-    spec.cones.push_back(cone);
-  }
-  if (!spec.cones.empty() && spec.kind != TargetKind::Flat && spec.kind != TargetKind::Natural) {
-    throw InvalidInput(
-        "--cones needs a flat target (--target flat, free, disk, disk-length or geodesic)");
-  }
-
-  options.vertex_labels = read.vertex_map;  // messages number vertices as the file does
-  const MeshFlowResult result = [&] {
-    try {
-      return run_with_progress(args.mesh, args.progress, args.json, "flow", options.flow,
-                               [&] { return flow_mesh(mesh, options); });
-    } catch (const InvalidInput& e) {
-      // Gauss-Bonnet's refusal names the natural and uniform targets, but with --cones the
-      // natural target is flat with those cones and the uniform one takes none: dropping the
-      // cones is the fix where the target is the natural one, and no single option otherwise.
-      const bool names_target =
-          std::any_of(e.fixes().begin(), e.fixes().end(),
-                      [](const OptionFix& f) { return f.option == "target"; });
-      if (spec.cones.empty() || !names_target) throw;
-      throw InvalidInput(e.what(), args.target == "natural" ? fixes_of({{"cones", ""}})
-                                                            : std::vector<OptionFix>{});
-    }
-  }();
-
-  nlohmann::json summary = flow_summary(result, options);
-  summary["input"] = args.mesh;
-  summary["warnings"] = read.warnings;
-  if (read.repaired) summary["repair"] = repair_json(read, args.input);
-  if (!args.output.empty()) {
-    nlohmann::json full = summary;
-    full["vertex_data"] = flow_arrays(result, read.vertex_map);
-    write_file_atomically(args.output, [&](std::ostream& out) { out << full.dump(1) << "\n"; });
-  }
-  if (args.json) {
-    std::cout << summary.dump(2) << "\n";
-  } else {
-    std::cout << args.mesh << ": " << (result.converged ? "converged" : "NOT converged")
-              << ", max |K-bar - K| = " << std::scientific << std::setprecision(3)
-              << result.max_error << std::defaultfloat << " ("
-              << scheme_name(options.structure.scheme) << ", " << (hyperbolic ? "hyperbolic, " : "")
-              << flow_solver_name(options.flow.solver) << ", " << result.target.description
-              << ")\n";
-    if (scheme_traits(options.structure.scheme).circle_packing) {
-      std::cout << "  initial packing fits the input lengths with RMS relative error "
-                << std::setprecision(3) << result.structure.fit_rms_relative_error << " (max "
-                << result.structure.fit_max_relative_error << ")" << std::defaultfloat << "\n";
-    }
-    if (hyperbolic) {
-      std::cout << "  input lengths scaled by " << std::setprecision(6)
-                << result.structure.structure.length_scale << std::defaultfloat
-                << " and read as hyperbolic lengths\n";
-    }
-    for (std::size_t c = 0; c < result.components.size(); ++c) {
-      const ComponentFlow& comp = result.components[c];
-      if (hyperbolic) {
-        // Gauss-Bonnet in curvature -1: area = sum K - 2 pi chi.
-        std::cout << "  component " << c << ": hyperbolic area " << std::setprecision(12)
-                  << comp.flow.total_area << " = sum K - 2 pi chi up to " << std::setprecision(2)
-                  << comp.flow.gauss_bonnet_relative_error << " (relative)" << std::defaultfloat
-                  << "\n";
-      }
-      std::cout << "  component " << c << " (" << comp.vertices.size() << " vertices, genus "
-                << comp.genus << ", " << comp.boundary_loops
-                << " boundary loops): " << comp.flow.iterations << " iterations, "
-                << (comp.flow.intrinsic.flips() > 0
-                        ? std::to_string(comp.flow.intrinsic.flips()) + " edges flipped, "
-                        : "")
-                << std::fixed << std::setprecision(3) << comp.flow.timings.total
-                << " s: " << cli::message_with_fixes(comp.flow.message, comp.flow.fixes)
-                << std::defaultfloat << "\n";
-    }
-    if (!args.output.empty()) std::cout << "  wrote " << args.output << "\n";
-  }
-  return result.converged ? kOk : kNotConverged;
-}
-
-namespace {
-
-/// `param --geometry hyperbolic`: the uniformization metric laid out in the Poincare disk.
 /// The files `param --faces refinement` writes beside -o (docs/parameterization.md).
 struct RefinementFiles {
   std::string linear, vertex_map, matrix;
@@ -568,6 +215,7 @@ void warn_about_hyperbolic_layout(const std::string& mesh, const HyperbolicParam
   }
 }
 
+/// `param --geometry hyperbolic`: the uniformization metric laid out in the Poincare disk.
 int run_param_hyperbolic(const ParamArgs& args) {
   HyperbolicParamOptions options;
   if (args.faces != "input") {
@@ -719,8 +367,6 @@ void print_components(const ParamArgs& args, const MeshParamResult& result) {
   if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
 }
 
-}  // namespace
-
 /// --fault: the failures a batch must survive, on demand (tests of `ricci batch`).
 void inject_fault(const std::string& fault) {
   if (fault.empty()) return;
@@ -749,6 +395,8 @@ void inject_fault(const std::string& fault) {
   }
   throw InvalidInput("--fault: unknown fault '" + fault + "' (segv, abort, hang, alloc, solver)");
 }
+
+}  // namespace
 
 int run_param(const ParamArgs& args) {
   inject_fault(args.fault);
@@ -925,155 +573,10 @@ int run_param(const ParamArgs& args) {
   return result.converged && !folds ? kOk : kNotConverged;
 }
 
-int run_spline(const SplineArgs& args) {
-  SplineOptions options;
-  options.refine = args.refine;
-  options.smoothness = args.smoothness;
-  options.param.flow.tolerance = args.tolerance;
-  options.param.structure.scheme = parse_scheme(args.scheme);
-  options.param.flow.flips = parse_edge_flips(args.flips);
-  check_output_is_not_input(args.output, {args.mesh, args.cones});
-  if (!args.control_net.empty()) {
-    check_output_is_not_input(args.control_net, {args.mesh, args.cones, args.output});
-  }
-  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
-  const ReadResult read = read_input(args.mesh, args.input);
-  print_warnings(read);
-  if (!args.cones.empty()) {
-    options.choose_cone_mode = false;
-    apply_cones_option(args.cones, args.mesh, read, options.param);
-  }
-  const SplineResult result =
-      run_with_progress(args.mesh, args.progress, args.json, "spline", options.param.flow,
-                        [&] { return fit_manifold_spline(read.mesh, options); });
-  nlohmann::json report = spline_report(result, options);
-  if (!args.control_net.empty()) report["control_net_file"] = args.control_net;
-  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report,
-                     result.converged, result.message)) {
-    return kNotConverged;
-  }
-  write_obj(args.output, result.surface);
-  if (!args.control_net.empty()) write_obj(args.control_net, result.control_net);
-#ifdef RICCI_HAVE_RENDER
-  write_manifold_spline_pictures(args.pictures, result);
-#endif
-  if (args.json) {
-    std::cout << report.dump(2) << "\n";
-  } else {
-    const SplineError& e = result.error;
-    if (!result.parameterization_note.empty()) {
-      std::cout << "  note: " << result.parameterization_note << "\n";
-    }
-    std::cout << args.mesh << " -> " << args.output << "\n"
-              << "  cones " << result.param.cones.size() << ", surface "
-              << result.surface.num_faces() << " faces (refine " << options.refine
-              << "), control net " << result.control_net.num_vertices() << " points\n"
-              << "  error / bbox diagonal: distance max " << e.max_distance << " rms "
-              << e.rms_distance << ", parametric max " << e.max_parametric << " rms "
-              << e.rms_parametric << "\n"
-              << "  C1 jumps (relative): value " << result.continuity.relative_value_jump
-              << ", gradient " << result.continuity.relative_gradient_jump << ", " << result.seconds
-              << " s\n";
-    if (!args.control_net.empty()) std::cout << "  wrote " << args.control_net << "\n";
-    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
-  }
-  return kOk;
-}
-
-int run_sphere(const SphereArgs& args) {
-  SphereOptions options;
-  options.structure.scheme = parse_scheme(args.scheme);
-  options.flow.tolerance = args.tolerance;
-  options.flow.flips = parse_edge_flips(args.flips);
-  options.untangle = args.untangle;
-  check_output_is_not_input(args.output, {args.mesh});
-  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh});
-
-  const ReadResult read = read_input(args.mesh, args.input);
-  print_warnings(read);
-  if (args.pole >= 0) {
-    const std::vector<int> to_mesh = inverse_map(read.vertex_map);
-    if (args.pole >= static_cast<int>(to_mesh.size()) || to_mesh[args.pole] < 0) {
-      throw InvalidInput("--pole: vertex " + std::to_string(args.pole) + " is not a vertex of " +
-                         args.mesh + " used by any face");
-    }
-    options.pole = to_mesh[args.pole];
-  }
-  const SphereResult result =
-      run_with_progress(args.mesh, args.progress, args.json, "sphere", options.flow,
-                        [&] { return sphere_map(read.mesh, options); });
-  nlohmann::json report = sphere_report(result, options);
-  report["pole_file_index"] = read.vertex_map[result.pole];
-  // The library's fixes name mesh vertices; --pole takes the file's.
-  std::vector<OptionFix> fixes = result.fixes;
-  for (OptionFix& fix : fixes) {
-    if (fix.option == "pole") fix.value = std::to_string(read.vertex_map[std::stoi(fix.value)]);
-  }
-  std::string why = cli::message_with_fixes(result.message, fixes);
-  if (result.converged && !result.valid) {
-    // No option of sphere helps a map that inverts faces after untangling, or a limb squeezed
-    // below double resolution; a cut parameterization with cones shrinks no limb.
-    why += "\n  try: ricci param " + args.mesh + " -o OUT.obj (a parameterization with cones)";
-  }
-  if (!finish_report(args.mesh, args.output, args.report, read, args.input, report, result.valid,
-                     why)) {
-    return kNotConverged;
-  }
-  Mesh sphere;
-  sphere.positions = result.positions;
-  sphere.triangles = read.mesh.triangles;
-  write_obj(args.output, sphere);
-  if (args.json) {
-    std::cout << report.dump(2) << "\n";
-  } else {
-    std::cout << args.mesh << " -> " << args.output << "\n"
-              << "  pole " << read.vertex_map[result.pole] << ", flow "
-              << result.flow.components.front().flow.iterations << " iterations, centring "
-              << result.centre_iterations << " steps (|centre| " << result.centre_of_mass << ")\n"
-              << "  inverted faces " << result.inverted_faces << ", area - 4 pi "
-              << result.spherical_area - 4 * std::numbers::pi << ", angle distortion mean "
-              << result.angle_distortion_mean << " max " << result.angle_distortion_max
-              << ", log area [" << result.log_area_min << ", " << result.log_area_max << "]\n"
-              << "  precision " << result.precision_bits << " bits (smallest altitude: plane "
-              << result.min_plane_altitude << ", sphere " << result.min_sphere_altitude << "), "
-              << result.unresolved_faces << " faces below double resolution, " << result.seconds
-              << " s\n";
-    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
-  }
-  return kOk;
-}
-
-int run_generate(const GenerateArgs& args) {
-  const int r = args.resolution;
-  Mesh mesh;
-  if (args.kind == "tetrahedron") {
-    mesh = make_tetrahedron(1.0);
-  } else if (args.kind == "icosphere") {
-    mesh = make_icosphere(r > 0 ? r : 3);
-  } else if (args.kind == "disk") {
-    mesh = make_disk(r > 0 ? r : 16, 0.5);
-  } else if (args.kind == "torus") {
-    mesh = make_torus(r > 0 ? 2 * r : 64, r > 0 ? r : 32);
-  } else if (args.kind == "surface") {
-    mesh = args.holes > 0 ? make_surface_with_holes(args.genus, args.holes, r > 0 ? r : 24)
-                          : make_closed_surface(args.genus, r > 0 ? r : 24);
-  } else if (args.kind == "cad-cylinder") {
-    mesh = make_cad_cylinder(r > 0 ? r : 360);
-  } else if (args.kind == "cad-ring") {
-    mesh = make_cad_ring(r > 0 ? r : 360);
-  } else if (args.kind == "fingers") {
-    mesh = make_ball_with_fingers(args.fingers, args.finger_length, r > 0 ? r : 16);
-  } else {
-    throw InvalidInput("generate: unknown kind '" + args.kind +
-                       "'; expected tetrahedron, icosphere, disk, torus, surface, cad-cylinder, "
-                       "cad-ring or fingers");
-  }
-  if (args.valence3) mesh = split_faces_near_corner(mesh, 0.05, 0.05, 3);
-  if (args.needles > 0) mesh = pull_vertices_to_neighbours(mesh, args.needles, 1, 2);
-  write_obj(args.output, mesh);
-  std::cout << "wrote " << args.output << ": " << mesh.num_vertices() << " vertices, "
-            << mesh.num_faces() << " faces\n";
-  return kOk;
+Subcommand add_param_command(CLI::App& app) {
+  auto args = std::make_shared<ParamArgs>();
+  CLI::App* cmd = add_param_subcommand(app, *args);
+  return {cmd, [args] { return run_param(*args); }};
 }
 
 }  // namespace ricci::cli

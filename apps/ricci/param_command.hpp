@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// `ricci param`: its arguments, its options (param_options.cpp, also read by `batch` to check the
+/// options it passes on) and its run (param_command.cpp).
+
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "input_options.hpp"
+#include "ricci/param/cones/cones.hpp"
+
+namespace ricci::cli {
+
+struct ParamArgs {
+  std::string mesh;
+  InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
+  std::string output;
+  std::string cones = "needed";
+  std::string boundary = "free";
+  std::string scheme = "vertex-scaling";
+  std::string flips = "auto";
+  std::string report;
+  bool quantize = false;
+  double max_log_scale = 1.0;
+  int max_cones = 0;
+  double cone_smoothness = ConeSelectionOptions{}.smoothness;
+  std::string polish = "angles";  ///< --polish: "angles" (PolishOptions) or "none"
+  /// --fold-free: "charts" (untangle, then charts where the exact map still fails), "untangle"
+  /// (untangle only) or "none" (the exact map as it is): FoldFreeOptions.
+  std::string fold_free = "charts";
+  double tolerance = 1e-12;
+  bool json = false;
+  bool progress = false;
+  std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
+  std::string geometry = "euclidean";
+  /// --faces: "input" (the input's faces, linear uv) or "refinement" (the common refinement
+  /// with homogeneous uv, ricci/param/refinement/common_refinement.hpp, and its companion files)
+  std::string faces = "input";
+  double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
+  /// --texture: "checker" (STEM.png beside the OBJ), "none" (no material), or an image file
+  std::string texture = "checker";
+  std::string format;  ///< --format: obj or glb; empty: from -o's extension
+  /// --fault (hidden; honoured only when RICCI_FAULT_INJECTION=1): segv, abort, hang or alloc,
+  /// the failures `ricci batch` must survive, injected for its tests.
+  std::string fault;
+};
+/// Registers `param` and its options on app (also used by `batch` to check the options it
+/// passes on).
+CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param);
+/// What `ricci batch` and `ricci.batch` check before running anything: every option is one that
+/// `ricci param` parses, and none is one that batch sets itself (-o, --report, --json,
+/// --progress, --pictures). \param where names their origin in the message; \param outputs
+/// names where the outputs go ("the -o folder"). \throw InvalidInput naming the option
+void check_param_options(const std::vector<std::string>& options, const std::string& where,
+                         const std::string& outputs);
+int run_param(const ParamArgs& args);
+/// `ricci param` as a Subcommand of the program.
+Subcommand add_param_command(CLI::App& app);
+
+}  // namespace ricci::cli
