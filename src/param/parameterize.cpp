@@ -76,8 +76,13 @@ std::string describe(const ComponentParam& c, int index) {
          " boundary loops)";
 }
 
+/// How far (radians) a vertex's angle in the layout may be from the flat metric's: the sum of
+/// its corners' atan2 angles carries rounding of ~1e-12 per corner, while a vertex wrapped twice
+/// is off by 2 pi; 1e-6 is far from both.
+constexpr double kVertexAngleTolerance = 1e-6;
+
 /// Interior vertices whose layout angle (over the corners of all their copies) is not the flat
-/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to the checker's 1e-6).
+/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to kVertexAngleTolerance).
 int vertices_off_their_angle(const ParamResult& p) {
   const Mesh& mesh = p.mesh;
   const int nv = mesh.num_vertices();
@@ -107,7 +112,9 @@ int vertices_off_their_angle(const ParamResult& p) {
   }
   int off = 0;
   for (int v = 0; v < nv; ++v) {
-    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > 1e-6 && angle[v] != 0) ++off;
+    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > kVertexAngleTolerance &&
+        angle[v] != 0)
+      ++off;
   }
   return off;
 }
