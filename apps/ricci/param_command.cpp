@@ -396,12 +396,8 @@ void inject_fault(const std::string& fault) {
   throw InvalidInput("--fault: unknown fault '" + fault + "' (segv, abort, hang, alloc, solver)");
 }
 
-}  // namespace
-
-int run_param(const ParamArgs& args) {
-  inject_fault(args.fault);
-  check_texture_options(args);
-  if (parse_geometry(args.geometry) == Geometry::Hyperbolic) return run_param_hyperbolic(args);
+/// The library's options from param's arguments (the cones wait for the mesh: apply_cones_option).
+ParamOptions param_options(const ParamArgs& args) {
   ParamOptions options;
   options.structure.scheme = parse_scheme(args.scheme);
   options.boundary = parse_boundary_mode(args.boundary);
@@ -412,39 +408,150 @@ int run_param(const ParamArgs& args) {
   options.flow.tolerance = args.tolerance;
   options.flow.flips = parse_edge_flips(args.flips);
   options.packing.gutter = args.gutter;
-  check_output_is_not_input(args.output, {args.mesh, args.cones});
-  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
   const bool refinement = args.faces == "refinement";
   // The common refinement places the input's vertices where the flat metric puts them.
   options.polish.enabled = args.polish == "angles" && !refinement;
   // The refinement is the exact map itself, fold-free without moving a vertex.
   options.fold_free.untangle = args.fold_free != "none" && !refinement;
   options.fold_free.charts = args.fold_free == "charts" && !refinement;
-  const RefinementFiles files = refinement_files(args.output);
-  if (refinement) {
-    if (!scheme_traits(options.structure.scheme).ptolemy_flips) {
-      throw InvalidInput(
-          "--faces refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
-          "conformal class); add --scheme vertex-scaling");
-    }
-    for (const std::string& path : {files.linear, files.vertex_map, files.matrix}) {
-      check_output_is_not_input(path, {args.mesh, args.cones, args.output});
-    }
+  return options;
+}
+
+/// The checks before any work: no output over an input, and what --faces refinement needs.
+void check_param_outputs(const ParamArgs& args, const ParamOptions& options) {
+  check_output_is_not_input(args.output, {args.mesh, args.cones});
+  if (!args.report.empty()) check_output_is_not_input(args.report, {args.mesh, args.cones});
+  if (args.faces != "refinement") return;
+  if (!scheme_traits(options.structure.scheme).ptolemy_flips) {
+    throw InvalidInput(
+        "--faces refinement: the exact map is that of vertex scaling (Ptolemy flips keep its "
+        "conformal class); add --scheme vertex-scaling");
   }
+  const RefinementFiles files = refinement_files(args.output);
+  for (const std::string& path : {files.linear, files.vertex_map, files.matrix}) {
+    check_output_is_not_input(path, {args.mesh, args.cones, args.output});
+  }
+}
+
+/// --faces refinement is made for one connected component.
+void check_one_component(const ParamArgs& args, const Mesh& mesh) {
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  if (t.components.size() > 1) {
+    throw InvalidInput(args.mesh + ": --faces refinement: the mesh has " +
+                       std::to_string(t.components.size()) +
+                       " connected components, and the common refinement is made for one; "
+                       "leave --faces out for one atlas of them all");
+  }
+}
+
+/// Polygons of more than three corners.
+int proper_polygons(const Polygons& polygons) {
+  int count = 0;
+  for (int p = 0; p < polygons.num_polygons(); ++p) count += polygons.size(p) > 3;
+  return count;
+}
+
+/// Writes the parameterization (or the refinement and its companions) and says on stderr where
+/// the file's polygons could not be kept.
+void write_param_outputs(const ParamArgs& args, const ReadResult& read, const ParamResult& result,
+                         const std::optional<CommonRefinement>& exact) {
+  if (exact) {
+    // The material goes with the linear companion: tools that read `vt u v` would take the
+    // projective file's (u w, v w) for coordinates.
+    ObjMaterial linear_material;
+#ifdef RICCI_HAVE_RENDER
+    if (args.texture != "none") {
+      linear_material.library = write_obj_material(refinement_files(args.output).linear,
+                                                   args.texture == "checker" ? "" : args.texture)
+                                    .library;
+    }
+#endif
+    write_refinement(args.output, args.mesh, result, *exact, read, linear_material);
+    return;
+  }
+  write_textured_output(args, textured_mesh(result));
+  if (!read.polygons.empty() && result.polygons.empty()) {
+    std::cerr << "warning: " << args.mesh << ": edge splits changed the faces, so " << args.output
+              << " holds triangles, not the file's polygons\n";
+  }
+  if (!result.polygons.empty() &&
+      proper_polygons(result.polygons) < proper_polygons(read.polygons)) {
+    std::cerr << "warning: " << args.mesh << ": "
+              << proper_polygons(read.polygons) - proper_polygons(result.polygons)
+              << " polygons have no corner from which the layout sees all of them (a fan from "
+                 "any corner would fold), so "
+              << args.output << " holds each of them as its triangles\n";
+  }
+}
+
+/// The summary of one chart on stdout (and its warnings on stderr).
+void print_chart_summary(const ParamArgs& args, const ParamOptions& options,
+                         const ParamResult& result, const std::optional<CommonRefinement>& exact) {
+  const Distortion& d = result.distortion;
+  std::cout << args.mesh << " -> " << args.output << "\n"
+            << "  cones " << result.cones.size() << " (" << cone_mode_name(options.cone_mode)
+            << "), edge splits " << result.edge_splits << ", cut: " << result.cut.num_generators
+            << " generators, " << result.cut.segments.size() << " segments, seam length "
+            << result.seam_length << "\n"
+            << "  area distortion " << d.area_distortion_energy << ", angle distortion mean "
+            << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
+            << d.flipped_faces << ", layout length error "
+            << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
+  if (!result.polygons.empty()) {
+    std::cout << "  faces: the input's " << result.polygons.num_polygons() << " ("
+              << proper_polygons(result.polygons)
+              << " of more than 3 corners), no seam inside one; the figures above are of "
+                 "their fans as written\n";
+  }
+  if (exact) {
+    const CommonRefinement& c = *exact;
+    const RefinementFiles files = refinement_files(args.output);
+    std::cout << "  refinement " << c.positions.rows() << " vertices, " << c.triangles.rows()
+              << " triangles (" << c.isometric_flips << " isometric and " << c.ptolemy_flips
+              << " Ptolemy flips undone): final lengths along the intrinsic edges to "
+              << c.max_intrinsic_length_error << ", " << c.seconds << " s\n"
+              << "  wrote " << files.linear << ", " << files.vertex_map << ", " << files.matrix
+              << "\n";
+  } else if (result.flow.intrinsic.flips() > 0) {
+    std::cout << "  " << result.flow.intrinsic.flips()
+              << " intrinsic edge flips; the output keeps the input's faces (development "
+                 "mismatch "
+              << result.development_length_mismatch
+              << "; --faces refinement writes the exact map)\n";
+  }
+  if (result.untangle.moved_vertices > 0) {
+    std::cout << "  untangled: " << result.untangle.flipped_before
+              << " faces drawn flipped made positive by moving " << result.untangle.moved_vertices
+              << " vertices (seams, cones and boundary exact), " << result.untangle.seconds
+              << " s\n";
+  }
+  if (d.flipped_faces > 0 && !exact) {
+    // Each vertex sits at its exact image; a face drawn straight between them folds where the
+    // map bends it strongly: needles, or faces next to a strong cone.
+    std::cerr << "warning: " << args.mesh << ": " << d.flipped_faces
+              << " uv triangles are flipped (needle faces, or faces around a cone too strong "
+                 "for its valence, drawn straight between their vertices' exact images)\n"
+              << "  try: --fold-free charts (the default), or --faces refinement (the exact "
+                 "map without folds)\n";
+  }
+  if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+}
+
+}  // namespace
+
+int run_param(const ParamArgs& args) {
+  inject_fault(args.fault);
+  check_texture_options(args);
+  if (parse_geometry(args.geometry) == Geometry::Hyperbolic) return run_param_hyperbolic(args);
+  ParamOptions options = param_options(args);
+  check_param_outputs(args, options);
+  const bool refinement = args.faces == "refinement";
 
   const ReadResult read = read_input(args.mesh, args.input);
   print_warnings(read);
   apply_cones_option(args.cones, args.mesh, read, options);
   options.polygons = read.polygons;
-  if (refinement) {
-    const Topology t = build_topology(read.mesh.triangles, read.mesh.num_vertices());
-    if (t.components.size() > 1) {
-      throw InvalidInput(args.mesh + ": --faces refinement: the mesh has " +
-                         std::to_string(t.components.size()) +
-                         " connected components, and the common refinement is made for one; "
-                         "leave --faces out for one atlas of them all");
-    }
-  }
+  if (refinement) check_one_component(args, read.mesh);
   const MeshParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize(read.mesh, options); });
@@ -456,6 +563,7 @@ int run_param(const ParamArgs& args) {
   std::optional<CommonRefinement> exact;
   if (refinement && result.converged) {
     exact = common_refinement(result);
+    const RefinementFiles files = refinement_files(args.output);
     report["refinement"] = refinement_report(*exact, result);
     report["refinement"]["files"] = {{"projective", args.output},
                                      {"linear", files.linear},
@@ -470,37 +578,7 @@ int run_param(const ParamArgs& args) {
       !several) {
     return kNotConverged;
   }
-  if (exact) {
-    // The material goes with the linear companion: tools that read `vt u v` would take the
-    // projective file's (u w, v w) for coordinates.
-    ObjMaterial linear_material;
-#ifdef RICCI_HAVE_RENDER
-    if (args.texture != "none") {
-      linear_material.library = write_obj_material(refinement_files(args.output).linear,
-                                                   args.texture == "checker" ? "" : args.texture)
-                                    .library;
-    }
-#endif
-    write_refinement(args.output, args.mesh, result, *exact, read, linear_material);
-  } else {
-    write_textured_output(args, textured_mesh(result));
-    if (!read.polygons.empty() && result.polygons.empty()) {
-      std::cerr << "warning: " << args.mesh << ": edge splits changed the faces, so " << args.output
-                << " holds triangles, not the file's polygons\n";
-    }
-    auto proper = [](const Polygons& polygons) {
-      int count = 0;
-      for (int p = 0; p < polygons.num_polygons(); ++p) count += polygons.size(p) > 3;
-      return count;
-    };
-    if (!result.polygons.empty() && proper(result.polygons) < proper(read.polygons)) {
-      std::cerr << "warning: " << args.mesh << ": "
-                << proper(read.polygons) - proper(result.polygons)
-                << " polygons have no corner from which the layout sees all of them (a fan from "
-                   "any corner would fold), so "
-                << args.output << " holds each of them as its triangles\n";
-    }
-  }
+  write_param_outputs(args, read, result, exact);
 #ifdef RICCI_HAVE_RENDER
   write_param_pictures(args.pictures, result, args.mesh, exact ? &*exact : nullptr);
 #endif
@@ -509,55 +587,7 @@ int run_param(const ParamArgs& args) {
   } else if (several) {
     print_components(args, result);
   } else {
-    const Distortion& d = result.distortion;
-    std::cout << args.mesh << " -> " << args.output << "\n"
-              << "  cones " << result.cones.size() << " (" << cone_mode_name(options.cone_mode)
-              << "), edge splits " << result.edge_splits << ", cut: " << result.cut.num_generators
-              << " generators, " << result.cut.segments.size() << " segments, seam length "
-              << result.seam_length << "\n"
-              << "  area distortion " << d.area_distortion_energy << ", angle distortion mean "
-              << d.angle_distortion_mean << " max " << d.angle_distortion_max << ", flipped "
-              << d.flipped_faces << ", layout length error "
-              << result.layout.max_length_relative_error << ", " << result.seconds << " s\n";
-    if (!result.polygons.empty()) {
-      int polygons = 0;
-      for (int p = 0; p < result.polygons.num_polygons(); ++p)
-        polygons += result.polygons.size(p) > 3;
-      std::cout << "  faces: the input's " << result.polygons.num_polygons() << " (" << polygons
-                << " of more than 3 corners), no seam inside one; the figures above are of "
-                   "their fans as written\n";
-    }
-    if (exact) {
-      const CommonRefinement& c = *exact;
-      std::cout << "  refinement " << c.positions.rows() << " vertices, " << c.triangles.rows()
-                << " triangles (" << c.isometric_flips << " isometric and " << c.ptolemy_flips
-                << " Ptolemy flips undone): final lengths along the intrinsic edges to "
-                << c.max_intrinsic_length_error << ", " << c.seconds << " s\n"
-                << "  wrote " << files.linear << ", " << files.vertex_map << ", " << files.matrix
-                << "\n";
-    } else if (result.flow.intrinsic.flips() > 0) {
-      std::cout << "  " << result.flow.intrinsic.flips()
-                << " intrinsic edge flips; the output keeps the input's faces (development "
-                   "mismatch "
-                << result.development_length_mismatch
-                << "; --faces refinement writes the exact map)\n";
-    }
-    if (result.untangle.moved_vertices > 0) {
-      std::cout << "  untangled: " << result.untangle.flipped_before
-                << " faces drawn flipped made positive by moving " << result.untangle.moved_vertices
-                << " vertices (seams, cones and boundary exact), " << result.untangle.seconds
-                << " s\n";
-    }
-    if (d.flipped_faces > 0 && !exact) {
-      // Each vertex sits at its exact image; a face drawn straight between them folds where the
-      // map bends it strongly: needles, or faces next to a strong cone.
-      std::cerr << "warning: " << args.mesh << ": " << d.flipped_faces
-                << " uv triangles are flipped (needle faces, or faces around a cone too strong "
-                   "for its valence, drawn straight between their vertices' exact images)\n"
-                << "  try: --fold-free charts (the default), or --faces refinement (the exact "
-                   "map without folds)\n";
-    }
-    if (!args.report.empty()) std::cout << "  wrote " << args.report << "\n";
+    print_chart_summary(args, options, result, exact);
   }
   // A layout that folds is not a success, whatever the flow did (--fold-free untangle or none
   // leave it as it is; the refinement written beside it is fold-free).

@@ -88,7 +88,7 @@ def cases(boundary_vertex):
              ["src/flow/target.cpp:vertex-bound"],
              ["flow", "ico.obj", "--flips", "off", "--cones", THURSTON_BOUND]),
         Case("flow: cones breaking Gauss-Bonnet",
-             ["src/flow/target.cpp:gauss-bonnet", "apps/ricci/commands.cpp:cones"],
+             ["src/flow/target.cpp:gauss-bonnet", "apps/ricci/flow_command.cpp:cones"],
              ["flow", "ico.obj", "--cones", "0:pi"]),
         Case("flow: hyperbolic torus", ["src/flow/target.cpp:hyperbolic"],
              ["flow", "torus.obj", "--geometry", "hyperbolic"]),
@@ -116,10 +116,10 @@ def cases(boundary_vertex):
              ["param", "torus.obj", "--geometry", "hyperbolic", "-o", "out.obj"]),
         Case("spline: sphere without cones", ["src/param/one_component.cpp:none"],
              ["spline", "ico.obj", "--cones", "none", "-o", "out.obj"]),
-        # Output options (apps/ricci/commands.cpp).
-        Case("param: --texture of a missing image", ["apps/ricci/commands.cpp:texture"],
+        # Output options (apps/ricci/param_command.cpp).
+        Case("param: --texture of a missing image", ["apps/ricci/param_command.cpp:texture"],
              ["param", "torus.obj", "-o", "out.obj", "--texture", "nosuch.png"]),
-        Case("param: glb of the refinement", ["apps/ricci/commands.cpp:format"],
+        Case("param: glb of the refinement", ["apps/ricci/param_command.cpp:format"],
              ["param", "torus.obj", "-o", "out.glb", "--faces", "refinement"]),
     ]
 
@@ -136,8 +136,9 @@ SITES = {
     "src/mesh/io/reader_support.cpp": (1, ["repair"]),
     "apps/ricci/input_options.cpp": (5, ["largest", "strict", "repair"]),
     "apps/ricci/render_command.cpp": (2, ["strict"]),
-    "apps/ricci/commands.cpp":
-        (5, ["texture", "format", "format-without-tinygltf", "format-without-render", "cones"]),
+    "apps/ricci/flow_command.cpp": (1, ["cones"]),
+    "apps/ricci/param_command.cpp":
+        (4, ["texture", "format", "format-without-tinygltf", "format-without-render"]),
 }
 SITE_PATTERN = re.compile(r"fixes_of\(|OptionFix\{|more_cones_fixes\(|reading_fixes\(")
 # Covered without a case here, and why.
@@ -148,8 +149,8 @@ COVERED_ELSEWHERE = {
     # rephrased by input_options.cpp.
     "src/mesh/io/reader_support.cpp:repair",
     # --format glb in a build without tinygltf or without the picture library: not this build.
-    "apps/ricci/commands.cpp:format-without-tinygltf",
-    "apps/ricci/commands.cpp:format-without-render",
+    "apps/ricci/param_command.cpp:format-without-tinygltf",
+    "apps/ricci/param_command.cpp:format-without-render",
 }
 
 
