@@ -195,7 +195,7 @@ nlohmann::json distortion_json(const Distortion& d) {
 namespace {
 
 /// Per component of a mesh of several: how it was parameterized, its flow and its distortion.
-nlohmann::json components_json(const ParamResult& r) {
+nlohmann::json components_json(const MeshParamResult& r) {
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t c = 0; c < r.components.size(); ++c) {
     const ComponentParam& comp = r.components[c];
@@ -254,7 +254,7 @@ nlohmann::json packing_json(const ChartPacking& p) {
 
 }  // namespace
 
-nlohmann::json param_report(const ParamResult& r, const ParamOptions& options) {
+nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& options) {
   nlohmann::json j;
   j["converged"] = r.converged;
   j["message"] = r.message;

@@ -31,7 +31,7 @@ nlohmann::json flow_arrays(const MeshFlowResult& result, const std::vector<int>&
 
 /// Report of a parameterization: cones, modifications, cut, layout, atlas, distortion and the
 /// flow summary.
-nlohmann::json param_report(const ParamResult& result, const ParamOptions& options);
+nlohmann::json param_report(const MeshParamResult& result, const ParamOptions& options);
 
 /// The figures of a common refinement (`param --faces refinement`): sizes beside the input's,
 /// flips undone, crossing points, exactness checks, timing.

@@ -292,7 +292,7 @@ int run_param_hyperbolic(const ParamArgs& args) {
 /// `param` on a mesh of several components, or one whose exact map gave way to another route:
 /// the atlas, then a line per component (every one when there are few, else those that did not
 /// go by the flow).
-void print_components(const ParamArgs& args, const ParamResult& result) {
+void print_components(const ParamArgs& args, const MeshParamResult& result) {
   const Distortion& d = result.distortion;
   const ChartPacking& p = result.packing;
   int failed = 0, overlapping = 0;
@@ -552,7 +552,7 @@ int run_param(const ParamArgs& args) {
   apply_cones_option(args.cones, args.mesh, read, options);
   options.polygons = read.polygons;
   if (refinement) check_one_component(args, read.mesh);
-  const ParamResult result =
+  const MeshParamResult result =
       run_with_progress(args.mesh, args.progress, args.json, "param", options.flow,
                         [&] { return parameterize(read.mesh, options); });
   nlohmann::json report = param_report(result, options);

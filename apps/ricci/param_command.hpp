@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "input_options.hpp"
-#include "ricci/param/cones/cones.hpp"
+#include "ricci/param/parameterize.hpp"
 
 namespace ricci::cli {
 
@@ -16,28 +16,31 @@ struct ParamArgs {
   std::string mesh;
   InputArgs input;  ///< --repair[=MODE], --strict, --largest-component (input_options.hpp)
   std::string output;
-  std::string cones = "needed";
-  std::string boundary = "free";
-  std::string scheme = "vertex-scaling";
-  std::string flips = "auto";
+  std::string cones = cone_mode_name(ParamOptions{}.cone_mode);
+  std::string boundary = boundary_mode_name(ParamOptions{}.boundary);
+  std::string scheme = scheme_name(ParamOptions{}.structure.scheme);
+  std::string flips = edge_flips_name(ParamOptions{}.flow.flips);
   std::string report;
-  bool quantize = false;
-  double max_log_scale = 1.0;
-  int max_cones = 0;
-  double cone_smoothness = ConeSelectionOptions{}.smoothness;
-  std::string polish = "angles";  ///< --polish: "angles" (PolishOptions) or "none"
+  bool quantize = ParamOptions{}.quantize;
+  double max_log_scale = ParamOptions{}.auto_cones.max_log_scale;
+  int max_cones = ParamOptions{}.auto_cones.max_cones;
+  double cone_smoothness = ParamOptions{}.auto_cones.smoothness;
+  /// --polish: "angles" (PolishOptions) or "none"
+  std::string polish = ParamOptions{}.polish.enabled ? "angles" : "none";
   /// --fold-free: "charts" (untangle, then charts where the exact map still fails), "untangle"
   /// (untangle only) or "none" (the exact map as it is): FoldFreeOptions.
-  std::string fold_free = "charts";
-  double tolerance = 1e-12;
+  std::string fold_free = ParamOptions{}.fold_free.charts     ? "charts"
+                          : ParamOptions{}.fold_free.untangle ? "untangle"
+                                                              : "none";
+  double tolerance = ParamOptions{}.flow.tolerance;
   bool json = false;
   bool progress = false;
   std::string pictures;  ///< --pictures: folder for the pictures (render_command.hpp)
-  std::string geometry = "euclidean";
+  std::string geometry = geometry_name(ParamOptions{}.structure.geometry);
   /// --faces: "input" (the input's faces, linear uv) or "refinement" (the common refinement
   /// with homogeneous uv, ricci/param/refinement/common_refinement.hpp, and its companion files)
   std::string faces = "input";
-  double gutter = 0.002;  ///< --gutter (ChartPackingOptions::gutter)
+  double gutter = ParamOptions{}.packing.gutter;  ///< --gutter (ChartPackingOptions::gutter)
   /// --texture: "checker" (STEM.png beside the OBJ), "none" (no material), or an image file
   std::string texture = "checker";
   std::string format;  ///< --format: obj or glb; empty: from -o's extension

@@ -280,7 +280,7 @@ void write_hyperbolic_pictures(const std::string& folder, const HyperbolicParamR
             << " of its images)\n";
 }
 
-void write_param_pictures(const std::string& folder, const ParamResult& result,
+void write_param_pictures(const std::string& folder, const MeshParamResult& result,
                           const std::string& input, const CommonRefinement* refinement) {
   if (folder.empty()) return;
   ParamPicturesOptions options;

@@ -61,7 +61,7 @@ Subcommand add_view_command(CLI::App& app);
 /// stderr; view.html (the web viewer, titled with `input`'s file name) shows `refinement` when
 /// given (what `--faces refinement` writes), else the result's layout. No-op when `folder` is
 /// empty.
-void write_param_pictures(const std::string& folder, const ParamResult& result,
+void write_param_pictures(const std::string& folder, const MeshParamResult& result,
                           const std::string& input, const CommonRefinement* refinement = nullptr);
 
 /// `param --geometry hyperbolic --pictures DIR`: tiling.svg and tiling.png, the fundamental

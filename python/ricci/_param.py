@@ -71,14 +71,16 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
       (copied); other arguments, when not None, override its fields.
 
-    Returns a ``ParamResult``: converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
+    Returns a ``MeshParamResult`` (a ``ParamResult`` of the whole mesh, with routes, components
+    and packing): converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
     indices into uv per corner, vertices (n', 3) and triangles (m', 3) of the mesh parameterized
     (after edge splits; input vertices first), vertex_origin, cones, distortion (with
     flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length,
     log_scale_spread and cone_rounds (automatic cones), and
     the stages: flow, cut, cut_mesh, layout, atlas, cone_selection. When the flow does not
-    converge, converged is False and message says why (nothing is raised). Several components:
-    the same fields cover the whole mesh, components lists a ``ComponentParam`` per component
+    converge, converged is False and message says why (nothing is raised). routes names the
+    route of each component. Several components (or one whose exact map gave way): the same
+    fields cover the whole atlas, components lists a ``ComponentParam`` per component
     (method, parameterized, message, cones, distortion, overlapping_face_pairs, area_scale,
     chart, vertex_map, face_map, and param: the component's own ``ParamResult``), packing is the
     ``ChartPacking`` (coverage, scale, gutter, charts, overlapping_face_pairs), and converged is
@@ -228,7 +230,8 @@ def common_refinement(param, *, interpolation_matrix=None, options=None):
     refinement of the input triangulation, its intrinsic Delaunay triangulation and the final
     intrinsic triangulation (docs/parameterization.md, "The exact map").
 
-    param: a converged ``ParamResult`` of ``parameterize(..., scheme="vertex-scaling")``.
+    param: a converged result of ``parameterize(..., scheme="vertex-scaling")`` of one
+    component, or a component's own ``ParamResult`` (``components[c].param``).
     interpolation_matrix: build the interpolation matrix (True).
     options: a ``CommonRefinementOptions`` to start from (copied).
 

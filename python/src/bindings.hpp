@@ -100,14 +100,24 @@ inline std::string field_repr(const py::handle& value) {
 }
 
 /// A py::class_ for a plain struct that remembers the names of its fields, so that the class takes
-/// them as keyword arguments (`FlowOptions(tolerance=1e-8)`) and shows them in its repr.
-template <class T>
+/// them as keyword arguments (`FlowOptions(tolerance=1e-8)`) and shows them in its repr. A struct
+/// derived from another bound one names that one as Base: it inherits the base's fields.
+template <class T, class... Base>
 class StructBinding {
  public:
   StructBinding(py::handle scope, const char* name, const char* doc)
       : cls_(scope, name, doc),
         name_(name),
         fields_(std::make_shared<std::vector<std::string>>()) {}
+
+  /// A class derived from `base`'s: its fields first.
+  template <class B>
+  StructBinding(py::handle scope, const char* name, const char* doc, const StructBinding<B>& base)
+      : cls_(scope, name, doc),
+        name_(name),
+        fields_(std::make_shared<std::vector<std::string>>(base.field_names())) {}
+
+  const std::vector<std::string>& field_names() const { return *fields_; }
 
   /// A field Python may read and assign.
   template <class D>
@@ -214,10 +224,10 @@ class StructBinding {
     return *this;
   }
 
-  py::class_<T>& cls() { return cls_; }
+  py::class_<T, Base...>& cls() { return cls_; }
 
  private:
-  py::class_<T> cls_;
+  py::class_<T, Base...> cls_;
   std::string name_;
   std::shared_ptr<std::vector<std::string>> fields_;
 };

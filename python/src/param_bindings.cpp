@@ -4,8 +4,8 @@
 
 #include "bindings.hpp"
 #include "ricci/mesh/validate.hpp"
-#include "ricci/param/refinement/common_refinement.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "ricci/param/refinement/common_refinement.hpp"
 
 namespace ricci::python {
 
@@ -97,7 +97,7 @@ void bind_param(py::module_& m) {
 
   StructBinding<ChartPacking>(m, "ChartPacking", "What pack_charts returns.")
       .readonly("uv", &ChartPacking::uv,
-                "#V by 2 in [0, 1]^2 (empty in ParamResult.packing: moved into its uv)")
+                "#V by 2 in [0, 1]^2 (empty in MeshParamResult.packing: moved into its uv)")
       .readonly("face_chart", &ChartPacking::face_chart, "#F chart of each face")
       .readonly("charts", &ChartPacking::charts, "list of PackedChart")
       .readonly("scale", &ChartPacking::scale, "the common scale (uv units per layout unit)")
@@ -273,9 +273,13 @@ void bind_param(py::module_& m) {
   m.def("measure_distortion", &measure_distortion, py::arg("mesh"), py::arg("uv_triangles"),
         py::arg("uv"), "Measures a layout (uv_triangles index uv per corner) against the mesh.");
 
-  StructBinding<ParamResult>(m, "ParamResult", "What parameterize returns.")
+  StructBinding<ParamResult> param_result(
+      m, "ParamResult",
+      "One component parameterized by one route (ComponentParam.param); what parameterize "
+      "returns, a MeshParamResult, has these fields for the whole mesh.");
+  param_result
       .readonly("converged", &ParamResult::converged,
-                "the flow reached its tolerance (several components: every one in one chart)")
+                "the flow reached its tolerance (whole mesh: every component parameterized)")
       .computed(
           "message",
           [](const ParamResult& r) { return message_with_fixes(r.message, r.flow.fixes); },
@@ -330,11 +334,19 @@ void bind_param(py::module_& m) {
       .readonly("development_length_mismatch", &ParamResult::development_length_mismatch,
                 "how well the input faces developed in the flat metric agree on their edges")
       .readonly("untangle", &ParamResult::untangle, "UntangleResult of the exact map's layout")
-      .readonly("routes", &ParamResult::routes,
+      .repr();
+
+  StructBinding<MeshParamResult, ParamResult>(
+      m, "MeshParamResult",
+      "What parameterize returns: the whole mesh's ParamResult fields, the routes, and the "
+      "components gathered into the atlas.",
+      param_result)
+      .readonly("routes", &MeshParamResult::routes,
                 "ComponentRoute per component: the route its layout took")
-      .readonly("components", &ParamResult::components,
-                "several components: a ComponentParam per component (empty for one)")
-      .readonly("packing", &ParamResult::packing, "several components: ChartPacking")
+      .readonly("components", &MeshParamResult::components,
+                "a ComponentParam per component when the atlas was gathered from them (several, "
+                "or one whose exact map gave way); empty otherwise")
+      .readonly("packing", &MeshParamResult::packing, "with components: ChartPacking")
       .repr();
 
   py::enum_<ComponentMethod> component_method(
@@ -348,7 +360,7 @@ void bind_param(py::module_& m) {
   m.def("component_method_name", &component_method_name, py::arg("method"));
 
   StructBinding<ComponentRoute>(m, "ComponentRoute",
-                                "The route one component's layout took (ParamResult.routes).")
+                                "The route one component's layout took (MeshParamResult.routes).")
       .readonly("method", &ComponentRoute::method, "ComponentMethod")
       .readonly("charts", &ComponentRoute::charts, "charts of its layout in the atlas")
       .readonly("seam_length", &ComponentRoute::seam_length, "3D length of its seams")
@@ -358,8 +370,8 @@ void bind_param(py::module_& m) {
       .readonly("why", &ComponentRoute::why, "why the exact map gave way (empty when it served)")
       .repr();
 
-  StructBinding<ComponentParam>(m, "ComponentParam",
-                                "One component of a mesh of several (ParamResult.components).")
+  StructBinding<ComponentParam>(
+      m, "ComponentParam", "One component on its way into the atlas (MeshParamResult.components).")
       .readonly("vertices", &ComponentParam::vertices, "input vertices of the component")
       .readonly("faces", &ComponentParam::faces, "input faces of the component")
       .readonly("euler_characteristic", &ComponentParam::euler_characteristic, "")
@@ -369,20 +381,20 @@ void bind_param(py::module_& m) {
       .readonly("parameterized", &ComponentParam::parameterized,
                 "in one chart: by the flow or unfolded (False: Patches)")
       .readonly("message", &ComponentParam::message, "why the pipeline failed")
-      .readonly("cones", &ComponentParam::cones, "its cones (vertices of ParamResult.mesh)")
+      .readonly("cones", &ComponentParam::cones, "its cones (vertices of MeshParamResult.mesh)")
       .readonly("distortion", &ComponentParam::distortion, "of its part of the atlas")
       .readonly("overlapping_face_pairs", &ComponentParam::overlapping_face_pairs,
                 "pairs of its own faces overlapping in uv")
       .readonly("seam_length", &ComponentParam::seam_length, "")
       .readonly("area_scale", &ComponentParam::area_scale,
                 "its layout scaled by this to its 3D area before packing")
-      .readonly("charts", &ComponentParam::charts, "its charts in ParamResult.packing.charts")
+      .readonly("charts", &ComponentParam::charts, "its charts in MeshParamResult.packing.charts")
       .readonly("vertex_map", &ComponentParam::vertex_map,
-                "per vertex of param.mesh: vertex of ParamResult.mesh")
+                "per vertex of param.mesh: vertex of MeshParamResult.mesh")
       .readonly("face_map", &ComponentParam::face_map,
-                "per face of param.mesh: face of ParamResult.mesh")
+                "per face of param.mesh: face of MeshParamResult.mesh")
       .readonly("cut_vertex_offset", &ComponentParam::cut_vertex_offset,
-                "first of its vertices in ParamResult.cut_mesh")
+                "first of its vertices in MeshParamResult.cut_mesh")
       .readonly("seconds", &ComponentParam::seconds, "")
       .readonly("param", &ComponentParam::param, "ParamResult of the component alone")
       .repr();
@@ -391,8 +403,8 @@ void bind_param(py::module_& m) {
       "parameterize",
       [](const Mesh& mesh, ParamOptions options) {
         validate_mesh(mesh, "parameterize");
-        return run_without_gil<ParamResult>(options.flow,
-                                            [&] { return parameterize(mesh, options); });
+        return run_without_gil<MeshParamResult>(options.flow,
+                                                [&] { return parameterize(mesh, options); });
       },
       py::arg("mesh"), py::arg("options") = ParamOptions{},
       "Global conformal parameterization of a manifold mesh (validated first); several "
@@ -470,10 +482,17 @@ void bind_param(py::module_& m) {
       .readonly("seconds", &CommonRefinement::seconds, "")
       .repr();
 
-  m.def("common_refinement", &common_refinement, py::arg("param"),
-        py::arg("options") = CommonRefinementOptions{},
-        "The common refinement of a converged vertex-scaling ParamResult with the exact map. "
-        "Raises InvalidInput for other schemes or an unconverged result.");
+  // What parameterize returns first (it refuses several components), then one component's own
+  // result (components[c].param).
+  m.def(
+      "common_refinement",
+      py::overload_cast<const MeshParamResult&, const CommonRefinementOptions&>(&common_refinement),
+      py::arg("param"), py::arg("options") = CommonRefinementOptions{},
+      "The common refinement of a converged vertex-scaling ParamResult with the exact map. "
+      "Raises InvalidInput for other schemes, an unconverged result or several components.");
+  m.def("common_refinement",
+        py::overload_cast<const ParamResult&, const CommonRefinementOptions&>(&common_refinement),
+        py::arg("param"), py::arg("options") = CommonRefinementOptions{});
 }
 
 }  // namespace ricci::python

@@ -1,6 +1,8 @@
 /// \file
-/// parameterize itself: a mesh of one component goes to the pipeline (parameterize.cpp); a mesh
-/// of several is parameterized component by component, and the charts packed into one atlas.
+/// parameterize itself: a mesh of one component goes to the pipeline (one_component.cpp) and is
+/// kept when it passes its own checks; a mesh of several, or one whose exact map failed them, is
+/// parameterized component by component (each routed on its own), gathered into the whole mesh
+/// and its charts packed into one atlas.
 
 #include <algorithm>
 #include <array>
@@ -74,8 +76,13 @@ std::string describe(const ComponentParam& c, int index) {
          " boundary loops)";
 }
 
+/// How far (radians) a vertex's angle in the layout may be from the flat metric's: the sum of
+/// its corners' atan2 angles carries rounding of ~1e-12 per corner, while a vertex wrapped twice
+/// is off by 2 pi; 1e-6 is far from both.
+constexpr double kVertexAngleTolerance = 1e-6;
+
 /// Interior vertices whose layout angle (over the corners of all their copies) is not the flat
-/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to the checker's 1e-6).
+/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to kVertexAngleTolerance).
 int vertices_off_their_angle(const ParamResult& p) {
   const Mesh& mesh = p.mesh;
   const int nv = mesh.num_vertices();
@@ -105,7 +112,9 @@ int vertices_off_their_angle(const ParamResult& p) {
   }
   int off = 0;
   for (int v = 0; v < nv; ++v) {
-    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > 1e-6 && angle[v] != 0) ++off;
+    if (!on_boundary[v] && std::abs(angle[v] - expected[v]) > kVertexAngleTolerance &&
+        angle[v] != 0)
+      ++off;
   }
   return off;
 }
@@ -157,209 +166,244 @@ bool may_replace_refusal(const ParamOptions& options) {
           (options.cone_mode == ConeMode::Auto && options.auto_cones.count == 0));
 }
 
-ParamResult parameterize_components(const Mesh& input, const Topology& topology,
-                                    const ParamOptions& options, ParamResult* first_attempt,
-                                    const std::string& first_why) {
-  const auto start = Clock::now();
-  const int num_components = static_cast<int>(topology.components.size());
-  const int nv_in = input.num_vertices();
-
-  // User cones go to the component of their vertex, in its local numbering.
-  std::vector<std::vector<Cone>> user_cones(num_components);
-  if (options.cone_mode == ConeMode::User) {
-    std::vector<int> local(nv_in, -1);
-    for (const Component& c : topology.components) {
-      for (std::size_t i = 0; i < c.vertices.size(); ++i) {
-        local[c.vertices[i]] = static_cast<int>(i);
-      }
+/// User cones go to the component of their vertex, in its local numbering.
+/// \throw InvalidInput for a cone on no vertex of a face
+std::vector<std::vector<Cone>> user_cones_by_component(const Topology& topology, int num_vertices,
+                                                       const ParamOptions& options) {
+  std::vector<std::vector<Cone>> user_cones(topology.components.size());
+  if (options.cone_mode != ConeMode::User) return user_cones;
+  std::vector<int> local(num_vertices, -1);
+  for (const Component& c : topology.components) {
+    for (std::size_t i = 0; i < c.vertices.size(); ++i) local[c.vertices[i]] = static_cast<int>(i);
+  }
+  for (const Cone& cone : options.cones) {
+    if (cone.vertex < 0 || cone.vertex >= num_vertices ||
+        topology.vertex_component[cone.vertex] < 0) {
+      throw InvalidInput("parameterize: cone vertex " + std::to_string(cone.vertex) +
+                         " is not a vertex of any face");
     }
-    for (const Cone& cone : options.cones) {
-      if (cone.vertex < 0 || cone.vertex >= nv_in || topology.vertex_component[cone.vertex] < 0) {
-        throw InvalidInput("parameterize: cone vertex " + std::to_string(cone.vertex) +
-                           " is not a vertex of any face");
-      }
-      user_cones[topology.vertex_component[cone.vertex]].push_back(
-          {local[cone.vertex], cone.curvature});
+    user_cones[topology.vertex_component[cone.vertex]].push_back(
+        {local[cone.vertex], cone.curvature});
+  }
+  return user_cones;
+}
+
+/// What the exact map on one component came to, besides its piece.
+struct ExactMapOutcome {
+  /// The user's own choice (their cones, a count) refused: the component is laid out still, but
+  /// reported as failed, since what was asked was not made.
+  bool refused_choice = false;
+  bool cancelled = false;  ///< the progress callback stopped one of its flows
+};
+
+/// The pipeline's exact map on one component (or the one `done` already, or the refusal already
+/// met), judged by its own checks: sets info.param, parameterized, method and message, and the
+/// piece's exact_flipped.
+ExactMapOutcome run_exact_map(Piece& piece, const Mesh& sub, const Polygons& polygons,
+                              const std::vector<Cone>& cones, const ParamOptions& options,
+                              bool only_component, ParamResult* done, const std::string& refusal) {
+  ComponentParam& info = piece.info;
+  ExactMapOutcome outcome;
+  ParamOptions component_options = options;
+  component_options.cones = cones;
+  component_options.polygons = polygons;
+  // Whichever flow the progress callback stops (cone settling included), stop here too.
+  if (options.flow.progress) {
+    component_options.flow.progress = [&](const IterationRecord& record) {
+      const bool go = options.flow.progress(record);
+      outcome.cancelled = outcome.cancelled || !go;
+      return go;
+    };
+  }
+  if (done != nullptr) {
+    info.param = std::move(*done);  // a single component's exact map, done already
+  } else if (!refusal.empty()) {
+    info.message = refusal;  // ... which was refused
+  } else {
+    try {
+      info.param = parameterize_one_component(sub, component_options);
+    } catch (const InvalidInput& e) {
+      if (only_component && !may_replace_refusal(options)) throw;
+      outcome.refused_choice = !may_replace_refusal(options);
+      info.param = ParamResult{};
+      info.message = e.what();
+    } catch (const Error& e) {
+      info.param = ParamResult{};
+      info.message = e.what();
     }
   }
-
-  // 1. Each component on its own: the pipeline, else its own shape, as one patch or several.
-  std::vector<Submesh> submeshes = split_components(input, topology);
-  std::vector<Piece> pieces(num_components);
-  for (int c = 0; c < num_components; ++c) {
-    const auto component_start = Clock::now();
-    const Component& component = topology.components[c];
-    const Mesh& sub = submeshes[c].mesh;
-    Piece& piece = pieces[c];
-    ComponentParam& info = piece.info;
-    info.vertices = component.vertices;
-    info.faces = component.faces;
-    info.euler_characteristic = component.euler_characteristic;
-    info.genus = component.genus;
-    info.boundary_loops = component.num_boundary_loops;
-    // The user's own choice (their cones, a count) refused: the component is laid out still,
-    // but reported as failed, since what was asked was not made.
-    bool refused_choice = false;
-    const Polygons polygons = polygons_of_faces(options.polygons, submeshes[c].face_map);
-    if (sub.num_faces() > 2) {
-      ParamOptions component_options = options;
-      component_options.cones = user_cones[c];
-      component_options.polygons = polygons;
-      // Whichever flow the progress callback stops (cone settling included), stop here too.
-      bool cancelled = false;
-      if (options.flow.progress) {
-        component_options.flow.progress = [&](const IterationRecord& record) {
-          const bool go = options.flow.progress(record);
-          cancelled = cancelled || !go;
-          return go;
-        };
-      }
-      if (c == 0 && first_attempt != nullptr) {
-        info.param = std::move(*first_attempt);  // a single component's exact map, done already
-      } else if (c == 0 && !first_why.empty()) {
-        info.message = first_why;  // ... which was refused
-      } else {
-        try {
-          info.param = parameterize_one_component(sub, component_options);
-        } catch (const InvalidInput& e) {
-          if (num_components == 1 && !may_replace_refusal(options)) throw;
-          refused_choice = !may_replace_refusal(options);
-          info.param = ParamResult{};
-          info.message = e.what();
-        } catch (const Error& e) {
-          info.param = ParamResult{};
-          info.message = e.what();
-        }
-      }
-      std::string why;
-      info.parameterized = info.message.empty() && passes_checks(info.param, options, why);
-      if (info.message.empty()) info.message = why;
-      if (info.parameterized) {
-        info.method = info.param.untangle.moved_vertices > 0 ? ComponentMethod::Untangled
-                                                             : ComponentMethod::Flow;
-        info.message.clear();
-      }
-      piece.exact_flipped = info.param.untangle.flipped_before;
-      if (cancelled) {
-        // The progress callback asked to stop: no other component is started, no atlas made.
-        ParamResult stopped;
-        stopped.mesh = input;
-        stopped.message =
-            "parameterize: cancelled in component " + std::to_string(c) + ": " + info.message;
-        for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
-        stopped.seconds = seconds_since(start);
-        return stopped;
-      }
-    }
-    const bool distorted =
-        info.parameterized && info.param.distortion.angle_distortion_max > kUnfoldAbove;
-    if (distorted) {
-      // The flow's layout is valid but far from conformal somewhere (the few cones a tiny
-      // closed part needs, on a needle-shaped tetrahedron): its own shape, if it lays out in one
-      // piece, has no distortion at all.
-      PatchLayout patches = develop_patches(sub, polygons);
-      if (patches.num_patches == 1) {
-        info.message = "the flow's layout distorts angles by up to " +
-                       std::to_string(info.param.distortion.angle_distortion_max) +
-                       " (sigma_max / sigma_min)";
-        info.method = ComponentMethod::Unfolded;
-        info.param = unfolded_result(sub, patches, polygons);
-      }
-    }
-    if (!info.parameterized) {
-      PatchLayout patches = develop_patches(sub, polygons);
-      if (patches.num_patches == 1) {
-        info.method = ComponentMethod::Unfolded;
-        info.parameterized = true;
-        info.param = unfolded_result(sub, patches, polygons);
-      } else if (options.fold_free.charts) {
-        // Charts cut through the failed map's cones (its cut relieved the curvature there).
-        const auto charts_start = Clock::now();
-        std::vector<int> cut_through;
-        for (const Cone& cone : info.param.cones) {
-          if (cone.vertex < sub.num_vertices()) cut_through.push_back(cone.vertex);
-        }
-        ParamOptions chart_options = options;
-        chart_options.flow.progress = {};
-        chart_options.polygons = polygons;
-        ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
-        info.param = charts_result(sub, charts, polygons);
-        info.param.timings.charts = seconds_since(charts_start);
-        info.method = ComponentMethod::Charts;
-        info.parameterized = !refused_choice;
-        info.message += "; laid out as " + charts.message;
-        piece.face_chart = std::move(charts.face_chart);
-        piece.num_charts = charts.num_charts;
-      } else {
-        info.method = ComponentMethod::Patches;
-        if (!info.message.empty()) info.message += "; ";
-        info.message += "its own shape needs " + std::to_string(patches.num_patches) +
-                        " patches not to overlap";
-        // The failed pipeline's result stays for its diagnostics, on the component itself.
-        info.param.mesh = sub;
-        info.param.vertex_origin.resize(sub.num_vertices());
-        std::iota(info.param.vertex_origin.begin(), info.param.vertex_origin.end(), 0);
-        info.param.added_vertex_parents.clear();
-        info.param.edge_splits = 0;
-        info.param.subdivided = false;
-        info.distortion = measure_polygon_distortion(
-            sub, start_fans_where_valid(polygons, sub, patches.triangles, patches.layout),
-            patches.triangles, patches.layout);
-        piece.cut_triangles = std::move(patches.triangles);
-        piece.cut_vertex = std::move(patches.vertex);
-        piece.layout = std::move(patches.layout);
-        piece.face_chart = std::move(patches.face_patch);
-        piece.num_charts = patches.num_patches;
-        piece.cut_edges.resize(patches.is_glued_edge.size());
-        const Topology t = build_topology(sub.triangles, sub.num_vertices());
-        for (int e = 0; e < t.num_edges; ++e) {
-          piece.cut_edges[e] = !t.is_boundary_edge[e] && !patches.is_glued_edge[e];
-        }
-      }
-    }
-    if (info.method != ComponentMethod::Patches) {
-      const ParamResult& p = info.param;
-      piece.cut_triangles = p.cut_mesh.triangles;
-      piece.cut_vertex = p.cut_mesh.to_original;
-      info.area_scale = p.distortion.layout_area > 0
-                            ? std::sqrt(p.distortion.surface_area / p.distortion.layout_area)
-                            : 1.0;
-      piece.layout = p.layout.uv * info.area_scale;
-      info.distortion = p.distortion;
-      info.seam_length = p.seam_length;
-      // (Charts are laid out as pieces that do not overlap, on top of each other.)
-      info.overlapping_face_pairs =
-          info.method == ComponentMethod::Charts
-              ? 0
-              : find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
-      if (info.overlapping_face_pairs > 0) {
-        // The layout overlaps itself (a flat metric cut open into one disk can wind over
-        // itself): cut it into pieces that do not, each its own chart, the pieces' shared
-        // vertices copied.
-        int count = 0;
-        piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count,
-                                           info.param.polygons.triangle_polygon);
-        piece.num_charts = count;
-        // The pieces' shared vertices copied, one per fan of each piece.
-        const std::vector<int> source = split_at_charts(
-            piece.cut_triangles, static_cast<int>(piece.layout.rows()), piece.face_chart);
-        std::vector<int> vertex(source.size());
-        Points positions(static_cast<Eigen::Index>(source.size()), 2);
-        for (std::size_t v = 0; v < source.size(); ++v) {
-          vertex[v] = piece.cut_vertex[source[v]];
-          positions.row(static_cast<Eigen::Index>(v)) = piece.layout.row(source[v]);
-        }
-        piece.cut_vertex = std::move(vertex);
-        piece.layout = std::move(positions);
-      }
-    }
-    info.seconds = seconds_since(component_start);
+  std::string why;
+  info.parameterized = info.message.empty() && passes_checks(info.param, options, why);
+  if (info.message.empty()) info.message = why;
+  if (info.parameterized) {
+    info.method =
+        info.param.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;
+    info.message.clear();
   }
+  piece.exact_flipped = info.param.untangle.flipped_before;
+  return outcome;
+}
 
-  // 2. The whole mesh: the input's vertices, then each component's added ones; the input's
-  // faces in order, a component whose faces changed giving all of its faces at its first.
-  ParamResult result;
-  int num_vertices = nv_in;
+/// A valid flow layout that is far from conformal somewhere (the few cones a tiny closed part
+/// needs, on a needle-shaped tetrahedron) gives way to the component's own shape when that lays
+/// out in one piece: it has no distortion at all.
+void unfold_if_distorted(ComponentParam& info, const Mesh& sub, const Polygons& polygons) {
+  if (!info.parameterized || !(info.param.distortion.angle_distortion_max > kUnfoldAbove)) return;
+  PatchLayout patches = develop_patches(sub, polygons);
+  if (patches.num_patches != 1) return;
+  info.message = "the flow's layout distorts angles by up to " +
+                 std::to_string(info.param.distortion.angle_distortion_max) +
+                 " (sigma_max / sigma_min)";
+  info.method = ComponentMethod::Unfolded;
+  info.param = unfolded_result(sub, patches, polygons);
+}
+
+/// The charts route on a component whose exact map failed: cut through the failed map's cones
+/// (its cut relieved the curvature there).
+void lay_out_as_charts(Piece& piece, const Mesh& sub, const Polygons& polygons,
+                       const ParamOptions& options, bool refused_choice) {
+  ComponentParam& info = piece.info;
+  const auto charts_start = Clock::now();
+  std::vector<int> cut_through;
+  for (const Cone& cone : info.param.cones) {
+    if (cone.vertex < sub.num_vertices()) cut_through.push_back(cone.vertex);
+  }
+  ParamOptions chart_options = options;
+  chart_options.flow.progress = {};
+  chart_options.polygons = polygons;
+  ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
+  info.param = charts_result(sub, charts, polygons);
+  info.param.timings.charts = seconds_since(charts_start);
+  info.method = ComponentMethod::Charts;
+  info.parameterized = !refused_choice;
+  info.message += "; laid out as " + charts.message;
+  piece.face_chart = std::move(charts.face_chart);
+  piece.num_charts = charts.num_charts;
+}
+
+/// The last resort: the component's own shape in `patches` (several, none overlapping), each its
+/// own chart; the failed pipeline's result stays in info.param for its diagnostics.
+void lay_out_as_patches(Piece& piece, const Mesh& sub, const Polygons& polygons,
+                        PatchLayout& patches) {
+  ComponentParam& info = piece.info;
+  info.method = ComponentMethod::Patches;
+  if (!info.message.empty()) info.message += "; ";
+  info.message +=
+      "its own shape needs " + std::to_string(patches.num_patches) + " patches not to overlap";
+  // The failed pipeline's result stays for its diagnostics, on the component itself.
+  info.param.mesh = sub;
+  info.param.vertex_origin.resize(sub.num_vertices());
+  std::iota(info.param.vertex_origin.begin(), info.param.vertex_origin.end(), 0);
+  info.param.added_vertex_parents.clear();
+  info.param.edge_splits = 0;
+  info.param.subdivided = false;
+  info.distortion = measure_polygon_distortion(
+      sub, start_fans_where_valid(polygons, sub, patches.triangles, patches.layout),
+      patches.triangles, patches.layout);
+  piece.cut_triangles = std::move(patches.triangles);
+  piece.cut_vertex = std::move(patches.vertex);
+  piece.layout = std::move(patches.layout);
+  piece.face_chart = std::move(patches.face_patch);
+  piece.num_charts = patches.num_patches;
+  piece.cut_edges.resize(patches.is_glued_edge.size());
+  const Topology t = build_topology(sub.triangles, sub.num_vertices());
+  for (int e = 0; e < t.num_edges; ++e) {
+    piece.cut_edges[e] = !t.is_boundary_edge[e] && !patches.is_glued_edge[e];
+  }
+}
+
+/// A component the exact map did not parameterize: unfolded in one piece, else laid out as
+/// charts (when allowed), else as patches of its own shape.
+void lay_out_failed(Piece& piece, const Mesh& sub, const Polygons& polygons,
+                    const ParamOptions& options, bool refused_choice) {
+  ComponentParam& info = piece.info;
+  PatchLayout patches = develop_patches(sub, polygons);
+  if (patches.num_patches == 1) {
+    info.method = ComponentMethod::Unfolded;
+    info.parameterized = true;
+    info.param = unfolded_result(sub, patches, polygons);
+  } else if (options.fold_free.charts) {
+    lay_out_as_charts(piece, sub, polygons, options, refused_choice);
+  } else {
+    lay_out_as_patches(piece, sub, polygons, patches);
+  }
+}
+
+/// A layout that overlaps itself (a flat metric cut open into one disk can wind over itself) cut
+/// into pieces that do not, each its own chart, the pieces' shared vertices copied (one per fan
+/// of each piece).
+void split_overlapping_layout(Piece& piece) {
+  int count = 0;
+  piece.face_chart = embedded_pieces(piece.layout, piece.cut_triangles, count,
+                                     piece.info.param.polygons.triangle_polygon);
+  piece.num_charts = count;
+  const std::vector<int> source =
+      split_at_charts(piece.cut_triangles, static_cast<int>(piece.layout.rows()), piece.face_chart);
+  std::vector<int> vertex(source.size());
+  Points positions(static_cast<Eigen::Index>(source.size()), 2);
+  for (std::size_t v = 0; v < source.size(); ++v) {
+    vertex[v] = piece.cut_vertex[source[v]];
+    positions.row(static_cast<Eigen::Index>(v)) = piece.layout.row(source[v]);
+  }
+  piece.cut_vertex = std::move(vertex);
+  piece.layout = std::move(positions);
+}
+
+/// The piece's cut mesh and layout from its route's result (every route but Patches, which
+/// lays its piece out itself): the layout scaled to the component's 3D area, split where it
+/// overlaps itself.
+void take_route_layout(Piece& piece) {
+  ComponentParam& info = piece.info;
+  const ParamResult& p = info.param;
+  piece.cut_triangles = p.cut_mesh.triangles;
+  piece.cut_vertex = p.cut_mesh.to_original;
+  info.area_scale = p.distortion.layout_area > 0
+                        ? std::sqrt(p.distortion.surface_area / p.distortion.layout_area)
+                        : 1.0;
+  piece.layout = p.layout.uv * info.area_scale;
+  info.distortion = p.distortion;
+  info.seam_length = p.seam_length;
+  // (Charts are laid out as pieces that do not overlap, on top of each other.)
+  info.overlapping_face_pairs =
+      info.method == ComponentMethod::Charts
+          ? 0
+          : find_uv_overlaps(p.layout.uv, p.cut_mesh.triangles, {}, 0).count;
+  if (info.overlapping_face_pairs > 0) split_overlapping_layout(piece);
+}
+
+/// One component on its own: the pipeline, else its own shape, as one patch or several, else
+/// charts. Returns false when the progress callback cancelled its flow (the piece then holds
+/// the exact map's outcome only).
+bool route_component(Piece& piece, const Component& component, const Submesh& submesh,
+                     const std::vector<Cone>& cones, const ParamOptions& options,
+                     bool only_component, ParamResult* done, const std::string& refusal) {
+  const auto component_start = Clock::now();
+  const Mesh& sub = submesh.mesh;
+  ComponentParam& info = piece.info;
+  info.vertices = component.vertices;
+  info.faces = component.faces;
+  info.euler_characteristic = component.euler_characteristic;
+  info.genus = component.genus;
+  info.boundary_loops = component.num_boundary_loops;
+  bool refused_choice = false;
+  const Polygons polygons = polygons_of_faces(options.polygons, submesh.face_map);
+  if (sub.num_faces() > 2) {
+    const ExactMapOutcome exact =
+        run_exact_map(piece, sub, polygons, cones, options, only_component, done, refusal);
+    if (exact.cancelled) return false;
+    refused_choice = exact.refused_choice;
+  }
+  unfold_if_distorted(info, sub, polygons);
+  if (!info.parameterized) lay_out_failed(piece, sub, polygons, options, refused_choice);
+  if (info.method != ComponentMethod::Patches) take_route_layout(piece);
+  info.seconds = seconds_since(component_start);
+  return true;
+}
+
+/// Each component's vertices in the whole mesh: its own where it has them, then the ones its
+/// edge splits added, after the input's, component after component.
+int map_component_vertices(std::vector<Piece>& pieces, int num_input_vertices) {
+  int num_vertices = num_input_vertices;
   for (Piece& piece : pieces) {
     ComponentParam& info = piece.info;
     const Mesh& m = info.param.mesh;
@@ -369,6 +413,17 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
           i < static_cast<int>(info.vertices.size()) ? info.vertices[i] : num_vertices++;
     }
   }
+  return num_vertices;
+}
+
+/// The whole mesh: the input's vertices, then each component's added ones; the input's faces in
+/// order, a component whose faces changed giving all of its faces at its first. Sets the pieces'
+/// vertex_map and face_map, and the result's mesh, vertex_origin, added_vertex_parents,
+/// edge_splits and subdivided.
+void gather_mesh(std::vector<Piece>& pieces, const Mesh& input, const Topology& topology,
+                 MeshParamResult& result) {
+  const int nv_in = input.num_vertices();
+  const int num_vertices = map_component_vertices(pieces, nv_in);
   result.mesh.positions.resize(num_vertices, 3);
   result.mesh.positions.topRows(nv_in) = input.positions;
   result.vertex_origin.assign(num_vertices, -1);
@@ -413,41 +468,56 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     for (int k = 0; k < 3; ++k)
       result.mesh.triangles(static_cast<Eigen::Index>(f), k) = faces[f][k];
   }
+}
 
-  // 3. The cut mesh and the layout before packing, component after component, and the charts:
-  // one per component, one per patch of a Patches component.
+/// The atlas before packing, in whole-mesh faces.
+struct UnpackedAtlas {
+  Points layout;                ///< per cut-mesh vertex, component after component
+  Triangles cut_triangles;      ///< #F of the whole mesh by 3
+  std::vector<int> face_chart;  ///< #F of the whole mesh: its chart
+};
+
+/// The cut mesh and the layout before packing, component after component, and the charts: one
+/// per component, one per piece of a layout split or patch of a Patches component. Sets the
+/// pieces' cut_vertex_offset and charts, and the result's cut_mesh.to_original.
+UnpackedAtlas gather_unpacked_atlas(std::vector<Piece>& pieces, MeshParamResult& result) {
   int num_cut_vertices = 0, num_charts = 0;
   for (Piece& piece : pieces) {
     piece.info.cut_vertex_offset = num_cut_vertices;
     num_cut_vertices += static_cast<int>(piece.layout.rows());
     for (int k = 0; k < piece.num_charts; ++k) piece.info.charts.push_back(num_charts++);
   }
-  Points layout(num_cut_vertices, 2);
-  Triangles cut_triangles(result.mesh.num_faces(), 3);
-  std::vector<int> face_chart(result.mesh.num_faces());
+  UnpackedAtlas atlas{Points(num_cut_vertices, 2), Triangles(result.mesh.num_faces(), 3),
+                      std::vector<int>(result.mesh.num_faces())};
   result.cut_mesh.to_original.resize(num_cut_vertices);
   for (Piece& piece : pieces) {
     ComponentParam& info = piece.info;
     const int offset = info.cut_vertex_offset;
-    layout.middleRows(offset, piece.layout.rows()) = piece.layout;
+    atlas.layout.middleRows(offset, piece.layout.rows()) = piece.layout;
     for (std::size_t i = 0; i < piece.cut_vertex.size(); ++i) {
       result.cut_mesh.to_original[offset + i] = info.vertex_map[piece.cut_vertex[i]];
     }
     for (int j = 0; j < piece.cut_triangles.rows(); ++j) {
-      cut_triangles.row(info.face_map[j]) = piece.cut_triangles.row(j).array() + offset;
-      face_chart[info.face_map[j]] =
+      atlas.cut_triangles.row(info.face_map[j]) = piece.cut_triangles.row(j).array() + offset;
+      atlas.face_chart[info.face_map[j]] =
           info.charts[piece.face_chart.empty() ? 0 : piece.face_chart[j]];
     }
   }
+  return atlas;
+}
 
-  // 4. Packing.
-  result.packing = pack_charts(layout, cut_triangles, face_chart, options.packing);
+/// The charts packed into the unit square: the result's packing, uv (and layout.uv, its layout
+/// units), cut mesh, polygons and distortion.
+void pack_atlas(UnpackedAtlas atlas, const ParamOptions& options, MeshParamResult& result) {
+  const int num_cut_vertices = static_cast<int>(atlas.layout.rows());
+  result.packing =
+      pack_charts(atlas.layout, atlas.cut_triangles, atlas.face_chart, options.packing);
   result.uv = std::move(result.packing.uv);
   result.packing.uv.resize(0, 2);
   result.uv_scale = result.packing.scale;
   result.uv_offset = Eigen::Vector2d::Zero();
   result.layout.uv = result.uv / result.packing.scale;
-  result.cut_mesh.triangles = std::move(cut_triangles);
+  result.cut_mesh.triangles = std::move(atlas.cut_triangles);
   result.cut_mesh.topology = build_topology(result.cut_mesh.triangles, num_cut_vertices);
   // The input's polygons are the whole mesh's when no component changed its faces.
   if (result.edge_splits == 0 && !result.subdivided) {
@@ -456,8 +526,168 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   }
   result.distortion = measure_polygon_distortion(result.mesh, result.polygons,
                                                  result.cut_mesh.triangles, result.uv);
+}
 
-  // 5. The stages in whole-mesh indices: cut, cones, transitions, atlas, flow.
+/// Per edge of a component's own mesh: the edge of the whole mesh.
+std::vector<int> whole_mesh_edges(const ComponentParam& info, const Topology& local,
+                                  const Topology& whole) {
+  std::vector<int> edge_map(local.num_edges, -1);
+  for (int j = 0; j < local.num_faces; ++j) {
+    for (int k = 0; k < 3; ++k) {
+      edge_map[local.halfedge_edge[3 * j + k]] = whole.halfedge_edge[3 * info.face_map[j] + k];
+    }
+  }
+  return edge_map;
+}
+
+/// A Patches component's seams (the edges between its patches) in the whole mesh's cut.
+void gather_patch_seams(const Piece& piece, ComponentParam& info, const Topology& local,
+                        const std::vector<int>& edge_map, MeshParamResult& result) {
+  const Eigen::VectorXd lengths = input_edge_lengths(info.param.mesh, local);
+  for (int e = 0; e < local.num_edges; ++e) {
+    if (!piece.cut_edges[e]) continue;
+    result.cut.is_cut_edge[edge_map[e]] = 1;
+    info.seam_length += lengths[e];
+  }
+  result.cut.length += info.seam_length;
+  result.seam_length += info.seam_length;
+}
+
+/// A component's cones and cut in the whole mesh's: its cut edges, the edges between the
+/// pieces of a layout split so as not to overlap itself (seams too), nodes and segments.
+void gather_cones_and_cut(const Piece& piece, ComponentParam& info, const Topology& local,
+                          const std::vector<int>& edge_map, MeshParamResult& result) {
+  const ParamResult& p = info.param;
+  for (const Cone& cone : p.cones)
+    info.cones.push_back({info.vertex_map[cone.vertex], cone.curvature});
+  result.cones.insert(result.cones.end(), info.cones.begin(), info.cones.end());
+  for (int e = 0; e < local.num_edges; ++e) {
+    if (p.cut.is_cut_edge[e]) result.cut.is_cut_edge[edge_map[e]] = 1;
+  }
+  if (info.charts.size() > 1) {
+    // Split so as not to overlap itself: the edges between its pieces are seams too.
+    const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
+    const std::vector<int>& chart = piece.face_chart;
+    for (int e = 0; e < local.num_edges; ++e) {
+      const int h0 = local.edge_halfedges(e, 0), h1 = local.edge_halfedges(e, 1);
+      if (h0 < 0 || h1 < 0 || p.cut.is_cut_edge[e]) continue;
+      if (chart[Topology::face_of(h0)] == chart[Topology::face_of(h1)]) continue;
+      result.cut.is_cut_edge[edge_map[e]] = 1;
+      info.seam_length += lengths[e];
+    }
+  }
+  for (int v : p.cut.nodes) result.cut.nodes.push_back(info.vertex_map[v]);
+  for (const std::vector<int>& segment : p.cut.segments) {
+    std::vector<int>& moved = result.cut.segments.emplace_back();
+    for (int v : segment) moved.push_back(info.vertex_map[v]);
+  }
+  result.cut.num_generators += p.cut.num_generators;
+  result.cut.length += p.cut.length;
+  result.seam_length += info.seam_length;
+}
+
+/// A component's transitions and boundary charts moved with its chart from its own layout to
+/// the atlas's layout units (w = m z + s), its segments numbered after `segment_offset`; a
+/// layout split into pieces moves piece by piece, so its transitions and atlas stay in
+/// components[c].param. Also the layout's and atlas's figures over the components.
+void move_chart_stages(const ComponentParam& info, const std::vector<int>& edge_map,
+                       int segment_offset, MeshParamResult& result) {
+  const ParamResult& p = info.param;
+  const bool one_chart = info.charts.size() == 1;
+  const PackedChart& chart = result.packing.charts[info.charts.front()];
+  const std::complex<double> m = std::polar(info.area_scale, chart.rotation);
+  const std::complex<double> s =
+      std::complex<double>(chart.translation.x(), chart.translation.y()) / result.packing.scale;
+  auto move_transition = [&](SeamTransition t) {
+    t.edge = t.edge >= 0 ? edge_map[t.edge] : -1;
+    if (t.segment >= 0) t.segment += segment_offset;
+    t.translation = moved_translation(t.rotation, t.translation, m, s);
+    return t;
+  };
+  for (const SeamTransition& t : one_chart ? p.layout.transitions : std::vector<SeamTransition>{}) {
+    result.layout.transitions.push_back(move_transition(t));
+  }
+  for (const SeamTransition& t :
+       one_chart ? p.layout.segment_transitions : std::vector<SeamTransition>{}) {
+    result.layout.segment_transitions.push_back(move_transition(t));
+  }
+  result.layout.max_length_relative_error =
+      std::max(result.layout.max_length_relative_error, p.layout.max_length_relative_error);
+  result.layout.num_flipped_faces += p.layout.num_flipped_faces;
+  result.layout.refined = result.layout.refined || p.layout.refined;
+  for (BoundaryChart bc : one_chart ? p.atlas.boundary_charts : std::vector<BoundaryChart>{}) {
+    bc.segment += segment_offset;
+    for (int& f : bc.faces) f = info.face_map[f];
+    for (Eigen::Index i = 0; i < bc.corner_uv.rows(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const std::complex<double> w =
+            m * std::complex<double>(bc.corner_uv(i, 2 * k), bc.corner_uv(i, 2 * k + 1)) + s;
+        bc.corner_uv(i, 2 * k) = w.real();
+        bc.corner_uv(i, 2 * k + 1) = w.imag();
+      }
+    }
+    bc.translation = moved_translation(bc.rotation, bc.translation, m, s);
+    result.atlas.boundary_charts.push_back(std::move(bc));
+  }
+  result.atlas.max_transition_error =
+      std::max(result.atlas.max_transition_error, p.atlas.max_transition_error);
+}
+
+/// Adds a component's untangling to the whole mesh's.
+void add_untangle(const UntangleResult& from, UntangleResult& to) {
+  to.flipped_before += from.flipped_before;
+  to.flipped_after += from.flipped_after;
+  to.stuck_faces += from.stuck_faces;
+  to.moved_vertices += from.moved_vertices;
+  to.region_faces += from.region_faces;
+  to.rounds += from.rounds;
+  to.newton_iterations += from.newton_iterations;
+  to.seconds += from.seconds;
+}
+
+/// Adds a Flow or Untangled component's stage timings, polish (its face means weighted by the
+/// component's face count, divided by `polish_faces` at the end) and flow (in whole-mesh
+/// vertices) to the whole mesh's.
+void add_exact_map_stages(const ComponentParam& info, double& polish_faces,
+                          MeshParamResult& result) {
+  const ParamResult& p = info.param;
+  const ParamTimings& t = p.timings;
+  result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
+  result.timings.development += t.development, result.timings.layout += t.layout;
+  result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
+  result.timings.polish += t.polish, result.timings.untangle += t.untangle;
+  const double faces_here = static_cast<double>(p.mesh.num_faces());
+  result.polish.free_vertices += p.polish.free_vertices;
+  result.polish.moved_vertices += p.polish.moved_vertices;
+  result.polish.untangled_faces += p.polish.untangled_faces;
+  result.polish.sweeps = std::max(result.polish.sweeps, p.polish.sweeps);
+  result.polish.seconds += p.polish.seconds;
+  if (std::isfinite(p.polish.angle_distortion_before)) {
+    result.polish.angle_distortion_before += faces_here * p.polish.angle_distortion_before;
+    result.polish.angle_distortion_after += faces_here * p.polish.angle_distortion_after;
+    polish_faces += faces_here;
+  }
+  const MeshFlowResult& flow = p.flow;
+  result.flow.converged = result.flow.converged && flow.converged;
+  result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
+  result.flow.intrinsic.add_flip_counts(flow.intrinsic);
+  result.flow.setup_seconds += flow.setup_seconds;
+  result.flow.total_seconds += flow.total_seconds;
+  for (ComponentFlow cf : flow.components) {
+    for (int& v : cf.vertices) v = info.vertex_map[v];
+    result.flow.components.push_back(std::move(cf));
+  }
+  for (int i = 0; i < p.mesh.num_vertices(); ++i) {
+    result.flow.u[info.vertex_map[i]] = flow.u[i];
+    result.flow.curvature[info.vertex_map[i]] = flow.curvature[i];
+    result.flow.target_curvature[info.vertex_map[i]] = flow.target_curvature[i];
+  }
+}
+
+/// The stages in whole-mesh indices, component after component: cut, cones, transitions,
+/// atlas, untangling, and for the exact map's components timings, polish and flow.
+void gather_stages(std::vector<Piece>& pieces, MeshParamResult& result) {
+  const int num_vertices = result.mesh.num_vertices();
   const Topology whole = build_topology(result.mesh.triangles, num_vertices);
   result.cut.is_cut_edge.assign(whole.num_edges, 0);
   result.flow.converged = true;
@@ -467,141 +697,22 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
   result.flow.target.description = "flat, per component";
   int segment_offset = 0;
   double polish_faces = 0;
-  for (int c = 0; c < num_components; ++c) {
-    ComponentParam& info = pieces[c].info;
+  for (Piece& piece : pieces) {
+    ComponentParam& info = piece.info;
     const ParamResult& p = info.param;
     const Topology local = build_topology(p.mesh.triangles, p.mesh.num_vertices());
-    std::vector<int> edge_map(local.num_edges, -1);
-    for (int j = 0; j < local.num_faces; ++j) {
-      for (int k = 0; k < 3; ++k) {
-        edge_map[local.halfedge_edge[3 * j + k]] = whole.halfedge_edge[3 * info.face_map[j] + k];
-      }
-    }
+    const std::vector<int> edge_map = whole_mesh_edges(info, local, whole);
     if (info.method == ComponentMethod::Patches) {
-      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
-      for (int e = 0; e < local.num_edges; ++e) {
-        if (!pieces[c].cut_edges[e]) continue;
-        result.cut.is_cut_edge[edge_map[e]] = 1;
-        info.seam_length += lengths[e];
-      }
-      result.cut.length += info.seam_length;
-      result.seam_length += info.seam_length;
+      gather_patch_seams(piece, info, local, edge_map, result);
       continue;
     }
-    for (const Cone& cone : p.cones)
-      info.cones.push_back({info.vertex_map[cone.vertex], cone.curvature});
-    result.cones.insert(result.cones.end(), info.cones.begin(), info.cones.end());
-    for (int e = 0; e < local.num_edges; ++e) {
-      if (p.cut.is_cut_edge[e]) result.cut.is_cut_edge[edge_map[e]] = 1;
-    }
-    if (info.charts.size() > 1) {
-      // Split so as not to overlap itself: the edges between its pieces are seams too.
-      const Eigen::VectorXd lengths = input_edge_lengths(p.mesh, local);
-      const std::vector<int>& chart = pieces[c].face_chart;
-      for (int e = 0; e < local.num_edges; ++e) {
-        const int h0 = local.edge_halfedges(e, 0), h1 = local.edge_halfedges(e, 1);
-        if (h0 < 0 || h1 < 0 || p.cut.is_cut_edge[e]) continue;
-        if (chart[Topology::face_of(h0)] == chart[Topology::face_of(h1)]) continue;
-        result.cut.is_cut_edge[edge_map[e]] = 1;
-        info.seam_length += lengths[e];
-      }
-    }
-    for (int v : p.cut.nodes) result.cut.nodes.push_back(info.vertex_map[v]);
-    for (const std::vector<int>& segment : p.cut.segments) {
-      std::vector<int>& moved = result.cut.segments.emplace_back();
-      for (int v : segment) moved.push_back(info.vertex_map[v]);
-    }
-    result.cut.num_generators += p.cut.num_generators;
-    result.cut.length += p.cut.length;
-    result.seam_length += info.seam_length;
-
-    // The chart moved from the component's layout to the atlas's layout units: w = m z + s.
-    // (A layout split into pieces moves piece by piece: its transitions and atlas stay in
-    // components[c].param.)
-    const bool one_chart = info.charts.size() == 1;
-    const PackedChart& chart = result.packing.charts[info.charts.front()];
-    const std::complex<double> m = std::polar(info.area_scale, chart.rotation);
-    const std::complex<double> s =
-        std::complex<double>(chart.translation.x(), chart.translation.y()) / result.packing.scale;
-    auto move_transition = [&](SeamTransition t) {
-      t.edge = t.edge >= 0 ? edge_map[t.edge] : -1;
-      if (t.segment >= 0) t.segment += segment_offset;
-      t.translation = moved_translation(t.rotation, t.translation, m, s);
-      return t;
-    };
-    for (const SeamTransition& t :
-         one_chart ? p.layout.transitions : std::vector<SeamTransition>{}) {
-      result.layout.transitions.push_back(move_transition(t));
-    }
-    for (const SeamTransition& t :
-         one_chart ? p.layout.segment_transitions : std::vector<SeamTransition>{}) {
-      result.layout.segment_transitions.push_back(move_transition(t));
-    }
-    result.layout.max_length_relative_error =
-        std::max(result.layout.max_length_relative_error, p.layout.max_length_relative_error);
-    result.layout.num_flipped_faces += p.layout.num_flipped_faces;
-    result.layout.refined = result.layout.refined || p.layout.refined;
-    for (BoundaryChart bc : one_chart ? p.atlas.boundary_charts : std::vector<BoundaryChart>{}) {
-      bc.segment += segment_offset;
-      for (int& f : bc.faces) f = info.face_map[f];
-      for (Eigen::Index i = 0; i < bc.corner_uv.rows(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-          const std::complex<double> w =
-              m * std::complex<double>(bc.corner_uv(i, 2 * k), bc.corner_uv(i, 2 * k + 1)) + s;
-          bc.corner_uv(i, 2 * k) = w.real();
-          bc.corner_uv(i, 2 * k + 1) = w.imag();
-        }
-      }
-      bc.translation = moved_translation(bc.rotation, bc.translation, m, s);
-      result.atlas.boundary_charts.push_back(std::move(bc));
-    }
-    result.atlas.max_transition_error =
-        std::max(result.atlas.max_transition_error, p.atlas.max_transition_error);
+    gather_cones_and_cut(piece, info, local, edge_map, result);
+    move_chart_stages(info, edge_map, segment_offset, result);
     segment_offset += static_cast<int>(p.cut.segments.size());
-
     result.timings.charts += p.timings.charts;
-    result.untangle.flipped_before += p.untangle.flipped_before;
-    result.untangle.flipped_after += p.untangle.flipped_after;
-    result.untangle.stuck_faces += p.untangle.stuck_faces;
-    result.untangle.moved_vertices += p.untangle.moved_vertices;
-    result.untangle.region_faces += p.untangle.region_faces;
-    result.untangle.rounds += p.untangle.rounds;
-    result.untangle.newton_iterations += p.untangle.newton_iterations;
-    result.untangle.seconds += p.untangle.seconds;
+    add_untangle(p.untangle, result.untangle);
     if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) continue;
-    const ParamTimings& t = p.timings;
-    result.timings.cones += t.cones, result.timings.flow += t.flow, result.timings.cut += t.cut;
-    result.timings.development += t.development, result.timings.layout += t.layout;
-    result.timings.atlas += t.atlas, result.timings.distortion += t.distortion;
-    result.timings.polish += t.polish, result.timings.untangle += t.untangle;
-    // The polish over all components: counts and seconds add up, the face means are weighted by
-    // the components' face counts (and divided at the end).
-    const double faces_here = static_cast<double>(p.mesh.num_faces());
-    result.polish.free_vertices += p.polish.free_vertices;
-    result.polish.moved_vertices += p.polish.moved_vertices;
-    result.polish.untangled_faces += p.polish.untangled_faces;
-    result.polish.sweeps = std::max(result.polish.sweeps, p.polish.sweeps);
-    result.polish.seconds += p.polish.seconds;
-    if (std::isfinite(p.polish.angle_distortion_before)) {
-      result.polish.angle_distortion_before += faces_here * p.polish.angle_distortion_before;
-      result.polish.angle_distortion_after += faces_here * p.polish.angle_distortion_after;
-      polish_faces += faces_here;
-    }
-    const MeshFlowResult& flow = p.flow;
-    result.flow.converged = result.flow.converged && flow.converged;
-    result.flow.max_error = std::max(result.flow.max_error, flow.max_error);
-    result.flow.intrinsic.add_flip_counts(flow.intrinsic);
-    result.flow.setup_seconds += flow.setup_seconds;
-    result.flow.total_seconds += flow.total_seconds;
-    for (ComponentFlow cf : flow.components) {
-      for (int& v : cf.vertices) v = info.vertex_map[v];
-      result.flow.components.push_back(std::move(cf));
-    }
-    for (int i = 0; i < p.mesh.num_vertices(); ++i) {
-      result.flow.u[info.vertex_map[i]] = flow.u[i];
-      result.flow.curvature[info.vertex_map[i]] = flow.curvature[i];
-      result.flow.target_curvature[info.vertex_map[i]] = flow.target_curvature[i];
-    }
+    add_exact_map_stages(info, polish_faces, result);
   }
   std::sort(result.layout.transitions.begin(), result.layout.transitions.end(),
             [](const SeamTransition& a, const SeamTransition& b) { return a.edge < b.edge; });
@@ -609,8 +720,12 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
     result.polish.angle_distortion_before /= polish_faces;
     result.polish.angle_distortion_after /= polish_faces;
   }
+}
 
-  // 6. Verdict.
+/// The verdict: converged when every component was parameterized; else the message names the
+/// failed ones (the first five).
+void judge_components(const std::vector<Piece>& pieces, MeshParamResult& result) {
+  const int num_components = static_cast<int>(pieces.size());
   int failed = 0;
   for (int c = 0; c < num_components; ++c) {
     const ComponentParam& info = pieces[c].info;
@@ -627,19 +742,58 @@ ParamResult parameterize_components(const Mesh& input, const Topology& topology,
         " components failed (laid out as charts or patches of their own shape): " + result.message +
         (failed > 5 ? "; ..." : "");
   }
-  for (const Piece& piece : pieces) {
-    const ComponentParam& info = piece.info;
-    ComponentRoute route;
-    route.method = info.method;
-    route.charts = static_cast<int>(info.charts.size());
-    route.seam_length = info.seam_length;
-    route.flipped_before = piece.exact_flipped;
-    route.flipped = info.distortion.flipped_faces;
-    if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) {
-      route.why = info.message;
-    }
-    result.routes.push_back(std::move(route));
+}
+
+/// The route of a component that went through the atlas's path.
+ComponentRoute route_of(const Piece& piece) {
+  const ComponentParam& info = piece.info;
+  ComponentRoute route;
+  route.method = info.method;
+  route.charts = static_cast<int>(info.charts.size());
+  route.seam_length = info.seam_length;
+  route.flipped_before = piece.exact_flipped;
+  route.flipped = info.distortion.flipped_faces;
+  if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) {
+    route.why = info.message;
   }
+  return route;
+}
+
+/// The atlas's path: each component routed on its own (route_component), then gathered into
+/// the whole mesh (gather_mesh), its charts packed (gather_unpacked_atlas, pack_atlas), its
+/// stages moved into whole-mesh indices (gather_stages) and judged (judge_components).
+/// `first_attempt` / `first_why`: a single component's exact map, done already or refused.
+MeshParamResult parameterize_components(const Mesh& input, const Topology& topology,
+                                        const ParamOptions& options, ParamResult* first_attempt,
+                                        const std::string& first_why) {
+  const auto start = Clock::now();
+  const int num_components = static_cast<int>(topology.components.size());
+  const std::vector<std::vector<Cone>> user_cones =
+      user_cones_by_component(topology, input.num_vertices(), options);
+  const std::vector<Submesh> submeshes = split_components(input, topology);
+  std::vector<Piece> pieces(num_components);
+  for (int c = 0; c < num_components; ++c) {
+    Piece& piece = pieces[c];
+    const bool done = route_component(
+        piece, topology.components[c], submeshes[c], user_cones[c], options, num_components == 1,
+        c == 0 ? first_attempt : nullptr, c == 0 ? first_why : std::string());
+    if (!done) {
+      // The progress callback asked to stop: no other component is started, no atlas made.
+      MeshParamResult stopped;
+      stopped.mesh = input;
+      stopped.message =
+          "parameterize: cancelled in component " + std::to_string(c) + ": " + piece.info.message;
+      for (int d = 0; d <= c; ++d) stopped.components.push_back(std::move(pieces[d].info));
+      stopped.seconds = seconds_since(start);
+      return stopped;
+    }
+  }
+  MeshParamResult result;
+  gather_mesh(pieces, input, topology, result);
+  pack_atlas(gather_unpacked_atlas(pieces, result), options, result);
+  gather_stages(pieces, result);
+  judge_components(pieces, result);
+  for (const Piece& piece : pieces) result.routes.push_back(route_of(piece));
   result.components.reserve(num_components);
   for (Piece& piece : pieces) result.components.push_back(std::move(piece.info));
   result.seconds = seconds_since(start);
@@ -652,7 +806,7 @@ const char* component_method_name(ComponentMethod method) {
   return enum_name(method);
 }
 
-ParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options) {
+MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options) {
   // With the charts to fall back on, a Newton flow that stalls gives way to them instead of
   // running out its iterations (minutes on a 24k-face genus-73 surface with one hole).
   ParamOptions options = user_options;
@@ -684,14 +838,16 @@ ParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options) {
     route.flipped_before = first.untangle.flipped_before;
     route.flipped = first.distortion.flipped_faces;
     if (!why.empty() && first.converged) route.why = why;
-    first.routes = {route};
-    return first;
+    MeshParamResult whole;
+    static_cast<ParamResult&>(whole) = std::move(first);
+    whole.routes = {route};
+    return whole;
   }
   const double first_seconds = first.seconds;
   // The exact map that failed its checks goes along (the charts cut through its cones); a
   // refusal goes as its message.
-  ParamResult result = parameterize_components(mesh, topology, options, refused ? nullptr : &first,
-                                               refused ? why : "");
+  MeshParamResult result = parameterize_components(mesh, topology, options,
+                                                   refused ? nullptr : &first, refused ? why : "");
   result.seconds += first_seconds;
   return result;
 }

@@ -13,7 +13,7 @@
 namespace ricci {
 
 ParamPicturesResult write_parameterization_pictures(const std::string& folder,
-                                                    const ParamResult& result,
+                                                    const MeshParamResult& result,
                                                     const ParamPicturesOptions& options) {
   namespace fs = std::filesystem;
   if (result.uv.rows() == 0 || result.cut_mesh.triangles.rows() != result.mesh.num_faces()) {

@@ -174,7 +174,7 @@ SplineResult fit_manifold_spline(const Mesh& mesh, const SplineOptions& options)
     for (Scheme fallback : {Scheme::Thurston, Scheme::Tangential}) {
       ParamOptions packing = param_options;
       packing.structure.scheme = fallback;
-      ParamResult attempt;
+      MeshParamResult attempt;
       try {
         attempt = parameterize(mesh, packing);
       } catch (const InvalidInput&) {

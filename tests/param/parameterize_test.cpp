@@ -64,7 +64,7 @@ void expect_good(const ParamResult& r, const std::string& what) {
 TEST(Parameterize, TorusWithoutConesIsAPeriodicFlatteningWithoutFlips) {
   ParamOptions options;
   options.cone_mode = ConeMode::None;
-  const ParamResult r = parameterize(make_torus(32, 12), options);
+  const MeshParamResult r = parameterize(make_torus(32, 12), options);
   expect_good(r, "torus");
   EXPECT_EQ(r.cut.num_generators, 2);
   EXPECT_EQ(r.layout.lattice.size(), 2u);
@@ -78,7 +78,7 @@ TEST(Parameterize, DiskWithFreeAndDiskBoundary) {
     ParamOptions options;
     options.cone_mode = ConeMode::None;
     options.boundary = mode;
-    const ParamResult r = parameterize(disk, options);
+    const MeshParamResult r = parameterize(disk, options);
     expect_good(r, boundary_mode_name(mode));
     EXPECT_EQ(r.distortion.flipped_faces, 0);
     EXPECT_EQ(r.cut.num_generators, 0);
@@ -91,7 +91,7 @@ TEST(Parameterize, SphereWithAutomaticQuantizedCones) {
   options.cone_mode = ConeMode::Auto;
   options.auto_cones.count = 8;
   options.quantize = true;
-  const ParamResult r = parameterize(make_icosphere(3), options);
+  const MeshParamResult r = parameterize(make_icosphere(3), options);
   expect_good(r, "sphere auto");
   double total = 0;
   for (const Cone& c : r.cones) {
@@ -108,7 +108,7 @@ TEST(Parameterize, SphereWithAutomaticQuantizedCones) {
 TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBound) {
   const Mesh cylinder = make_cad_cylinder(360);
   ParamOptions options;  // defaults: cones as needed (automatic on a sphere)
-  const ParamResult r = parameterize(cylinder, options);
+  const MeshParamResult r = parameterize(cylinder, options);
   expect_good(r, "CAD cylinder");
   EXPECT_GE(r.cone_rounds, 1);
   EXPECT_GT(r.cones.size(), 3u);
@@ -120,7 +120,7 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
   ParamOptions first = options;
   first.cone_mode = ConeMode::Auto;
   first.auto_cones.count = 3;
-  const ParamResult three = parameterize(cylinder, first);
+  const MeshParamResult three = parameterize(cylinder, first);
   ASSERT_TRUE(three.converged);
   EXPECT_EQ(three.cone_rounds, 0);
   EXPECT_GT(three.distortion.area_distortion_energy, 4 * r.distortion.area_distortion_energy);
@@ -136,7 +136,7 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   // the needles send the component to the charts route, below).
   ParamOptions exact;
   exact.fold_free.charts = false;
-  const ParamResult r = parameterize(needles, exact);
+  const MeshParamResult r = parameterize(needles, exact);
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_TRUE(r.cone_selection.within_bounds);
   double total = 0;
@@ -150,7 +150,7 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   // distortion's as it was tuned).
   EXPECT_LE(r.layout.max_length_relative_error, 1e-5);
   // By default the flips are not left to the user: charts with free boundary, none folded.
-  const ParamResult fold_free = parameterize(needles, ParamOptions{});
+  const MeshParamResult fold_free = parameterize(needles, ParamOptions{});
   ASSERT_TRUE(fold_free.converged) << fold_free.message;
   ASSERT_EQ(fold_free.routes.size(), 1u);
   EXPECT_EQ(fold_free.routes[0].method, ComponentMethod::Charts);
@@ -173,7 +173,7 @@ TEST(Parameterize, UserConesOnASphere) {
   ParamOptions options;
   options.cone_mode = ConeMode::User;
   options.cones = {{0, kPi}, {3, kPi}, {5, kPi}, {9, kPi}};
-  const ParamResult r = parameterize(make_icosphere(2), options);
+  const MeshParamResult r = parameterize(make_icosphere(2), options);
   expect_good(r, "sphere user");
   EXPECT_EQ(r.cones.size(), 4u);
 }
@@ -184,7 +184,7 @@ TEST(Parameterize, GenusTwoWithOneConeRaisesItsValence) {
   options.structure.scheme = Scheme::Thurston;
   options.cone_mode = ConeMode::OneCone;
   const Mesh surface = make_closed_surface(2, 16);
-  const ParamResult r = parameterize(surface, options);
+  const MeshParamResult r = parameterize(surface, options);
   expect_good(r, "genus 2, one cone");
   ASSERT_EQ(r.cones.size(), 1u);
   EXPECT_NEAR(r.cones[0].curvature, -4 * kPi, 1e-12);
@@ -276,7 +276,7 @@ TEST(Parameterize, OneSharedMeshPerTopologyClass) {
     options.quantize = c.mode == ConeMode::Auto;
     options.boundary = c.boundary;
     options.structure.scheme = c.scheme;
-    const ParamResult r = parameterize(read.mesh, options);
+    const MeshParamResult r = parameterize(read.mesh, options);
     expect_good(r, c.file);
     EXPECT_EQ(r.distortion.flipped_faces, 0) << c.file;
     EXPECT_EQ(r.cut.num_generators, 2 * r.flow.components[0].genus) << c.file;

@@ -11,15 +11,15 @@
 #include <vector>
 
 #include "ricci/errors.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/polygons.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/cut/cut_graph.hpp"
-#include "ricci/hyperbolic/hyperbolic_param.hpp"
+#include "ricci/param/layout/polygon_fans.hpp"
 #include "ricci/param/output_mesh.hpp"
 #include "ricci/param/parameterize.hpp"
-#include "ricci/param/layout/polygon_fans.hpp"
 #include "support/polygon_meshes.hpp"
 #include "support/test_meshes.hpp"
 
@@ -203,10 +203,10 @@ TEST(PolygonCut, RefusesUncutEdgesThatCloseALoopOrHaveTheWrongSize) {
 
 /// parameterize on a polygon mesh: converged, no diagonal cut, every polygon whole, the written
 /// polygons the input's faces, and flips counted on their fans as written.
-ParamResult expect_polygons_kept(const ReadResult& read, ParamOptions options,
-                                 const std::string& what) {
+MeshParamResult expect_polygons_kept(const ReadResult& read, ParamOptions options,
+                                     const std::string& what) {
   options.polygons = read.polygons;
-  ParamResult r = parameterize(read.mesh, options);
+  MeshParamResult r = parameterize(read.mesh, options);
   EXPECT_TRUE(r.converged) << what << ": " << r.message;
   if (!r.converged) return r;
   EXPECT_EQ(r.mesh.triangles, read.mesh.triangles) << what;
@@ -240,7 +240,7 @@ TEST(PolygonParameterize, KeepsEveryPolygonWholeWithSoundFans) {
         Run{"quad sphere (automatic cones)", testing::quad_sphere(4)},
         Run{"octagon grid", testing::l_octagon_grid(true)}}) {
     const ReadResult read = testing::read_soup(run.soup, "param.obj");
-    const ParamResult r = expect_polygons_kept(read, options, run.name);
+    const MeshParamResult r = expect_polygons_kept(read, options, run.name);
     EXPECT_EQ(r.distortion.flipped_faces, 0) << run.name;
     EXPECT_EQ(r.distortion.degenerate_faces, 0) << run.name;
   }
@@ -253,7 +253,7 @@ TEST(PolygonParameterize, TheOctagonIsWrittenFromItsReflexCorner) {
   const ReadResult read = testing::read_soup(testing::l_octagon_grid(false), "octagon.obj");
   ParamOptions options;
   options.polish.enabled = false;
-  const ParamResult r = expect_polygons_kept(read, options, "planar octagon grid");
+  const MeshParamResult r = expect_polygons_kept(read, options, "planar octagon grid");
   const auto written = faces_of(r.polygons, r.mesh.triangles);
   ASSERT_EQ(written.front().size(), 8u);
   EXPECT_EQ(written.front().front(), 5);
@@ -273,7 +273,7 @@ TEST(PolygonParameterize, ACubeOfQuadsWithItsCornersAsCones) {
     if (p.cwiseAbs().minCoeff() == 1) options.cones.push_back({v, kPi / 2});
   }
   ASSERT_EQ(options.cones.size(), 8u);
-  const ParamResult r = expect_polygons_kept(read, options, "cube with corner cones");
+  const MeshParamResult r = expect_polygons_kept(read, options, "cube with corner cones");
   // The cube is flat away from its corners: the layout is its net, without distortion.
   EXPECT_EQ(r.distortion.flipped_faces, 0);
   EXPECT_NEAR(r.distortion.angle_distortion_max, 1.0, 1e-6);
@@ -319,7 +319,7 @@ TEST(PolygonParameterize, ComponentsUnfoldedPatchesAndChartsKeepTheirPolygons) {
     options.cones = {{torus.num_vertices() + quad.num_vertices(), 7.0}};  // the saddle's centre
     options.polygons = testing::pair_triangles(mesh);
     ASSERT_EQ(options.polygons.num_polygons(), nf / 2);
-    const ParamResult r = parameterize(mesh, options);
+    const MeshParamResult r = parameterize(mesh, options);
     ASSERT_EQ(r.components.size(), 3u) << what;
     EXPECT_EQ(r.components[1].method, ComponentMethod::Unfolded) << what;
     if (charts) {
@@ -358,7 +358,7 @@ TEST(PolygonParameterize, AnOverlappingLayoutIsSplitBetweenPolygons) {
   ParamOptions options;
   options.structure.scheme = Scheme::VertexScaling;
   options.polygons = testing::pair_triangles(mesh);
-  const ParamResult r = parameterize(mesh, options);
+  const MeshParamResult r = parameterize(mesh, options);
   ASSERT_TRUE(r.converged) << r.message;
   const ComponentParam& comp = r.components[0];
   EXPECT_GT(comp.overlapping_face_pairs, 0);

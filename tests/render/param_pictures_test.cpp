@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 TEST(ParamPictures, WritesEveryFileIntoANewFolder) {
   ParamOptions param;
   param.cone_mode = ConeMode::None;
-  const ParamResult result = parameterize(make_torus(24, 12), param);
+  const MeshParamResult result = parameterize(make_torus(24, 12), param);
   ASSERT_TRUE(result.converged) << result.message;
 
   const fs::path folder = testing::render_tmp_dir() / "param_pictures" / "nested";
@@ -61,7 +61,7 @@ TEST(ParamPictures, WritesEveryFileIntoANewFolder) {
 TEST(ParamPictures, SkipsTheGradientFlowOnLargeMeshes) {
   ParamOptions param;
   param.cone_mode = ConeMode::None;
-  const ParamResult result = parameterize(make_torus(24, 12), param);
+  const MeshParamResult result = parameterize(make_torus(24, 12), param);
   ASSERT_TRUE(result.converged) << result.message;
   ParamPicturesOptions options;
   options.render.width = options.render.height = 64;
@@ -79,7 +79,7 @@ TEST(ParamPictures, FlatMeshWritesItsPictures) {
   // the pictures that can be drawn are written and nothing throws.
   ParamOptions param;
   param.cone_mode = ConeMode::None;
-  const ParamResult result = parameterize(make_grid(6, 4, 1.5, 1.0), param);
+  const MeshParamResult result = parameterize(make_grid(6, 4, 1.5, 1.0), param);
   ASSERT_TRUE(result.converged) << result.message;
   ParamPicturesOptions options;
   options.render.width = options.render.height = 64;
@@ -93,7 +93,7 @@ TEST(ParamPictures, FlatMeshWritesItsPictures) {
 
 TEST(ParamPictures, RefusesAResultWithoutLayout) {
   EXPECT_THROW(write_parameterization_pictures(
-                   (testing::render_tmp_dir() / "param_pictures_none").string(), ParamResult{}),
+                   (testing::render_tmp_dir() / "param_pictures_none").string(), MeshParamResult{}),
                InvalidInput);
 }
 

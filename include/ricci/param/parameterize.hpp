@@ -94,9 +94,10 @@ struct ParamOptions {
   FoldFreeOptions fold_free;  ///< untangling, and the charts where the exact map fails
   /// A polygon mesh (ReadResult::polygons of read_mesh): the faces the mesh's triangles make up.
   /// Their diagonals are never cut (CutGraphOptions::uncut_edges), a layout split into pieces
-  /// keeps each polygon in one, and ParamResult::polygons gives the faces to write. Empty: every
-  /// triangle is a face. Ignored when edge splits change the faces (valence raising and
-  /// subdivision, circle packings only).
+  /// keeps each polygon in one, and the result's polygons (ParamResult::polygons) give the faces
+  /// to write. Empty: every triangle is a face. Ignored when edge splits change the faces
+  /// (valence raising and subdivision, circle packings only): on a mesh of several components,
+  /// edge splits in any of them leave the whole mesh's polygons empty (its triangles written).
   Polygons polygons;
 };
 
@@ -114,8 +115,8 @@ struct ParamTimings {
   double distortion = 0;   ///< distortion figures
 };
 
-/// How a component was laid out: the route its layout took (ParamResult::routes; for a mesh of
-/// several components also ComponentParam::method).
+/// How a component was laid out: the route its layout took (MeshParamResult::routes, and
+/// ComponentParam::method where the component went through the atlas's path).
 enum class ComponentMethod {
   /// The pipeline's exact map: cones, flow, cut, layout (every vertex at its image under the flat
   /// metric with cones, polished), fold-free as it came.
@@ -153,7 +154,7 @@ struct EnumNames<ComponentMethod> {
   }};
 };
 
-/// The route one component's layout took, and what it cost (ParamResult::routes).
+/// The route one component's layout took, and what it cost (MeshParamResult::routes).
 struct ComponentRoute {
   ComponentMethod method = ComponentMethod::Flow;
   int charts = 1;          ///< charts of its layout in the atlas
@@ -166,20 +167,18 @@ struct ComponentRoute {
   std::string why;
 };
 
-struct ComponentParam;
-
-/// What parameterize returns. On a mesh of several components every field describes the whole
-/// mesh (see parameterize for what the stages hold then), and `components` and `packing` say how
-/// each component was parameterized and where its chart went.
+/// One component parameterized by one route: the pipeline's exact map (cones, flow, cut, layout,
+/// atlas, distortion), or a route that stood in for it (charts, unfolding). Every index is the
+/// component's own. What parameterize returns for the whole mesh is a MeshParamResult.
 struct ParamResult {
-  /// The flow reached its tolerance. Several components: every component was parameterized
-  /// (ComponentParam::parameterized); the atlas covers the whole mesh either way.
+  /// The flow reached its tolerance (the charts and the unfolding: laid out without a flipped
+  /// face).
   bool converged = false;
-  std::string message;  ///< why not, when it did not (several components: which ones failed)
+  std::string message;  ///< why not, when it did not
   /// The mesh parameterized: the input itself (same vertices, faces and order), except that the
   /// Thurston scheme's valence raising (modify_connectivity) appends the vertices its edge splits
   /// add. With edge flips the flat metric lives on the flow's intrinsic triangulation
-  /// (flow.topology, flow.flipped_edges), and the layout places the input's own faces in it.
+  /// (flow.intrinsic), and the layout places the input's own faces in it.
   Mesh mesh;
   std::vector<int> vertex_origin;  ///< per output vertex: input vertex, or -1 when added
   std::vector<std::array<int, 2>> added_vertex_parents;  ///< per added vertex: the edge it splits
@@ -207,11 +206,10 @@ struct ParamResult {
   Layout layout;
   /// The angle polish. Its uv holds the layout before the polish, the flat metric's own
   /// positions (layout.uv holds the polished ones; common_refinement reads these); empty when
-  /// the polish did not run, and on a mesh of several components (see components[c].param).
+  /// the polish did not run.
   PolishResult polish;
   /// The untangling of the faces the layout drew flipped (FoldFreeOptions::untangle): its uv is
-  /// moved into the layout (empty here); flipped_before 0 when there was nothing to do. Several
-  /// components: summed.
+  /// moved into the layout (empty here); flipped_before 0 when there was nothing to do.
   UntangleResult untangle;
   AffineAtlas atlas;
   /// Of the faces written: the triangles, or with polygons the fan of each polygon from its
@@ -220,10 +218,10 @@ struct ParamResult {
   double seam_length = 0;  ///< 3D length of the cut edges
   /// The faces to write (textured_mesh), for ParamOptions::polygons: those polygons over mesh's
   /// triangles, each listed from a corner whose fan from there is drawn unflipped in the layout
-  /// (start_fans_where_valid of ricci/param/layout/polygon_fans.hpp: the same face, a reader splitting
-  /// it as a fan from its first corner gets a sound one), and distortion measures those fans.
-  /// Every polygon has one uv per corner: no cut runs inside it. Empty without polygons, and
-  /// when edge splits changed the faces (then the triangles are written).
+  /// (start_fans_where_valid of ricci/param/layout/polygon_fans.hpp: the same face, a reader
+  /// splitting it as a fan from its first corner gets a sound one), and distortion measures
+  /// those fans. Every polygon has one uv per corner: no cut runs inside it. Empty without
+  /// polygons, and when edge splits changed the faces (then the triangles are written).
   Polygons polygons;
   /// Texture coordinates in the unit square (aspect ratio kept): one per cut-mesh vertex;
   /// uv_triangles = cut_mesh.triangles indexes them per corner.
@@ -231,25 +229,14 @@ struct ParamResult {
   double uv_scale = 1;  ///< uv = (layout - offset) * uv_scale
   Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
   double seconds = 0;
-  ParamTimings timings;  ///< several components: summed over the components
-  /// Several components: one entry per connected component of the input, in the order of
-  /// Topology::components. Empty for a mesh of one component, unless its exact map failed its
-  /// checks and another route laid it out (then one entry).
-  std::vector<ComponentParam> components;
-  /// Several components: how the charts were packed (its uv moved into `uv`, so empty here).
-  ChartPacking packing;
-  /// Per component, in the order of Topology::components (one entry for a mesh of one
-  /// component): the route its layout took. A component whose exact map fails its own checks
-  /// (FoldFreeOptions) goes through the components' path (components[c], packing) even when it
-  /// is the only one.
-  std::vector<ComponentRoute> routes;
+  ParamTimings timings;
 };
 
 /// "flow", "untangled", "charts", "unfolded" or "patches" (its EnumNames row), as reports print
 /// it.
 const char* component_method_name(ComponentMethod method);
 
-/// One component of a mesh of several components (ParamResult::components).
+/// One component on its way into the atlas (MeshParamResult::components).
 struct ComponentParam {
   std::vector<int> vertices;  ///< input vertices of the component, ascending
   std::vector<int> faces;     ///< input faces of the component, ascending
@@ -261,7 +248,7 @@ struct ComponentParam {
   /// Why the pipeline failed (its message, or the exception it threw), also when the unfolding
   /// then served, or why its layout gave way to the unfolding; empty when the flow served.
   std::string message;
-  std::vector<Cone> cones;  ///< its cones, in vertices of ParamResult::mesh
+  std::vector<Cone> cones;  ///< its cones, in vertices of MeshParamResult::mesh
   Distortion distortion;    ///< of its own part of the atlas
   /// Pairs of its faces that overlap in its own layout (find_uv_overlaps): a conformal layout
   /// without flipped faces can still wind over itself (the arms of triple_vierbein, a surface
@@ -273,12 +260,12 @@ struct ComponentParam {
   /// Its layout was multiplied by this before packing, so that its layout area equals its 3D
   /// area: every component then has the same mean texel density.
   double area_scale = 1;
-  /// Its charts in ParamResult::packing.charts: one, unless Patches or its layout overlapped
+  /// Its charts in MeshParamResult::packing.charts: one, unless Patches or its layout overlapped
   /// itself (overlapping_face_pairs).
   std::vector<int> charts;
-  std::vector<int> vertex_map;  ///< #V of param.mesh: the vertex of ParamResult::mesh
-  std::vector<int> face_map;    ///< #F of param.mesh: the face of ParamResult::mesh
-  /// Its vertices of ParamResult::cut_mesh start here: vertex i of its cut mesh (param.cut_mesh
+  std::vector<int> vertex_map;  ///< #V of param.mesh: the vertex of MeshParamResult::mesh
+  std::vector<int> face_map;    ///< #F of param.mesh: the face of MeshParamResult::mesh
+  /// Its vertices of MeshParamResult::cut_mesh start here: vertex i of its cut mesh (param.cut_mesh
   /// when it has one chart) is cut_vertex_offset + i.
   int cut_vertex_offset = 0;
   double seconds = 0;
@@ -286,6 +273,43 @@ struct ComponentParam {
   /// edge splits added): the pipeline's result (Flow; Patches: the failed one, its mesh the
   /// component's) or the unfolding's (Unfolded: converged, no flow; its cut has no segments).
   ParamResult param;
+};
+
+/// What parameterize returns: the whole mesh's parameterization. Its ParamResult fields are of
+/// the whole mesh, in the whole mesh's indices:
+/// - A mesh of one component whose exact map passed its checks (or had nothing to give way to):
+///   that map's ParamResult as the pipeline made it; `components` is empty.
+/// - Otherwise (several components, or one whose exact map gave way to another route) the atlas
+///   gathered from `components`: mesh (the input's vertices, then the vertices each component's
+///   edge splits added, component after component; the input's faces in their order, a
+///   component whose faces edge splits changed giving all of its faces at the place of its
+///   first), vertex_origin, added_vertex_parents, cones, cut (whole-mesh edges; segments and
+///   nodes of the components in one chart), cut_mesh, layout (uv: the packed atlas in layout
+///   units, uv = layout.uv * uv_scale up to rounding; transitions and segment transitions moved
+///   with the charts, of components in one chart; no lattice), atlas (moved likewise),
+///   distortion and seam_length of the whole atlas; flow gathers the Flow and Untangled
+///   components' flows (converged, max_error, flips, components with whole-mesh vertices, u,
+///   curvature, target_curvature; their topology, lengths, structure and flip list stay in
+///   components[c].param.flow); untangle sums the components' (Patches aside); polish and
+///   timings gather the Flow and Untangled components' (counts and seconds summed, the polish's
+///   sweeps their maximum and its face means weighted by face counts, its uv empty; the charts'
+///   time of every component); cone_selection,
+///   log_scale_spread, cone_rounds and development_length_mismatch are left at their defaults
+///   (see components[c].param). converged: every component parameterized; message: which
+///   ones were not.
+struct MeshParamResult : ParamResult {
+  /// One entry per connected component of the input, in the order of Topology::components, when
+  /// the atlas was gathered from them (see above); empty when the whole mesh is one component
+  /// its exact map laid out.
+  std::vector<ComponentParam> components;
+  /// How the components' charts were packed (its uv moved into `uv`, so empty here); empty with
+  /// `components`.
+  ChartPacking packing;
+  /// Per component, in the order of Topology::components (one entry for a mesh of one
+  /// component): the route its layout took. A component whose exact map fails its own checks
+  /// (FoldFreeOptions) goes through the components' path (components[c], packing) even when it
+  /// is the only one.
+  std::vector<ComponentRoute> routes;
 };
 
 /// Runs the pipeline: cones, connectivity modification, flow, cut, layout, atlas, distortion,
@@ -296,22 +320,11 @@ struct ComponentParam {
 /// one or two faces is unfolded; one whose pipeline fails (not converged, or InvalidInput,
 /// TopologyError, SolverError) is unfolded, in several patches if one would overlap itself, and
 /// the others go on. Each component's layout is scaled to its 3D area and the charts are
-/// packed into the unit square (pack_charts with options.packing). The result then holds: mesh
-/// (the input's vertices, then the vertices each component's edge splits added, component after
-/// component; the input's faces in their order, a component whose faces edge splits changed
-/// giving all of its faces at the place of its first), vertex_origin, added_vertex_parents,
-/// cones, cut (whole-mesh edges; segments and nodes from the Flow components only), cut_mesh,
-/// layout (uv: the packed atlas in layout units, uv = layout.uv * uv_scale up to rounding;
-/// transitions and segment transitions moved with the charts, of components in one chart; no
-/// lattice), atlas (moved likewise),
-/// distortion and seam_length of the whole atlas; flow gathers the components' flows (converged,
-/// max_error, flips, components with whole-mesh vertices, u, curvature, target_curvature; its
-/// topology, lengths, structure and flip list are per component, in components[c].param.flow);
-/// cone_selection is per component. converged is true when every component was parameterized
-/// (in one chart). A flow cancelled by its progress callback stops everything: the result then
-/// has no uv, converged false and the components done so far.
+/// packed into the unit square (pack_charts with options.packing); MeshParamResult says what the
+/// gathered result holds. A flow cancelled by its progress callback stops everything: the result
+/// then has no uv, converged false and the components done so far.
 /// \throw InvalidInput (bad cones; one component: also an inadmissible target or cone mode),
 ///        TopologyError
-ParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});
+MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});
 
 }  // namespace ricci

@@ -48,7 +48,7 @@ struct ParamPicturesResult {
 /// \throw InvalidInput when the result has no layout
 /// \throw IoError naming the folder or file when it cannot be written
 ParamPicturesResult write_parameterization_pictures(const std::string& folder,
-                                                    const ParamResult& result,
+                                                    const MeshParamResult& result,
                                                     const ParamPicturesOptions& options = {});
 
 }  // namespace ricci

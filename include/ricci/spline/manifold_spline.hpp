@@ -44,7 +44,7 @@ struct SplineError {
 struct SplineResult {
   bool converged = false;  ///< the parameterization converged (nothing else is filled otherwise)
   std::string message;     ///< why not
-  ParamResult param;       ///< the flat metric, cut, layout and atlas the spline lives on
+  MeshParamResult param;   ///< the flat metric, cut, layout and atlas the spline lives on
   /// Set when the spline does not live on the parameterization asked for, and why: the
   /// vertex-scaling map drew some input faces flipped (needles between exact images), where no
   /// spline piece can live, and the domain is Thurston's circle-packing map instead.

@@ -1,13 +1,13 @@
 #pragma once
 /// \file
-/// Internal: the pipeline of parameterize on a mesh of one component (parameterize.cpp), which
-/// the public parameterize (parameterize_components.cpp) runs on the whole mesh or per component.
+/// Internal: the pipeline of parameterize on a mesh of one component (one_component.cpp), which
+/// the public parameterize (parameterize.cpp) runs on the whole mesh or per component.
 
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci {
 
-/// parameterize on a single-component mesh (ParamResult::components stays empty).
+/// The exact map on a single-component mesh: cones, flow, cut, layout, atlas, distortion.
 /// \throw InvalidInput (bad cones, inadmissible target, not exactly one component), TopologyError
 ParamResult parameterize_one_component(const Mesh& input, const ParamOptions& options);
 

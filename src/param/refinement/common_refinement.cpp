@@ -354,15 +354,9 @@ void place_points_on_edge(Context& c, int e) {
   }
 }
 
-/// Checks what common_refinement can refine: one component, converged, vertex scaling in the
-/// plane.
+/// Checks what common_refinement can refine: converged, vertex scaling in the plane (one
+/// component: the MeshParamResult overload checks that).
 void check_refinable(const ParamResult& param) {
-  if (!param.components.empty()) {
-    throw InvalidInput(
-        "common_refinement: the parameterization covers " +
-        std::to_string(param.components.size()) +
-        " components; take the refinement of each one's own result (components[c].param)");
-  }
   if (!param.converged) {
     throw InvalidInput("common_refinement: the parameterization did not converge" +
                        (param.message.empty() ? std::string() : ": " + param.message));
@@ -545,6 +539,17 @@ SlicedFaces slice_faces(Context& c, int front_faces, CommonRefinement& result) {
 }
 
 }  // namespace refinement_support
+
+CommonRefinement common_refinement(const MeshParamResult& param,
+                                   const CommonRefinementOptions& options) {
+  if (!param.components.empty()) {
+    throw InvalidInput(
+        "common_refinement: the parameterization covers " +
+        std::to_string(param.components.size()) +
+        " components; take the refinement of each one's own result (components[c].param)");
+  }
+  return common_refinement(static_cast<const ParamResult&>(param), options);
+}
 
 CommonRefinement common_refinement(const ParamResult& param,
                                    const CommonRefinementOptions& options) {

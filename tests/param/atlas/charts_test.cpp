@@ -1,5 +1,5 @@
-// The charts route (ComponentMethod::Charts, src/param/atlas/charts.cpp): where the exact map fails its
-// checks, the component is cut into charts flattened with free boundary. Pinned down here on
+// The charts route (ComponentMethod::Charts, src/param/atlas/charts.cpp): where the exact map fails
+// its checks, the component is cut into charts flattened with free boundary. Pinned down here on
 // generated cases the exact map cannot serve: a high-genus surface with one boundary loop (its
 // flat metric with free boundary spans more scale than double precision lays out) and a CAD
 // cylinder with 0.1-degree needles (faces drawn flipped that untangling cannot reach). Every
@@ -64,7 +64,7 @@ Seams measure_seams(const Mesh& mesh, const Triangles& t, const UV& uv) {
   return out;
 }
 
-void expect_fold_free_charts(const Mesh& mesh, const ParamResult& r, const std::string& what) {
+void expect_fold_free_charts(const Mesh& mesh, const MeshParamResult& r, const std::string& what) {
   ASSERT_TRUE(r.converged) << what << ": " << r.message;
   ASSERT_EQ(r.routes.size(), 1u) << what;
   EXPECT_EQ(r.routes[0].method, ComponentMethod::Charts) << what;
@@ -89,7 +89,7 @@ void expect_fold_free_charts(const Mesh& mesh, const ParamResult& r, const std::
 // scale spans more than double precision lays out (layout length error about 1e19).
 TEST(Charts, AHighGenusSurfaceWithOneHoleIsLaidOutAsCharts) {
   const Mesh surface = pull_vertices_to_neighbours(make_surface_with_holes(20, 1, 24), 0.9, 1, 2);
-  const ParamResult r = parameterize(surface, ParamOptions{});
+  const MeshParamResult r = parameterize(surface, ParamOptions{});
   expect_fold_free_charts(surface, r, "genus 20, one hole");
   EXPECT_NE(r.routes[0].why.find("does not close up"), std::string::npos) << r.routes[0].why;
   // The charts are the disk's: cut once, free boundary, no face needed its own shape.
@@ -98,7 +98,7 @@ TEST(Charts, AHighGenusSurfaceWithOneHoleIsLaidOutAsCharts) {
   // Without the charts route the exact map comes back as it is, and says it failed.
   ParamOptions exact;
   exact.fold_free.charts = false;
-  const ParamResult failed = parameterize(surface, exact);
+  const MeshParamResult failed = parameterize(surface, exact);
   EXPECT_GT(failed.layout.max_length_relative_error, 1e-6);
   ASSERT_EQ(failed.routes.size(), 1u);
   EXPECT_EQ(failed.routes[0].method, ComponentMethod::Flow);
@@ -108,7 +108,7 @@ TEST(Charts, AHighGenusSurfaceWithOneHoleIsLaidOutAsCharts) {
 // flipped that untangling cannot free (measured); charts do without a fold.
 TEST(Charts, NeedlesTheExactMapFoldsAreLaidOutWithoutAFold) {
   const Mesh needles = pull_vertices_to_neighbours(make_cad_cylinder(360), 0.998, 1, 2);
-  const ParamResult r = parameterize(needles, ParamOptions{});
+  const MeshParamResult r = parameterize(needles, ParamOptions{});
   expect_fold_free_charts(needles, r, "needle cylinder");
   EXPECT_GT(r.routes[0].flipped_before, 0);
   EXPECT_NE(r.routes[0].why.find("flipped"), std::string::npos) << r.routes[0].why;
@@ -117,7 +117,7 @@ TEST(Charts, NeedlesTheExactMapFoldsAreLaidOutWithoutAFold) {
 // A surface the exact map serves takes no other route, and its result is that of the exact map.
 TEST(Charts, AMeshTheExactMapServesKeepsIt) {
   const Mesh torus = make_torus(32, 12);
-  const ParamResult r = parameterize(torus, ParamOptions{});
+  const MeshParamResult r = parameterize(torus, ParamOptions{});
   ASSERT_TRUE(r.converged) << r.message;
   ASSERT_EQ(r.routes.size(), 1u);
   EXPECT_EQ(r.routes[0].method, ComponentMethod::Flow);

@@ -96,7 +96,7 @@ double uv_angle_sum(const ParamResult& r, int v) {
 /// What every atlas of several components must satisfy, converged or not: faces and corners
 /// consistent, uv in the square, no flipped face, no two charts overlapping (counted again here),
 /// every component at the same texel density, the whole layout and uv related by uv_scale.
-void expect_atlas(const ParamResult& r, const std::string& what) {
+void expect_atlas(const MeshParamResult& r, const std::string& what) {
   ASSERT_FALSE(r.components.empty()) << what;
   ASSERT_EQ(r.cut_mesh.triangles.rows(), r.mesh.num_faces()) << what;
   for (int f = 0; f < r.mesh.num_faces(); ++f) {
@@ -152,7 +152,7 @@ TEST(ParameterizeComponents, TorusSphereDiskTriangleAndTetrahedronAtVeryDifferen
                               {disk, 0.01},
                               {triangle, 10.0},
                               {testing::tetrahedron(), 0.1}});
-  const ParamResult r = parameterize(input, vertex_scaling());
+  const MeshParamResult r = parameterize(input, vertex_scaling());
   expect_atlas(r, "five components");
   ASSERT_TRUE(r.converged) << r.message;
   ASSERT_EQ(r.components.size(), 5u);
@@ -170,7 +170,7 @@ TEST(ParameterizeComponents, TorusSphereDiskTriangleAndTetrahedronAtVeryDifferen
   // Each component as it would be alone (the same pipeline on the same submesh, bit for bit).
   const Mesh torus_part =
       split_components(input, build_topology(input.triangles, input.num_vertices()))[0].mesh;
-  const ParamResult torus_alone = parameterize(torus_part, vertex_scaling());
+  const MeshParamResult torus_alone = parameterize(torus_part, vertex_scaling());
   EXPECT_EQ(r.components[0].distortion.angle_distortion_mean,
             torus_alone.distortion.angle_distortion_mean);
   EXPECT_EQ(r.components[0].param.flow.max_error, torus_alone.flow.max_error);
@@ -210,7 +210,7 @@ TEST(ParameterizeComponents, ClosedComponentsWhosePipelineFailsUnfold) {
   // genus-0 surface needs cones) and are unfolded, their cones where their 3D shape curves.
   ParamOptions options = vertex_scaling();
   options.cone_mode = ConeMode::None;
-  const ParamResult r = parameterize(
+  const MeshParamResult r = parameterize(
       combine({{make_torus(24, 10), 1.0}, {testing::tetrahedron(), 1.0}, {cube(), 1.0}}), options);
   expect_atlas(r, "torus, tetrahedron, cube");
   ASSERT_TRUE(r.converged) << r.message;
@@ -238,9 +238,9 @@ TEST(ParameterizeComponents, AFlowLayoutFarFromConformalGivesWayToTheUnfolding) 
                                                {0.0342168, 0.0644548, 0.000549007}},
                                               {{1, 0, 2}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}});
   const Mesh triangle = testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.2, 0.9, 0}}, {{0, 1, 2}});
-  const ParamResult alone = parameterize(tetrahedron, vertex_scaling());
+  const MeshParamResult alone = parameterize(tetrahedron, vertex_scaling());
   ASSERT_TRUE(alone.converged) << alone.message;
-  const ParamResult r =
+  const MeshParamResult r =
       parameterize(combine({{tetrahedron, 1.0}, {triangle, 0.001}}), vertex_scaling());
   expect_atlas(r, "needle tetrahedron");
   const ComponentParam& comp = r.components[0];
@@ -256,8 +256,8 @@ TEST(ParameterizeComponents, AFlowLayoutFarFromConformalGivesWayToTheUnfolding) 
 
 TEST(ParameterizeComponents, TransitionsAndAtlasMoveWithTheCharts) {
   // Two tori: every interior cut edge has a transition taking one side's copy onto the other's.
-  const ParamResult r = parameterize(combine({{make_torus(24, 10), 1.0}, {make_torus(20, 8), 3.0}}),
-                                     vertex_scaling());
+  const MeshParamResult r = parameterize(
+      combine({{make_torus(24, 10), 1.0}, {make_torus(20, 8), 3.0}}), vertex_scaling());
   expect_atlas(r, "two tori");
   ASSERT_TRUE(r.converged) << r.message;
   const Topology t = build_topology(r.mesh.triangles, r.mesh.num_vertices());
@@ -306,7 +306,7 @@ TEST(ParameterizeComponents, UserConesGoToTheirComponents) {
   ParamOptions options = vertex_scaling();
   options.cone_mode = ConeMode::User;
   for (int v = 0; v < 8; ++v) options.cones.push_back({offset + 10 * v, kPi / 2});
-  const ParamResult r = parameterize(input, options);
+  const MeshParamResult r = parameterize(input, options);
   expect_atlas(r, "user cones");
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_TRUE(r.components[0].cones.empty());
@@ -330,7 +330,7 @@ TEST(ParameterizeComponents, AFailedComponentIsReportedAndLaidOutAsPatches) {
   // By default the failed component is laid out as charts with free boundary (fold-free, each
   // seam its 3D length), still reported as failed (its cone was not made); patches are the
   // route without charts.
-  const ParamResult charts = parameterize(input, options);
+  const MeshParamResult charts = parameterize(input, options);
   expect_atlas(charts, "torus and saddle, charts");
   EXPECT_FALSE(charts.converged);
   EXPECT_FALSE(charts.components[1].parameterized);
@@ -338,7 +338,7 @@ TEST(ParameterizeComponents, AFailedComponentIsReportedAndLaidOutAsPatches) {
   EXPECT_EQ(charts.components[1].method, ComponentMethod::Charts);
   EXPECT_EQ(charts.distortion.flipped_faces, 0);
   options.fold_free.charts = false;
-  const ParamResult r = parameterize(input, options);
+  const MeshParamResult r = parameterize(input, options);
   expect_atlas(r, "torus and saddle");
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.message.find("component 1"), std::string::npos) << r.message;
@@ -373,7 +373,7 @@ TEST(ParameterizeComponents, ManyTinyComponents) {
       parts.emplace_back(testing::tetrahedron(), s);
     }
   }
-  const ParamResult r = parameterize(combine(parts), vertex_scaling());
+  const MeshParamResult r = parameterize(combine(parts), vertex_scaling());
   expect_atlas(r, "60 tiny components");
   ASSERT_TRUE(r.converged) << r.message;
   for (const ComponentParam& comp : r.components) {
@@ -406,7 +406,7 @@ TEST(ParameterizeComponents, EdgeSplitsInOneComponentKeepTheOthersFaces) {
   ParamOptions options;
   options.structure.scheme = Scheme::Thurston;
   options.cone_mode = ConeMode::OneCone;
-  const ParamResult r = parameterize(input, options);
+  const MeshParamResult r = parameterize(input, options);
   expect_atlas(r, "one cone");
   ASSERT_TRUE(r.converged) << r.message;
   const ComponentParam& split = r.components[1];
@@ -441,7 +441,7 @@ TEST(ParameterizeComponents, ALayoutThatOverlapsItselfIsCutIntoChartsThatDoNot) 
   // itself (3367 face pairs measured); the atlas cuts it into charts (10 measured), and no two
   // faces of the atlas overlap (expect_atlas counts every pair).
   const Mesh triangle = testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {0.2, 0.9, 0}}, {{0, 1, 2}});
-  const ParamResult r = parameterize(
+  const MeshParamResult r = parameterize(
       combine({{make_surface_with_holes(3, 8), 1.0}, {triangle, 1.0}}), vertex_scaling());
   expect_atlas(r, "genus 3 with 8 holes");
   ASSERT_TRUE(r.converged) << r.message;
@@ -468,7 +468,7 @@ TEST(ParameterizeComponents, CancellingStopsEverything) {
   ParamOptions options = vertex_scaling();
   int calls = 0;
   options.flow.progress = [&](const IterationRecord&) { return ++calls < 2; };
-  const ParamResult r =
+  const MeshParamResult r =
       parameterize(combine({{make_torus(24, 10), 1.0}, {make_icosphere(3), 1.0}}), options);
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.message.find("cancelled in component 0"), std::string::npos) << r.message;
@@ -478,9 +478,14 @@ TEST(ParameterizeComponents, CancellingStopsEverything) {
 }
 
 TEST(ParameterizeComponents, OneComponentIsUnchanged) {
-  const ParamResult r = parameterize(make_torus(24, 10));
+  const MeshParamResult r = parameterize(make_torus(24, 10));
   EXPECT_TRUE(r.components.empty());
   EXPECT_TRUE(r.packing.charts.empty());
+  // Its route is the exact map's, and the whole mesh's fields are that map's own.
+  ASSERT_EQ(r.routes.size(), 1u);
+  EXPECT_EQ(r.routes[0].method, ComponentMethod::Flow);
+  EXPECT_EQ(r.routes[0].seam_length, r.seam_length);
+  EXPECT_FALSE(r.layout.lattice.empty());
   EXPECT_NEAR(std::max(r.uv.col(0).maxCoeff(), r.uv.col(1).maxCoeff()), 1.0, 1e-12);
 }
 
@@ -500,7 +505,7 @@ TEST(ParameterizeComponents, TeapotAndTripleVierbeinAfterRepair) {
        {std::tuple{"teapot.obj", 4u, 0.5}, std::tuple{"triple_vierbein.obj", 2u, 0.25}}) {
     const auto mesh = repaired(file);
     ASSERT_TRUE(mesh);
-    const ParamResult r = parameterize(*mesh, vertex_scaling());
+    const MeshParamResult r = parameterize(*mesh, vertex_scaling());
     expect_atlas(r, file);
     EXPECT_TRUE(r.converged) << file << ": " << r.message;
     EXPECT_EQ(r.components.size(), components) << file;
@@ -511,7 +516,7 @@ TEST(ParameterizeComponents, TeapotAndTripleVierbeinAfterRepair) {
   }
   // triple_vierbein's larger part, flattened with a free boundary, winds over itself where its
   // arms meet (27 pairs of faces, measured): two charts that do not.
-  const ParamResult r = parameterize(*repaired("triple_vierbein.obj"), vertex_scaling());
+  const MeshParamResult r = parameterize(*repaired("triple_vierbein.obj"), vertex_scaling());
   EXPECT_GT(r.components[0].overlapping_face_pairs, 0);
   EXPECT_GE(r.components[0].charts.size(), 2u);
   EXPECT_TRUE(r.components[0].parameterized);
@@ -545,7 +550,7 @@ TEST(ParameterizeComponents, DragonAfterRepairWithoutItsLargestComponent) {
   // docs/parameterization.md).
   ParamOptions options = vertex_scaling();
   options.packing.raster_resolution = 0;
-  const ParamResult r = parameterize(rest, options);
+  const MeshParamResult r = parameterize(rest, options);
   expect_atlas(r, "dragon's small components");
   EXPECT_TRUE(r.converged) << r.message;
   EXPECT_EQ(r.components.size(), 819u);

@@ -1,6 +1,6 @@
 // The common refinement and the exact discrete conformal map on it
-// (ricci/param/refinement/common_refinement.hpp), checked step by step against the definitions: the pieces
-// are isometric to their shapes in the Delaunay triangulation (T0 -> T1 is an isometry); the
+// (ricci/param/refinement/common_refinement.hpp), checked step by step against the definitions: the
+// pieces are isometric to their shapes in the Delaunay triangulation (T0 -> T1 is an isometry); the
 // projective map of every piece takes the circumcircle of its Delaunay triangle onto the
 // circumcircle of its final triangle (the Klein-model map between ideal triangles); the texture
 // coordinates are a rigid image of the final metric; along every final edge they add up to its
@@ -19,10 +19,10 @@
 #include <Eigen/LU>
 
 #include "ricci/errors.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "support/hard_meshes.hpp"
 #include "support/shared_meshes.hpp"
 
@@ -32,8 +32,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 using Complex = std::complex<double>;
 
-ParamResult param_vertex_scaling(const Mesh& mesh, std::vector<Cone> cones,
-                                 double tolerance = 1e-12) {
+MeshParamResult param_vertex_scaling(const Mesh& mesh, std::vector<Cone> cones,
+                                     double tolerance = 1e-12) {
   ParamOptions options;
   options.structure.scheme = Scheme::VertexScaling;
   options.cone_mode = cones.empty() ? ConeMode::None : ConeMode::User;
@@ -225,7 +225,8 @@ Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
 
 TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMinusU) {
   const Mesh sphere = make_icosphere(3);
-  const ParamResult p = param_vertex_scaling(sphere, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
+  const MeshParamResult p =
+      param_vertex_scaling(sphere, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
   ASSERT_TRUE(p.converged) << p.message;
   ASSERT_EQ(p.flow.intrinsic.flips(), 0);
   const CommonRefinement r = common_refinement(p);
@@ -246,7 +247,7 @@ TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMin
 
 TEST(CommonRefinement, ValenceThreeSphereWithStrongConesFlipsBothWays) {
   const Mesh mesh = testing::icosphere_split_near_corners(1, 0.05);
-  const ParamResult p = param_vertex_scaling(mesh, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
+  const MeshParamResult p = param_vertex_scaling(mesh, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);
   EXPECT_GT(r.isometric_flips, 50);
@@ -260,7 +261,7 @@ TEST(CommonRefinement, ValenceThreeSphereWithStrongConesFlipsBothWays) {
 
 TEST(CommonRefinement, IcosphereWithNegativeConesFlipsDuringTheFlow) {
   const Mesh sphere = make_icosphere(3);
-  const ParamResult p = param_vertex_scaling(
+  const MeshParamResult p = param_vertex_scaling(
       sphere,
       {{0, -kPi}, {100, -kPi}, {1, 1.95 * kPi}, {2, 1.95 * kPi}, {3, 1.95 * kPi}, {50, 0.15 * kPi}},
       1e-10);
@@ -273,7 +274,7 @@ TEST(CommonRefinement, IcosphereWithNegativeConesFlipsDuringTheFlow) {
 
 TEST(CommonRefinement, CadFanWithFreeBoundaryIsCutAlongItsDelaunayTriangulation) {
   const Mesh strip = testing::cad_strip(40, 0.01);
-  const ParamResult p = param_vertex_scaling(strip, {});
+  const MeshParamResult p = param_vertex_scaling(strip, {});
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);
   EXPECT_GT(r.isometric_flips, 40);
@@ -305,7 +306,7 @@ TEST(CommonRefinement, ADiskFlowedOnItsDoubleKeepsItsOwnHalf) {
   options.structure.scheme = Scheme::VertexScaling;
   options.cone_mode = ConeMode::None;
   options.boundary = BoundaryMode::DiskLength;
-  const ParamResult p = parameterize(disk, options);
+  const MeshParamResult p = parameterize(disk, options);
   ASSERT_TRUE(p.converged) << p.message;
   ASSERT_TRUE(p.flow.components.front().doubled);
   const CommonRefinement r = common_refinement(p);
@@ -328,7 +329,7 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
     ParamOptions options;
     options.structure.scheme = Scheme::VertexScaling;
     options.cone_mode = ConeMode::Auto;
-    const ParamResult p = parameterize(read.mesh, options);
+    const MeshParamResult p = parameterize(read.mesh, options);
     ASSERT_TRUE(p.converged) << m.file << ": " << p.message;
     const CommonRefinement r = common_refinement(p);
     EXPECT_GT(r.isometric_flips, 100) << m.file;
@@ -348,7 +349,7 @@ TEST(CommonRefinement, IsTheSameWithAndWithoutTheAnglePolish) {
   std::vector<Cone> cones;
   cones.reserve(4);
   for (int v = 0; v < 4; ++v) cones.push_back({3 * v, kPi});
-  ParamResult polished = param_vertex_scaling(mesh, cones);
+  MeshParamResult polished = param_vertex_scaling(mesh, cones);
   ASSERT_TRUE(polished.converged) << polished.message;
   ASSERT_GT(polished.polish.moved_vertices, 0);
   ParamOptions options;
@@ -356,7 +357,7 @@ TEST(CommonRefinement, IsTheSameWithAndWithoutTheAnglePolish) {
   options.cone_mode = ConeMode::User;
   options.cones = cones;
   options.polish.enabled = false;
-  const ParamResult exact = parameterize(mesh, options);
+  const MeshParamResult exact = parameterize(mesh, options);
   ASSERT_TRUE(exact.converged) << exact.message;
   EXPECT_EQ(exact.polish.moved_vertices, 0);
   const CommonRefinement a = common_refinement(polished), b = common_refinement(exact);
@@ -372,7 +373,7 @@ TEST(CommonRefinement, RefusesOtherSchemes) {
   ParamOptions options;
   options.cone_mode = ConeMode::None;
   options.structure.scheme = Scheme::Thurston;
-  const ParamResult p = parameterize(make_torus(12, 6), options);
+  const MeshParamResult p = parameterize(make_torus(12, 6), options);
   ASSERT_TRUE(p.converged);
   EXPECT_THROW(common_refinement(p), InvalidInput);
 }

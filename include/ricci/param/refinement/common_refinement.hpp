@@ -138,4 +138,10 @@ struct CommonRefinement {
 CommonRefinement common_refinement(const ParamResult& param,
                                    const CommonRefinementOptions& options = {});
 
+/// The same on what parameterize returns.
+/// \throw InvalidInput also when it covers several components (take the refinement of each
+///        one's own result, components[c].param)
+CommonRefinement common_refinement(const MeshParamResult& param,
+                                   const CommonRefinementOptions& options = {});
+
 }  // namespace ricci
