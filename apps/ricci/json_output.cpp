@@ -310,10 +310,7 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                        {"added_vertices", r.added_vertex_parents.size()},
                        {"added_vertex_parents", r.added_vertex_parents},
                        {"output_vertices", r.mesh.num_vertices()}};
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.flow = options.flow;
-  j["flow"] = flow_summary(r.flow, flow_options);
+  j["flow"] = flow_summary(r.flow, mesh_flow_options(options.structure, options.flow));
   const bool several = !r.components.empty();
   if (several) {
     // The gathered flow has no whole-mesh triangulation: count the mesh parameterized.
@@ -415,11 +412,9 @@ nlohmann::json hyperbolic_param_report(const HyperbolicParamResult& r,
   j["converged"] = r.converged;
   j["message"] = r.message;
   j["seconds"] = r.seconds;
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.structure.geometry = Geometry::Hyperbolic;
-  flow_options.flow = options.flow;
-  j["flow"] = flow_summary(r.flow, flow_options);
+  StructureOptions structure = options.structure;
+  structure.geometry = Geometry::Hyperbolic;
+  j["flow"] = flow_summary(r.flow, mesh_flow_options(structure, options.flow));
   if (!r.converged) return j;
   nlohmann::json segments = nlohmann::json::array();
   for (const SegmentIsometry& s : r.layout.segment_maps) {
@@ -469,11 +464,9 @@ nlohmann::json sphere_report(const SphereResult& r, const SphereOptions& options
   j["scheme"] = scheme_name(options.structure.scheme);
   j["pole"] = r.pole;
   j["poles_tried"] = r.poles_tried;
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.flow = options.flow;
-  flow_options.target.boundary = BoundaryMode::DiskLength;
-  j["flow"] = flow_summary(r.flow, flow_options);
+  TargetSpec disk;
+  disk.boundary = BoundaryMode::DiskLength;
+  j["flow"] = flow_summary(r.flow, mesh_flow_options(options.structure, options.flow, disk));
   j["timings"] = {{"flow", r.flow_seconds},
                   {"layout", r.layout_seconds},
                   {"normalisation", r.normalisation_seconds},

@@ -308,7 +308,8 @@ void bind_mesh(py::module_& m) {
       .readonly("face_component", &Topology::face_component, "#F")
       .readonly("components", &Topology::components, "Component list")
       .repr();
-  m.def("build_topology", &build_topology, py::arg("triangles"), py::arg("num_vertices"),
+  m.def("build_topology", py::overload_cast<const Triangles&, int>(&build_topology),
+        py::arg("triangles"), py::arg("num_vertices"),
         "Connectivity of a triangle mesh; raises TopologyError on non-manifold input.");
 
   m.def("make_tetrahedron", &make_tetrahedron, py::arg("edge_length") = 1.0,

@@ -93,12 +93,12 @@ HyperbolicParamResult parameterize_hyperbolic(const Mesh& mesh,
 
   // 1. The uniformization metric: K = 0 everywhere, geodesic boundary. The problem (topology,
   // 3D lengths, hyperbolic structure) is built once; the cut below reads it too.
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.structure.geometry = Geometry::Hyperbolic;
-  flow_options.flow = options.flow;
-  flow_options.target.kind = TargetKind::Flat;
-  flow_options.target.boundary = BoundaryMode::Geodesic;
+  StructureOptions structure = options.structure;
+  structure.geometry = Geometry::Hyperbolic;
+  TargetSpec flat;
+  flat.kind = TargetKind::Flat;
+  flat.boundary = BoundaryMode::Geodesic;
+  MeshFlowOptions flow_options = mesh_flow_options(structure, options.flow, flat);
   const FlowProblem problem = make_flow_problem(mesh, std::move(t0), flow_options.structure);
   result.flow = flow_mesh(problem, flow_options);
   result.converged = result.flow.converged;

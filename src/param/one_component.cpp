@@ -518,11 +518,11 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   // edges were split), with the cut (stage 4a) beside it when the connectivity cannot change.
   FlowStage stage;
   stage.problem = &run.the_problem(result.mesh);
-  stage.options.structure = options.structure;
-  stage.options.flow = options.flow;
-  stage.options.target.kind = TargetKind::Flat;
-  stage.options.target.cones = run.cones;
-  stage.options.target.boundary = options.boundary;
+  TargetSpec flat;
+  flat.kind = TargetKind::Flat;
+  flat.cones = run.cones;
+  flat.boundary = options.boundary;
+  stage.options = mesh_flow_options(options.structure, options.flow, std::move(flat));
   const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
   if (!may_subdivide) {
     // (The cones are copied: the rounds of stage 3b may choose others while this runs.)

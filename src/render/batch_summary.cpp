@@ -14,12 +14,9 @@ namespace ricci {
 namespace {
 
 using render_detail::draw_text;
+using render_detail::kTickSlack;
 using render_detail::nice_step;
 using render_detail::set_colour;
-
-/// The count axis runs to y_hi inclusive; the step's rounding error must not drop the last tick
-/// (ticks are whole counts, so any slack below 1 does).
-constexpr double kTickSlack = 1e-9;
 
 const Rgb kInk{0.1, 0.1, 0.1};
 const Rgb kGrid{0.86, 0.86, 0.86};

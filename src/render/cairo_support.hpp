@@ -48,5 +48,9 @@ void draw_text(cairo_t* cr, const std::string& text, double x, double y, double 
 
 /// A "nice" axis step (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
 double nice_step(double span, int count);
+/// Axes of whole numbers (counts, iterations) run to their last value inclusive: the ticks'
+/// loop allows this much over it, so that the step's rounding error never drops the last tick
+/// (any slack below 1 would do).
+constexpr double kTickSlack = 1e-9;
 
 }  // namespace ricci::render_detail

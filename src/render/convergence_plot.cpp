@@ -13,12 +13,9 @@ namespace ricci {
 namespace {
 
 using render_detail::draw_text;
+using render_detail::kTickSlack;
 using render_detail::nice_step;
 using render_detail::set_colour;
-
-/// The linear iteration ticks run to the last iteration inclusive; the step's rounding error
-/// must not drop the last tick (iterations are whole numbers, so any slack below 1 does).
-constexpr double kTickSlack = 1e-9;
 
 /// Axes and their mapping onto the picture.
 struct Frame {

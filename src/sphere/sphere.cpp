@@ -585,11 +585,10 @@ SphereResult map_with_pole(const Mesh& mesh, const Topology& topology, int pole,
   }
 
   // 2. Flat metric on the disk, boundary turning in proportion to its length.
-  MeshFlowOptions flow_options;
-  flow_options.structure = options.structure;
-  flow_options.flow = options.flow;
-  flow_options.target.kind = TargetKind::Flat;
-  flow_options.target.boundary = BoundaryMode::DiskLength;
+  TargetSpec disk_target;
+  disk_target.kind = TargetKind::Flat;
+  disk_target.boundary = BoundaryMode::DiskLength;
+  MeshFlowOptions flow_options = mesh_flow_options(options.structure, options.flow, disk_target);
   for (int v : result.disk_vertices) flow_options.vertex_labels.push_back(v);
   // The disk's problem (topology, lengths, structure), built once: the layout reads it too.
   const FlowProblem disk_problem = make_flow_problem(disk, options.structure);

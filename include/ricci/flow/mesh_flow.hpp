@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,9 +13,9 @@
 #include "ricci/flow/flow_problem.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/flow/target.hpp"
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
-#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/metric/scheme.hpp"
 
 namespace ricci {
@@ -60,6 +61,18 @@ struct MeshFlowOptions {
   /// unreferenced vertices); empty: the mesh's own indices.
   std::vector<int> vertex_labels;
 };
+
+/// The flow options of a pipeline that holds the metric and the solver's options apart from the
+/// target it chooses itself (ParamOptions, SphereOptions, HyperbolicParamOptions): one place
+/// that assembles them, for the pipelines and the reports that describe their flows.
+inline MeshFlowOptions mesh_flow_options(const StructureOptions& structure, const FlowOptions& flow,
+                                         TargetSpec target = {}) {
+  MeshFlowOptions options;
+  options.structure = structure;
+  options.flow = flow;
+  options.target = std::move(target);
+  return options;
+}
 
 /// Result of one component.
 struct ComponentFlow {
