@@ -17,11 +17,11 @@
 
 #include "bench_support.hpp"
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
-#include "ricci/hyperbolic/hyperbolic_param.hpp"
 
 namespace {
 

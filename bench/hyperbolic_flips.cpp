@@ -22,9 +22,9 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "support/hard_meshes.hpp"
 
 namespace {

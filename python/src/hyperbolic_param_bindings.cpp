@@ -1,6 +1,6 @@
 /// \file
-/// Bindings of the hyperbolic parameterization (ricci/hyperbolic/hyperbolic_param.hpp): the layout in
-/// the Poincare disk, the segment maps and the Fuchsian group. A Moebius map reaches Python as
+/// Bindings of the hyperbolic parameterization (ricci/hyperbolic/hyperbolic_param.hpp): the layout
+/// in the Poincare disk, the segment maps and the Fuchsian group. A Moebius map reaches Python as
 /// its 2 by 2 complex matrix [[a, b], [conj b, conj a]] (numpy complex128, determinant 1 up to
 /// rounding), acting by z -> (a z + b) / (conj(b) z + conj(a)); composition is the matrix product.
 
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "ricci/mesh/validate.hpp"
 #include "ricci/hyperbolic/hyperbolic_param.hpp"
+#include "ricci/mesh/validate.hpp"
 
 namespace ricci::python {
 namespace {

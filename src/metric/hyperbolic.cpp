@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "metric/detail/triangle_terms.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "metric/detail/triangle_terms.hpp"
 
 namespace ricci {
 

@@ -9,20 +9,20 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
-#include "support/hard_meshes.hpp"
-#include "support/shared_meshes.hpp"
 #include "flow_test_util.hpp"
 #include "ricci/errors.hpp"
-#include "ricci/hyperbolic/hyperbolic_refinement.hpp"
 #include "ricci/flow/mesh_flow.hpp"
 #include "ricci/flow/ricci_flow.hpp"
+#include "ricci/hyperbolic/hyperbolic_refinement.hpp"
+#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/metric/curvature.hpp"
-#include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/metric/hessian.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "support/hard_meshes.hpp"
+#include "support/shared_meshes.hpp"
 
 namespace ricci {
 namespace {

@@ -7,12 +7,12 @@
 
 #include <gtest/gtest.h>
 
-#include "support/hard_meshes.hpp"
-#include "support/shared_meshes.hpp"
 #include "ricci/errors.hpp"
+#include "ricci/hyperbolic/hyperbolic_param.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
-#include "ricci/hyperbolic/hyperbolic_param.hpp"
+#include "support/hard_meshes.hpp"
+#include "support/shared_meshes.hpp"
 
 namespace ricci {
 namespace {

@@ -9,10 +9,10 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
-#include "ricci/mesh/generate.hpp"
 #include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/intrinsic/edge_overlay.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
+#include "ricci/mesh/generate.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "support/hard_meshes.hpp"
 

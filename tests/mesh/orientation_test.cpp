@@ -1,5 +1,5 @@
-// The orientation search shared by repair_mesh and find_defects (src/mesh/detail/orientation.hpp): the
-// sides it gives, the side it reverses, and the contradiction of a Moebius strip.
+// The orientation search shared by repair_mesh and find_defects (src/mesh/detail/orientation.hpp):
+// the sides it gives, the side it reverses, and the contradiction of a Moebius strip.
 
 #include "mesh/detail/orientation.hpp"
 

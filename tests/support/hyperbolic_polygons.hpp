@@ -8,8 +8,8 @@
 #include <numbers>
 #include <vector>
 
-#include "ricci/numerics/mobius.hpp"
 #include "ricci/hyperbolic/fuchsian.hpp"
+#include "ricci/numerics/mobius.hpp"
 
 namespace ricci::testing {
 

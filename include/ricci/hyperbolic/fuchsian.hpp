@@ -78,7 +78,8 @@ struct FuchsianGroup {
 /// cut-and-paste choices the few cheapest at each step are tried (about 512 finished forms) and
 /// each handle is shortened by a -> a b^(+-1), b -> b a^(+-1) while its matrices shrink; the
 /// result with the smallest partial products of the relation is kept. Measured on the regular
-/// 4g-gon with random one-vertex side pairings (tests/hyperbolic/fuchsian_test.cpp): relation residual
+/// 4g-gon with random one-vertex side pairings (tests/hyperbolic/fuchsian_test.cpp): relation
+/// residual
 /// <= 1e-13 at genus 2 and <= 3e-10 at genus 3; from genus 4 on some pairings give generators
 /// whose commutators are so large that the relation loses all its digits (the words stay right:
 /// the symbolic relation holds). Genus 0 (an empty relator) and 1 work too (no generators; one

@@ -11,11 +11,11 @@
 #include <Eigen/Core>
 
 #include "ricci/flow/mesh_flow.hpp"
+#include "ricci/hyperbolic/fuchsian.hpp"
+#include "ricci/hyperbolic/hyperbolic_layout.hpp"
 #include "ricci/mesh/polygons.hpp"
 #include "ricci/param/cut/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
-#include "ricci/hyperbolic/fuchsian.hpp"
-#include "ricci/hyperbolic/hyperbolic_layout.hpp"
 
 namespace ricci {
 

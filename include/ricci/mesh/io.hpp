@@ -148,8 +148,8 @@ void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uv_tr
                const ObjMaterial& material = {});
 
 /// The same with three-component texture coordinates (`vt u v w`), e.g. homogeneous ones whose
-/// linear interpolation divided by w gives a projective map (ricci/param/refinement/common_refinement.hpp).
-/// \param uvw_triangles #F by 3 indices into uvw
+/// linear interpolation divided by w gives a projective map
+/// (ricci/param/refinement/common_refinement.hpp). \param uvw_triangles #F by 3 indices into uvw
 /// \param uvw #UVW by 3 texture coordinates
 void write_obj(const std::string& path, const Mesh& mesh, const Triangles& uvw_triangles,
                const Eigen::Matrix<double, Eigen::Dynamic, 3>& uvw,

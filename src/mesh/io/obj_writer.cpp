@@ -2,8 +2,8 @@
 #include <ostream>
 #include <string>
 
-#include "ricci/mesh/io.hpp"
 #include "mesh/io/detail/writers.hpp"
+#include "ricci/mesh/io.hpp"
 
 namespace ricci {
 namespace io_detail {

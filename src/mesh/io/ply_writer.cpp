@@ -4,8 +4,8 @@
 #include <string>
 
 #include "mesh/io/detail/binary_output.hpp"
-#include "ricci/mesh/io.hpp"
 #include "mesh/io/detail/writers.hpp"
+#include "ricci/mesh/io.hpp"
 
 namespace ricci::io_detail {
 

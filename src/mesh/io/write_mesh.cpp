@@ -1,10 +1,10 @@
 #include <cmath>
 #include <string>
 
+#include "mesh/io/detail/writers.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/polygons.hpp"
-#include "mesh/io/detail/writers.hpp"
 
 namespace ricci {
 namespace io_detail {

@@ -13,9 +13,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/topology.hpp"
-#include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/numerics/wide_float.hpp"
 #include "ricci/sphere/sphere.hpp"
 

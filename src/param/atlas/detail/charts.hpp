@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "param/atlas/detail/unfolding.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/param/parameterize.hpp"
-#include "param/atlas/detail/unfolding.hpp"
 
 namespace ricci::param_detail {
 
