@@ -114,7 +114,8 @@ TEST(SplitAndOrient, ReportsANonOrientableComponentByItsSeed) {
   Mesh strip;
   strip.positions.resize(6, 3);
   for (int i = 0; i < 6; ++i) {
-    const double angle = 2 * std::numbers::pi * (i / 2) / 3;
+    const int station = i / 2;  // two vertices per station
+    const double angle = 2 * std::numbers::pi * station / 3;
     const double lift = i % 2 == 0 ? 0.3 : -0.3;
     strip.positions.row(i) << std::cos(angle), std::sin(angle), lift;
   }

@@ -59,9 +59,9 @@ TEST(MinimalRectangleRotation, TurnsARotatedRectangleBackOntoTheAxes) {
     const Eigen::Rotation2Dd turn(angle);
     std::vector<Eigen::Vector2d> points;
     for (const auto& [x, y] : {std::pair{0.0, 0.0}, {3.0, 0.0}, {3.0, 1.0}, {0.0, 1.0}}) {
-      points.push_back(turn * Eigen::Vector2d(x, y) + Eigen::Vector2d(5, -2));
+      points.emplace_back(turn * Eigen::Vector2d(x, y) + Eigen::Vector2d(5, -2));
     }
-    points.push_back(turn * Eigen::Vector2d(1.5, 0.5) + Eigen::Vector2d(5, -2));  // inside
+    points.emplace_back(turn * Eigen::Vector2d(1.5, 0.5) + Eigen::Vector2d(5, -2));  // inside
     const double rotation = minimal_rectangle_rotation(convex_hull(points));
     // Back onto the axes up to a quarter turn, and the smallest such turn.
     EXPECT_NEAR(std::remainder(rotation + angle, kPi / 2), 0, 1e-12) << angle;

@@ -24,7 +24,7 @@ constexpr double kTolerance = 1e-9;
 /// A problem, its model and a selector on it (the model points into the problem).
 struct Fixture {
   explicit Fixture(const Mesh& mesh, ConeSelectionOptions selection = {})
-      : options(std::move(selection)),
+      : options(selection),
         problem(make_flow_problem(mesh, options.structure)),
         model(build_cone_model(problem)) {}
   ConeSelectionOptions options;
