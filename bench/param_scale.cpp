@@ -86,7 +86,7 @@ ParamRun run_param(const Case& c) {
   const ricci::Mesh mesh = c.make();
   reset_peak_memory();
   const auto t0 = Clock::now();
-  const ricci::ParamResult r = ricci::parameterize(mesh, ricci::ParamOptions{});
+  const ricci::MeshParamResult r = ricci::parameterize(mesh, ricci::ParamOptions{});
   ParamRun run;
   run.seconds = seconds_since(t0);
   run.peak_mb = peak_memory_mb();

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   for (int run = 0; run < runs; ++run) {
     const ricci::BuildCounts before = ricci::build_counts();
     const auto start = std::chrono::steady_clock::now();
-    const ricci::ParamResult result = ricci::parameterize(mesh, options);
+    const ricci::MeshParamResult result = ricci::parameterize(mesh, options);
     total.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     counts = ricci::build_counts() - before;
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     if (!result.converged)
       std::printf("run %d did not converge: %s\n", run, result.message.c_str());
     std::printf("run %d: %zu cones, %d cone rounds\n", run, result.cones.size(),
-                result.cone_rounds);
+                result.routes.front().pipeline.cone_rounds);
   }
   auto median = [](std::vector<double> v) {
     std::sort(v.begin(), v.end());

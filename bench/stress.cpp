@@ -181,7 +181,7 @@ void param_case(const std::string& name, const ricci::Mesh& mesh, ricci::Scheme 
   if (scheme == ricci::Scheme::VertexScaling) options.flow.flips = flips_mode;
   const auto start = Clock::now();
   try {
-    const ricci::ParamResult r = ricci::parameterize(mesh, options);
+    const ricci::MeshParamResult r = ricci::parameterize(mesh, options);
     row.success = r.converged && r.distortion.flipped_faces == 0;
     row.status = r.converged ? "converged" : first_failure(r.flow);
     row.iterations = total_iterations(r.flow);

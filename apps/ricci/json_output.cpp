@@ -270,10 +270,15 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                      {"curvature_over_pi", c.curvature / 3.14159265358979323846}});
   }
   j["cones"] = cones;
-  j["cone_selection_max_log_scale"] = r.cone_selection.max_log_scale;
-  j["log_scale_spread"] = r.log_scale_spread;
-  j["cone_rounds"] = r.cone_rounds;
-  j["cone_selection_area_energy"] = r.cone_selection.area_energy;
+  // The one component's automatic cones; an atlas of several has them per component (routes),
+  // and prints zeros here as it always has.
+  const bool several = !r.components.empty();
+  const PipelineDiagnostics one =
+      several || r.routes.empty() ? PipelineDiagnostics{} : r.routes.front().pipeline;
+  j["cone_selection_max_log_scale"] = one.cone_selection.max_log_scale;
+  j["log_scale_spread"] = one.log_scale_spread;
+  j["cone_rounds"] = one.cone_rounds;
+  j["cone_selection_area_energy"] = one.cone_selection.area_energy;
   j["timings"] = {{"cones", r.timings.cones},       {"flow", r.timings.flow},
                   {"cut", r.timings.cut},           {"development", r.timings.development},
                   {"layout", r.timings.layout},     {"polish", r.timings.polish},
@@ -311,7 +316,6 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                        {"added_vertex_parents", r.added_vertex_parents},
                        {"output_vertices", r.mesh.num_vertices()}};
   j["flow"] = flow_summary(r.flow, mesh_flow_options(options.structure, options.flow));
-  const bool several = !r.components.empty();
   if (several) {
     // The gathered flow has no whole-mesh triangulation: count the mesh parameterized.
     j["flow"]["vertices"] = r.mesh.num_vertices();
@@ -383,7 +387,7 @@ nlohmann::json words_json(const std::vector<SegmentWord>& words) {
 
 }  // namespace
 
-nlohmann::json refinement_report(const CommonRefinement& c, const ParamResult& p) {
+nlohmann::json refinement_report(const CommonRefinement& c, const Parameterization& p) {
   return {{"vertices", c.positions.rows()},
           {"triangles", c.triangles.rows()},
           {"texture_coordinates", c.uv.rows()},

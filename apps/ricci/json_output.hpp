@@ -35,7 +35,7 @@ nlohmann::json param_report(const MeshParamResult& result, const ParamOptions& o
 
 /// The figures of a common refinement (`param --faces refinement`): sizes beside the input's,
 /// flips undone, crossing points, exactness checks, timing.
-nlohmann::json refinement_report(const CommonRefinement& refinement, const ParamResult& param);
+nlohmann::json refinement_report(const CommonRefinement& refinement, const Parameterization& param);
 
 /// The report of `param --geometry hyperbolic`: flow, cut, disk layout, the deck transformation
 /// of every segment, the words around the nodes, the Fuchsian group and the distortion.

@@ -47,7 +47,7 @@ RefinementFiles refinement_files(const std::string& output) {
 
 /// Per vertex of the parameterized mesh, the input file's vertices (0-based) it is made of: its
 /// own, or for a vertex added by an edge split the halves of its parents'.
-std::vector<std::vector<std::pair<int, double>>> file_columns(const ParamResult& r,
+std::vector<std::vector<std::pair<int, double>>> file_columns(const Parameterization& r,
                                                               const ReadResult& read) {
   const int n = r.mesh.num_vertices();
   const int first_added = n - static_cast<int>(r.added_vertex_parents.size());
@@ -144,8 +144,8 @@ void write_textured_output(const ParamArgs& args, const TexturedMesh& textured) 
 }
 
 /// Writes the refinement (homogeneous vt) to `output` and its companions beside it.
-void write_refinement(const std::string& output, const std::string& input, const ParamResult& r,
-                      const CommonRefinement& c, const ReadResult& read,
+void write_refinement(const std::string& output, const std::string& input,
+                      const Parameterization& r, const CommonRefinement& c, const ReadResult& read,
                       const ObjMaterial& linear_material) {
   const RefinementFiles files = refinement_files(output);
   Mesh mesh;
@@ -453,7 +453,8 @@ int proper_polygons(const Polygons& polygons) {
 
 /// Writes the parameterization (or the refinement and its companions) and says on stderr where
 /// the file's polygons could not be kept.
-void write_param_outputs(const ParamArgs& args, const ReadResult& read, const ParamResult& result,
+void write_param_outputs(const ParamArgs& args, const ReadResult& read,
+                         const Parameterization& result,
                          const std::optional<CommonRefinement>& exact) {
   if (exact) {
     // The material goes with the linear companion: tools that read `vt u v` would take the
@@ -486,7 +487,8 @@ void write_param_outputs(const ParamArgs& args, const ReadResult& read, const Pa
 
 /// The summary of one chart on stdout (and its warnings on stderr).
 void print_chart_summary(const ParamArgs& args, const ParamOptions& options,
-                         const ParamResult& result, const std::optional<CommonRefinement>& exact) {
+                         const MeshParamResult& result,
+                         const std::optional<CommonRefinement>& exact) {
   const Distortion& d = result.distortion;
   std::cout << args.mesh << " -> " << args.output << "\n"
             << "  cones " << result.cones.size() << " (" << cone_mode_name(options.cone_mode)
@@ -516,7 +518,7 @@ void print_chart_summary(const ParamArgs& args, const ParamOptions& options,
     std::cout << "  " << result.flow.intrinsic.flips()
               << " intrinsic edge flips; the output keeps the input's faces (development "
                  "mismatch "
-              << result.development_length_mismatch
+              << result.routes.front().pipeline.development_length_mismatch
               << "; --faces refinement writes the exact map)\n";
   }
   if (result.untangle.moved_vertices > 0) {

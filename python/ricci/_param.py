@@ -71,15 +71,16 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     options: a ``ParamOptions`` (hyperbolic: ``HyperbolicParamOptions``) to start from
       (copied); other arguments, when not None, override its fields.
 
-    Returns a ``MeshParamResult`` (a ``ParamResult`` of the whole mesh, with routes, components
-    and packing): converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
+    Returns a ``MeshParamResult`` (the whole mesh's ``Parameterization``, with routes,
+    components and packing): converged, message, uv (k, 2) in [0, 1]^2, uv_triangles (m', 3)
     indices into uv per corner, vertices (n', 3) and triangles (m', 3) of the mesh parameterized
     (after edge splits; input vertices first), vertex_origin, cones, distortion (with
-    flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length,
-    log_scale_spread and cone_rounds (automatic cones), and
-    the stages: flow, cut, cut_mesh, layout, atlas, cone_selection. When the flow does not
-    converge, converged is False and message says why (nothing is raised). routes names the
-    route of each component. Several components (or one whose exact map gave way): the same
+    flipped_faces), layout_error, lattice (flat torus: two complex numbers), seam_length, and
+    the stages: flow, cut, cut_mesh, layout, atlas. When the flow does not converge, converged
+    is False and message says why (nothing is raised). routes names the route of each component,
+    and routes[c].pipeline (``PipelineDiagnostics``) what its pipeline measured:
+    cone_selection, log_scale_spread and cone_rounds (automatic cones),
+    development_length_mismatch. Several components (or one whose exact map gave way): the same
     fields cover the whole atlas, components lists a ``ComponentParam`` per component
     (method, parameterized, message, cones, distortion, overlapping_face_pairs, area_scale,
     chart, vertex_map, face_map, and param: the component's own ``ParamResult``), packing is the
@@ -247,8 +248,9 @@ def common_refinement(param, *, interpolation_matrix=None, options=None):
     figures (flips undone, crossing points, max_intrinsic_length_error, seconds).
     Raises InvalidInput for another scheme or an unconverged result.
     """
-    if not isinstance(param, _ricci.ParamResult):
-        raise _ricci.InvalidInput(f"common_refinement: param must be a ParamResult, got "
+    if not isinstance(param, _ricci.Parameterization):
+        raise _ricci.InvalidInput(f"common_refinement: param must be a MeshParamResult or a "
+                                  f"ParamResult, got "
                                   f"{type(param).__name__}")
     if options is not None and not isinstance(options, _ricci.CommonRefinementOptions):
         raise _ricci.InvalidInput(f"common_refinement: options must be a "

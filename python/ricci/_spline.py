@@ -39,7 +39,7 @@ def spline(V, F, *, smoothness=None, refine=None, cones=None, boundary=None, qua
     the domain's vertices (gradients in each vertex's frame), cones (``Cone`` list), error
     (``SplineError``: max / rms parametric and distance errors relative to the bounding-box
     diagonal), continuity (``ContinuityReport``: relative_value_jump, relative_gradient_jump),
-    fit (``SplineFit``), param (the ``ParamResult`` of the domain: its vertices and triangles
+    fit (``SplineFit``), param (the ``MeshParamResult`` of the domain: its vertices and triangles
     index values and gradients), surface_faces and surface_barycentric (where each surface
     point lies in the domain) and timings. When the parameterization does not converge,
     converged is False and message says why (nothing is raised).

@@ -110,12 +110,13 @@ class StructBinding {
         name_(name),
         fields_(std::make_shared<std::vector<std::string>>()) {}
 
-  /// A class derived from `base`'s: its fields first.
-  template <class B>
-  StructBinding(py::handle scope, const char* name, const char* doc, const StructBinding<B>& base)
-      : cls_(scope, name, doc),
-        name_(name),
-        fields_(std::make_shared<std::vector<std::string>>(base.field_names())) {}
+  /// A class derived from the `bases`' classes: their fields first, in the order of the bases.
+  template <class... B>
+  StructBinding(py::handle scope, const char* name, const char* doc,
+                const StructBinding<B>&... bases)
+      : cls_(scope, name, doc), name_(name), fields_(std::make_shared<std::vector<std::string>>()) {
+    (fields_->insert(fields_->end(), bases.field_names().begin(), bases.field_names().end()), ...);
+  }
 
   const std::vector<std::string>& field_names() const { return *fields_; }
 

@@ -273,74 +273,89 @@ void bind_param(py::module_& m) {
   m.def("measure_distortion", &measure_distortion, py::arg("mesh"), py::arg("uv_triangles"),
         py::arg("uv"), "Measures a layout (uv_triangles index uv per corner) against the mesh.");
 
-  StructBinding<ParamResult> param_result(
-      m, "ParamResult",
-      "One component parameterized by one route (ComponentParam.param); what parameterize "
-      "returns, a MeshParamResult, has these fields for the whole mesh.");
-  param_result
-      .readonly("converged", &ParamResult::converged,
+  StructBinding<Parameterization> parameterization(
+      m, "Parameterization",
+      "A parameterization: mesh, cut, layout, uv and what the flow did; the fields "
+      "ParamResult (one component) and MeshParamResult (the whole mesh) share.");
+  parameterization
+      .readonly("converged", &Parameterization::converged,
                 "the flow reached its tolerance (whole mesh: every component parameterized)")
       .computed(
           "message",
-          [](const ParamResult& r) { return message_with_fixes(r.message, r.flow.fixes); },
+          [](const Parameterization& r) { return message_with_fixes(r.message, r.flow.fixes); },
           "why not, when it did not (with the keywords that may help)")
       .computed(
-          "vertices", [](const ParamResult& r) { return r.mesh.positions; },
+          "vertices", [](const Parameterization& r) { return r.mesh.positions; },
           "#V by 3 positions of the mesh parameterized (mesh.positions)")
       .computed(
-          "triangles", [](const ParamResult& r) { return r.mesh.triangles; },
+          "triangles", [](const Parameterization& r) { return r.mesh.triangles; },
           "#F by 3 triangles of the mesh parameterized (mesh.triangles)")
-      .readonly("uv", &ParamResult::uv, "#UV by 2 texture coordinates in the unit square")
+      .readonly("uv", &Parameterization::uv, "#UV by 2 texture coordinates in the unit square")
       .computed(
-          "uv_triangles", [](const ParamResult& r) { return r.cut_mesh.triangles; },
+          "uv_triangles", [](const Parameterization& r) { return r.cut_mesh.triangles; },
           "#F by 3 indices into uv per corner (cut_mesh.triangles)")
-      .readonly("mesh", &ParamResult::mesh,
+      .readonly("mesh", &Parameterization::mesh,
                 "input vertices first, then vertices added by edge splits")
-      .readonly("vertex_origin", &ParamResult::vertex_origin,
+      .readonly("vertex_origin", &Parameterization::vertex_origin,
                 "per vertex: input vertex, or -1 when added")
-      .readonly("added_vertex_parents", &ParamResult::added_vertex_parents,
+      .readonly("added_vertex_parents", &Parameterization::added_vertex_parents,
                 "per added vertex: the edge it splits")
-      .readonly("edge_splits", &ParamResult::edge_splits, "")
-      .readonly("subdivided", &ParamResult::subdivided, "the mesh was subdivided once")
-      .readonly("cones", &ParamResult::cones, "final Cone list (output vertex indices)")
-      .readonly("cone_selection", &ParamResult::cone_selection, "ConeSelection (last round)")
-      .readonly("log_scale_spread", &ParamResult::log_scale_spread,
-                "automatic cones: max |u - mean u| of the flat metric away from the cones")
-      .readonly("cone_rounds", &ParamResult::cone_rounds,
-                "automatic cones: times they were chosen again, with more of them")
+      .readonly("edge_splits", &Parameterization::edge_splits, "")
+      .readonly("subdivided", &Parameterization::subdivided, "the mesh was subdivided once")
+      .readonly("cones", &Parameterization::cones, "final Cone list (output vertex indices)")
       .computed(
-          "layout_error", [](const ParamResult& r) { return r.layout.max_length_relative_error; },
+          "layout_error",
+          [](const Parameterization& r) { return r.layout.max_length_relative_error; },
           "layout.max_length_relative_error")
       .computed(
-          "lattice", [](const ParamResult& r) { return r.layout.lattice; },
+          "lattice", [](const Parameterization& r) { return r.layout.lattice; },
           "layout.lattice: flat torus lattice basis as complex numbers (metric units)")
-      .readonly("distortion", &ParamResult::distortion,
+      .readonly("distortion", &Parameterization::distortion,
                 "Distortion of the faces written (with polygons: their fans as written)")
-      .readonly("polygons", &ParamResult::polygons,
+      .readonly("polygons", &Parameterization::polygons,
                 "Polygons to write (options.polygons, each from a corner whose fan is sound); "
                 "empty without polygons")
-      .readonly("seam_length", &ParamResult::seam_length, "3D length of the cut edges")
-      .readonly("uv_scale", &ParamResult::uv_scale, "uv = (layout - offset) * uv_scale")
-      .readonly("uv_offset", &ParamResult::uv_offset, "")
-      .readonly("flow", &ParamResult::flow, "MeshFlowResult")
-      .readonly("cut", &ParamResult::cut, "CutGraph")
-      .readonly("cut_mesh", &ParamResult::cut_mesh, "CutMesh")
-      .readonly("layout", &ParamResult::layout, "Layout")
-      .readonly("polish", &ParamResult::polish,
+      .readonly("seam_length", &Parameterization::seam_length, "3D length of the cut edges")
+      .readonly("uv_scale", &Parameterization::uv_scale, "uv = (layout - offset) * uv_scale")
+      .readonly("uv_offset", &Parameterization::uv_offset, "")
+      .readonly("flow", &Parameterization::flow, "MeshFlowResult")
+      .readonly("cut", &Parameterization::cut, "CutGraph")
+      .readonly("cut_mesh", &Parameterization::cut_mesh, "CutMesh")
+      .readonly("layout", &Parameterization::layout, "Layout")
+      .readonly("polish", &Parameterization::polish,
                 "PolishResult (its uv: the layout before the polish)")
-      .readonly("atlas", &ParamResult::atlas, "AffineAtlas")
-      .readonly("seconds", &ParamResult::seconds, "")
-      .readonly("timings", &ParamResult::timings, "ParamTimings: seconds per stage")
-      .readonly("development_length_mismatch", &ParamResult::development_length_mismatch,
-                "how well the input faces developed in the flat metric agree on their edges")
-      .readonly("untangle", &ParamResult::untangle, "UntangleResult of the exact map's layout")
+      .readonly("atlas", &Parameterization::atlas, "AffineAtlas")
+      .readonly("seconds", &Parameterization::seconds, "")
+      .readonly("timings", &Parameterization::timings, "ParamTimings: seconds per stage")
+      .readonly("untangle", &Parameterization::untangle, "UntangleResult of the exact map's layout")
       .repr();
 
-  StructBinding<MeshParamResult, ParamResult>(
+  StructBinding<PipelineDiagnostics> pipeline_diagnostics(
+      m, "PipelineDiagnostics",
+      "What the one-component pipeline measured beyond the map: automatic cones, development.");
+  pipeline_diagnostics
+      .readonly("cone_selection", &PipelineDiagnostics::cone_selection,
+                "ConeSelection (last round)")
+      .readonly("log_scale_spread", &PipelineDiagnostics::log_scale_spread,
+                "automatic cones: max |u - mean u| of the flat metric away from the cones")
+      .readonly("cone_rounds", &PipelineDiagnostics::cone_rounds,
+                "automatic cones: times they were chosen again, with more of them")
+      .readonly("development_length_mismatch", &PipelineDiagnostics::development_length_mismatch,
+                "how well the input faces developed in the flat metric agree on their edges")
+      .repr();
+
+  StructBinding<ParamResult, Parameterization, PipelineDiagnostics>(
+      m, "ParamResult",
+      "One component parameterized by one route (ComponentParam.param): a Parameterization "
+      "with its PipelineDiagnostics.",
+      parameterization, pipeline_diagnostics)
+      .repr();
+
+  StructBinding<MeshParamResult, Parameterization>(
       m, "MeshParamResult",
-      "What parameterize returns: the whole mesh's ParamResult fields, the routes, and the "
-      "components gathered into the atlas.",
-      param_result)
+      "What parameterize returns: the whole mesh's Parameterization, the routes (each with its "
+      "PipelineDiagnostics), and the components gathered into the atlas.",
+      parameterization)
       .readonly("routes", &MeshParamResult::routes,
                 "ComponentRoute per component: the route its layout took")
       .readonly("components", &MeshParamResult::components,
@@ -368,6 +383,8 @@ void bind_param(py::module_& m) {
                 "faces the exact map drew flipped, before untangling")
       .readonly("flipped", &ComponentRoute::flipped, "faces flipped in its final layout")
       .readonly("why", &ComponentRoute::why, "why the exact map gave way (empty when it served)")
+      .readonly("pipeline", &ComponentRoute::pipeline,
+                "PipelineDiagnostics of the map that served (defaults for charts, unfoldings)")
       .repr();
 
   StructBinding<ComponentParam>(
@@ -491,7 +508,8 @@ void bind_param(py::module_& m) {
       "The common refinement of a converged vertex-scaling ParamResult with the exact map. "
       "Raises InvalidInput for other schemes, an unconverged result or several components.");
   m.def("common_refinement",
-        py::overload_cast<const ParamResult&, const CommonRefinementOptions&>(&common_refinement),
+        py::overload_cast<const Parameterization&, const CommonRefinementOptions&>(
+            &common_refinement),
         py::arg("param"), py::arg("options") = CommonRefinementOptions{});
 }
 

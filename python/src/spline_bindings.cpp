@@ -109,7 +109,7 @@ void bind_spline(py::module_& m) {
       .readonly("error", &SplineResult::error, "SplineError")
       .readonly("continuity", &SplineResult::continuity, "ContinuityReport")
       .readonly("fit", &SplineResult::fit, "SplineFit")
-      .readonly("param", &SplineResult::param, "ParamResult: the domain (param.vertices, ...)")
+      .readonly("param", &SplineResult::param, "MeshParamResult: the domain (param.vertices, ...)")
       .readonly("seconds_param", &SplineResult::seconds_param, "")
       .readonly("seconds_fit", &SplineResult::seconds_fit, "")
       .readonly("seconds_evaluate", &SplineResult::seconds_evaluate, "")

@@ -70,9 +70,9 @@ def test_defaults_are_vertex_scaling_on_the_input_faces_with_the_natural_target(
     assert p.converged, p.message
     np.testing.assert_array_equal(p.triangles, F)
     assert p.flow.structure.structure.scheme == ricci.Scheme.VertexScaling
-    assert len(p.cones) >= 3 and p.cone_selection.within_bounds
+    assert len(p.cones) >= 3 and p.routes[0].pipeline.cone_selection.within_bounds
     assert p.distortion.flipped_faces == 0
-    assert p.timings.flow > 0 and p.development_length_mismatch < 1e-12
+    assert p.timings.flow > 0 and p.routes[0].pipeline.development_length_mismatch < 1e-12
 
 
 def test_a_tolerance_below_the_floor_ends_converged_at_the_floor(sphere):

@@ -2,7 +2,7 @@
 
 namespace ricci {
 
-TexturedMesh textured_mesh(const ParamResult& result) {
+TexturedMesh textured_mesh(const Parameterization& result) {
   TexturedMesh textured;
   textured.mesh = result.mesh;
   if (result.uv.rows() > 0) {

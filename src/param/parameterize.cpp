@@ -756,6 +756,7 @@ ComponentRoute route_of(const Piece& piece) {
   if (info.method != ComponentMethod::Flow && info.method != ComponentMethod::Untangled) {
     route.why = info.message;
   }
+  route.pipeline = info.param;
   return route;
 }
 
@@ -838,8 +839,9 @@ MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options)
     route.flipped_before = first.untangle.flipped_before;
     route.flipped = first.distortion.flipped_faces;
     if (!why.empty() && first.converged) route.why = why;
+    route.pipeline = first;
     MeshParamResult whole;
-    static_cast<ParamResult&>(whole) = std::move(first);
+    static_cast<Parameterization&>(whole) = std::move(first);
     whole.routes = {route};
     return whole;
   }

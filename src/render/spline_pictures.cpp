@@ -44,7 +44,7 @@ SplineSurfaceTexture spline_surface_texture(const SplineResult& result) {
   const char* fn = "spline_surface_texture";
   const SplineDomain& domain = result.domain;
   const SplineTessellation& samples = result.surface_samples;
-  const ParamResult& param = result.param;
+  const Parameterization& param = result.param;
   const Eigen::Index nf = domain.triangles.rows();
   const Eigen::Index nt = samples.triangles.rows();
   const Eigen::Index np = samples.values.rows();

@@ -39,7 +39,7 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
 
 }  // namespace
 
-SplineDomain spline_domain(const ParamResult& param) {
+SplineDomain spline_domain(const Parameterization& param) {
   if (!param.converged) {
     throw InvalidInput("spline_domain: the parameterization did not converge: " + param.message);
   }

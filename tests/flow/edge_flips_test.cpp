@@ -150,14 +150,14 @@ TEST(EdgeFlips, ParameterizationLaysOutTheInputFacesInTheIntrinsicMetric) {
   options.cone_mode = ConeMode::User;
   options.cones = strong_cones(EdgeFlips::Auto).target.cones;
   options.modify_connectivity = false;
-  const ParamResult r = parameterize(sphere, options);
+  const MeshParamResult r = parameterize(sphere, options);
   ASSERT_TRUE(r.converged) << r.message;
   ASSERT_GT(r.flow.intrinsic.flips(), 0);
   // The flat metric lives on the intrinsic triangulation; the output is the input's own faces.
   EXPECT_NE(r.flow.intrinsic.topology().triangles, sphere.triangles);
   EXPECT_EQ(r.mesh.positions, sphere.positions);
   EXPECT_EQ(r.mesh.triangles, sphere.triangles);
-  EXPECT_LT(r.development_length_mismatch, 1e-12);
+  EXPECT_LT(r.routes.front().pipeline.development_length_mismatch, 1e-12);
   EXPECT_LT(r.layout.max_length_relative_error, 1e-8);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
   // The uv angles around each vertex add up to its cone angle 2 pi - K (seams cut through the

@@ -25,7 +25,7 @@ std::string file_content(const fs::path& path) {
 }
 
 TEST(OutputMesh, TorusCornersIndexTheCutMeshUv) {
-  const ParamResult result = parameterize(make_torus(16, 8));
+  const MeshParamResult result = parameterize(make_torus(16, 8));
   ASSERT_TRUE(result.converged) << result.message;
   const TexturedMesh textured = textured_mesh(result);
   EXPECT_EQ(textured.mesh.positions, result.mesh.positions);

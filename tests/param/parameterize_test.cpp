@@ -18,7 +18,7 @@ constexpr double kPi = std::numbers::pi;
 
 /// Sum of the layout's corner angles at every copy of vertex v: the cone angle 2 pi - K read back
 /// from the texture coordinates.
-double uv_angle_sum(const ParamResult& r, int v) {
+double uv_angle_sum(const Parameterization& r, int v) {
   double sum = 0;
   for (int f = 0; f < r.mesh.num_faces(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -33,7 +33,7 @@ double uv_angle_sum(const ParamResult& r, int v) {
 }
 
 /// Invariants every successful parameterization must show.
-void expect_good(const ParamResult& r, const std::string& what) {
+void expect_good(const Parameterization& r, const std::string& what) {
   ASSERT_TRUE(r.converged) << what << ": " << r.message;
   EXPECT_LE(r.flow.max_error, 1e-10) << what;
   // The sliced mesh is one disk (a sphere with fewer than two cones stays closed).
@@ -110,9 +110,9 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
   ParamOptions options;  // defaults: cones as needed (automatic on a sphere)
   const MeshParamResult r = parameterize(cylinder, options);
   expect_good(r, "CAD cylinder");
-  EXPECT_GE(r.cone_rounds, 1);
+  EXPECT_GE(r.routes.front().pipeline.cone_rounds, 1);
   EXPECT_GT(r.cones.size(), 3u);
-  EXPECT_LE(r.log_scale_spread, 1.25 * options.auto_cones.max_log_scale);
+  EXPECT_LE(r.routes.front().pipeline.log_scale_spread, 1.25 * options.auto_cones.max_log_scale);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
   EXPECT_LT(r.distortion.area_distortion_energy, 0.5);
 
@@ -122,7 +122,7 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
   first.auto_cones.count = 3;
   const MeshParamResult three = parameterize(cylinder, first);
   ASSERT_TRUE(three.converged);
-  EXPECT_EQ(three.cone_rounds, 0);
+  EXPECT_EQ(three.routes.front().pipeline.cone_rounds, 0);
   EXPECT_GT(three.distortion.area_distortion_energy, 4 * r.distortion.area_distortion_energy);
 }
 
@@ -138,7 +138,7 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   exact.fold_free.charts = false;
   const MeshParamResult r = parameterize(needles, exact);
   ASSERT_TRUE(r.converged) << r.message;
-  EXPECT_TRUE(r.cone_selection.within_bounds);
+  EXPECT_TRUE(r.routes.front().pipeline.cone_selection.within_bounds);
   double total = 0;
   for (const Cone& c : r.cones) {
     EXPECT_LT(c.curvature, 2 * kPi);

@@ -14,9 +14,10 @@ namespace ricci {
 namespace {
 
 /// parameterize, with the builds it made.
-BuildCounts builds_of(const Mesh& mesh, const ParamOptions& options, ParamResult* out = nullptr) {
+BuildCounts builds_of(const Mesh& mesh, const ParamOptions& options,
+                      MeshParamResult* out = nullptr) {
   const BuildCounts before = build_counts();
-  ParamResult r = parameterize(mesh, options);
+  MeshParamResult r = parameterize(mesh, options);
   const BuildCounts made = build_counts() - before;
   EXPECT_TRUE(r.converged) << r.message;
   if (out) *out = std::move(r);
@@ -43,9 +44,9 @@ TEST(PipelineBuilds, AutomaticConesBuildEachThingOnce) {
 TEST(PipelineBuilds, RoundsOfAutomaticConesReuseTheProblemAndTheModel) {
   // The CAD cylinder needs rounds of more cones (see parameterize_test.cpp); each round used to
   // build the topology, the lengths, the structure and the cone model again.
-  ParamResult r;
+  MeshParamResult r;
   const BuildCounts made = builds_of(make_cad_cylinder(360), ParamOptions{}, &r);
-  ASSERT_GE(r.cone_rounds, 1);
+  ASSERT_GE(r.routes.front().pipeline.cone_rounds, 1);
   expect_built_once(made, 1, "CAD cylinder with rounds");
 }
 

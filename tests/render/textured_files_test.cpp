@@ -74,7 +74,7 @@ TEST(TexturedFiles, TheMaterialLibraryNamesItsTexture) {
 
   // The OBJ names the library and the material; the readers ignore both.
   Mesh mesh = make_disk(2);
-  const ParamResult param = parameterize(mesh);
+  const MeshParamResult param = parameterize(mesh);
   write_obj((dir / "mesh.obj").string(), param.mesh, param.cut_mesh.triangles, param.uv,
             ObjMaterial{files.library});
   const std::string obj = testing::read_text(dir / "mesh.obj");
@@ -112,7 +112,7 @@ const T* accessor_data(const tinygltf::Model& model, int accessor) {
 TEST(TexturedFiles, GlbHoldsTheMeshItsTextureCoordinatesAndTheTexture) {
   ASSERT_TRUE(glb_supported());
   const Mesh torus = make_torus(16, 8);
-  const ParamResult param = parameterize(torus);  // a torus: seams, so vertices split
+  const MeshParamResult param = parameterize(torus);  // a torus: seams, so vertices split
   const std::string path = (testing::render_tmp_dir() / "torus.glb").string();
   write_mesh(path, textured_mesh(param), glb_options());
   const tinygltf::Model model = load_glb_model(path);
@@ -163,7 +163,7 @@ TEST(TexturedFiles, GlbHoldsTheMeshItsTextureCoordinatesAndTheTexture) {
 
 TEST(TexturedFiles, GlbReadsBackWithItsSeamsWelded) {
   const Mesh torus = make_torus(16, 8);
-  const ParamResult param = parameterize(torus);
+  const MeshParamResult param = parameterize(torus);
   const std::string path = (testing::render_tmp_dir() / "torus_back.glb").string();
   write_mesh(path, textured_mesh(param), glb_options());
   const TexturedMesh back = read_textured_file(path);
@@ -191,7 +191,7 @@ TEST(TexturedFiles, GlbReadsBackWithItsSeamsWelded) {
 
 TEST(TexturedFiles, GlbRefusesWhatItCannotHold) {
   const Mesh disk = make_disk(2);
-  const ParamResult param = parameterize(disk);
+  const MeshParamResult param = parameterize(disk);
   const fs::path dir = testing::render_tmp_dir();
   std::ofstream(dir / "not_an_image.png") << "hello";
   GlbOptions options;

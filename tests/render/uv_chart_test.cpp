@@ -66,7 +66,7 @@ TEST(UvChart, FindsTheConesOfAParameterization) {
   ParamOptions options;
   options.cone_mode = ConeMode::Auto;
   options.auto_cones.count = 8;
-  const ParamResult result = parameterize(make_icosphere(2), options);
+  const MeshParamResult result = parameterize(make_icosphere(2), options);
   ASSERT_TRUE(result.converged) << result.message;
   const UvChart chart = analyse_uv_chart(result.mesh, result.cut_mesh.triangles, result.uv);
   std::set<int> expected;

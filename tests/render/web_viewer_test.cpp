@@ -201,7 +201,7 @@ TEST_F(WebViewer, DataBlockDecodesToTheMeshAndItsFigures) {
 TEST_F(WebViewer, ConesOfAClosedSurfaceCarryItsWholeCurvature) {
   // A sphere parameterized with cones: flat everywhere else, so the cones' curvatures add up to
   // 2 pi chi = 4 pi (Gauss-Bonnet) up to the flow's tolerance.
-  const ParamResult result = parameterize(make_icosphere(2), {});
+  const MeshParamResult result = parameterize(make_icosphere(2), {});
   ASSERT_TRUE(result.converged) << result.message;
   WebViewerInfo info;
   const std::string page =

@@ -15,6 +15,6 @@ namespace ricci {
 /// polygons = result.polygons (a polygon mesh's faces, each written from a corner whose fan is
 /// sound; empty: the triangles are the faces). A result without a layout (not converged, or
 /// cancelled) gives empty uv, uv_triangles and polygons.
-TexturedMesh textured_mesh(const ParamResult& result);
+TexturedMesh textured_mesh(const Parameterization& result);
 
 }  // namespace ricci

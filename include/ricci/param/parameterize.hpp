@@ -154,23 +154,11 @@ struct EnumNames<ComponentMethod> {
   }};
 };
 
-/// The route one component's layout took, and what it cost (MeshParamResult::routes).
-struct ComponentRoute {
-  ComponentMethod method = ComponentMethod::Flow;
-  int charts = 1;          ///< charts of its layout in the atlas
-  double seam_length = 0;  ///< 3D length of its seams (cut edges, edges between charts)
-  /// Faces the exact map drew flipped, before untangling (0 when it did not get that far).
-  int flipped_before = 0;
-  int flipped = 0;  ///< faces flipped in its final layout
-  /// Why the exact map gave way (its refusal, non-convergence, length error or folds left
-  /// after untangling); empty for Flow and Untangled.
-  std::string why;
-};
-
-/// One component parameterized by one route: the pipeline's exact map (cones, flow, cut, layout,
-/// atlas, distortion), or a route that stood in for it (charts, unfolding). Every index is the
-/// component's own. What parameterize returns for the whole mesh is a MeshParamResult.
-struct ParamResult {
+/// A parameterization: the mesh, its cut, its layout and texture coordinates, and what the flow,
+/// the polish and the untangling did to get there. Each field means the same for one component
+/// (ParamResult, in the component's own indices) and for the whole mesh (MeshParamResult, in the
+/// whole mesh's indices), so the writers, the pictures and the refinement read either.
+struct Parameterization {
   /// The flow reached its tolerance (the charts and the unfolding: laid out without a flipped
   /// face).
   bool converged = false;
@@ -186,19 +174,8 @@ struct ParamResult {
   /// The flow degenerated around a strong cone even after raising its valence, so the whole mesh
   /// was subdivided once (every edge split at its midpoint) and the flow run again.
   bool subdivided = false;
-  std::vector<Cone> cones;       ///< final cones (output vertex indices) and curvatures
-  ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history (last round)
-  /// Automatic cones with flips: max |u - mean u| of the flat metric's own log scale, away from
-  /// the cones (log_scale_spread); 0 when not measured.
-  double log_scale_spread = 0;
-  /// Automatic cones: how many times they were chosen again, with more of them, because the
-  /// flat metric's spread exceeded 1.25 max_log_scale (the linearised model underestimates
-  /// strong cones); each round's flow is counted in timings.flow.
-  int cone_rounds = 0;
-  MeshFlowResult flow;  ///< the Ricci flow to the flat metric
-  /// With flips: how well the development of the input faces in the intrinsic metric closes up
-  /// (largest relative difference of an input edge's length seen from its two faces).
-  double development_length_mismatch = 0;
+  std::vector<Cone> cones;  ///< final cones (output vertex indices) and curvatures
+  MeshFlowResult flow;      ///< the Ricci flow to the flat metric
   CutGraph cut;
   CutMesh cut_mesh;
   /// Raw layout (metric units). With ParamOptions::polish its interior vertices have moved
@@ -230,6 +207,46 @@ struct ParamResult {
   Eigen::Vector2d uv_offset = Eigen::Vector2d::Zero();
   double seconds = 0;
   ParamTimings timings;
+};
+
+/// What the one-component pipeline measured on its way beyond the map itself: how its automatic
+/// cones went, and how its development closed up. A ParamResult's own; in a MeshParamResult, per
+/// component in ComponentRoute::pipeline.
+struct PipelineDiagnostics {
+  ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history (last round)
+  /// Automatic cones with flips: max |u - mean u| of the flat metric's own log scale, away from
+  /// the cones (log_scale_spread); 0 when not measured.
+  double log_scale_spread = 0;
+  /// Automatic cones: how many times they were chosen again, with more of them, because the
+  /// flat metric's spread exceeded 1.25 max_log_scale (the linearised model underestimates
+  /// strong cones); each round's flow is counted in timings.flow.
+  int cone_rounds = 0;
+  /// With flips: how well the development of the input faces in the intrinsic metric closes up
+  /// (largest relative difference of an input edge's length seen from its two faces).
+  double development_length_mismatch = 0;
+};
+
+/// One component parameterized by one route: the pipeline's exact map (cones, flow, cut, layout,
+/// atlas, distortion), or a route that stood in for it (charts, unfolding; their diagnostics at
+/// their defaults). Every index is the component's own. What parameterize returns for the whole
+/// mesh is a MeshParamResult.
+struct ParamResult : Parameterization, PipelineDiagnostics {};
+
+/// The route one component's layout took, and what it cost (MeshParamResult::routes).
+struct ComponentRoute {
+  ComponentMethod method = ComponentMethod::Flow;
+  int charts = 1;          ///< charts of its layout in the atlas
+  double seam_length = 0;  ///< 3D length of its seams (cut edges, edges between charts)
+  /// Faces the exact map drew flipped, before untangling (0 when it did not get that far).
+  int flipped_before = 0;
+  int flipped = 0;  ///< faces flipped in its final layout
+  /// Why the exact map gave way (its refusal, non-convergence, length error or folds left
+  /// after untangling); empty for Flow and Untangled.
+  std::string why;
+  /// What its exact map's pipeline measured (automatic cones, development) when that map served
+  /// (Flow, Untangled; Patches: the failed one's); defaults for Charts and Unfolded, which stand
+  /// in for the pipeline.
+  PipelineDiagnostics pipeline;
 };
 
 /// "flow", "untangled", "charts", "unfolded" or "patches" (its EnumNames row), as reports print
@@ -275,10 +292,12 @@ struct ComponentParam {
   ParamResult param;
 };
 
-/// What parameterize returns: the whole mesh's parameterization. Its ParamResult fields are of
-/// the whole mesh, in the whole mesh's indices:
+/// What parameterize returns: the whole mesh's parameterization (its Parameterization fields of
+/// the whole mesh, in the whole mesh's indices), each component's route, and the components the
+/// atlas was gathered from.
 /// - A mesh of one component whose exact map passed its checks (or had nothing to give way to):
-///   that map's ParamResult as the pipeline made it; `components` is empty.
+///   that map as the pipeline made it; `components` is empty, routes[0].pipeline holds its
+///   diagnostics.
 /// - Otherwise (several components, or one whose exact map gave way to another route) the atlas
 ///   gathered from `components`: mesh (the input's vertices, then the vertices each component's
 ///   edge splits added, component after component; the input's faces in their order, a
@@ -293,11 +312,9 @@ struct ComponentParam {
 ///   components[c].param.flow); untangle sums the components' (Patches aside); polish and
 ///   timings gather the Flow and Untangled components' (counts and seconds summed, the polish's
 ///   sweeps their maximum and its face means weighted by face counts, its uv empty; the charts'
-///   time of every component); cone_selection,
-///   log_scale_spread, cone_rounds and development_length_mismatch are left at their defaults
-///   (see components[c].param). converged: every component parameterized; message: which
-///   ones were not.
-struct MeshParamResult : ParamResult {
+///   time of every component). converged: every component parameterized; message: which ones
+///   were not.
+struct MeshParamResult : Parameterization {
   /// One entry per connected component of the input, in the order of Topology::components, when
   /// the atlas was gathered from them (see above); empty when the whole mesh is one component
   /// its exact map laid out.

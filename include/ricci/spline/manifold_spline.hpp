@@ -63,7 +63,7 @@ struct SplineResult {
 /// The domain of a converged parameterization: its mesh's topology, the cut mesh's layout as
 /// charts, gradients held at 0 at the cones.
 /// \throw InvalidInput as spline_domain
-SplineDomain spline_domain(const ParamResult& param);
+SplineDomain spline_domain(const Parameterization& param);
 
 /// Error of a spline surface against a mesh (the parameterized one: same vertices and faces as
 /// the domain).

@@ -356,7 +356,7 @@ void place_points_on_edge(Context& c, int e) {
 
 /// Checks what common_refinement can refine: converged, vertex scaling in the plane (one
 /// component: the MeshParamResult overload checks that).
-void check_refinable(const ParamResult& param) {
+void check_refinable(const Parameterization& param) {
   if (!param.converged) {
     throw InvalidInput("common_refinement: the parameterization did not converge" +
                        (param.message.empty() ? std::string() : ": " + param.message));
@@ -375,7 +375,7 @@ void check_refinable(const ParamResult& param) {
 
 namespace refinement_support {
 
-FlowInput flow_input(const ParamResult& param) {
+FlowInput flow_input(const Parameterization& param) {
   const MeshFlowResult& flow = param.flow;
   FlowInput in;
   in.front_faces = param.mesh.num_faces();
@@ -548,10 +548,10 @@ CommonRefinement common_refinement(const MeshParamResult& param,
         std::to_string(param.components.size()) +
         " components; take the refinement of each one's own result (components[c].param)");
   }
-  return common_refinement(static_cast<const ParamResult&>(param), options);
+  return common_refinement(static_cast<const Parameterization&>(param), options);
 }
 
-CommonRefinement common_refinement(const ParamResult& param,
+CommonRefinement common_refinement(const Parameterization& param,
                                    const CommonRefinementOptions& options) {
   const auto started = Clock::now();
   check_refinable(param);

@@ -256,7 +256,7 @@ void write_texture_coordinates(const Context& c, const std::vector<Piece>& piece
                                int front_faces, bool polished,
                                const Eigen::Matrix<double, Eigen::Dynamic, 2>& exact_uv,
                                CommonRefinement& result) {
-  const ParamResult& param = c.param;
+  const Parameterization& param = c.param;
   const int nv = c.mesh.num_vertices();
   const int nv_out = param.mesh.num_vertices();
   const int nt = static_cast<int>(pieces.size());

@@ -63,11 +63,11 @@ ParamOptions vertex_scaling() {
   return options;
 }
 
-Eigen::Vector2d uv_of(const ParamResult& r, int f, int k) {
+Eigen::Vector2d uv_of(const Parameterization& r, int f, int k) {
   return r.uv.row(r.cut_mesh.triangles(f, k)).transpose();
 }
 
-double uv_area(const ParamResult& r, int f) {
+double uv_area(const Parameterization& r, int f) {
   const Eigen::Vector2d a = uv_of(r, f, 0), b = uv_of(r, f, 1) - a, c = uv_of(r, f, 2) - a;
   return 0.5 * (b.x() * c.y() - b.y() * c.x());
 }
@@ -80,7 +80,7 @@ double area_3d(const Mesh& m, int f) {
 }
 
 /// Sum of the uv corner angles at every copy of vertex v.
-double uv_angle_sum(const ParamResult& r, int v) {
+double uv_angle_sum(const Parameterization& r, int v) {
   double sum = 0;
   for (int f = 0; f < r.mesh.num_faces(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -487,6 +487,34 @@ TEST(ParameterizeComponents, OneComponentIsUnchanged) {
   EXPECT_EQ(r.routes[0].seam_length, r.seam_length);
   EXPECT_FALSE(r.layout.lattice.empty());
   EXPECT_NEAR(std::max(r.uv.col(0).maxCoeff(), r.uv.col(1).maxCoeff()), 1.0, 1e-12);
+}
+
+// What each component's pipeline measured (its automatic cones, its development) travels with
+// its route: the whole mesh's Parameterization has no field that means one component's.
+TEST(ParameterizeComponents, EachRouteCarriesItsPipelinesDiagnostics) {
+  const MeshParamResult one = parameterize(make_icosphere(3));
+  ASSERT_TRUE(one.converged) << one.message;
+  ASSERT_EQ(one.routes.size(), 1u);
+  EXPECT_EQ(one.routes[0].pipeline.cone_selection.vertices.size(), one.cones.size());
+  EXPECT_GT(one.cones.size(), 0u);  // a sphere: automatic cones
+
+  const MeshParamResult r =
+      parameterize(combine({{make_torus(24, 10), 1.0}, {make_icosphere(3), 1.0}}));
+  ASSERT_TRUE(r.converged) << r.message;
+  ASSERT_EQ(r.routes.size(), 2u);
+  for (std::size_t c = 0; c < r.routes.size(); ++c) {
+    const ParamResult& own = r.components[c].param;
+    const PipelineDiagnostics& carried = r.routes[c].pipeline;
+    EXPECT_EQ(carried.cone_selection.vertices, own.cone_selection.vertices) << c;
+    EXPECT_EQ(carried.log_scale_spread, own.log_scale_spread) << c;
+    EXPECT_EQ(carried.cone_rounds, own.cone_rounds) << c;
+    EXPECT_EQ(carried.development_length_mismatch, own.development_length_mismatch) << c;
+  }
+  // The sphere's automatic cones: as many as the single sphere had (which of its symmetric
+  // vertices win depends on rounding, and combine moves the sphere).
+  EXPECT_EQ(r.routes[1].pipeline.cone_selection.vertices.size(),
+            one.routes[0].pipeline.cone_selection.vertices.size());
+  EXPECT_TRUE(r.routes[0].pipeline.cone_selection.vertices.empty());  // a torus needs none
 }
 
 /// A shared mesh after repair (nullopt when missing).

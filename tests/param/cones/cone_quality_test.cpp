@@ -44,7 +44,7 @@ Mesh hemisphere(int subdivisions) {
 
 /// The mean over faces (unweighted, as ../shared/tools/checkuv.py takes it; Distortion's is
 /// area-weighted) of sigma_max / sigma_min of the map from each 3D triangle to its uv triangle.
-double face_mean_angle_distortion(const ParamResult& r) {
+double face_mean_angle_distortion(const Parameterization& r) {
   const auto& faces = r.cut_mesh.triangles;
   double sum = 0;
   for (int f = 0; f < faces.rows(); ++f) {
@@ -63,7 +63,7 @@ double face_mean_angle_distortion(const ParamResult& r) {
   return sum / static_cast<double>(faces.rows());
 }
 
-ParamResult with_cones(const Mesh& mesh, int count, double smoothness) {
+MeshParamResult with_cones(const Mesh& mesh, int count, double smoothness) {
   ParamOptions options;
   options.cone_mode = count > 0 ? ConeMode::Auto : ConeMode::None;
   options.auto_cones.count = count;
@@ -76,8 +76,8 @@ ParamResult with_cones(const Mesh& mesh, int count, double smoothness) {
 // the same as no cones; BFF 0.017). The area distortion's own gradient puts them inside.
 TEST(ConeQuality, ConesFlattenAHemisphereWithAFreeBoundary) {
   const Mesh disk = hemisphere(4);
-  const ParamResult none = with_cones(disk, 0, ConeSelectionOptions{}.smoothness);
-  const ParamResult eight = with_cones(disk, 8, ConeSelectionOptions{}.smoothness);
+  const MeshParamResult none = with_cones(disk, 0, ConeSelectionOptions{}.smoothness);
+  const MeshParamResult eight = with_cones(disk, 8, ConeSelectionOptions{}.smoothness);
   ASSERT_TRUE(none.converged && eight.converged);
   EXPECT_EQ(eight.cones.size(), 8u);
   EXPECT_EQ(eight.distortion.flipped_faces, 0);
@@ -92,8 +92,8 @@ TEST(ConeQuality, ConesFlattenAHemisphereWithAFreeBoundary) {
 // keeps u smooth, which is what the angles see.
 TEST(ConeQuality, SmoothnessLowersTheAngleDistortion) {
   const Mesh surface = make_closed_surface(0, 16);
-  const ParamResult area_only = with_cones(surface, 16, 0);
-  const ParamResult smooth = with_cones(surface, 16, ConeSelectionOptions{}.smoothness);
+  const MeshParamResult area_only = with_cones(surface, 16, 0);
+  const MeshParamResult smooth = with_cones(surface, 16, ConeSelectionOptions{}.smoothness);
   ASSERT_TRUE(area_only.converged && smooth.converged);
   std::printf("bumpy sphere, 16 cones: E %.4f / %.4f, angle %.4f / %.4f\n",
               area_only.distortion.area_distortion_energy, smooth.distortion.area_distortion_energy,
@@ -116,7 +116,7 @@ TEST(ConeQuality, BeatsBffOnSpotAndBunny) {
                          Row{"spot.obj", 32, 0.1861, 1.0583}, Row{"bunny.obj", 4, 5.9714, 1.0364},
                          Row{"bunny.obj", 8, 2.6744, 1.0287}}) {
     const ReadResult read = read_mesh(*testing::shared_meshes_dir() + "/" + row.file);
-    const ParamResult r = with_cones(read.mesh, row.cones, ConeSelectionOptions{}.smoothness);
+    const MeshParamResult r = with_cones(read.mesh, row.cones, ConeSelectionOptions{}.smoothness);
     ASSERT_TRUE(r.converged) << row.file << " " << row.cones;
     EXPECT_EQ(static_cast<int>(r.cones.size()), row.cones) << row.file << " " << row.cones;
     EXPECT_EQ(r.distortion.flipped_faces, 0) << row.file << " " << row.cones;

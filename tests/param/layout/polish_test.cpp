@@ -177,9 +177,9 @@ TEST(PolishAngles, InParameterizeTheSeamsAreTheFlatMetricsBitForBit) {
   ParamOptions options;
   options.cone_mode = ConeMode::User;
   for (int v = 0; v < 4; ++v) options.cones.push_back({7 * v, kPi});
-  const ParamResult polished = parameterize(sphere, options);
+  const MeshParamResult polished = parameterize(sphere, options);
   options.polish.enabled = false;
-  const ParamResult exact = parameterize(sphere, options);
+  const MeshParamResult exact = parameterize(sphere, options);
   ASSERT_TRUE(polished.converged) << polished.message;
   ASSERT_TRUE(exact.converged) << exact.message;
   ASSERT_EQ(polished.cut_mesh.triangles, exact.cut_mesh.triangles);

@@ -67,11 +67,11 @@ std::vector<std::set<int>> copies_of(const Mesh& mesh, const Triangles& t) {
 }
 
 /// The flat metric's own layout (no polish), the seams' rigid motions exact.
-ParamResult flat_layout(const Mesh& mesh, ConeMode cones = ConeMode::Needed) {
+MeshParamResult flat_layout(const Mesh& mesh, ConeMode cones = ConeMode::Needed) {
   ParamOptions options;
   options.cone_mode = cones;
   options.polish.enabled = false;
-  ParamResult p = parameterize(mesh, options);
+  MeshParamResult p = parameterize(mesh, options);
   EXPECT_TRUE(p.converged) << p.message;
   EXPECT_EQ(count_flipped(p.layout.uv, p.cut_mesh.triangles), 0);
   return p;
@@ -79,7 +79,7 @@ ParamResult flat_layout(const Mesh& mesh, ConeMode cones = ConeMode::Needed) {
 
 TEST(Untangle, AFoldedInteriorIsUntangledAndNothingElseMoves) {
   const Mesh grid = make_grid(12, 12);
-  const ParamResult p = flat_layout(grid);
+  const MeshParamResult p = flat_layout(grid);
   UV uv = p.layout.uv;
   const Triangles& t = p.cut_mesh.triangles;
   // Vertex 6 * 13 + 6 (the grid's centre) pushed across three of its neighbours: its fan folds.
@@ -105,7 +105,7 @@ TEST(Untangle, AFoldedInteriorIsUntangledAndNothingElseMoves) {
 }
 
 TEST(Untangle, ALayoutWithoutFoldsComesBackBitForBit) {
-  const ParamResult p = flat_layout(make_torus(24, 12));
+  const MeshParamResult p = flat_layout(make_torus(24, 12));
   const UntangleResult r = untangle_layout(p.mesh, p.cut_mesh.triangles, p.layout.uv);
   EXPECT_EQ(r.flipped_before, 0);
   EXPECT_EQ(r.rounds, 0);
@@ -115,7 +115,7 @@ TEST(Untangle, ALayoutWithoutFoldsComesBackBitForBit) {
 
 TEST(Untangle, SeamVerticesMoveWithTheirCopiesAndTheSeamsStayCongruent) {
   // A flat torus: its copies across the two seams differ by translations (the lattice).
-  const ParamResult p = flat_layout(make_torus(24, 12));
+  const MeshParamResult p = flat_layout(make_torus(24, 12));
   const Triangles& t = p.cut_mesh.triangles;
   const std::vector<std::set<int>> copies = copies_of(p.mesh, t);
   UV uv = p.layout.uv;
@@ -150,7 +150,7 @@ TEST(Untangle, SeamVerticesMoveWithTheirCopiesAndTheSeamsStayCongruent) {
 
 TEST(Untangle, ConesKeepTheirPositionsAndAngles) {
   // Genus 2 with its automatic cones: a vertex next to a cone pushed across the cone.
-  const ParamResult p = flat_layout(make_closed_surface(2, 8));
+  const MeshParamResult p = flat_layout(make_closed_surface(2, 8));
   const Triangles& t = p.cut_mesh.triangles;
   ASSERT_FALSE(p.cones.empty());
   const std::vector<std::set<int>> copies = copies_of(p.mesh, t);
@@ -231,7 +231,7 @@ TEST(Untangle, TheBoundaryStaysUnlessItMayMove) {
   // A grid's interior fold is untangled by interior vertices alone; its boundary stays.
   {
     const Mesh grid = make_grid(8, 8);
-    const ParamResult p = flat_layout(grid);
+    const MeshParamResult p = flat_layout(grid);
     const Triangles& t = p.cut_mesh.triangles;
     UV uv = p.layout.uv;
     const int next_to_corner = 9 + 1;
@@ -249,7 +249,7 @@ TEST(Untangle, TheBoundaryStaysUnlessItMayMove) {
   // Two triangles, every vertex on the boundary: a corner pushed across the diagonal can only be
   // brought back by moving the boundary.
   const Mesh square = make_grid(1, 1);
-  const ParamResult p = flat_layout(square);
+  const MeshParamResult p = flat_layout(square);
   const Triangles& t = p.cut_mesh.triangles;
   UV uv = p.layout.uv;
   int opposite = -1;  // the vertex not on the corner's faces' shared diagonal: any face flips
@@ -271,7 +271,7 @@ TEST(Untangle, TheBoundaryStaysUnlessItMayMove) {
 
 TEST(Untangle, FixedVerticesStayAndAFaceOfFixedVerticesIsStuck) {
   const Mesh grid = make_grid(10, 10);
-  const ParamResult p = flat_layout(grid);
+  const MeshParamResult p = flat_layout(grid);
   const Triangles& t = p.cut_mesh.triangles;
   UV uv = p.layout.uv;
   const int centre = 5 * 11 + 5;
@@ -289,7 +289,7 @@ TEST(Untangle, FixedVerticesStayAndAFaceOfFixedVerticesIsStuck) {
 TEST(Untangle, NeverMoreFlippedFacesThanBeforeAndNoGoodFaceFlips) {
   // Heavy random noise over a disk's interior: whatever is left flipped was flipped before.
   const Mesh disk = make_disk(10);
-  const ParamResult p = flat_layout(disk);
+  const MeshParamResult p = flat_layout(disk);
   const Triangles& t = p.cut_mesh.triangles;
   const Topology topology = build_topology(disk.triangles, disk.num_vertices());
   UV uv = p.layout.uv;
@@ -314,7 +314,7 @@ TEST(Untangle, NeverMoreFlippedFacesThanBeforeAndNoGoodFaceFlips) {
 
 TEST(Untangle, RefusesArraysThatDisagree) {
   const Mesh grid = make_grid(3, 3);
-  const ParamResult p = flat_layout(grid);
+  const MeshParamResult p = flat_layout(grid);
   EXPECT_THROW(untangle_layout(p.mesh, p.cut_mesh.triangles.topRows(2), p.layout.uv), InvalidInput);
   Triangles bad = p.cut_mesh.triangles;
   bad(0, 0) = static_cast<int>(p.layout.uv.rows());

@@ -74,7 +74,7 @@ struct Figures {
 };
 
 /// Every check of the file comment; returns the figures for tests to bound.
-Figures check_refinement(const ParamResult& p, const CommonRefinement& r) {
+Figures check_refinement(const Parameterization& p, const CommonRefinement& r) {
   Figures fig;
   const Mesh& mesh = p.mesh;
   const int nv = mesh.num_vertices(), nt = static_cast<int>(r.triangles.rows());

@@ -26,7 +26,7 @@ constexpr double kPi = std::numbers::pi;
 /// Every stage run in order, with what each one handed on (the Context refers to the mesh, the
 /// result and u held here, so the object stays where it was made).
 struct Stages {
-  ParamResult param;
+  MeshParamResult param;
   FlowInput flow;
   std::unique_ptr<Context> c;
   CommonRefinement result;

@@ -135,7 +135,7 @@ struct CommonRefinement {
 /// \throw InvalidInput when the result did not converge, its scheme is not vertex scaling, or its
 ///        flip log does not reproduce its triangulation; SolverError on an internal
 ///        inconsistency (a bug)
-CommonRefinement common_refinement(const ParamResult& param,
+CommonRefinement common_refinement(const Parameterization& param,
                                    const CommonRefinementOptions& options = {});
 
 /// The same on what parameterize returns.

@@ -32,7 +32,7 @@ struct FlowInput {
 
 /// The flow of a one-component result (see FlowInput).
 /// \throw InvalidInput when a component flowed on its double in a mesh of several components
-FlowInput flow_input(const ParamResult& param);
+FlowInput flow_input(const Parameterization& param);
 
 /// 1. The flip log split: the isometric flips (T0 -> T1) and the Ptolemy flips (T1 -> T'), each
 /// in log order.

@@ -110,7 +110,7 @@ inline Rigid segment_motion(Complex p0, Complex p1, Complex q0, Complex q1) {
 /// reads: the three triangulations, the overlays, the points on the Delaunay edges.
 struct Context {
   const Mesh& mesh;  ///< the surface flowed: the mesh parameterized, or its double
-  const ParamResult& param;
+  const Parameterization& param;
   /// T0, T1 and T': the input, and the replays replay_flips_with_overlay returns (read only here:
   /// the intrinsic module writes a flipped triangulation's arrays)
   Topology t0, t1, tp;
@@ -143,7 +143,7 @@ struct Context {
   std::vector<FinalFacePoint> in_final_face;  ///< A-points inside a final face
   int num_edge_ids = 0;
 
-  Context(const Mesh& m, const ParamResult& p, const Eigen::VectorXd& final_u)
+  Context(const Mesh& m, const Parameterization& p, const Eigen::VectorXd& final_u)
       : mesh(m), param(p), u(final_u) {}
 
   /// Appends a refinement vertex of the given kind; returns its index (after the mesh's
