@@ -1,6 +1,8 @@
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <type_traits>
 
 #include "mesh/io/detail/readers.hpp"
 
@@ -21,49 +23,43 @@ std::optional<PlyType> ply_type(std::string_view name) {
   return std::nullopt;
 }
 
-int ply_size(PlyType type) {
+/// Calls `f` with a value-initialised object of the C++ type that `type` names: the one table from
+/// PlyType to C++ type, which the size, integrality, loading and strip separator below all read.
+template <class F>
+auto with_ply_type(PlyType type, F&& f) {
   switch (type) {
     case PlyType::Int8:
+      return f(std::int8_t{});
     case PlyType::UInt8:
-      return 1;
+      return f(std::uint8_t{});
     case PlyType::Int16:
+      return f(std::int16_t{});
     case PlyType::UInt16:
-      return 2;
+      return f(std::uint16_t{});
     case PlyType::Int32:
+      return f(std::int32_t{});
     case PlyType::UInt32:
+      return f(std::uint32_t{});
     case PlyType::Float32:
-      return 4;
+      return f(float{});
     case PlyType::Float64:
-      return 8;
+      return f(double{});
   }
-  return 0;
+  return decltype(f(double{})){};
+}
+
+int ply_size(PlyType type) {
+  return with_ply_type(type, [](auto value) { return static_cast<int>(sizeof(value)); });
 }
 
 bool ply_is_integer(PlyType type) {
-  return type != PlyType::Float32 && type != PlyType::Float64;
+  return with_ply_type(type, [](auto value) { return std::is_integral_v<decltype(value)>; });
 }
 
 /// Reads one binary value of the given type as a double; `swap` reverses the byte order.
 double ply_load(PlyType type, const char* p, bool swap) {
-  switch (type) {
-    case PlyType::Int8:
-      return load_binary<std::int8_t>(p, swap);
-    case PlyType::UInt8:
-      return load_binary<std::uint8_t>(p, swap);
-    case PlyType::Int16:
-      return load_binary<std::int16_t>(p, swap);
-    case PlyType::UInt16:
-      return load_binary<std::uint16_t>(p, swap);
-    case PlyType::Int32:
-      return load_binary<std::int32_t>(p, swap);
-    case PlyType::UInt32:
-      return load_binary<std::uint32_t>(p, swap);
-    case PlyType::Float32:
-      return load_binary<float>(p, swap);
-    case PlyType::Float64:
-      return load_binary<double>(p, swap);
-  }
-  return 0;
+  return with_ply_type(
+      type, [&](auto value) { return static_cast<double>(load_binary<decltype(value)>(p, swap)); });
 }
 
 struct PlyProperty {
@@ -265,16 +261,10 @@ void check_ply_corner(const std::string& path, Where here, int face, double inde
 /// as its largest value.
 bool is_strip_separator(PlyType type, double value) {
   if (value == -1) return true;
-  switch (type) {
-    case PlyType::UInt8:
-      return value == 0xff;
-    case PlyType::UInt16:
-      return value == 0xffff;
-    case PlyType::UInt32:
-      return value == 0xffffffffU;
-    default:
-      return false;
-  }
+  return with_ply_type(type, [&](auto stored) {
+    using T = decltype(stored);
+    return std::is_unsigned_v<T> && value == static_cast<double>(std::numeric_limits<T>::max());
+  });
 }
 
 /// Adds the triangles of one tristrips item (`strips`: its vertex_indices list, strips separated
