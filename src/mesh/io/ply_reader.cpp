@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 
 #include "mesh/io/detail/readers.hpp"
@@ -23,29 +24,19 @@ std::optional<PlyType> ply_type(std::string_view name) {
   return std::nullopt;
 }
 
-/// Calls `f` with a value-initialised object of the C++ type that `type` names: the one table from
-/// PlyType to C++ type, which the size, integrality, loading and strip separator below all read.
-template <class F>
+/// The C++ type of each PlyType, in the enum's order: the one table that the size, integrality,
+/// loading and strip separator below all read.
+using PlyCppTypes = std::tuple<std::int8_t, std::uint8_t, std::int16_t, std::uint16_t, std::int32_t,
+                               std::uint32_t, float, double>;
+static_assert(std::tuple_size_v<PlyCppTypes> == static_cast<std::size_t>(PlyType::Float64) + 1);
+
+/// f(T{}) for the C++ type T that `type` names.
+template <std::size_t I = 0, class F>
 auto with_ply_type(PlyType type, F&& f) {
-  switch (type) {
-    case PlyType::Int8:
-      return f(std::int8_t{});
-    case PlyType::UInt8:
-      return f(std::uint8_t{});
-    case PlyType::Int16:
-      return f(std::int16_t{});
-    case PlyType::UInt16:
-      return f(std::uint16_t{});
-    case PlyType::Int32:
-      return f(std::int32_t{});
-    case PlyType::UInt32:
-      return f(std::uint32_t{});
-    case PlyType::Float32:
-      return f(float{});
-    case PlyType::Float64:
-      return f(double{});
+  if constexpr (I + 1 < std::tuple_size_v<PlyCppTypes>) {
+    if (static_cast<std::size_t>(type) != I) return with_ply_type<I + 1>(type, f);
   }
-  return decltype(f(double{})){};
+  return f(std::tuple_element_t<I, PlyCppTypes>{});
 }
 
 int ply_size(PlyType type) {
@@ -165,6 +156,17 @@ struct PlyRoles {
   int corners = -1;                  ///< property index of vertex_indices in the face element
   int strip_corners = -1;            ///< property index of vertex_indices in the tristrips element
 };
+
+/// What element e is for: the binary and the ASCII reader both read it off PlyRoles.
+struct ElementRole {
+  bool is_vertex = false, is_face = false, is_strip = false;
+};
+
+ElementRole role_of(const PlyRoles& roles, std::size_t e) {
+  const int element = static_cast<int>(e);
+  return {element == roles.vertex_element, element == roles.face_element,
+          element == roles.strip_element};
+}
 
 /// The property of `element` that lists its corners (vertex_indices or vertex_index), or -1.
 /// \throw IoError when that property is not a list of integers
@@ -309,9 +311,7 @@ void read_ply_binary(const std::string& path, std::string_view data, const PlyHe
   std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
-    const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
-    const bool is_face = static_cast<int>(e) == roles.face_element;
-    const bool is_strip = static_cast<int>(e) == roles.strip_element;
+    const auto [is_vertex, is_face, is_strip] = role_of(roles, e);
     auto need = [&](std::size_t bytes, std::int64_t item) {
       if (data.size() - pos < bytes) {
         ends_inside(path, Where{static_cast<std::int64_t>(pos), true}, element, item);
@@ -383,9 +383,7 @@ void read_ply_ascii(const std::string& path, std::string_view data, const PlyHea
   std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
-    const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
-    const bool is_face = static_cast<int>(e) == roles.face_element;
-    const bool is_strip = static_cast<int>(e) == roles.strip_element;
+    const auto [is_vertex, is_face, is_strip] = role_of(roles, e);
     std::int64_t item = 0;
     std::string_view token;
     auto next_number = [&](bool integer) {
