@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <type_traits>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
@@ -29,6 +30,40 @@ double number_or_nan(const nlohmann::json& j, const char* name) {
   return it->get<double>();
 }
 
+/// A figure that a record stores as NaN when unknown and JSON as null (or leaves out).
+template <class Number>
+struct NumberOrNull {
+  Number& value;
+};
+
+/// Calls visit(name, field) on each field of a record (a MeshRecord, const or not) under its
+/// JSON name, in the order of MeshRecord: the writer and the reader of a record share this one
+/// list. The distortions come wrapped in NumberOrNull.
+template <class Record, class Visit>
+void for_each_field(Record& r, Visit&& visit) {
+  using Number = std::remove_reference_t<decltype((r.area_distortion))>;
+  visit("key", r.key);
+  visit("input", r.input);
+  visit("input_hash", r.input_hash);
+  visit("input_stamp", r.input_stamp);
+  visit("options", r.options);
+  visit("outcome", r.outcome);
+  visit("exit_code", r.exit_code);
+  visit("signal", r.signal);
+  visit("seconds", r.seconds);
+  visit("peak_memory_kb", r.peak_memory_kb);
+  visit("message", r.message);
+  visit("output", r.output);
+  visit("report", r.report);
+  visit("area_distortion", NumberOrNull<Number>{r.area_distortion});
+  visit("angle_distortion", NumberOrNull<Number>{r.angle_distortion});
+  visit("flipped_faces", r.flipped_faces);
+  visit("cones", r.cones);
+  visit("worker", r.worker);
+  visit("finished_at", r.finished_at);
+  visit("version", r.version);
+}
+
 }  // namespace
 
 const char* mesh_outcome_name(MeshOutcome outcome) {
@@ -42,26 +77,16 @@ MeshOutcome parse_mesh_outcome(const std::string& name) {
 
 std::string to_json_line(const MeshRecord& r) {
   nlohmann::json j;
-  j["key"] = r.key;
-  j["input"] = r.input;
-  j["input_hash"] = r.input_hash;
-  j["input_stamp"] = r.input_stamp;
-  j["options"] = r.options;
-  j["outcome"] = mesh_outcome_name(r.outcome);
-  j["exit_code"] = r.exit_code;
-  j["signal"] = r.signal;
-  j["seconds"] = r.seconds;
-  j["peak_memory_kb"] = r.peak_memory_kb;
-  j["message"] = r.message;
-  j["output"] = r.output;
-  j["report"] = r.report;
-  j["area_distortion"] = number_or_null(r.area_distortion);
-  j["angle_distortion"] = number_or_null(r.angle_distortion);
-  j["flipped_faces"] = r.flipped_faces;
-  j["cones"] = r.cones;
-  j["worker"] = r.worker;
-  j["finished_at"] = r.finished_at;
-  j["version"] = r.version;
+  for_each_field(r, [&](const char* name, const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, MeshOutcome>) {
+      j[name] = mesh_outcome_name(field);
+    } else if constexpr (std::is_same_v<Field, NumberOrNull<const double>>) {
+      j[name] = number_or_null(field.value);
+    } else {
+      j[name] = field;
+    }
+  });
   // Invalid UTF-8 in a message (a binary file name, a child's garbled stderr) is replaced, never
   // a reason to lose the record.
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -79,26 +104,16 @@ MeshRecord parse_mesh_record(const std::string& line) {
   }
   MeshRecord r;
   try {
-    r.key = j.at("key").get<std::string>();
-    r.input = j.value("input", "");
-    r.input_hash = j.value("input_hash", "");
-    r.input_stamp = j.value("input_stamp", "");
-    r.options = j.value("options", std::vector<std::string>{});
-    r.outcome = parse_mesh_outcome(j.at("outcome").get<std::string>());
-    r.exit_code = j.value("exit_code", -1);
-    r.signal = j.value("signal", 0);
-    r.seconds = j.value("seconds", 0.0);
-    r.peak_memory_kb = j.value("peak_memory_kb", 0L);
-    r.message = j.value("message", "");
-    r.output = j.value("output", "");
-    r.report = j.value("report", "");
-    r.area_distortion = number_or_nan(j, "area_distortion");
-    r.angle_distortion = number_or_nan(j, "angle_distortion");
-    r.flipped_faces = j.value("flipped_faces", -1);
-    r.cones = j.value("cones", -1);
-    r.worker = j.value("worker", "");
-    r.finished_at = j.value("finished_at", "");
-    r.version = j.value("version", "");
+    for_each_field(r, [&](const char* name, auto&& field) {
+      using Field = std::decay_t<decltype(field)>;
+      if constexpr (std::is_same_v<Field, MeshOutcome>) {
+        field = parse_mesh_outcome(j.at(name).get<std::string>());
+      } else if constexpr (std::is_same_v<Field, NumberOrNull<double>>) {
+        field.value = number_or_nan(j, name);
+      } else {
+        field = j.value(name, field);  // absent: the default of a MeshRecord
+      }
+    });
   } catch (const nlohmann::json::exception& e) {
     throw InvalidInput(std::string("a batch record field has the wrong type: ") + e.what());
   }

@@ -252,57 +252,36 @@ std::vector<CurvePath> trace_curves(const Topology& t, const EdgeOverlay& o) {
       return std::pair<int, int>{enters_h0 ? a : b, enters_h0 ? b : a};
     };
     auto position = [&](int h, int j) { return stored_index(t, o, h, j); };  // an involution
-    std::vector<CurveCrossing> backward, forward;
     long steps = 0;
-    // Backward to the corner the curve leaves.
-    {
+    // From the first crossing to the corner the curve leaves (backward) or arrives at (forward),
+    // appending the crossings passed on the way to `crossings`, each with the halfedge the curve
+    // crosses it from; the corner as {face, corner}.
+    auto walk = [&](bool forward, std::vector<CurveCrossing>& crossings) {
       int e = first[c].first, j = first[c].second;
       for (;;) {
         const auto [enter, leave] = enter_leave(e, j);
-        (void)enter;
-        if (leave < 0) fail(c, "crosses a boundary edge");
-        const int f = leave / 3;
-        const ArcEnd x = other_end(face_counts(t, o, f), leave % 3, position(leave, j));
-        if (x.is_corner()) {
-          path.start_face = f;
-          path.start_corner = x.corner;
-          break;
-        }
+        const int h = forward ? enter : leave;
+        if (h < 0) fail(c, "crosses a boundary edge");
+        const int f = h / 3;
+        const ArcEnd x = other_end(face_counts(t, o, f), h % 3, position(h, j));
+        if (x.is_corner()) return std::pair<int, int>{f, x.corner};
         const int h2 = 3 * f + x.side;
         const int e2 = t.halfedge_edge[h2], j2 = stored_index(t, o, h2, x.index);
-        if (curve_of(o.crossings[e2][j2]) != c || entry_along(t, o, h2, x.index) < 0) {
-          fail(c, "cannot be followed backward");
+        const int along = entry_along(t, o, h2, x.index);
+        if (curve_of(o.crossings[e2][j2]) != c || (forward ? along > 0 : along < 0)) {
+          fail(c, forward ? "cannot be followed forward" : "cannot be followed backward");
         }
-        backward.push_back({e2, j2, t.halfedge_twin[h2]});
+        crossings.push_back({e2, j2, forward ? h2 : t.halfedge_twin[h2]});
         e = e2;
         j = j2;
         if (++steps > total) fail(c, "loops");
       }
-    }
-    // Forward to the corner it arrives at.
-    {
-      int e = first[c].first, j = first[c].second;
-      forward.push_back({e, j, enter_leave(e, j).second});
-      for (;;) {
-        const int enter = enter_leave(e, j).first;
-        const int f = enter / 3;
-        const ArcEnd x = other_end(face_counts(t, o, f), enter % 3, position(enter, j));
-        if (x.is_corner()) {
-          path.end_face = f;
-          path.end_corner = x.corner;
-          break;
-        }
-        const int h2 = 3 * f + x.side;
-        const int e2 = t.halfedge_edge[h2], j2 = stored_index(t, o, h2, x.index);
-        if (curve_of(o.crossings[e2][j2]) != c || entry_along(t, o, h2, x.index) > 0) {
-          fail(c, "cannot be followed forward");
-        }
-        forward.push_back({e2, j2, h2});
-        e = e2;
-        j = j2;
-        if (++steps > total) fail(c, "loops");
-      }
-    }
+    };
+    std::vector<CurveCrossing> backward, forward;
+    std::tie(path.start_face, path.start_corner) = walk(false, backward);
+    forward.push_back(
+        {first[c].first, first[c].second, enter_leave(first[c].first, first[c].second).second});
+    std::tie(path.end_face, path.end_corner) = walk(true, forward);
     path.crossings.assign(backward.rbegin(), backward.rend());
     path.crossings.insert(path.crossings.end(), forward.begin(), forward.end());
   }

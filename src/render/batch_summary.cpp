@@ -62,6 +62,19 @@ void draw_vertical_text(cairo_t* cr, const std::string& text, double x, double y
   cairo_restore(cr);
 }
 
+/// Adds a line across the frame at x (frame units) to the path.
+void add_vertical_line(cairo_t* cr, const Frame& f, double x) {
+  cairo_move_to(cr, f.px(x), f.top);
+  cairo_line_to(cr, f.px(x), f.bottom);
+}
+
+/// A light grid line across the frame at x (frame units).
+void draw_grid_line(cairo_t* cr, const Frame& f, double x) {
+  set_colour(cr, kGrid);
+  add_vertical_line(cr, f, x);
+  cairo_stroke(cr);
+}
+
 void draw_box(cairo_t* cr, const Frame& f) {
   set_colour(cr, {0.2, 0.2, 0.2});
   cairo_set_line_width(cr, 1.2);
@@ -117,11 +130,17 @@ void draw_marker(cairo_t* cr, const Frame& f, double x, const std::string& label
   cairo_set_dash(cr, dash, 2, 0);
   set_colour(cr, {0.3, 0.3, 0.3});
   cairo_set_line_width(cr, 1.2);
-  cairo_move_to(cr, f.px(x), f.top);
-  cairo_line_to(cr, f.px(x), f.bottom);
+  add_vertical_line(cr, f, x);
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0);
   draw_text(cr, label, f.px(x) + 3, f.top + 3, 0.8 * font, 0, 0);
+}
+
+/// A panel's title, centred above [x0, x1].
+void draw_panel_title(cairo_t* cr, const std::string& title, double x0, double x1, double top,
+                      double font) {
+  set_colour(cr, kInk);
+  draw_text(cr, title, 0.5 * (x0 + x1), top, 1.1 * font, 0.5, 0);
 }
 
 /// Panel (a): meshes by outcome, one horizontal bar each ("ok" always, the others when > 0).
@@ -132,9 +151,7 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
     if (count > 0 || name == "ok") rows.emplace_back(name, count);
   }
   if (rows.empty()) rows.emplace_back("ok", 0);  // a summary without counts
-  set_colour(cr, kInk);
-  draw_text(cr, "meshes by outcome (" + std::to_string(s.total) + ")", 0.5 * (x0 + x1), top,
-            1.1 * font, 0.5, 0);
+  draw_panel_title(cr, "meshes by outcome (" + std::to_string(s.total) + ")", x0, x1, top, font);
 
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, font);
@@ -174,8 +191,11 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
   cairo_stroke(cr);
 }
 
-/// The plot rectangle of panels (b) and (c).
-Frame histogram_frame(double x0, double x1, double height, double top, double font) {
+/// Panels (b) and (c) start alike: the title, then the plot rectangle under it, which this
+/// returns.
+Frame start_histogram_panel(cairo_t* cr, const std::string& title, double x0, double x1,
+                            double height, double top, double font) {
+  draw_panel_title(cr, title, x0, x1, top, font);
   Frame f;
   f.left = x0 + 5.0 * font;
   f.right = x1 - 1.5 * font;
@@ -184,12 +204,18 @@ Frame histogram_frame(double x0, double x1, double height, double top, double fo
   return f;
 }
 
+/// ... and end alike: the frame's box and the label of its x axis.
+void finish_histogram_panel(cairo_t* cr, const Frame& f, const std::string& x_label, double height,
+                            double font) {
+  draw_box(cr, f);
+  set_colour(cr, kInk);
+  draw_text(cr, x_label, 0.5 * (f.left + f.right), height - 0.6 * font, font, 0.5, 1);
+}
+
 /// Panel (b): seconds per mesh on a log10 axis over whole decades.
 void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, double height,
                   double top, double font) {
-  set_colour(cr, kInk);
-  draw_text(cr, "seconds per mesh", 0.5 * (x0 + x1), top, 1.1 * font, 0.5, 0);
-  Frame f = histogram_frame(x0, x1, height, top, font);
+  Frame f = start_histogram_panel(cr, "seconds per mesh", x0, x1, height, top, font);
 
   std::vector<double> logs;
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -213,16 +239,10 @@ void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, doub
   cairo_set_line_width(cr, 1.0);
   const int label_every = (decades + 7) / 8;
   for (int e = decade_lo; e <= decade_hi; ++e) {
-    set_colour(cr, kGrid);
-    cairo_move_to(cr, f.px(e), f.top);
-    cairo_line_to(cr, f.px(e), f.bottom);
-    cairo_stroke(cr);
+    draw_grid_line(cr, f, e);
     if (decades <= 6 && e < decade_hi) {
       set_colour(cr, {0.94, 0.94, 0.94});
-      for (int m = 2; m <= 9; ++m) {
-        cairo_move_to(cr, f.px(e + std::log10(m)), f.top);
-        cairo_line_to(cr, f.px(e + std::log10(m)), f.bottom);
-      }
+      for (int m = 2; m <= 9; ++m) add_vertical_line(cr, f, e + std::log10(m));
       cairo_stroke(cr);
     }
     if ((e - decade_lo) % label_every == 0) {
@@ -243,17 +263,14 @@ void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, doub
       draw_marker(cr, f, std::log10(s.seconds.p90), "p90", font);
     }
   }
-  draw_box(cr, f);
-  set_colour(cr, kInk);
-  draw_text(cr, "seconds (log scale)", 0.5 * (f.left + f.right), height - 0.6 * font, font, 0.5, 1);
+  finish_histogram_panel(cr, f, "seconds (log scale)", height, font);
 }
 
 /// Panel (c): angle distortion of the Ok meshes, axis from 1 (conformal).
 void draw_angle_distortion(cairo_t* cr, const BatchSummary& s, double x0, double x1, double height,
                            double top, double font) {
-  set_colour(cr, kInk);
-  draw_text(cr, "angle distortion of the Ok meshes", 0.5 * (x0 + x1), top, 1.1 * font, 0.5, 0);
-  Frame f = histogram_frame(x0, x1, height, top, font);
+  Frame f =
+      start_histogram_panel(cr, "angle distortion of the Ok meshes", x0, x1, height, top, font);
 
   std::vector<double> values;
   double most = 1;
@@ -273,10 +290,7 @@ void draw_angle_distortion(cairo_t* cr, const BatchSummary& s, double x0, double
   const auto ticks = std::lround((f.x_hi - f.x_lo) / step);
   for (long k = 0; k <= ticks; ++k) {
     const double x = f.x_lo + static_cast<double>(k) * step;
-    set_colour(cr, kGrid);
-    cairo_move_to(cr, f.px(x), f.top);
-    cairo_line_to(cr, f.px(x), f.bottom);
-    cairo_stroke(cr);
+    draw_grid_line(cr, f, x);
     set_colour(cr, kInk);
     draw_text(cr, format_number(x, digits), f.px(x), f.bottom + 6, font, 0.5, 0);
   }
@@ -288,10 +302,7 @@ void draw_angle_distortion(cairo_t* cr, const BatchSummary& s, double x0, double
     draw_histogram(cr, f, bin_values(values, f.x_lo, f.x_hi, 20), kDistortionColour, font);
     if (s.angle_distortion.count > 0) draw_marker(cr, f, s.angle_distortion.p50, "median", font);
   }
-  draw_box(cr, f);
-  set_colour(cr, kInk);
-  draw_text(cr, "mean singular value ratio (1: conformal)", 0.5 * (f.left + f.right),
-            height - 0.6 * font, font, 0.5, 1);
+  finish_histogram_panel(cr, f, "mean singular value ratio (1: conformal)", height, font);
 }
 
 void draw_summary(cairo_t* cr, const BatchSummary& s, const BatchSummaryPictureOptions& options) {

@@ -1,6 +1,9 @@
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <tuple>
+#include <type_traits>
 
 #include "mesh/io/detail/readers.hpp"
 
@@ -21,49 +24,33 @@ std::optional<PlyType> ply_type(std::string_view name) {
   return std::nullopt;
 }
 
-int ply_size(PlyType type) {
-  switch (type) {
-    case PlyType::Int8:
-    case PlyType::UInt8:
-      return 1;
-    case PlyType::Int16:
-    case PlyType::UInt16:
-      return 2;
-    case PlyType::Int32:
-    case PlyType::UInt32:
-    case PlyType::Float32:
-      return 4;
-    case PlyType::Float64:
-      return 8;
+/// The C++ type of each PlyType, in the enum's order: the one table that the size, integrality,
+/// loading and strip separator below all read.
+using PlyCppTypes = std::tuple<std::int8_t, std::uint8_t, std::int16_t, std::uint16_t, std::int32_t,
+                               std::uint32_t, float, double>;
+static_assert(std::tuple_size_v<PlyCppTypes> == static_cast<std::size_t>(PlyType::Float64) + 1);
+
+/// f(T{}) for the C++ type T that `type` names.
+template <std::size_t I = 0, class F>
+auto with_ply_type(PlyType type, F&& f) {
+  if constexpr (I + 1 < std::tuple_size_v<PlyCppTypes>) {
+    if (static_cast<std::size_t>(type) != I) return with_ply_type<I + 1>(type, f);
   }
-  return 0;
+  return f(std::tuple_element_t<I, PlyCppTypes>{});
+}
+
+int ply_size(PlyType type) {
+  return with_ply_type(type, [](auto value) { return static_cast<int>(sizeof(value)); });
 }
 
 bool ply_is_integer(PlyType type) {
-  return type != PlyType::Float32 && type != PlyType::Float64;
+  return with_ply_type(type, [](auto value) { return std::is_integral_v<decltype(value)>; });
 }
 
 /// Reads one binary value of the given type as a double; `swap` reverses the byte order.
 double ply_load(PlyType type, const char* p, bool swap) {
-  switch (type) {
-    case PlyType::Int8:
-      return load_binary<std::int8_t>(p, swap);
-    case PlyType::UInt8:
-      return load_binary<std::uint8_t>(p, swap);
-    case PlyType::Int16:
-      return load_binary<std::int16_t>(p, swap);
-    case PlyType::UInt16:
-      return load_binary<std::uint16_t>(p, swap);
-    case PlyType::Int32:
-      return load_binary<std::int32_t>(p, swap);
-    case PlyType::UInt32:
-      return load_binary<std::uint32_t>(p, swap);
-    case PlyType::Float32:
-      return load_binary<float>(p, swap);
-    case PlyType::Float64:
-      return load_binary<double>(p, swap);
-  }
-  return 0;
+  return with_ply_type(
+      type, [&](auto value) { return static_cast<double>(load_binary<decltype(value)>(p, swap)); });
 }
 
 struct PlyProperty {
@@ -170,6 +157,17 @@ struct PlyRoles {
   int strip_corners = -1;            ///< property index of vertex_indices in the tristrips element
 };
 
+/// What element e is for: the binary and the ASCII reader both read it off PlyRoles.
+struct ElementRole {
+  bool is_vertex = false, is_face = false, is_strip = false;
+};
+
+ElementRole role_of(const PlyRoles& roles, std::size_t e) {
+  const int element = static_cast<int>(e);
+  return {element == roles.vertex_element, element == roles.face_element,
+          element == roles.strip_element};
+}
+
 /// The property of `element` that lists its corners (vertex_indices or vertex_index), or -1.
 /// \throw IoError when that property is not a list of integers
 int corner_property(const std::string& path, const PlyElement& element) {
@@ -265,16 +263,10 @@ void check_ply_corner(const std::string& path, Where here, int face, double inde
 /// as its largest value.
 bool is_strip_separator(PlyType type, double value) {
   if (value == -1) return true;
-  switch (type) {
-    case PlyType::UInt8:
-      return value == 0xff;
-    case PlyType::UInt16:
-      return value == 0xffff;
-    case PlyType::UInt32:
-      return value == 0xffffffffU;
-    default:
-      return false;
-  }
+  return with_ply_type(type, [&](auto stored) {
+    using T = decltype(stored);
+    return std::is_unsigned_v<T> && value == static_cast<double>(std::numeric_limits<T>::max());
+  });
 }
 
 /// Adds the triangles of one tristrips item (`strips`: its vertex_indices list, strips separated
@@ -319,9 +311,7 @@ void read_ply_binary(const std::string& path, std::string_view data, const PlyHe
   std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
-    const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
-    const bool is_face = static_cast<int>(e) == roles.face_element;
-    const bool is_strip = static_cast<int>(e) == roles.strip_element;
+    const auto [is_vertex, is_face, is_strip] = role_of(roles, e);
     auto need = [&](std::size_t bytes, std::int64_t item) {
       if (data.size() - pos < bytes) {
         ends_inside(path, Where{static_cast<std::int64_t>(pos), true}, element, item);
@@ -393,9 +383,7 @@ void read_ply_ascii(const std::string& path, std::string_view data, const PlyHea
   std::vector<double> strips;  // a tristrips item's list
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     const PlyElement& element = header.elements[e];
-    const bool is_vertex = static_cast<int>(e) == roles.vertex_element;
-    const bool is_face = static_cast<int>(e) == roles.face_element;
-    const bool is_strip = static_cast<int>(e) == roles.strip_element;
+    const auto [is_vertex, is_face, is_strip] = role_of(roles, e);
     std::int64_t item = 0;
     std::string_view token;
     auto next_number = [&](bool integer) {
