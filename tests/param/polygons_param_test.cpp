@@ -283,14 +283,7 @@ TEST(PolygonParameterize, ComponentsUnfoldedPatchesAndChartsKeepTheirPolygons) {
   // A quad torus, a lone quad (two triangles: unfolded) and the saddle of four quads around a
   // vertex of 787 degrees whose cone the flow refuses: its own shape in patches, or charts.
   const Mesh torus = make_torus(16, 8);
-  Mesh saddle;
-  saddle.positions.resize(9, 3);
-  saddle.triangles.resize(8, 3);
-  saddle.positions.row(0) << 0, 0, 0;
-  for (int i = 0; i < 8; ++i) {
-    saddle.positions.row(1 + i) << std::cos(kPi * i / 4), std::sin(kPi * i / 4), i % 2 ? 1.0 : -1.0;
-    saddle.triangles.row(i) << 0, 1 + i, 1 + (i + 1) % 8;
-  }
+  const Mesh saddle = testing::saddle_fan();
   const Mesh quad =
       testing::make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.3}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
   Mesh mesh;

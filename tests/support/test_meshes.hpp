@@ -79,6 +79,22 @@ inline Mesh moebius_strip(int n) {
   return mesh;
 }
 
+/// A disk fan around a saddle vertex: eight faces whose rim goes up and down, 787 degrees of
+/// angle at the centre, so that its own shape cannot be laid out in one piece (a cone the flow
+/// refuses; the components' path unfolds it in patches or lays it out as charts).
+inline Mesh saddle_fan() {
+  Mesh m;
+  m.positions.resize(9, 3);
+  m.triangles.resize(8, 3);
+  m.positions.row(0) << 0, 0, 0;
+  for (int i = 0; i < 8; ++i) {
+    m.positions.row(1 + i) << std::cos(std::numbers::pi * i / 4),
+        std::sin(std::numbers::pi * i / 4), i % 2 ? 1.0 : -1.0;
+    m.triangles.row(i) << 0, 1 + i, 1 + (i + 1) % 8;
+  }
+  return m;
+}
+
 /// The vertex of a unit sphere mesh nearest a direction.
 inline int nearest_vertex(const Mesh& sphere, const Eigen::Vector3d& direction) {
   int best = 0;

@@ -42,20 +42,6 @@ Mesh combine(const std::vector<std::pair<Mesh, double>>& parts) {
   return out;
 }
 
-/// A disk fan around a saddle vertex: eight faces whose rim goes up and down, 787 degrees of
-/// angle at the centre, so that its own shape cannot be laid out in one piece.
-Mesh saddle_fan() {
-  Mesh m;
-  m.positions.resize(9, 3);
-  m.triangles.resize(8, 3);
-  m.positions.row(0) << 0, 0, 0;
-  for (int i = 0; i < 8; ++i) {
-    m.positions.row(1 + i) << std::cos(kPi * i / 4), std::sin(kPi * i / 4), i % 2 ? 1.0 : -1.0;
-    m.triangles.row(i) << 0, 1 + i, 1 + (i + 1) % 8;
-  }
-  return m;
-}
-
 /// The scheme main is moving to (and with flips the mesh stays the input's).
 ParamOptions vertex_scaling() {
   ParamOptions options;
@@ -323,7 +309,7 @@ TEST(ParameterizeComponents, AFailedComponentIsReportedAndLaidOutAsPatches) {
   // An inadmissible cone on the saddle (curvature above 2 pi) makes its pipeline throw; its own
   // shape needs two patches or more. The torus goes on.
   const Mesh torus = make_torus(24, 10);
-  const Mesh input = combine({{torus, 1.0}, {saddle_fan(), 1.0}});
+  const Mesh input = combine({{torus, 1.0}, {testing::saddle_fan(), 1.0}});
   ParamOptions options = vertex_scaling();
   options.cone_mode = ConeMode::User;
   options.cones = {{torus.num_vertices(), 7.0}};
