@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "param/atlas/detail/uv_input.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/convex_hull.hpp"
 #include "ricci/numerics/disjoint_sets.hpp"
@@ -19,6 +20,9 @@
 
 namespace ricci {
 namespace {
+
+using atlas_detail::check_uv_input;
+using atlas_detail::uv_point;
 
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 constexpr double kPi = std::numbers::pi;
@@ -42,44 +46,15 @@ constexpr double kShapeStartStepDown = 0.97;
 constexpr int kShapeStartTries = 4;
 /// From a scale where the shapes fit, the search steps up by this factor while they still fit.
 constexpr double kShapeStepUp = 1.1;
-/// The overlap grid's cell never goes below this (uv units), so that dividing by it stays finite
-/// however small the faces (the smallest normal double is 2e-308).
-constexpr double kMinOverlapCell = 1e-300;
 /// A cell joins a chart's raster when a triangle comes within this of it (uv units): far above
 /// the rounding of the placement (a few ulps of 1), so that no cell a triangle reaches is missed.
 constexpr double kRasterMargin = 1e-12;
 
-void check_input(const char* who, const Points& uv, const Triangles& triangles,
-                 const std::vector<int>& per_face, const char* per_face_name) {
-  for (Eigen::Index v = 0; v < uv.rows(); ++v) {
-    if (!std::isfinite(uv(v, 0)) || !std::isfinite(uv(v, 1))) {
-      throw InvalidInput(std::string(who) + ": position " + std::to_string(v) + " is not finite");
-    }
-  }
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      if (triangles(f, k) < 0 || triangles(f, k) >= uv.rows()) {
-        throw InvalidInput(std::string(who) + ": face " + std::to_string(f) + " uses position " +
-                           std::to_string(triangles(f, k)) + " of " + std::to_string(uv.rows()));
-      }
-    }
-  }
-  if (!per_face.empty() && static_cast<Eigen::Index>(per_face.size()) != triangles.rows()) {
-    throw InvalidInput(std::string(who) + ": " + per_face_name + " has " +
-                       std::to_string(per_face.size()) + " entries for " +
-                       std::to_string(triangles.rows()) + " faces");
-  }
-}
-
-Eigen::Vector2d point(const Points& uv, int v) {
-  return uv.row(v).transpose();
-}
-
 /// Twice the signed area of face f.
 double twice_area(const Points& uv, const Triangles& triangles, Eigen::Index f) {
-  const Eigen::Vector2d a = point(uv, triangles(f, 0));
-  const Eigen::Vector2d b = point(uv, triangles(f, 1)) - a;
-  const Eigen::Vector2d c = point(uv, triangles(f, 2)) - a;
+  const Eigen::Vector2d a = uv_point(uv, triangles(f, 0));
+  const Eigen::Vector2d b = uv_point(uv, triangles(f, 1)) - a;
+  const Eigen::Vector2d c = uv_point(uv, triangles(f, 2)) - a;
   return b.x() * c.y() - b.y() * c.x();
 }
 
@@ -400,7 +375,7 @@ std::vector<char> rasterise(const Points& layout, const Triangles& triangles,
   for (int f : chart.faces) {
     std::array<Eigen::Vector2d, 3> t;
     for (int k = 0; k < 3; ++k) {
-      t[k] = scale * (turn * point(layout, triangles(f, k)) - shape.lo) + offset;
+      t[k] = scale * (turn * uv_point(layout, triangles(f, k)) - shape.lo) + offset;
     }
     const bool ccw =
         (t[1] - t[0]).x() * (t[2] - t[0]).y() - (t[1] - t[0]).y() * (t[2] - t[0]).x() >= 0;
@@ -599,14 +574,14 @@ std::vector<ChartShape> chart_shapes(const Points& layout,
     if (rotate) {
       std::vector<Eigen::Vector2d> points;
       points.reserve(chart_vertices[c].size());
-      for (int v : chart_vertices[c]) points.push_back(point(layout, v));
+      for (int v : chart_vertices[c]) points.push_back(uv_point(layout, v));
       shape.rotation = minimal_rectangle_rotation(convex_hull(std::move(points)));
     }
     const Eigen::Rotation2Dd turn(shape.rotation);
     shape.lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     shape.hi = -shape.lo;
     for (int v : chart_vertices[c]) {
-      const Eigen::Vector2d q = turn * point(layout, v);
+      const Eigen::Vector2d q = turn * uv_point(layout, v);
       shape.lo = shape.lo.cwiseMin(q), shape.hi = shape.hi.cwiseMax(q);
     }
   }
@@ -803,7 +778,7 @@ void place_charts(const Points& layout, const Triangles& triangles,
     chart.rotation = shape.rotation + p.turns * kPi / 2;
     const Eigen::Rotation2Dd rotation(shape.rotation);
     for (int v : chart_vertices[c]) {
-      const Eigen::Vector2d q = out.scale * (rotation * point(layout, v) - shape.lo) + p.offset;
+      const Eigen::Vector2d q = out.scale * (rotation * uv_point(layout, v) - shape.lo) + p.offset;
       out.uv.row(v) = (p.corner + turn_in_box(q, p.turns, p.box)).transpose();
     }
     // uv = scale R(rotation) p + translation: read the translation off the map of the origin.
@@ -811,8 +786,8 @@ void place_charts(const Points& layout, const Triangles& triangles,
     chart.box_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     chart.box_max = -chart.box_min;
     for (int v : chart_vertices[c]) {
-      chart.box_min = chart.box_min.cwiseMin(point(out.uv, v));
-      chart.box_max = chart.box_max.cwiseMax(point(out.uv, v));
+      chart.box_min = chart.box_min.cwiseMin(uv_point(out.uv, v));
+      chart.box_max = chart.box_max.cwiseMax(uv_point(out.uv, v));
     }
     for (int f : chart.faces) chart.area += 0.5 * std::abs(twice_area(out.uv, triangles, f));
     out.coverage += chart.area;
@@ -822,89 +797,10 @@ void place_charts(const Points& layout, const Triangles& triangles,
 
 }  // namespace
 
-UvOverlaps find_uv_overlaps(const Points& uv, const Triangles& triangles,
-                            const std::vector<int>& face_group, int max_pairs) {
-  check_input("find_uv_overlaps", uv, triangles, face_group, "face_group");
-  UvOverlaps out;
-  const Eigen::Index nf = triangles.rows();
-  // Each face with an interior, counter-clockwise, with its box.
-  struct Face {
-    std::array<Eigen::Vector2d, 3> p;
-    Eigen::Vector2d lo, hi;
-  };
-  std::vector<Face> faces(nf);
-  std::vector<char> solid(nf, 0);
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d hi = -lo;
-  double extent_sum = 0;
-  int num_solid = 0;
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    Face& face = faces[f];
-    for (int k = 0; k < 3; ++k) face.p[k] = point(uv, triangles(f, k));
-    const int sign = orientation_sign(face.p[0], face.p[1], face.p[2]);
-    if (sign == 0) continue;
-    if (sign < 0) std::swap(face.p[1], face.p[2]);
-    solid[f] = 1;
-    ++num_solid;
-    face.lo = face.p[0].cwiseMin(face.p[1]).cwiseMin(face.p[2]);
-    face.hi = face.p[0].cwiseMax(face.p[1]).cwiseMax(face.p[2]);
-    lo = lo.cwiseMin(face.lo), hi = hi.cwiseMax(face.hi);
-    extent_sum += (face.hi - face.lo).maxCoeff();
-  }
-  if (num_solid < 2) return out;
-  // Grid cells about twice the mean face extent: a face touches a few cells, a cell holds a few
-  // faces.
-  const double cell = std::max(2 * extent_sum / num_solid, kMinOverlapCell);
-  const Eigen::Vector2d span = (hi - lo) / cell;
-  const long long max_cells = 4LL * num_solid + 16;
-  const double shrink = std::max(1.0, std::sqrt((span.x() + 1) * (span.y() + 1) / max_cells));
-  const double size = cell * shrink;
-  const int nx = static_cast<int>(std::min(span.x() / shrink, 1e9)) + 1;
-  const int ny = static_cast<int>(std::min(span.y() / shrink, 1e9)) + 1;
-  auto cell_of = [&](double x, double origin, int n) {
-    return std::clamp(static_cast<int>((x - origin) / size), 0, n - 1);
-  };
-  std::vector<std::vector<int>> grid(static_cast<std::size_t>(nx) * ny);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    if (!solid[f]) continue;
-    const Face& face = faces[f];
-    for (int i = cell_of(face.lo.x(), lo.x(), nx); i <= cell_of(face.hi.x(), lo.x(), nx); ++i) {
-      for (int j = cell_of(face.lo.y(), lo.y(), ny); j <= cell_of(face.hi.y(), lo.y(), ny); ++j) {
-        grid[static_cast<std::size_t>(j) * nx + i].push_back(static_cast<int>(f));
-      }
-    }
-  }
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      const std::vector<int>& here = grid[static_cast<std::size_t>(j) * nx + i];
-      for (std::size_t s = 0; s < here.size(); ++s) {
-        for (std::size_t t = s + 1; t < here.size(); ++t) {
-          const int fa = std::min(here[s], here[t]), fb = std::max(here[s], here[t]);
-          if (!face_group.empty() && face_group[fa] == face_group[fb]) continue;
-          const Face& a = faces[fa];
-          const Face& b = faces[fb];
-          if (a.hi.x() < b.lo.x() || b.hi.x() < a.lo.x() || a.hi.y() < b.lo.y() ||
-              b.hi.y() < a.lo.y()) {
-            continue;
-          }
-          // Test each pair once: in the cell holding the low corner of their boxes' overlap.
-          const double x = std::max(a.lo.x(), b.lo.x()), y = std::max(a.lo.y(), b.lo.y());
-          if (cell_of(x, lo.x(), nx) != i || cell_of(y, lo.y(), ny) != j) continue;
-          if (!ccw_triangles_overlap(a.p, b.p)) continue;
-          if (static_cast<int>(out.pairs.size()) < max_pairs) out.pairs.push_back({fa, fb});
-          ++out.count;
-        }
-      }
-    }
-  }
-  std::sort(out.pairs.begin(), out.pairs.end());
-  return out;
-}
-
 ChartPacking pack_charts(const Points& layout, const Triangles& triangles,
                          const std::vector<int>& face_chart, const ChartPackingOptions& options) {
   const auto start = Clock::now();
-  check_input("pack_charts", layout, triangles, face_chart, "face_chart");
+  check_uv_input("pack_charts", layout, triangles, face_chart, "face_chart");
   if (triangles.rows() == 0) throw InvalidInput("pack_charts: no faces");
   if (!(options.gutter >= 0 && options.gutter < 0.5)) {
     throw InvalidInput("pack_charts: gutter " + std::to_string(options.gutter) +
