@@ -56,6 +56,42 @@ ConformalStructure vertex_scaling(const Mesh& mesh, const Topology& t) {
   return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
 }
 
+/// Log scale factors drawn uniformly from [-bound, bound], the same on every run for a seed.
+Eigen::VectorXd random_u(int num_vertices, unsigned seed, double bound) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-bound, bound);
+  Eigen::VectorXd u(num_vertices);
+  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  return u;
+}
+
+/// Flips every seventh flippable edge of `t0` twice, with the lengths of `s0` at random u and at
+/// u = 0, and expects the new edge to get the same eta either way (to `eta_tolerance`): Ptolemy's
+/// relation commutes with vertex scaling, so a flip never changes the conformal class. The flip
+/// at random u must also leave a structure that reproduces the new length to 1e-14.
+void expect_flips_keep_the_conformal_class(const Topology& t0, const ConformalStructure& s0,
+                                           double eta_tolerance) {
+  const Eigen::VectorXd u = random_u(t0.num_vertices, 3, 0.7);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
+  int tested = 0;
+  for (int e = 0; e < t0.num_edges; e += 7) {
+    if (!can_flip_edge(t0, e)) continue;
+    Topology ta = t0, tb = t0;
+    ConformalStructure sa = s0, sb = s0;
+    Eigen::VectorXd la, lb;
+    ASSERT_EQ(edge_lengths(ta, sa, u, la).invalid_edges, 0);
+    ASSERT_EQ(edge_lengths(tb, sb, zero, lb).invalid_edges, 0);
+    const double cd = ptolemy_flip(ta, sa, u, la, e);
+    ptolemy_flip(tb, sb, zero, lb, e);
+    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, eta_tolerance) << "edge " << e;
+    Eigen::VectorXd check;
+    edge_lengths(ta, sa, u, check);
+    EXPECT_NEAR(check[e] / cd, 1.0, 1e-14);
+    ++tested;
+  }
+  EXPECT_GT(tested, 50);
+}
+
 TEST(DelaunayMargin, IsTwiceTheCosineSumOfTheOppositeAngles) {
   // Triangles (ab, ca, cb) = (1, 0.8, 0.7) and (1, 0.9, 0.6).
   const double gamma = angle_from_lengths(1.0, 0.8, 0.7);
@@ -200,37 +236,15 @@ TEST(PtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
   // Flipping an edge at random u or at u = 0 gives the new edge the same constant eta: Ptolemy's
   // relation commutes with vertex scaling, so a flip never changes the conformal class.
   const Mesh mesh = make_closed_surface(2, 8);
-  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
-  const ConformalStructure s0 = vertex_scaling(mesh, t0);
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> uniform(-0.7, 0.7);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
-  int tested = 0;
-  for (int e = 0; e < t0.num_edges; e += 7) {
-    if (!can_flip_edge(t0, e)) continue;
-    Topology ta = t0, tb = t0;
-    ConformalStructure sa = s0, sb = s0;
-    Eigen::VectorXd la, lb;
-    edge_lengths(ta, sa, u, la);
-    edge_lengths(tb, sb, zero, lb);
-    ptolemy_flip(ta, sa, u, la, e);
-    ptolemy_flip(tb, sb, zero, lb, e);
-    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-14) << "edge " << e;
-    ++tested;
-  }
-  EXPECT_GT(tested, 50);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  expect_flips_keep_the_conformal_class(t, vertex_scaling(mesh, t), 1e-14);
 }
 
 TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   const Mesh mesh = make_closed_surface(2, 8);
   Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   ConformalStructure s = vertex_scaling(mesh, t);
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  const Eigen::VectorXd u = random_u(mesh.num_vertices(), 5, 1.0);
   Eigen::VectorXd l;
   ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
@@ -410,41 +424,15 @@ TEST(HyperbolicPtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
   // sinh(l / 2) scales with exp((u_i + u_j) / 2) and Ptolemy's relation commutes with that: the
   // new edge's eta is the same at any u.
   const Mesh mesh = make_closed_surface(2, 8);
-  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
-  const ConformalStructure s0 = hyperbolic_vertex_scaling(mesh, t0);
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> uniform(-0.7, 0.7);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
-  int tested = 0;
-  for (int e = 0; e < t0.num_edges; e += 7) {
-    if (!can_flip_edge(t0, e)) continue;
-    Topology ta = t0, tb = t0;
-    ConformalStructure sa = s0, sb = s0;
-    Eigen::VectorXd la, lb;
-    ASSERT_EQ(edge_lengths(ta, sa, u, la).invalid_edges, 0);
-    ASSERT_EQ(edge_lengths(tb, sb, zero, lb).invalid_edges, 0);
-    const double cd = ptolemy_flip(ta, sa, u, la, e);
-    ptolemy_flip(tb, sb, zero, lb, e);
-    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-13) << "edge " << e;
-    // The structure reproduces the new length.
-    Eigen::VectorXd check;
-    edge_lengths(ta, sa, u, check);
-    EXPECT_NEAR(check[e] / cd, 1.0, 1e-14);
-    ++tested;
-  }
-  EXPECT_GT(tested, 50);
+  const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+  expect_flips_keep_the_conformal_class(t, hyperbolic_vertex_scaling(mesh, t), 1e-13);
 }
 
 TEST(HyperbolicFlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
   const Mesh mesh = make_closed_surface(3, 8);
   Topology t = build_topology(mesh.triangles, mesh.num_vertices());
   ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> uniform(-1.5, 1.5);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  const Eigen::VectorXd u = random_u(mesh.num_vertices(), 5, 1.5);
   Eigen::VectorXd l;
   ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
   CornerAngles angles;
