@@ -176,11 +176,7 @@ TEST(Distortion, FlippedAndDegenerateFacesAreCounted) {
   // flipped one and 0 on the degenerate ones:
   // E = (5 (1/3)^2 + (7/3)^2 + 2) / 8 = 1.
   const DamagedGrid damaged;
-  const Mesh& grid = damaged.grid;
-  const Triangles& uv_triangles = damaged.uv_triangles;
-  const UV& uv = damaged.uv;
-
-  const Distortion d = measure_distortion(grid, uv_triangles, uv);
+  const Distortion d = measure_distortion(damaged.grid, damaged.uv_triangles, damaged.uv);
   EXPECT_EQ(d.flipped_faces, 1);
   EXPECT_EQ(d.degenerate_faces, 2);
   EXPECT_NEAR(d.layout_area, 0.75, kTight);
@@ -220,10 +216,8 @@ TEST(FaceDistortion, AgreesWithTheStatisticsAndMarksFlippedAndDegenerateFaces) {
   // The faces of FlippedAndDegenerateFacesAreCounted: the mirrored face keeps its |A| (ln 4/3)
   // and conformality and is flagged; the collapsed and the NaN face have no figures.
   const DamagedGrid damaged;
-  const Mesh& grid = damaged.grid;
-  const Triangles& uv_triangles = damaged.uv_triangles;
-  const UV& uv = damaged.uv;
-  const FaceDistortion faces = measure_face_distortion(grid, uv_triangles, uv);
+  const FaceDistortion faces =
+      measure_face_distortion(damaged.grid, damaged.uv_triangles, damaged.uv);
   EXPECT_EQ(faces.flipped, (std::vector<char>{1, 0, 0, 0, 0, 0, 0, 0}));
   for (int f : {0, 3, 4, 5, 6, 7}) {
     EXPECT_NEAR(faces.log_area[f], std::log(4.0 / 3), kTight) << f;
