@@ -27,6 +27,9 @@ std::optional<std::string> shared_meshes_dir();
 /// Every mesh listed in MANIFEST.tsv whose file exists; empty when the folder is missing.
 std::vector<SharedMesh> shared_meshes();
 
+/// The shared meshes that carry a hyperbolic metric without cones: manifold, closed, genus >= 2.
+std::vector<SharedMesh> closed_hyperbolic_shared_meshes();
+
 /// A folder for test outputs ($RICCI_TEST_TMP or the system temporary folder), created on demand.
 std::string test_tmp_dir();
 
