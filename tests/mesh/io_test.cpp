@@ -11,7 +11,6 @@
 #include <initializer_list>
 #include <numbers>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <typeinfo>
 
@@ -283,18 +282,11 @@ std::string folder_with_old_file(const std::string& name, const std::string& fil
   return write_test_file(name + "/" + file, "old content");
 }
 
-std::string file_content(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-
 TEST(WriteAtomically, ReplacesTheFileAndLeavesNoTemporary) {
   const fs::path folder = io_tmp_dir() / "atomic_ok";
   const std::string path = folder_with_old_file("atomic_ok", "out.txt");
   write_file_atomically(path, [](std::ostream& out) { out << "new content"; });
-  EXPECT_EQ(file_content(path), "new content");
+  EXPECT_EQ(testing::read_text_file(path), "new content");
   EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 }
 
@@ -308,7 +300,7 @@ TEST(WriteAtomically, ThrowingWriterLeavesTheOldFileAndNoTemporary) {
     });
   });
   expect_mentions(message, {"keep.obj", "writer gave up"});
-  EXPECT_EQ(file_content(path), "old content");
+  EXPECT_EQ(testing::read_text_file(path), "old content");
   EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 }
 

@@ -3,8 +3,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "ricci/mesh/generate.hpp"
@@ -16,13 +14,6 @@ inline std::filesystem::path render_tmp_dir() {
   const std::filesystem::path folder = std::filesystem::path(test_tmp_dir()) / "render";
   std::filesystem::create_directories(folder);
   return folder;
-}
-
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream content;
-  content << in.rdbuf();
-  return content.str();
 }
 
 /// Number of non-overlapping occurrences of `needle` in `text`.

@@ -143,7 +143,7 @@ TEST(Tiling, SvgHasOnePathPerImage) {
   EXPECT_EQ(testing::count_occurrences(svg, "<path"), 1 + info.images_drawn + 1 + 1 + 1);
   const auto path = testing::render_tmp_dir() / "tiling_octagon.svg";
   write_svg(path.string(), svg);
-  EXPECT_EQ(testing::read_text(path), svg);
+  EXPECT_EQ(testing::read_text_file(path), svg);
 }
 
 TEST(Tiling, CanonicalGeneratorsFindTheSameTiles) {

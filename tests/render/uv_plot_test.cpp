@@ -100,7 +100,7 @@ TEST(UvPlot, SvgHasOnePathPerFace) {
 
   const auto path = testing::render_tmp_dir() / "grid_uv.svg";
   write_svg(path.string(), svg);
-  EXPECT_EQ(testing::read_text(path), svg);
+  EXPECT_EQ(testing::read_text_file(path), svg);
 }
 
 TEST(UvPlot, SvgMarksCones) {

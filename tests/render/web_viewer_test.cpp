@@ -283,7 +283,7 @@ TEST_F(WebViewer, WritesThePageAtomically) {
   std::filesystem::create_directories(folder);
   const std::string path = (folder / "view.html").string();
   const WebViewerInfo info = write_web_viewer(path, g.mesh, g.uv_triangles, g.uv);
-  const std::string written = testing::read_text(path);
+  const std::string written = testing::read_text_file(path);
   EXPECT_EQ(written, web_viewer_html(g.mesh, g.uv_triangles, g.uv));
   EXPECT_EQ(info.bytes, written.size());
   int entries = 0;

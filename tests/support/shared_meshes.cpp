@@ -82,4 +82,11 @@ std::string write_text_file(const std::filesystem::path& path, const std::string
   return path.string();
 }
 
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
 }  // namespace ricci::testing

@@ -44,6 +44,9 @@ std::filesystem::path fresh_tmp_dir(const std::string& name);
 /// the path as a string.
 std::string write_text_file(const std::filesystem::path& path, const std::string& content);
 
+/// The bytes of the file at `path` (empty when it cannot be read).
+std::string read_text_file(const std::filesystem::path& path);
+
 }  // namespace ricci::testing
 
 /// Skips the current test when the shared meshes folder is missing.
