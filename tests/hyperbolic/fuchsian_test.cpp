@@ -67,7 +67,7 @@ void expect_consistent(const FuchsianGroup& group, const SegmentRelations& relat
 /// `matrix_tolerance`.
 FuchsianGroup exact_polygon_group(const SegmentRelations& relations, int genus,
                                   double matrix_tolerance) {
-  const FuchsianGroup group = fuchsian_group(relations);
+  FuchsianGroup group = fuchsian_group(relations);
   EXPECT_EQ(group.genus, genus);
   EXPECT_LT(group.node_residual, 1e-12);
   EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
