@@ -28,15 +28,24 @@ def test_boundary_is_geodesic_by_default():
     assert result.components[0].flow.total_area == pytest.approx(2 * math.pi, abs=1e-8)
 
 
-def test_torus_and_virtual_radius_are_refused(torus):
+def _expect_refusals(run, torus, refusals):
+    """run(V, F, geometry="hyperbolic") refuses the torus (chi = 0, no hyperbolic metric); on a
+    genus-2 surface, run(V, F, **keywords) refuses each (match, keywords) of `refusals`, with a
+    message matching `match` (None: any message)."""
     V, F = torus
     with pytest.raises(ricci.InvalidInput, match="chi"):
-        ricci.flow(V, F, geometry="hyperbolic")
+        run(V, F, geometry="hyperbolic")
     V, F = ricci.generate.closed_surface(2, 6)
-    with pytest.raises(ricci.InvalidInput, match="virtual-radius"):
-        ricci.flow(V, F, geometry="hyperbolic", scheme="virtual-radius")
-    with pytest.raises(ricci.InvalidInput, match="geometry"):
-        ricci.flow(V, F, geometry="spherical")
+    for match, keywords in refusals:
+        with pytest.raises(ricci.InvalidInput, match=match):
+            run(V, F, **keywords)
+
+
+def test_torus_and_virtual_radius_are_refused(torus):
+    _expect_refusals(ricci.flow, torus, [
+        ("virtual-radius", dict(geometry="hyperbolic", scheme="virtual-radius")),
+        ("geometry", dict(geometry="spherical")),
+    ])
 
 
 # ricci.parameterize(geometry='hyperbolic'): the uniformization metric in the Poincare disk.
@@ -112,22 +121,14 @@ def test_pair_of_pants_has_no_group():
 
 
 def test_hyperbolic_parameterize_refuses(torus):
-    V, F = torus
-    with pytest.raises(ricci.InvalidInput, match="chi"):
-        ricci.parameterize(V, F, geometry="hyperbolic")
-    V, F = ricci.generate.closed_surface(2, 6)
-    with pytest.raises(ricci.InvalidInput, match="cones"):
-        ricci.parameterize(V, F, geometry="hyperbolic", cones=3)
-    with pytest.raises(ricci.InvalidInput, match="boundary"):
-        ricci.parameterize(V, F, geometry="hyperbolic", boundary="disk")
-    with pytest.raises(ricci.InvalidInput, match="quantize"):
-        ricci.parameterize(V, F, geometry="hyperbolic", quantize=True)
-    with pytest.raises(ricci.InvalidInput, match="virtual-radius"):
-        ricci.parameterize(V, F, geometry="hyperbolic", scheme="virtual-radius")
-    with pytest.raises(ricci.InvalidInput, match="HyperbolicParamOptions"):
-        ricci.parameterize(V, F, geometry="hyperbolic", options=ricci.ParamOptions())
-    with pytest.raises(ricci.InvalidInput):
-        ricci.parameterize(V, F, geometry="spherical")
+    _expect_refusals(ricci.parameterize, torus, [
+        ("cones", dict(geometry="hyperbolic", cones=3)),
+        ("boundary", dict(geometry="hyperbolic", boundary="disk")),
+        ("quantize", dict(geometry="hyperbolic", quantize=True)),
+        ("virtual-radius", dict(geometry="hyperbolic", scheme="virtual-radius")),
+        ("HyperbolicParamOptions", dict(geometry="hyperbolic", options=ricci.ParamOptions())),
+        (None, dict(geometry="spherical")),
+    ])
 
 
 def test_hyperbolic_options_are_passed_on():

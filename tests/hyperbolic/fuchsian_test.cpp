@@ -62,6 +62,19 @@ void expect_consistent(const FuchsianGroup& group, const SegmentRelations& relat
                           cyclic_reduce(group.relator)));
 }
 
+/// The group of relations read off an exact polygon, with what such a group meets: the genus,
+/// the node relations to 1e-12 and the surface relation to 1e-11, and expect_consistent with
+/// `matrix_tolerance`.
+FuchsianGroup exact_polygon_group(const SegmentRelations& relations, int genus,
+                                  double matrix_tolerance) {
+  FuchsianGroup group = fuchsian_group(relations);
+  EXPECT_EQ(group.genus, genus);
+  EXPECT_LT(group.node_residual, 1e-12);
+  EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
+  expect_consistent(group, relations, matrix_tolerance);
+  return group;
+}
+
 TEST(FuchsianWords, FreeAndCyclicReduction) {
   const SegmentWord w = {{0, 1}, {1, 1}, {1, -1}, {2, 1}, {0, -1}};
   EXPECT_EQ(free_reduce(w), (SegmentWord{{0, 1}, {2, 1}, {0, -1}}));
@@ -95,12 +108,8 @@ TEST(FuchsianGroup, CanonicalSidePairing) {
   for (int genus : {2, 3}) {
     const SegmentRelations relations = testing::polygon_relations(
         testing::regular_surface_polygon(genus, testing::canonical_sides(genus)));
-    const FuchsianGroup group = fuchsian_group(relations);
-    EXPECT_EQ(group.genus, genus);
-    EXPECT_LT(group.node_residual, 1e-12);
-    EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
+    const FuchsianGroup group = exact_polygon_group(relations, genus, 1e-12);
     EXPECT_TRUE(group.tree_segments.empty());
-    expect_consistent(group, relations, 1e-12);
     // Every generator is hyperbolic (a Fuchsian group of a closed surface has no elliptic or
     // parabolic elements).
     for (int k = 0; k < genus; ++k) {
@@ -116,11 +125,7 @@ TEST(FuchsianGroup, OppositeSidesPaired) {
     const SegmentRelations relations = testing::polygon_relations(
         testing::regular_surface_polygon(genus, testing::opposite_sides(2 * genus)));
     ASSERT_EQ(relations.node_words.size(), 1u);
-    const FuchsianGroup group = fuchsian_group(relations);
-    EXPECT_EQ(group.genus, genus);
-    EXPECT_LT(group.node_residual, 1e-12);
-    EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
-    expect_consistent(group, relations, 1e-11);
+    exact_polygon_group(relations, genus, 1e-11);
   }
 }
 
@@ -133,12 +138,8 @@ TEST(FuchsianGroup, TwoVertexClassesOfTheOppositeSided4gPlus2Gon) {
                           testing::opposite_sides(2 * genus + 1)};
     const SegmentRelations relations = testing::polygon_relations(p);
     ASSERT_EQ(relations.node_words.size(), 2u);
-    const FuchsianGroup group = fuchsian_group(relations);
-    EXPECT_EQ(group.genus, genus);
+    const FuchsianGroup group = exact_polygon_group(relations, genus, 1e-11);
     EXPECT_EQ(group.tree_segments.size(), 1u);
-    EXPECT_LT(group.node_residual, 1e-12);
-    EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
-    expect_consistent(group, relations, 1e-11);
   }
 }
 
@@ -180,12 +181,8 @@ TEST(FuchsianGroup, SplitSidesGiveMoreNodes) {
     EXPECT_LT(mismatch, 1e-13);
     const SegmentRelations relations = testing::polygon_relations(p);
     ASSERT_EQ(relations.node_words.size(), 5u);
-    const FuchsianGroup group = fuchsian_group(relations);
-    EXPECT_EQ(group.genus, genus);
+    const FuchsianGroup group = exact_polygon_group(relations, genus, 1e-11);
     EXPECT_EQ(group.tree_segments.size(), 4u);
-    EXPECT_LT(group.node_residual, 1e-12);
-    EXPECT_LT(group.relation_residual, 1e-11) << "scale " << group.relation_scale;
-    expect_consistent(group, relations, 1e-11);
 
     // The same relations with the node words rotated and listed in another order.
     SegmentRelations shuffled = relations;

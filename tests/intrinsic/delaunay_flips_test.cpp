@@ -50,10 +50,72 @@ void expect_consistent(const Topology& t, bool simplicial = true) {
   EXPECT_EQ(rebuilt.boundary_loops.size(), t.boundary_loops.size());
 }
 
-ConformalStructure vertex_scaling(const Mesh& mesh, const Topology& t) {
+/// Vertex scaling of the mesh's own lengths; in the hyperbolic background the input lengths are
+/// first scaled to area 2 pi |chi|.
+ConformalStructure vertex_scaling(const Mesh& mesh, const Topology& t,
+                                  Geometry geometry = Geometry::Euclidean) {
   StructureOptions options;
   options.scheme = Scheme::VertexScaling;
+  options.geometry = geometry;
   return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
+}
+
+/// Log scale factors drawn uniformly from [-bound, bound], the same on every run for a seed.
+Eigen::VectorXd random_u(int num_vertices, unsigned seed, double bound) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-bound, bound);
+  Eigen::VectorXd u(num_vertices);
+  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
+  return u;
+}
+
+/// A closed surface under vertex scaling and its lengths at random u.
+struct ScaledSurface {
+  Topology t;
+  ConformalStructure s;
+  Eigen::VectorXd u, l;
+  int invalid_edges = 0;  ///< among the lengths at u
+};
+
+/// make_closed_surface(genus, 8) in `geometry`, u drawn from [-bound, bound].
+ScaledSurface scaled_closed_surface(int genus, Geometry geometry, double bound) {
+  const Mesh mesh = make_closed_surface(genus, 8);
+  ScaledSurface x;
+  x.t = build_topology(mesh.triangles, mesh.num_vertices());
+  x.s = vertex_scaling(mesh, x.t, geometry);
+  x.u = random_u(mesh.num_vertices(), 5, bound);
+  x.invalid_edges = edge_lengths(x.t, x.s, x.u, x.l).invalid_edges;
+  return x;
+}
+
+/// Flips every seventh flippable edge of a genus-2 surface under vertex scaling in `geometry`
+/// twice, with the lengths at random u and at u = 0, and expects the new edge to get the same eta
+/// either way (to `eta_tolerance`): Ptolemy's relation commutes with vertex scaling, so a flip
+/// never changes the conformal class. The flip at random u must also leave a structure that
+/// reproduces the new length to 1e-14.
+void expect_flips_keep_the_conformal_class(Geometry geometry, double eta_tolerance) {
+  const Mesh mesh = make_closed_surface(2, 8);
+  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
+  const ConformalStructure s0 = vertex_scaling(mesh, t0, geometry);
+  const Eigen::VectorXd u = random_u(t0.num_vertices, 3, 0.7);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
+  int tested = 0;
+  for (int e = 0; e < t0.num_edges; e += 7) {
+    if (!can_flip_edge(t0, e)) continue;
+    Topology ta = t0, tb = t0;
+    ConformalStructure sa = s0, sb = s0;
+    Eigen::VectorXd la, lb;
+    ASSERT_EQ(edge_lengths(ta, sa, u, la).invalid_edges, 0);
+    ASSERT_EQ(edge_lengths(tb, sb, zero, lb).invalid_edges, 0);
+    const double cd = ptolemy_flip(ta, sa, u, la, e);
+    ptolemy_flip(tb, sb, zero, lb, e);
+    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, eta_tolerance) << "edge " << e;
+    Eigen::VectorXd check;
+    edge_lengths(ta, sa, u, check);
+    EXPECT_NEAR(check[e] / cd, 1.0, 1e-14);
+    ++tested;
+  }
+  EXPECT_GT(tested, 50);
 }
 
 TEST(DelaunayMargin, IsTwiceTheCosineSumOfTheOppositeAngles) {
@@ -199,40 +261,12 @@ TEST(FlipToDelaunay, PtolemyGivesTheTrueDiagonalOfACyclicQuad) {
 TEST(PtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
   // Flipping an edge at random u or at u = 0 gives the new edge the same constant eta: Ptolemy's
   // relation commutes with vertex scaling, so a flip never changes the conformal class.
-  const Mesh mesh = make_closed_surface(2, 8);
-  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
-  const ConformalStructure s0 = vertex_scaling(mesh, t0);
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> uniform(-0.7, 0.7);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
-  int tested = 0;
-  for (int e = 0; e < t0.num_edges; e += 7) {
-    if (!can_flip_edge(t0, e)) continue;
-    Topology ta = t0, tb = t0;
-    ConformalStructure sa = s0, sb = s0;
-    Eigen::VectorXd la, lb;
-    edge_lengths(ta, sa, u, la);
-    edge_lengths(tb, sb, zero, lb);
-    ptolemy_flip(ta, sa, u, la, e);
-    ptolemy_flip(tb, sb, zero, lb, e);
-    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-14) << "edge " << e;
-    ++tested;
-  }
-  EXPECT_GT(tested, 50);
+  expect_flips_keep_the_conformal_class(Geometry::Euclidean, 1e-14);
 }
 
 TEST(FlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
-  const Mesh mesh = make_closed_surface(2, 8);
-  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  ConformalStructure s = vertex_scaling(mesh, t);
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
+  auto [t, s, u, l, invalid_edges] = scaled_closed_surface(2, Geometry::Euclidean, 1.0);
+  ASSERT_EQ(invalid_edges, 0);
   const DelaunayFlipResult r = flip_to_delaunay(t, s, u, l);
   ASSERT_GT(r.flips, 10);
   EXPECT_TRUE(r.complete);
@@ -398,55 +432,15 @@ TEST(HyperbolicPtolemy, GivesTheTrueDiagonalOfAConcyclicQuad) {
               1.0, 1e-13);
 }
 
-/// Vertex scaling in the hyperbolic background (input lengths scaled to area 2 pi |chi|).
-ConformalStructure hyperbolic_vertex_scaling(const Mesh& mesh, const Topology& t) {
-  StructureOptions options;
-  options.scheme = Scheme::VertexScaling;
-  options.geometry = Geometry::Hyperbolic;
-  return make_conformal_structure(t, input_edge_lengths(mesh, t), options).structure;
-}
-
 TEST(HyperbolicPtolemyFlip, KeepsTheConformalClassWhateverTheScaleFactors) {
   // sinh(l / 2) scales with exp((u_i + u_j) / 2) and Ptolemy's relation commutes with that: the
   // new edge's eta is the same at any u.
-  const Mesh mesh = make_closed_surface(2, 8);
-  const Topology t0 = build_topology(mesh.triangles, mesh.num_vertices());
-  const ConformalStructure s0 = hyperbolic_vertex_scaling(mesh, t0);
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> uniform(-0.7, 0.7);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(u.size());
-  int tested = 0;
-  for (int e = 0; e < t0.num_edges; e += 7) {
-    if (!can_flip_edge(t0, e)) continue;
-    Topology ta = t0, tb = t0;
-    ConformalStructure sa = s0, sb = s0;
-    Eigen::VectorXd la, lb;
-    ASSERT_EQ(edge_lengths(ta, sa, u, la).invalid_edges, 0);
-    ASSERT_EQ(edge_lengths(tb, sb, zero, lb).invalid_edges, 0);
-    const double cd = ptolemy_flip(ta, sa, u, la, e);
-    ptolemy_flip(tb, sb, zero, lb, e);
-    EXPECT_NEAR(sa.eta[e] / sb.eta[e], 1.0, 1e-13) << "edge " << e;
-    // The structure reproduces the new length.
-    Eigen::VectorXd check;
-    edge_lengths(ta, sa, u, check);
-    EXPECT_NEAR(check[e] / cd, 1.0, 1e-14);
-    ++tested;
-  }
-  EXPECT_GT(tested, 50);
+  expect_flips_keep_the_conformal_class(Geometry::Hyperbolic, 1e-13);
 }
 
 TEST(HyperbolicFlipToDelaunay, EndsDelaunayWithValidTrianglesOnAClosedSurface) {
-  const Mesh mesh = make_closed_surface(3, 8);
-  Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> uniform(-1.5, 1.5);
-  Eigen::VectorXd u(mesh.num_vertices());
-  for (int v = 0; v < u.size(); ++v) u[v] = uniform(random);
-  Eigen::VectorXd l;
-  ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);
+  auto [t, s, u, l, invalid_edges] = scaled_closed_surface(3, Geometry::Hyperbolic, 1.5);
+  ASSERT_EQ(invalid_edges, 0);
   CornerAngles angles;
   ASSERT_GE(corner_angles(t, l, angles, Geometry::Hyperbolic).first_bad_face, 0)
       << "the test needs broken triangles to start with";
@@ -471,7 +465,7 @@ TEST(HyperbolicFlipToDelaunay, IsometricFlipsKeepTheCurvatureAndTheArea) {
   // surface whose vertices were moved in their tangent planes (far from Delaunay).
   const Mesh mesh = testing::jitter_tangentially(make_closed_surface(2, 10), 0.45, 9);
   Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-  ConformalStructure s = hyperbolic_vertex_scaling(mesh, t);
+  ConformalStructure s = vertex_scaling(mesh, t, Geometry::Hyperbolic);
   const Eigen::VectorXd u = s.initial_u;
   Eigen::VectorXd l;
   ASSERT_EQ(edge_lengths(t, s, u, l).invalid_edges, 0);

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "isometric_flips_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/intrinsic/edge_overlay.hpp"
@@ -30,22 +31,17 @@ struct Tracked {
 
 /// Flips the mesh's metric isometrically to Delaunay, then replays the flips with the overlay.
 Tracked track(const Mesh& mesh) {
+  const testing::Flipped f = testing::flip_isometrically(mesh);
   Tracked r;
-  r.input = build_topology(mesh.triangles, mesh.num_vertices());
-  r.input_lengths = input_edge_lengths(mesh, r.input);
-  Topology flipped = r.input;
-  r.lengths = r.input_lengths;
-  StructureOptions vs;
-  vs.scheme = Scheme::VertexScaling;
-  ConformalStructure s = make_conformal_structure(r.input, r.lengths, vs).structure;
-  DelaunayFlipOptions options;
-  options.isometric = true;
-  r.flips = flip_to_delaunay(flipped, s, s.initial_u, r.lengths, options).flipped_edges;
+  r.input = f.input;
+  r.input_lengths = f.input_lengths;
+  r.lengths = f.lengths;
+  r.flips = f.flips.flipped_edges;
   r.host = r.input;
   r.overlay = identity_overlay(r.host);
   for (int e : r.flips) flip_edge_with_overlay(r.host, r.overlay, e);
-  EXPECT_EQ(r.host.triangles, flipped.triangles);
-  EXPECT_EQ(r.host.face_edges, flipped.face_edges);
+  EXPECT_EQ(r.host.triangles, f.flipped.triangles);
+  EXPECT_EQ(r.host.face_edges, f.flipped.face_edges);
   return r;
 }
 

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "isometric_flips_support.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
@@ -25,27 +26,8 @@
 namespace ricci {
 namespace {
 
-/// The input metric flipped isometrically to its intrinsic Delaunay triangulation.
-struct Flipped {
-  Topology input, flipped;
-  Eigen::VectorXd input_lengths, lengths;
-  DelaunayFlipResult flips;
-};
-
-Flipped flip_isometrically(const Mesh& mesh) {
-  Flipped f;
-  f.input = build_topology(mesh.triangles, mesh.num_vertices());
-  f.flipped = f.input;
-  f.input_lengths = input_edge_lengths(mesh, f.input);
-  f.lengths = f.input_lengths;
-  StructureOptions vertex_scaling;
-  vertex_scaling.scheme = Scheme::VertexScaling;
-  ConformalStructure s = make_conformal_structure(f.input, f.lengths, vertex_scaling).structure;
-  DelaunayFlipOptions options;
-  options.isometric = true;
-  f.flips = flip_to_delaunay(f.flipped, s, s.initial_u, f.lengths, options);
-  return f;
-}
+using testing::flip_isometrically;
+using testing::Flipped;
 
 void expect_input_faces_recovered(const Mesh& mesh) {
   const Flipped f = flip_isometrically(mesh);

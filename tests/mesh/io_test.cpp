@@ -11,7 +11,6 @@
 #include <initializer_list>
 #include <numbers>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <typeinfo>
 
@@ -42,18 +41,22 @@ std::string write_test_file(const std::string& name, const std::string& content)
   return testing::write_text_file(io_tmp_dir() / name, content);
 }
 
+/// read_mesh of `content` written to a file of the given name.
+ReadResult read_test_file(const std::string& name, const std::string& content) {
+  return read_mesh(write_test_file(name, content));
+}
+
 using testing::ByteWriter;
 
 // ------------------------------------------------------------------------------------------
 // Reading good files
 
 TEST(ReadObj, TetrahedronWithCommentsAndAttributes) {
-  const std::string path = write_test_file(
+  const ReadResult result = read_test_file(
       "attributes.obj",
       "mtllib tetra.mtl\r\no tetra\nv 1 1 1\nv 1 -1 -1\nv -1 1 -1 # trailing comment\n"
       "v -1 -1 1 1.0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\ng side\ns 1\nusemtl red\n"
       "f 1/1/1 2/2/1 3/3/1\nf 1//1 3//1 4//1\nf 1/1 4/2 2/3\nl 1 2\nf 2 4 3\n");
-  const ReadResult result = read_mesh(path);
   EXPECT_EQ(result.format, MeshFormat::Obj);
   ASSERT_EQ(result.mesh.num_vertices(), 4);
   ASSERT_EQ(result.mesh.num_faces(), 4);
@@ -66,10 +69,9 @@ TEST(ReadObj, TetrahedronWithCommentsAndAttributes) {
 }
 
 TEST(ReadObj, NegativeIndicesCountBackFromTheLastVertex) {
-  const std::string path = write_test_file(
+  const ReadResult result = read_test_file(
       "negative.obj",
       "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nf -3 -2 -1\nv -1 -1 1\nf -4 -2 -1\nf 1 -1 2\nf 2 4 3\n");
-  const ReadResult result = read_mesh(path);
   ASSERT_EQ(result.mesh.num_faces(), 4);
   EXPECT_EQ(result.mesh.triangles.row(0), Eigen::RowVector3i(0, 1, 2));
   EXPECT_EQ(result.mesh.triangles.row(1), Eigen::RowVector3i(0, 2, 3));
@@ -79,9 +81,8 @@ TEST(ReadObj, NegativeIndicesCountBackFromTheLastVertex) {
 TEST(ReadObj, NonConvexPolygonIsEarClipped) {
   // A dart with a reflex corner at its second vertex: the fan from the first corner would give
   // a clockwise triangle (0, 1, 2), so ear clipping takes over. Its area is 1.7.
-  const std::string path =
-      write_test_file("dart.obj", "v 0 0 0\nv 1 0.3 0\nv 2 0 0\nv 1 2 0\nf 1 2 3 4\n");
-  const ReadResult result = read_mesh(path);
+  const ReadResult result =
+      read_test_file("dart.obj", "v 0 0 0\nv 1 0.3 0\nv 2 0 0\nv 1 2 0\nf 1 2 3 4\n");
   ASSERT_EQ(result.mesh.num_faces(), 2);
   ASSERT_EQ(result.warnings.size(), 1u);
   expect_mentions(result.warnings[0], {"1 polygons", "ear clipping"});
@@ -98,12 +99,11 @@ TEST(ReadObj, NonConvexPolygonIsEarClipped) {
 }
 
 TEST(ReadOff, ColouredHeaderCommentsAndCountsOnTheHeaderLine) {
-  const std::string path = write_test_file(
+  const ReadResult result = read_test_file(
       "tetra.off",
       "COFF # coloured\n# counts next\n\n4 4 6\n1 1 1 255 0 0 255\n1 -1 -1 0 255 0 255\n"
       "-1 1 -1 0 0 255 255\n# a comment between vertices\n-1 -1 1 9 9 9 9\n"
       "3 0 1 2\n3 0 2 3 0.5 0.5 0.5\n3 0 3 1\n3 1 3 2\n\n");
-  const ReadResult result = read_mesh(path);
   EXPECT_EQ(result.format, MeshFormat::Off);
   ASSERT_EQ(result.mesh.num_faces(), 4);
   EXPECT_EQ(result.mesh.positions.row(3), Eigen::RowVector3d(-1, -1, 1));
@@ -178,9 +178,8 @@ void expect_tetrahedron(const ReadResult& result) {
 }
 
 TEST(ReadPly, BinaryLittleEndianFloat) {
-  const std::string path = write_test_file(
+  const ReadResult result = read_test_file(
       "le_float.ply", tetrahedron_ply("binary_little_endian", false, false, "vertex_indices"));
-  const ReadResult result = read_mesh(path);
   EXPECT_EQ(result.format, MeshFormat::Ply);
   expect_tetrahedron(result);
   ASSERT_EQ(result.warnings.size(), 1u);
@@ -188,22 +187,20 @@ TEST(ReadPly, BinaryLittleEndianFloat) {
 }
 
 TEST(ReadPly, BinaryBigEndianDouble) {
-  const std::string path = write_test_file(
-      "be_double.ply", tetrahedron_ply("binary_big_endian", true, true, "vertex_index"));
-  expect_tetrahedron(read_mesh(path));
+  expect_tetrahedron(read_test_file(
+      "be_double.ply", tetrahedron_ply("binary_big_endian", true, true, "vertex_index")));
 }
 
 TEST(ReadPly, BinaryBigEndianFloatAndLittleEndianDouble) {
-  expect_tetrahedron(read_mesh(write_test_file(
-      "be_float.ply", tetrahedron_ply("binary_big_endian", true, false, "vertex_indices"))));
-  expect_tetrahedron(read_mesh(write_test_file(
-      "le_double.ply", tetrahedron_ply("binary_little_endian", false, true, "vertex_indices"))));
+  expect_tetrahedron(read_test_file(
+      "be_float.ply", tetrahedron_ply("binary_big_endian", true, false, "vertex_indices")));
+  expect_tetrahedron(read_test_file(
+      "le_double.ply", tetrahedron_ply("binary_little_endian", false, true, "vertex_indices")));
 }
 
 TEST(ReadPly, Ascii) {
-  const std::string path =
-      write_test_file("ascii.ply", tetrahedron_ply("ascii", false, false, "vertex_indices"));
-  expect_tetrahedron(read_mesh(path));
+  expect_tetrahedron(
+      read_test_file("ascii.ply", tetrahedron_ply("ascii", false, false, "vertex_indices")));
 }
 
 /// Two triangles of a unit square sharing the diagonal (0,0,0)-(1,1,0), as STL corners.
@@ -220,7 +217,7 @@ TEST(ReadStl, BinaryWeldsEqualPositions) {
     for (const auto& corner : triangle) out.put(corner[0]).put(corner[1]).put(corner[2]);
     out.put<std::uint16_t>(0);
   }
-  const ReadResult result = read_mesh(write_test_file("square.stl", out.data()));
+  const ReadResult result = read_test_file("square.stl", out.data());
   EXPECT_EQ(result.format, MeshFormat::Stl);
   ASSERT_EQ(result.mesh.num_vertices(), 4);  // six corners welded into four vertices
   ASSERT_EQ(result.mesh.num_faces(), 2);
@@ -240,7 +237,7 @@ TEST(ReadStl, AsciiWeldsEqualPositions) {
     text += "    endloop\n  endfacet\n";
   }
   text += "endsolid square\n";
-  const ReadResult result = read_mesh(write_test_file("square_ascii.stl", text));
+  const ReadResult result = read_test_file("square_ascii.stl", text);
   ASSERT_EQ(result.mesh.num_vertices(), 4);
   ASSERT_EQ(result.mesh.num_faces(), 2);
   EXPECT_EQ(result.mesh.triangles.row(1), Eigen::RowVector3i(0, 2, 3));
@@ -276,26 +273,26 @@ TEST(WriteObj, RoundTripIsExact) {
   EXPECT_EQ(first_line, "v 0.10000000000000001 0.33333333333333331 3.1415926535897931");
 }
 
-TEST(WriteAtomically, ReplacesTheFileAndLeavesNoTemporary) {
-  const fs::path folder = io_tmp_dir() / "atomic_ok";
+/// The folder `name` in the test folder, emptied, then holding only `file` with "old content";
+/// returns the file's path.
+std::string folder_with_old_file(const std::string& name, const std::string& file) {
+  const fs::path folder = io_tmp_dir() / name;
   fs::remove_all(folder);
   fs::create_directories(folder);
-  const std::string path = (folder / "out.txt").string();
-  write_test_file("atomic_ok/out.txt", "old content");
+  return write_test_file(name + "/" + file, "old content");
+}
+
+TEST(WriteAtomically, ReplacesTheFileAndLeavesNoTemporary) {
+  const fs::path folder = io_tmp_dir() / "atomic_ok";
+  const std::string path = folder_with_old_file("atomic_ok", "out.txt");
   write_file_atomically(path, [](std::ostream& out) { out << "new content"; });
-  std::ifstream in(path);
-  std::stringstream content;
-  content << in.rdbuf();
-  EXPECT_EQ(content.str(), "new content");
+  EXPECT_EQ(testing::read_text_file(path), "new content");
   EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 }
 
 TEST(WriteAtomically, ThrowingWriterLeavesTheOldFileAndNoTemporary) {
   const fs::path folder = io_tmp_dir() / "atomic_fail";
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  const std::string path = (folder / "keep.obj").string();
-  write_test_file("atomic_fail/keep.obj", "old content");
+  const std::string path = folder_with_old_file("atomic_fail", "keep.obj");
   const std::string message = message_of<IoError>([&] {
     write_file_atomically(path, [](std::ostream& out) {
       out << "half of the new content";
@@ -303,10 +300,7 @@ TEST(WriteAtomically, ThrowingWriterLeavesTheOldFileAndNoTemporary) {
     });
   });
   expect_mentions(message, {"keep.obj", "writer gave up"});
-  std::ifstream in(path);
-  std::stringstream content;
-  content << in.rdbuf();
-  EXPECT_EQ(content.str(), "old content");
+  EXPECT_EQ(testing::read_text_file(path), "old content");
   EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 }
 

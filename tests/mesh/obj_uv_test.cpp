@@ -32,13 +32,6 @@ fs::path uv_tmp_dir() {
   return testing::suite_tmp_dir("mesh_obj_uv");
 }
 
-std::string file_content(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-
 /// The v, vt and f lines of an OBJ file written by write_obj, 0-based.
 struct ParsedObj {
   std::vector<std::vector<double>> positions, texture_coordinates;
@@ -135,7 +128,7 @@ TEST(ObjUv, LinesHaveTheDocumentedForm) {
   const CutTetrahedron t = cut_tetrahedron();
   const std::string path = (uv_tmp_dir() / "tetrahedron_lines.obj").string();
   write_obj(path, t.mesh, t.uv_triangles, t.uv);
-  std::istringstream lines(file_content(path));
+  std::istringstream lines(testing::read_text_file(path));
   std::string line;
   for (int i = 0; i < 4; ++i) std::getline(lines, line);
   std::getline(lines, line);
@@ -250,13 +243,13 @@ TEST(ObjUv, FailingWriteLeavesTheExistingFileUntouched) {
 
   // Invalid input is caught before anything is written.
   EXPECT_THROW(write_obj(path, grid, grid.triangles.topRows(5), uv), InvalidInput);
-  EXPECT_EQ(file_content(path), "old content\n");
+  EXPECT_EQ(testing::read_text_file(path), "old content\n");
 
   // A real I/O failure half-way: in a child process, files may grow to 4 KiB only (the grid's
   // file is about 100 KiB), so writing the temporary fails with EFBIG. The child exits 0 only
   // when write_obj reported that as an IoError.
   EXPECT_EXIT(write_with_file_size_limit(path, grid, uv, 4096), ::testing::ExitedWithCode(0), "");
-  EXPECT_EQ(file_content(path), "old content\n");
+  EXPECT_EQ(testing::read_text_file(path), "old content\n");
   // No temporary is left behind either.
   EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 

@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -36,13 +34,6 @@ Faces faces_of(const Polygons& polygons, const Triangles& triangles,
     }
   }
   return faces;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 TEST(ReadPolygons, KeepsTheQuadsOfATorusInFileOrder) {
@@ -230,7 +221,7 @@ TEST(WritePolygons, ObjOffAndPlyWriteThePolygonsBack) {
   textured.uv = textured.mesh.positions.leftCols<2>();
   const std::string path = (testing::suite_tmp_dir("polygons") / "written_uv.obj").string();
   write_mesh(path, textured);
-  const std::string text = read_text(path);
+  const std::string text = testing::read_text_file(path);
   EXPECT_NE(text.find("\nf 1/1 2/2 3/3 7/7 6/6 10/10 9/9 5/5\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\nf 3/3 4/4 8/8 7/7\n"), std::string::npos) << text;
   const TexturedMesh read_back = read_textured_obj(path);
@@ -239,7 +230,7 @@ TEST(WritePolygons, ObjOffAndPlyWriteThePolygonsBack) {
   // read_textured_obj keeps the polygons too: writing what it read gives the same file.
   const std::string again = (testing::suite_tmp_dir("polygons") / "written_uv_again.obj").string();
   write_mesh(again, read_back);
-  EXPECT_EQ(read_text(again), text);
+  EXPECT_EQ(testing::read_text_file(again), text);
 }
 
 TEST(WritePolygons, RefusesPolygonsThatDoNotFitTheTriangles) {

@@ -5,8 +5,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "ricci/errors.hpp"
@@ -31,11 +29,6 @@ std::string path_of(const std::string& name) {
 std::string fresh_path_of(const std::string& name) {
   fs::remove(path_of(name));
   return path_of(name);
-}
-
-std::string file_content(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 TexturedMesh plain(const Mesh& mesh) {
@@ -103,7 +96,7 @@ TEST(WriteMesh, FormatOptionOverridesTheExtension) {
   options.format = MeshFormat::Off;
   const std::string path = path_of("tetrahedron.txt");
   write_mesh(path, plain(tetrahedron), options);
-  EXPECT_EQ(file_content(path).substr(0, 4), "OFF\n");
+  EXPECT_EQ(testing::read_text_file(path).substr(0, 4), "OFF\n");
   EXPECT_THROW(write_mesh(path, plain(tetrahedron)), IoError);  // .txt: no format
 }
 
@@ -113,8 +106,10 @@ TEST(WriteMesh, ObjWithTextureCoordinatesIsWhatWriteObjWritesAndReadsBack) {
   options.material.library = "grid.mtl";
   write_mesh(path_of("grid_mesh.obj"), grid, options);
   write_obj(path_of("grid_obj.obj"), grid.mesh, grid.uv_triangles, grid.uv, options.material);
-  EXPECT_EQ(file_content(path_of("grid_mesh.obj")), file_content(path_of("grid_obj.obj")));
-  EXPECT_NE(file_content(path_of("grid_mesh.obj")).find("mtllib grid.mtl\n"), std::string::npos);
+  EXPECT_EQ(testing::read_text_file(path_of("grid_mesh.obj")),
+            testing::read_text_file(path_of("grid_obj.obj")));
+  EXPECT_NE(testing::read_text_file(path_of("grid_mesh.obj")).find("mtllib grid.mtl\n"),
+            std::string::npos);
 
   const TexturedMesh back = read_textured_obj(path_of("grid_mesh.obj"));
   EXPECT_EQ(back.mesh.positions, grid.mesh.positions);
@@ -126,7 +121,8 @@ TEST(WriteMesh, ObjWithTextureCoordinatesIsWhatWriteObjWritesAndReadsBack) {
   // Without texture coordinates: write_obj's plain OBJ.
   write_mesh(path_of("plain_mesh.obj"), plain(grid.mesh));
   write_obj(path_of("plain_obj.obj"), grid.mesh);
-  EXPECT_EQ(file_content(path_of("plain_mesh.obj")), file_content(path_of("plain_obj.obj")));
+  EXPECT_EQ(testing::read_text_file(path_of("plain_mesh.obj")),
+            testing::read_text_file(path_of("plain_obj.obj")));
 }
 
 TEST(WriteMesh, ObjKeepsHomogeneousTextureCoordinates) {

@@ -25,24 +25,21 @@ using testing::structure_of;
 // Gauss-Bonnet holds for every metric, not only the input one: perturb u at random.
 TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
   std::mt19937 rng(7);
-  for (const auto& [name, mesh] : testing::generated_meshes()) {
-    const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-    const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
-    for (Scheme scheme : kAllSchemes) {
-      const ConformalStructure s = structure_of(t, lbar, scheme);
-      std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 1.0, 0.02);
-      Eigen::VectorXd u = s.initial_u;
-      for (int round = 0; round < 2; ++round) {
-        const Eigen::VectorXd k = curvature_at(t, s, u);
-        ASSERT_EQ(k.size(), t.num_vertices) << name << " " << scheme_name(scheme);
-        const double total = accurate_sum(k);
-        EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(), 1e-12 * 2 * kPi * t.num_vertices)
-            << name << " " << scheme_name(scheme) << " round " << round;
-        EXPECT_LT(gauss_bonnet_relative_error(t, k), 1e-12);
-        for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
-      }
-    }
-  }
+  testing::for_every_mesh_and_scheme(
+      testing::generated_meshes(),
+      [&](const std::string& name, const Topology& t, const ConformalStructure& s, Scheme scheme) {
+        std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 1.0, 0.02);
+        Eigen::VectorXd u = s.initial_u;
+        for (int round = 0; round < 2; ++round) {
+          const Eigen::VectorXd k = curvature_at(t, s, u);
+          ASSERT_EQ(k.size(), t.num_vertices) << name << " " << scheme_name(scheme);
+          const double total = accurate_sum(k);
+          EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(), 1e-12 * 2 * kPi * t.num_vertices)
+              << name << " " << scheme_name(scheme) << " round " << round;
+          EXPECT_LT(gauss_bonnet_relative_error(t, k), 1e-12);
+          for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
+        }
+      });
 }
 
 TEST(Curvature, FlatGridHasZeroInteriorCurvatureAndCornersOfPiOverTwo) {

@@ -40,31 +40,27 @@ TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
       {"torus", make_torus(10, 6)},
       {"genus2", make_closed_surface(2, 6)},
   };
-  for (const auto& [name, mesh] : meshes) {
-    const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
-    const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
-    for (Scheme scheme : kAllSchemes) {
-      const ConformalStructure s = structure_of(t, lbar, scheme);
-      std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 0.5, 0.03);
-      Eigen::VectorXd u = s.initial_u;
-      for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
-      ASSERT_GT(curvature_at(t, s, u).size(), 0) << name << " " << scheme_name(scheme);
+  testing::for_every_mesh_and_scheme(meshes, [&](const std::string& name, const Topology& t,
+                                                 const ConformalStructure& s, Scheme scheme) {
+    std::uniform_real_distribution<double> noise = testing::u_noise(scheme, 0.5, 0.03);
+    Eigen::VectorXd u = s.initial_u;
+    for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
+    ASSERT_GT(curvature_at(t, s, u).size(), 0) << name << " " << scheme_name(scheme);
 
-      const Eigen::MatrixXd L = hessian_at(t, s, u);
-      const double h = 1e-5;
-      Eigen::MatrixXd fd(t.num_vertices, t.num_vertices);
-      for (int j = 0; j < t.num_vertices; ++j) {
-        Eigen::VectorXd up = u, down = u;
-        up[j] += h;
-        down[j] -= h;
-        fd.col(j) = (curvature_at(t, s, up) - curvature_at(t, s, down)) / (2 * h);
-      }
-      const double scale = L.cwiseAbs().maxCoeff();
-      EXPECT_LT((fd - L).cwiseAbs().maxCoeff() / scale, 1e-6) << name << " " << scheme_name(scheme);
-      EXPECT_LT((L - L.transpose()).cwiseAbs().maxCoeff() / scale, 1e-14);
-      EXPECT_LT(L.rowwise().sum().cwiseAbs().maxCoeff() / scale, 1e-13);
+    const Eigen::MatrixXd L = hessian_at(t, s, u);
+    const double h = 1e-5;
+    Eigen::MatrixXd fd(t.num_vertices, t.num_vertices);
+    for (int j = 0; j < t.num_vertices; ++j) {
+      Eigen::VectorXd up = u, down = u;
+      up[j] += h;
+      down[j] -= h;
+      fd.col(j) = (curvature_at(t, s, up) - curvature_at(t, s, down)) / (2 * h);
     }
-  }
+    const double scale = L.cwiseAbs().maxCoeff();
+    EXPECT_LT((fd - L).cwiseAbs().maxCoeff() / scale, 1e-6) << name << " " << scheme_name(scheme);
+    EXPECT_LT((L - L.transpose()).cwiseAbs().maxCoeff() / scale, 1e-14);
+    EXPECT_LT(L.rowwise().sum().cwiseAbs().maxCoeff() / scale, 1e-13);
+  });
 }
 
 // Thurston packings with Phi in [0, pi/2] have a positive semi-definite Hessian whose kernel on

@@ -16,6 +16,16 @@ Eigen::MatrixXd spd3() {
   return M;
 }
 
+/// min 1/2 |x|^2 over three variables in the box [lo, hi] with sum x = total.
+BoundedLeastSquaresResult least_norm_with_sum(double total, const Eigen::VectorXd& lo,
+                                              const Eigen::VectorXd& hi) {
+  BoundedLeastSquaresOptions options;
+  options.sum_constraint = true;
+  options.total = total;
+  return bounded_least_squares(Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Zero(3), lo, hi,
+                               options);
+}
+
 TEST(BoundedLeastSquares, UnconstrainedOptimumInsideTheBox) {
   const Eigen::MatrixXd M = spd3();
   const Eigen::VectorXd r = Eigen::Vector3d(1, -2, 0.5);
@@ -41,12 +51,8 @@ TEST(BoundedLeastSquares, ActiveBoundsOfADiagonalProgramme) {
 
 TEST(BoundedLeastSquares, SumConstraintAndItsMultiplier) {
   // min 1/2 |x|^2 with sum x = 3: x = (1, 1, 1), the gradient x + lambda = 0: lambda = -1.
-  BoundedLeastSquaresOptions options;
-  options.sum_constraint = true;
-  options.total = 3;
-  const BoundedLeastSquaresResult result = bounded_least_squares(
-      Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Zero(3), Eigen::VectorXd::Constant(3, -5),
-      Eigen::VectorXd::Constant(3, 5), options);
+  const BoundedLeastSquaresResult result =
+      least_norm_with_sum(3, Eigen::VectorXd::Constant(3, -5), Eigen::VectorXd::Constant(3, 5));
   ASSERT_TRUE(result.feasible);
   EXPECT_LT((result.x - Eigen::VectorXd::Ones(3)).cwiseAbs().maxCoeff(), kTolerance);
   EXPECT_NEAR(result.multiplier, -1, kTolerance);
@@ -54,13 +60,8 @@ TEST(BoundedLeastSquares, SumConstraintAndItsMultiplier) {
 
 TEST(BoundedLeastSquares, SumConstraintWithAnActiveBound) {
   // min 1/2 |x|^2 with sum x = 3 and x_0 <= 0.5: x_0 at its bound, the rest share 2.5.
-  BoundedLeastSquaresOptions options;
-  options.sum_constraint = true;
-  options.total = 3;
-  const Eigen::VectorXd hi = Eigen::Vector3d(0.5, 5, 5);
   const BoundedLeastSquaresResult result =
-      bounded_least_squares(Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Zero(3),
-                            Eigen::VectorXd::Constant(3, -5), hi, options);
+      least_norm_with_sum(3, Eigen::VectorXd::Constant(3, -5), Eigen::Vector3d(0.5, 5, 5));
   ASSERT_TRUE(result.feasible);
   EXPECT_NEAR(result.x[0], 0.5, kTolerance);
   EXPECT_NEAR(result.x[1], 1.25, kTolerance);
@@ -70,12 +71,8 @@ TEST(BoundedLeastSquares, SumConstraintWithAnActiveBound) {
 
 TEST(BoundedLeastSquares, UnreachableSumReturnsTheUnboundedMinimiser) {
   // The bounds sum to at most 3 < 6: infeasible; x is the minimiser under the sum alone.
-  BoundedLeastSquaresOptions options;
-  options.sum_constraint = true;
-  options.total = 6;
-  const BoundedLeastSquaresResult result = bounded_least_squares(
-      Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Zero(3), Eigen::VectorXd::Constant(3, -1),
-      Eigen::VectorXd::Constant(3, 1), options);
+  const BoundedLeastSquaresResult result =
+      least_norm_with_sum(6, Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
   EXPECT_FALSE(result.feasible);
   EXPECT_LT((result.x - Eigen::VectorXd::Constant(3, 2)).cwiseAbs().maxCoeff(), kTolerance);
 }

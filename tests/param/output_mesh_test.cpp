@@ -6,8 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "ricci/mesh/generate.hpp"
@@ -18,11 +16,6 @@ namespace ricci {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string file_content(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 TEST(OutputMesh, TorusCornersIndexTheCutMeshUv) {
   const MeshParamResult result = parameterize(make_torus(16, 8));
@@ -48,7 +41,8 @@ TEST(OutputMesh, TorusCornersIndexTheCutMeshUv) {
   // The bytes the CLI wrote before write_mesh: write_obj of the same arrays.
   write_obj((folder / "torus_write_obj.obj").string(), result.mesh, result.cut_mesh.triangles,
             result.uv);
-  EXPECT_EQ(file_content(folder / "torus.obj"), file_content(folder / "torus_write_obj.obj"));
+  EXPECT_EQ(testing::read_text_file(folder / "torus.obj"),
+            testing::read_text_file(folder / "torus_write_obj.obj"));
   const TexturedMesh back = read_textured_obj((folder / "torus.obj").string());
   EXPECT_EQ(back.uv.rows(), textured.uv.rows());
   EXPECT_EQ(back.uv, textured.uv);

@@ -38,16 +38,16 @@ TEST(ParamPictures, WritesEveryFileIntoANewFolder) {
   const Image plot = read_png((folder / "convergence.png").string());
   EXPECT_EQ(plot.width, 320);
   EXPECT_EQ(plot.height, 200);
-  const std::string svg = testing::read_text(folder / "uv.svg");
+  const std::string svg = testing::read_text_file(folder / "uv.svg");
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
   EXPECT_GE(testing::count_occurrences(svg, "<path"), result.mesh.num_faces());
-  EXPECT_NE(testing::read_text(folder / "convergence.svg").find("</svg>"), std::string::npos);
+  EXPECT_NE(testing::read_text_file(folder / "convergence.svg").find("</svg>"), std::string::npos);
   // 288 vertices: the gradient flow ran, and stopped at its iteration limit or converged.
   EXPECT_TRUE(written.gradient_ran);
   EXPECT_GT(written.gradient_iterations, 0);
   EXPECT_LE(written.gradient_iterations, 300);
   if (web_viewer_available()) {
-    const std::string page = testing::read_text(folder / "view.html");
+    const std::string page = testing::read_text_file(folder / "view.html");
     EXPECT_NE(page.find("\"format\": \"ricci-viewer-1\""), std::string::npos);
     EXPECT_NE(page.find("\"faces\": " + std::to_string(result.mesh.num_faces())),
               std::string::npos);

@@ -147,13 +147,11 @@ TEST(RenderMesh, MarksTheConeOfAnUnrolledPyramid) {
   // Pyramid with apex (0, 0, 1) over the square of corners (+-1, 0), (0, +-1); its texture
   // unrolls the four faces with 60 degree corners at the apex: a cone, on the seam apex-1.
   const auto pyramid = testing::unrolled_pyramid(std::numbers::pi / 3);
-  const Mesh& mesh = pyramid.mesh;
-  const auto& uv = pyramid.uv;
-  const Triangles& uv_triangles = pyramid.uv_triangles;
   RenderOptions options;
   options.width = options.height = 240;
   options.view = {0, 0, 1};
-  const RenderResult r = render_textured_mesh(mesh, uv_triangles, uv, options);
+  const RenderResult r =
+      render_textured_mesh(pyramid.mesh, pyramid.uv_triangles, pyramid.uv, options);
   EXPECT_EQ(r.cones, 1);
   EXPECT_EQ(r.visible_cones, 1);
   EXPECT_EQ(r.seam_edges, 5);
@@ -162,7 +160,9 @@ TEST(RenderMesh, MarksTheConeOfAnUnrolledPyramid) {
   EXPECT_LT(apex.g, 0.3);
   // From below, the apex shows through the open base.
   options.view = {0, 0, -1};
-  EXPECT_EQ(render_textured_mesh(mesh, uv_triangles, uv, options).visible_cones, 1);
+  EXPECT_EQ(
+      render_textured_mesh(pyramid.mesh, pyramid.uv_triangles, pyramid.uv, options).visible_cones,
+      1);
 }
 
 TEST(RenderMesh, HiddenSeamsAndConesAreNotDrawn) {

@@ -3,8 +3,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "ricci/mesh/generate.hpp"
@@ -18,13 +16,6 @@ inline std::filesystem::path render_tmp_dir() {
   return folder;
 }
 
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-
 /// Number of non-overlapping occurrences of `needle` in `text`.
 inline int count_occurrences(const std::string& text, const std::string& needle) {
   int count = 0;
@@ -35,15 +26,16 @@ inline int count_occurrences(const std::string& text, const std::string& needle)
   return count;
 }
 
-/// A flat grid of the unit square with texture coordinates equal to (x, y), one per vertex.
-struct GridWithUv {
+/// A mesh with texture coordinates: `uv_triangles` (#F by 3) index the rows of `uv`.
+struct TexturedMesh {
   Mesh mesh;
   Triangles uv_triangles;
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
 };
 
-inline GridWithUv grid_with_uv(int n) {
-  GridWithUv g;
+/// A flat grid of the unit square with texture coordinates equal to (x, y), one per vertex.
+inline TexturedMesh grid_with_uv(int n) {
+  TexturedMesh g;
   g.mesh = make_grid(n, n, 1.0, 1.0);
   g.uv_triangles = g.mesh.triangles;
   g.uv = g.mesh.positions.leftCols(2);
@@ -53,14 +45,8 @@ inline GridWithUv grid_with_uv(int n) {
 /// A square pyramid without its base: apex 0 at (0, 0, 1), base 1..4. The layout unrolls the
 /// four faces around the apex with corner angles `angle`, cut along the edge apex-1 (vertex 1 has
 /// two texture copies).
-struct Pyramid {
-  Mesh mesh;
-  Triangles uv_triangles;
-  Eigen::Matrix<double, Eigen::Dynamic, 2> uv;
-};
-
-inline Pyramid unrolled_pyramid(double angle) {
-  Pyramid p;
+inline TexturedMesh unrolled_pyramid(double angle) {
+  TexturedMesh p;
   p.mesh.positions.resize(5, 3);
   p.mesh.positions << 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0;
   p.mesh.triangles.resize(4, 3);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "render_test_support.hpp"
 #include "ricci/errors.hpp"
@@ -55,7 +56,7 @@ TEST(TexturedFiles, TheMaterialLibraryNamesItsTexture) {
   EXPECT_EQ(files.mtl, (dir / "mesh.mtl").string());
   EXPECT_EQ(files.library, "mesh.mtl");
   EXPECT_EQ(files.texture, (dir / "mesh.png").string());
-  const std::string mtl = testing::read_text(files.mtl);
+  const std::string mtl = testing::read_text_file(files.mtl);
   EXPECT_NE(mtl.find("newmtl ricci_texture\n"), std::string::npos) << mtl;
   EXPECT_NE(mtl.find("map_Kd mesh.png\n"), std::string::npos) << mtl;
   const Image texture = read_png(files.texture);
@@ -67,7 +68,8 @@ TEST(TexturedFiles, TheMaterialLibraryNamesItsTexture) {
   fs::create_directories(dir / "out");
   const ObjMaterialFiles own =
       write_obj_material((dir / "out/m.obj").string(), (dir / "textures/brick.png").string());
-  EXPECT_NE(testing::read_text(own.mtl).find("map_Kd ../textures/brick.png\n"), std::string::npos);
+  EXPECT_NE(testing::read_text_file(own.mtl).find("map_Kd ../textures/brick.png\n"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "out/m.png"));
   EXPECT_THROW(write_obj_material((dir / "out/n.obj").string(), (dir / "missing.png").string()),
                IoError);
@@ -77,7 +79,7 @@ TEST(TexturedFiles, TheMaterialLibraryNamesItsTexture) {
   const MeshParamResult param = parameterize(mesh);
   write_obj((dir / "mesh.obj").string(), param.mesh, param.cut_mesh.triangles, param.uv,
             ObjMaterial{files.library});
-  const std::string obj = testing::read_text(dir / "mesh.obj");
+  const std::string obj = testing::read_text_file(dir / "mesh.obj");
   EXPECT_EQ(obj.rfind("mtllib mesh.mtl\n", 0), 0u);
   EXPECT_NE(obj.find("usemtl ricci_texture\nf "), std::string::npos);
   EXPECT_EQ(read_mesh((dir / "mesh.obj").string()).mesh.num_faces(), mesh.num_faces());

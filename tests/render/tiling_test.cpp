@@ -79,11 +79,17 @@ Octagon octagon() {
   return {mesh_polygon(polygon.corners, 8, 6), testing::side_pairings(polygon)};
 }
 
+/// A `size`-pixel picture of the images under words of at most `max_word_length` generators.
+TilingOptions tiling_options(int size, int max_word_length) {
+  TilingOptions options;
+  options.size = size;
+  options.max_word_length = max_word_length;
+  return options;
+}
+
 TEST(Tiling, PngOfTheOctagonTilesTheDisk) {
   const Octagon o = octagon();
-  TilingOptions options;
-  options.size = 512;
-  options.max_word_length = 6;
+  const TilingOptions options = tiling_options(512, 6);
   TilingInfo info;
   const Image image =
       draw_tiling(o.mesh.positions, o.mesh.triangles, o.side_pairings, options, &info);
@@ -123,9 +129,7 @@ TEST(Tiling, PngOfTheOctagonTilesTheDisk) {
 
 TEST(Tiling, SvgHasOnePathPerImage) {
   const Octagon o = octagon();
-  TilingOptions options;
-  options.size = 400;
-  options.max_word_length = 3;
+  const TilingOptions options = tiling_options(400, 3);
   TilingInfo info;
   const std::string svg =
       draw_tiling_svg(o.mesh.positions, o.mesh.triangles, o.side_pairings, options, &info);
@@ -139,7 +143,7 @@ TEST(Tiling, SvgHasOnePathPerImage) {
   EXPECT_EQ(testing::count_occurrences(svg, "<path"), 1 + info.images_drawn + 1 + 1 + 1);
   const auto path = testing::render_tmp_dir() / "tiling_octagon.svg";
   write_svg(path.string(), svg);
-  EXPECT_EQ(testing::read_text(path), svg);
+  EXPECT_EQ(testing::read_text_file(path), svg);
 }
 
 TEST(Tiling, CanonicalGeneratorsFindTheSameTiles) {
@@ -151,10 +155,8 @@ TEST(Tiling, CanonicalGeneratorsFindTheSameTiles) {
   std::vector<Mobius> canonical = group.a;
   canonical.insert(canonical.end(), group.b.begin(), group.b.end());
   const DomainMesh mesh = mesh_polygon(polygon.corners, 4, 3);
-  TilingOptions options;
-  options.size = 256;
+  TilingOptions options = tiling_options(256, 8);
   options.min_image_pixels = 12;
-  options.max_word_length = 8;
   TilingInfo by_sides, by_canonical;
   draw_tiling(mesh.positions, mesh.triangles, relations.segment_maps, options, &by_sides);
   draw_tiling(mesh.positions, mesh.triangles, canonical, options, &by_canonical);

@@ -18,7 +18,7 @@ namespace {
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 constexpr double kPi = std::numbers::pi;
 
-using testing::Pyramid;
+using testing::TexturedMesh;
 using testing::unrolled_pyramid;
 
 TEST(UvChart, GridWithContinuousLayoutHasOnlyItsBoundaryAsSeam) {
@@ -50,9 +50,9 @@ TEST(UvChart, DiagonalCutOfASquare) {
 }
 
 TEST(UvChart, ApexOfAnUnrolledPyramidIsACone) {
-  const Pyramid flat = unrolled_pyramid(kPi / 2);  // angles add up to 2 pi: not a cone
+  const TexturedMesh flat = unrolled_pyramid(kPi / 2);  // angles add up to 2 pi: not a cone
   EXPECT_TRUE(analyse_uv_chart(flat.mesh, flat.uv_triangles, flat.uv).cones.empty());
-  const Pyramid p = unrolled_pyramid(kPi / 3);
+  const TexturedMesh p = unrolled_pyramid(kPi / 3);
   const UvChart chart = analyse_uv_chart(p.mesh, p.uv_triangles, p.uv);
   ASSERT_EQ(chart.cones.size(), 1u);
   EXPECT_EQ(chart.cones[0], 0);

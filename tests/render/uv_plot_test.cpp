@@ -100,20 +100,18 @@ TEST(UvPlot, SvgHasOnePathPerFace) {
 
   const auto path = testing::render_tmp_dir() / "grid_uv.svg";
   write_svg(path.string(), svg);
-  EXPECT_EQ(testing::read_text(path), svg);
+  EXPECT_EQ(testing::read_text_file(path), svg);
 }
 
 TEST(UvPlot, SvgMarksCones) {
   // The unrolled pyramid of uv_chart_test: one cone with two texture copies... and one path for
   // all the dots: 4 faces + seams + cones.
   const auto pyramid = testing::unrolled_pyramid(std::numbers::pi / 3);
-  const Mesh& mesh = pyramid.mesh;
-  const auto& uv = pyramid.uv;
-  const Triangles& uv_triangles = pyramid.uv_triangles;
   UvPlotOptions options;
   options.colour_bar = false;
   UvPlotInfo info;
-  const std::string svg = plot_uv_layout_svg(mesh, uv_triangles, uv, options, &info);
+  const std::string svg =
+      plot_uv_layout_svg(pyramid.mesh, pyramid.uv_triangles, pyramid.uv, options, &info);
   EXPECT_EQ(info.cones, 1);
   EXPECT_EQ(testing::count_occurrences(svg, "<path"), 4 + 1 + 1);
 }

@@ -75,8 +75,8 @@ nlohmann::json data_block(const std::string& page) {
 }
 
 /// A grid of the unit square laid out as itself, sheared: area kept, angles distorted.
-testing::GridWithUv sheared_grid() {
-  testing::GridWithUv g = testing::grid_with_uv(4);
+testing::TexturedMesh sheared_grid() {
+  testing::TexturedMesh g = testing::grid_with_uv(4);
   for (Eigen::Index t = 0; t < g.uv.rows(); ++t) g.uv(t, 0) += 0.5 * g.uv(t, 1);
   return g;
 }
@@ -119,7 +119,7 @@ class WebViewer : public ::testing::Test {
 };
 
 TEST_F(WebViewer, DataBlockDecodesToTheMeshAndItsFigures) {
-  testing::GridWithUv g = sheared_grid();
+  testing::TexturedMesh g = sheared_grid();
   g.mesh.positions.col(2).setConstant(100.0);  // far from the origin: sent relative to the centre
   WebViewerInfo info;
   const std::string page = web_viewer_html(g.mesh, g.uv_triangles, g.uv, {}, &info);
@@ -229,7 +229,7 @@ TEST_F(WebViewer, ConesOfAClosedSurfaceCarryItsWholeCurvature) {
 }
 
 TEST_F(WebViewer, ProjectiveTextureCoordinatesKeepTheirWeights) {
-  const testing::GridWithUv g = testing::grid_with_uv(3);
+  const testing::TexturedMesh g = testing::grid_with_uv(3);
   WebViewerOptions options;
   options.uv_weights = Eigen::VectorXd::LinSpaced(g.uv.rows(), 0.5, 2.0);
   options.colouring = ViewerColouring::Angle;
@@ -252,7 +252,7 @@ TEST_F(WebViewer, ProjectiveTextureCoordinatesKeepTheirWeights) {
 }
 
 TEST_F(WebViewer, PageIsSelfContainedAndKeepsTheLicenceNotice) {
-  const testing::GridWithUv g = testing::grid_with_uv(3);
+  const testing::TexturedMesh g = testing::grid_with_uv(3);
   const std::string page = web_viewer_html(g.mesh, g.uv_triangles, g.uv);
   EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(page.find("</html>"), std::string::npos);
@@ -267,7 +267,7 @@ TEST_F(WebViewer, PageIsSelfContainedAndKeepsTheLicenceNotice) {
 }
 
 TEST_F(WebViewer, TitleCannotBreakOutOfItsElements) {
-  const testing::GridWithUv g = testing::grid_with_uv(2);
+  const testing::TexturedMesh g = testing::grid_with_uv(2);
   WebViewerOptions options;
   options.title = "a<b & \"c\" </script><script>alert(1)</script>";
   const std::string page = web_viewer_html(g.mesh, g.uv_triangles, g.uv, options);
@@ -277,13 +277,13 @@ TEST_F(WebViewer, TitleCannotBreakOutOfItsElements) {
 }
 
 TEST_F(WebViewer, WritesThePageAtomically) {
-  const testing::GridWithUv g = sheared_grid();
+  const testing::TexturedMesh g = sheared_grid();
   const std::filesystem::path folder = testing::render_tmp_dir() / "web_viewer";
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   const std::string path = (folder / "view.html").string();
   const WebViewerInfo info = write_web_viewer(path, g.mesh, g.uv_triangles, g.uv);
-  const std::string written = testing::read_text(path);
+  const std::string written = testing::read_text_file(path);
   EXPECT_EQ(written, web_viewer_html(g.mesh, g.uv_triangles, g.uv));
   EXPECT_EQ(info.bytes, written.size());
   int entries = 0;
@@ -295,7 +295,7 @@ TEST_F(WebViewer, WritesThePageAtomically) {
 }
 
 TEST_F(WebViewer, RefusesBadInput) {
-  const testing::GridWithUv g = testing::grid_with_uv(2);
+  const testing::TexturedMesh g = testing::grid_with_uv(2);
   WebViewerOptions options;
   options.uv_weights = Eigen::VectorXd::Ones(3);  // not one per uv row
   EXPECT_THROW(web_viewer_html(g.mesh, g.uv_triangles, g.uv, options), InvalidInput);

@@ -4,13 +4,16 @@
 /// directly.
 
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "ricci/mesh/mesh.hpp"
+#include "ricci/mesh/topology.hpp"
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/lengths.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "support/test_meshes.hpp"
 
 namespace ricci::testing {
 
@@ -32,6 +35,18 @@ inline ConformalStructure structure_of(const Topology& t, const Eigen::VectorXd&
 inline ConformalStructure structure_of(const Mesh& mesh, const Topology& t, Scheme scheme,
                                        Geometry geometry = Geometry::Euclidean) {
   return structure_of(t, input_edge_lengths(mesh, t), scheme, geometry);
+}
+
+/// Calls `check(name, t, s, scheme)` for every mesh of `meshes` under every scheme, with `s`
+/// fitted to the mesh's own edge lengths and `t` its topology: the loop of the properties that
+/// must hold on any mesh whichever scheme a caller picks.
+template <class Check>
+void for_every_mesh_and_scheme(const std::vector<NamedMesh>& meshes, Check check) {
+  for (const auto& [name, mesh] : meshes) {
+    const Topology t = build_topology(mesh.triangles, mesh.num_vertices());
+    const Eigen::VectorXd lbar = input_edge_lengths(mesh, t);
+    for (Scheme scheme : kAllSchemes) check(name, t, structure_of(t, lbar, scheme), scheme);
+  }
 }
 
 /// Random changes of u that keep `scheme`'s triangles valid: packings with Phi in [0, pi/2]

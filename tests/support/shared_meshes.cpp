@@ -43,6 +43,14 @@ std::vector<SharedMesh> shared_meshes() {
   return out;
 }
 
+std::vector<SharedMesh> closed_hyperbolic_shared_meshes() {
+  std::vector<SharedMesh> out;
+  for (const SharedMesh& m : shared_meshes()) {
+    if (m.manifold && m.genus >= 2 && m.boundary_loops == 0) out.push_back(m);
+  }
+  return out;
+}
+
 std::string test_tmp_dir() {
   std::filesystem::path dir;
   if (const char* env = std::getenv("RICCI_TEST_TMP")) {
@@ -72,6 +80,13 @@ std::string write_text_file(const std::filesystem::path& path, const std::string
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
   return path.string();
+}
+
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream content;
+  content << in.rdbuf();
+  return content.str();
 }
 
 }  // namespace ricci::testing

@@ -27,6 +27,9 @@ std::optional<std::string> shared_meshes_dir();
 /// Every mesh listed in MANIFEST.tsv whose file exists; empty when the folder is missing.
 std::vector<SharedMesh> shared_meshes();
 
+/// The shared meshes that carry a hyperbolic metric without cones: manifold, closed, genus >= 2.
+std::vector<SharedMesh> closed_hyperbolic_shared_meshes();
+
 /// A folder for test outputs ($RICCI_TEST_TMP or the system temporary folder), created on demand.
 std::string test_tmp_dir();
 
@@ -40,6 +43,9 @@ std::filesystem::path fresh_tmp_dir(const std::string& name);
 /// Writes `content` to `path` (bytes as given, the file truncated), creating its folder; returns
 /// the path as a string.
 std::string write_text_file(const std::filesystem::path& path, const std::string& content);
+
+/// The bytes of the file at `path` (empty when it cannot be read).
+std::string read_text_file(const std::filesystem::path& path);
 
 }  // namespace ricci::testing
 

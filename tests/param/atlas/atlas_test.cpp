@@ -15,6 +15,7 @@
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/cut/cut_graph.hpp"
 #include "ricci/param/layout/layout.hpp"
+#include "support/flat_layout.hpp"
 #include "support/test_meshes.hpp"
 
 namespace ricci {
@@ -22,31 +23,19 @@ namespace {
 
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
+using testing::uv_of;
 
-struct Flattened {
-  MeshFlowResult flow;
-  CutGraph cut;
-  CutMesh cut_mesh;
-  Layout layout;
+/// A flattening with the affine atlas of its layout.
+struct FlattenedWithAtlas : testing::Flattened {
   AffineAtlas atlas;
 };
 
-/// Flat metric with cones (Newton to 1e-12, so that what the 1e-9 bounds measure is the
-/// layout's rounding, not the metric's residual curvature), cut, slice, layout, atlas.
-Flattened flatten(const Mesh& mesh, const std::vector<Cone>& cones = {}) {
-  MeshFlowOptions options;
-  options.target.kind = TargetKind::Flat;
-  options.target.cones = cones;
-  options.flow.tolerance = 1e-12;
-  Flattened f;
-  f.flow = flow_mesh(mesh, options);
-  EXPECT_TRUE(f.flow.converged) << f.flow.max_error;
-  CutGraphOptions cut_options;
-  for (const Cone& cone : cones) cut_options.cones.push_back(cone.vertex);
-  f.cut = cut_graph(f.flow.intrinsic.topology(),
-                    input_edge_lengths(mesh, f.flow.intrinsic.topology()), cut_options);
-  f.cut_mesh = slice(f.flow.intrinsic.topology(), f.cut);
-  f.layout = layout_flat(f.flow.intrinsic.topology(), f.flow.lengths, f.cut, f.cut_mesh);
+/// Flat metric of vertex scaling with cones (Newton to 1e-12, so that what the 1e-9 bounds
+/// measure is the layout's rounding, not the metric's residual curvature), cut, slice, layout,
+/// atlas.
+FlattenedWithAtlas flatten_with_atlas(const Mesh& mesh, const std::vector<Cone>& cones = {}) {
+  FlattenedWithAtlas f{testing::flatten(mesh, BoundaryMode::Free, cones, Scheme::VertexScaling),
+                       {}};
   f.atlas = affine_atlas(f.flow.intrinsic.topology(), f.cut, f.cut_mesh, f.layout);
   return f;
 }
@@ -56,12 +45,9 @@ Complex corner(const BoundaryChart& chart, std::size_t i, int k) {
           chart.corner_uv(static_cast<Eigen::Index>(i), 2 * k + 1)};
 }
 
-Complex uv_of(const Layout& layout, int v) {
-  return {layout.uv(v, 0), layout.uv(v, 1)};
-}
-
 /// Checks every chart of an atlas; `expect_unflipped` where no cone lies inside a chart.
-void expect_valid_atlas(const Flattened& f, bool expect_unflipped, const std::string& what) {
+void expect_valid_atlas(const FlattenedWithAtlas& f, bool expect_unflipped,
+                        const std::string& what) {
   SCOPED_TRACE(what);
   const Topology& topology = f.flow.intrinsic.topology();
   const AffineAtlas& atlas = f.atlas;
@@ -169,7 +155,7 @@ void expect_valid_atlas(const Flattened& f, bool expect_unflipped, const std::st
 }
 
 TEST(Atlas, FlatTorusChartsAreTranslatedCopiesThatMeet) {
-  const Flattened f = flatten(make_torus(48, 20));
+  const FlattenedWithAtlas f = flatten_with_atlas(make_torus(48, 20));
   ASSERT_EQ(f.layout.lattice.size(), 2u);
   expect_valid_atlas(f, true, "torus");
   for (const BoundaryChart& chart : f.atlas.boundary_charts) {
@@ -186,13 +172,13 @@ TEST(Atlas, SphereWithFourAndEightCones) {
   const std::vector<Cone> four = testing::tetrahedron_cones(sphere);
   const std::vector<Cone> eight = testing::cube_cones(sphere);
   for (const auto& cones : {four, eight}) {
-    const Flattened f = flatten(sphere, cones);
+    const FlattenedWithAtlas f = flatten_with_atlas(sphere, cones);
     expect_valid_atlas(f, false, std::to_string(cones.size()) + " cones");
   }
 }
 
 TEST(Atlas, RejectsALayoutOfAnotherCut) {
-  const Flattened f = flatten(make_torus(12, 8));
+  const FlattenedWithAtlas f = flatten_with_atlas(make_torus(12, 8));
   Layout other = f.layout;
   other.segment_transitions.pop_back();
   EXPECT_THROW(affine_atlas(f.flow.intrinsic.topology(), f.cut, f.cut_mesh, other), InvalidInput);

@@ -34,6 +34,30 @@ struct Fixture {
   ConeSelector selector() const { return make_cone_selector(data(), options); }
 };
 
+ConeSelectionOptions with_count(int count) {
+  ConeSelectionOptions options;
+  options.count = count;
+  return options;
+}
+
+/// A selector on the closed sphere, seeded and grown towards `count` cones, with the fit and
+/// the selection that grow_cone_set ended on.
+struct Grown {
+  explicit Grown(int count)
+      : fixture(make_closed_surface(0, 16), with_count(count)), selector(fixture.selector()) {
+    add_cone(selector, seed_cone(selector));
+    fit = grow_cone_set(selector, result);
+  }
+  // The selector points into the fixture: a copy would point into the original.
+  Grown(const Grown&) = delete;
+  Grown& operator=(const Grown&) = delete;
+
+  Fixture fixture;
+  ConeSelector selector;
+  ConeSelection result;
+  SetFit fit;
+};
+
 /// u^T P u of the single cone of 2 pi chi at c.
 double single_cone_spread(const ConeModelData& model, double total, int c) {
   Eigen::VectorXd rhs = model.rhs0;
@@ -121,55 +145,37 @@ TEST(ConeSteps, FitSatisfiesGaussBonnetAndTheBounds) {
 }
 
 TEST(ConeSteps, GrowStopsAtTheWantedCount) {
-  ConeSelectionOptions options;
-  options.count = 5;
-  const Fixture fixture(make_closed_surface(0, 16), options);
-  ConeSelector selector = fixture.selector();
-  add_cone(selector, seed_cone(selector));
-  ConeSelection result;
-  const SetFit fit = grow_cone_set(selector, result);
-  EXPECT_EQ(selector.S.size(), 5u);
-  EXPECT_EQ(fit.k.size(), 5);
-  EXPECT_TRUE(result.within_bounds);
-  EXPECT_FALSE(result.max_log_scale.empty());
-  EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+  const Grown grown(5);
+  EXPECT_EQ(grown.selector.S.size(), 5u);
+  EXPECT_EQ(grown.fit.k.size(), 5);
+  EXPECT_TRUE(grown.result.within_bounds);
+  EXPECT_FALSE(grown.result.max_log_scale.empty());
+  EXPECT_NEAR(grown.fit.k.sum(), 4 * kPi, kTolerance);
 }
 
 TEST(ConeSteps, ExchangeNeverIncreasesTheObjective) {
-  ConeSelectionOptions options;
-  options.count = 6;
-  const Fixture fixture(make_closed_surface(0, 16), options);
-  ConeSelector selector = fixture.selector();
-  add_cone(selector, seed_cone(selector));
-  ConeSelection result;
-  SetFit fit = grow_cone_set(selector, result);
-  ASSERT_TRUE(fit.within);
-  const double before = fit.value;
-  exchange_cones(selector, fit);
-  EXPECT_LE(fit.value, before);
-  EXPECT_TRUE(fit.within);
-  ASSERT_EQ(selector.S.size(), 6u);
-  std::vector<int> sorted = selector.S;
+  Grown grown(6);
+  ASSERT_TRUE(grown.fit.within);
+  const double before = grown.fit.value;
+  exchange_cones(grown.selector, grown.fit);
+  EXPECT_LE(grown.fit.value, before);
+  EXPECT_TRUE(grown.fit.within);
+  ASSERT_EQ(grown.selector.S.size(), 6u);
+  std::vector<int> sorted = grown.selector.S;
   std::sort(sorted.begin(), sorted.end());
   EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  for (int v : selector.S) EXPECT_TRUE(selector.is_cone[v]);
-  EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+  for (int v : grown.selector.S) EXPECT_TRUE(grown.selector.is_cone[v]);
+  EXPECT_NEAR(grown.fit.k.sum(), 4 * kPi, kTolerance);
 }
 
 TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
-  ConeSelectionOptions options;
-  options.count = 8;
-  const Fixture fixture(make_closed_surface(0, 16), options);
-  ConeSelector selector = fixture.selector();
-  add_cone(selector, seed_cone(selector));
-  ConeSelection result;
-  const SetFit fit = grow_cone_set(selector, result);
-  const Eigen::VectorXd kq = quantize_in_model(selector, selector.S, fit.k);
-  ASSERT_EQ(kq.size(), fit.k.size());
+  const Grown grown(8);
+  const Eigen::VectorXd kq = quantize_in_model(grown.selector, grown.selector.S, grown.fit.k);
+  ASSERT_EQ(kq.size(), grown.fit.k.size());
   for (int i = 0; i < kq.size(); ++i) {
     const double units = kq[i] / (kPi / 2);
     EXPECT_NEAR(units, std::round(units), 1e-12);
-    EXPECT_LE(kq[i], selector.upper + 1e-12);
+    EXPECT_LE(kq[i], grown.selector.upper + 1e-12);
   }
   EXPECT_NEAR(kq.sum(), 4 * kPi, 1e-12);
 }

@@ -5,6 +5,7 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "ricci/mesh/topology.hpp"
 #include "ricci/metric/scheme.hpp"
 #include "ricci/param/cut/cut_graph.hpp"
+#include "support/flat_layout.hpp"
 #include "support/shared_meshes.hpp"
 #include "support/test_meshes.hpp"
 
@@ -27,6 +29,10 @@ namespace {
 
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
+using testing::flat_flow;
+using testing::flatten;
+using testing::Flattened;
+using testing::uv_of;
 
 /// A mesh that is already a disk, "sliced" along nothing: the identity cut mesh.
 struct Uncut {
@@ -42,10 +48,6 @@ Uncut uncut(const Topology& topology) {
   for (int v = 0; v < topology.num_vertices; ++v) u.cut_mesh.to_original[v] = v;
   u.cut_mesh.topology = build_topology(topology.triangles, topology.num_vertices);
   return u;
-}
-
-Complex uv_of(const Layout& layout, int v) {
-  return {layout.uv(v, 0), layout.uv(v, 1)};
 }
 
 /// Recomputes the layout's length error from scratch: every face's three sides.
@@ -115,22 +117,20 @@ Eigen::VectorXd uv_angle_sums(const Topology& topology, const CutMesh& cut_mesh,
   return sums;
 }
 
-MeshFlowResult flat_flow(const Mesh& mesh, BoundaryMode boundary, Scheme scheme = Scheme::Thurston,
-                         const std::vector<Cone>& cones = {}) {
-  MeshFlowOptions options;
-  options.structure.scheme = scheme;
-  options.target.kind = TargetKind::Flat;
-  options.target.boundary = boundary;
-  options.target.cones = cones;
-  // The layout closes up around an interior vertex only as well as the metric is flat there: a
-  // curvature residual d leaves a misclosure of about d times the distance to the root, summed
-  // over the vertices the two tree paths enclose. At the default 1e-10 that reaches 2e-9 of an
-  // edge on punctured-torus.obj; Newton gets to 1e-12 in one more step, and then the layout's
-  // own rounding is what the 1e-9 bounds below measure.
-  options.flow.tolerance = 1e-12;
-  MeshFlowResult result = flow_mesh(mesh, options);
-  EXPECT_TRUE(result.converged) << result.max_error;
-  return result;
+/// The flow's lengths laid out on its own triangulation, uncut: for meshes that are disks.
+Layout layout_uncut(const MeshFlowResult& flow) {
+  const Uncut u = uncut(flow.intrinsic.topology());
+  return layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
+}
+
+/// rigid_distance from the layout of `vertices` to their input positions, read in the xy-plane.
+double distance_to_input(const Layout& layout, const Mesh& mesh, const std::vector<int>& vertices) {
+  std::vector<Complex> points, reference;
+  for (int v : vertices) {
+    points.push_back(uv_of(layout, v));
+    reference.emplace_back(mesh.positions(v, 0), mesh.positions(v, 1));
+  }
+  return rigid_distance(points, reference);
 }
 
 TEST(Layout, FlatDiskIsReproducedUpToARigidMotion) {
@@ -140,18 +140,14 @@ TEST(Layout, FlatDiskIsReproducedUpToARigidMotion) {
   const Mesh mesh = make_disk(12, 0.0);
   const MeshFlowResult flow = flat_flow(mesh, BoundaryMode::Free, Scheme::VertexScaling);
   EXPECT_EQ(flow.u.cwiseAbs().maxCoeff(), 0.0);
-  const Uncut u = uncut(flow.intrinsic.topology());
-  const Layout layout = layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
+  const Layout layout = layout_uncut(flow);
   EXPECT_LE(layout.max_length_relative_error, 1e-12);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_TRUE(layout.transitions.empty());
   EXPECT_TRUE(layout.lattice.empty());
-  std::vector<Complex> points, reference;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    points.push_back(uv_of(layout, v));
-    reference.emplace_back(mesh.positions(v, 0), mesh.positions(v, 1));
-  }
-  EXPECT_LE(rigid_distance(points, reference), 1e-12);
+  std::vector<int> every_vertex(mesh.num_vertices());
+  std::iota(every_vertex.begin(), every_vertex.end(), 0);
+  EXPECT_LE(distance_to_input(layout, mesh, every_vertex), 1e-12);
 }
 
 TEST(Layout, RootFaceIsFarthestFromTheBoundaryAndSitsAtTheOrigin) {
@@ -225,17 +221,11 @@ TEST(Layout, EachComponentFromItsOwnRoot) {
   both.triangles.resize(small.num_faces() + large.num_faces(), 3);
   both.triangles << small.triangles, large.triangles.array() + small.num_vertices();
   const MeshFlowResult flow = flat_flow(both, BoundaryMode::Free, Scheme::VertexScaling);
-  const Uncut u = uncut(flow.intrinsic.topology());
-  const Layout layout = layout_flat(flow.intrinsic.topology(), flow.lengths, u.cut, u.cut_mesh);
+  const Layout layout = layout_uncut(flow);
   EXPECT_LE(layout.max_length_relative_error, 1e-12);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   for (const Component& c : flow.intrinsic.topology().components) {
-    std::vector<Complex> points, reference;
-    for (int v : c.vertices) {
-      points.push_back(uv_of(layout, v));
-      reference.emplace_back(both.positions(v, 0), both.positions(v, 1));
-    }
-    EXPECT_LE(rigid_distance(points, reference), 1e-12);
+    EXPECT_LE(distance_to_input(layout, both, c.vertices), 1e-12);
   }
 }
 
@@ -273,27 +263,6 @@ TEST(Layout, RejectsBrokenInputs) {
   Uncut wrong = u;
   std::swap(wrong.cut_mesh.to_original[0], wrong.cut_mesh.to_original[1]);
   EXPECT_THROW(layout_flat(topology, lengths, wrong.cut, wrong.cut_mesh), InvalidInput);
-}
-
-/// A flat metric, its cut, the sliced mesh and the layout.
-struct Flattened {
-  MeshFlowResult flow;
-  CutGraph cut;
-  CutMesh cut_mesh;
-  Layout layout;
-};
-
-Flattened flatten(const Mesh& mesh, BoundaryMode boundary, const std::vector<Cone>& cones = {},
-                  Scheme scheme = Scheme::Thurston) {
-  Flattened out;
-  out.flow = flat_flow(mesh, boundary, scheme, cones);
-  CutGraphOptions cut_options;
-  for (const Cone& cone : cones) cut_options.cones.push_back(cone.vertex);
-  out.cut = cut_graph(out.flow.intrinsic.topology(),
-                      input_edge_lengths(mesh, out.flow.intrinsic.topology()), cut_options);
-  out.cut_mesh = slice(out.flow.intrinsic.topology(), out.cut);
-  out.layout = layout_flat(out.flow.intrinsic.topology(), out.flow.lengths, out.cut, out.cut_mesh);
-  return out;
 }
 
 /// The rigid motion z -> a z + b applied to z.
