@@ -4,6 +4,7 @@
 /// and the named steps (seed, add, fit, grow, exchange, quantize) that cones.cpp defines and
 /// tests/param/cones/cone_selection_steps_test.cpp pins down one by one.
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -138,6 +139,17 @@ bool exchange_cones(ConeSelector& selector, SetFit& fit);
 /// another while the objective falls.
 Eigen::VectorXd quantize_in_model(const ConeSelector& selector, const std::vector<int>& cones,
                                   const Eigen::VectorXd& k_real);
+
+/// Rings around a cone left out of the measure and of the candidates for the next cone. (Capping
+/// them by area in the selection let cones crowd on small high-genus meshes: 2 flipped faces on
+/// a generated genus-20 surface of 748 faces.)
+inline constexpr int kSeparationRings = 3;
+
+/// The ring count of a vertex no cone's rings reach: above any count of rings.
+inline constexpr int kFarFromCones = std::numeric_limits<int>::max() / 2;
+
+/// Each vertex's neighbours along the edges, in edge order.
+std::vector<std::vector<int>> vertex_neighbours(const Topology& t);
 
 }  // namespace ricci::cone_steps
 

@@ -1,0 +1,145 @@
+#include "param/cones/detail/cone_objective.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+#include "ricci/numerics/bounded_least_squares.hpp"
+
+namespace ricci::cone_steps {
+namespace {
+
+/// The quasi-Newton iterations of minimise_cone_objective: at most kObjectiveIterations steps.
+constexpr int kObjectiveIterations = 60;
+/// The ridge on the model Hessian, relative to its largest diagonal entry: keeps it positive
+/// definite where green or M are only semi-definite (a cone on a held vertex's neighbour).
+constexpr double kModelHessianRidge = 1e-9;
+/// Floor of the scale the ridge is relative to (a zero Hessian still gets a positive ridge).
+constexpr double kSmallestScale = 1e-300;
+/// A step whose largest curvature change is below this (radians) is no step: converged.
+constexpr double kSmallestStep = 1e-12;
+/// Armijo's sufficient decrease: the step is taken once F falls by this times the slope. The
+/// same value as FlowOptions::armijo's default (1e-4), chosen on its own (the flow's line search
+/// works on another function).
+constexpr double kArmijo = 1e-4;
+/// Line-search halvings before giving up (FlowOptions::max_backtracks is 50: 2^-30 of a
+/// quasi-Newton step is already no step for curvatures).
+constexpr int kBacktracks = 30;
+/// Each backtrack halves the step.
+constexpr double kBacktrackFactor = 0.5;
+/// The BFGS update is skipped unless s.y exceeds this times |s| |y| (curvature condition, with
+/// room for rounding): keeps B positive definite.
+constexpr double kCurvatureCondition = 1e-12;
+/// Stop once a step lowers F by at most this, relative to 1 + |F|.
+constexpr double kRelativeDecrease = 1e-8;
+
+}  // namespace
+
+/// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
+///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
+/// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 with Z = sum_f a_f e^{2 u_f}, u_f the mean of u over the
+/// corners of face f (its area scales by e^{2 u_f} when u is linear over it) and a_f its share
+/// of the 3D area: the checker's E. Unlike the L2 norm of u it charges expansion exponentially:
+/// a strong positive cone (u ~ -(k / 2 pi) log r next to it, so area grows like r^(-k / pi))
+/// costs what it costs in the texture, and shrinking costs little. (Per face rather than per
+/// vertex: a cone's own u counts once per vertex but touches deg faces; on spot with 4 cones
+/// the per-vertex form gave the checker's E 1.01, this one 0.92.)
+/// Returns F; `gradient` (optional) gets dF/du.
+double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Eigen::VectorXd& u,
+                   Eigen::VectorXd* gradient) {
+  const int nf = t.num_faces;
+  Eigen::ArrayXd uf(nf);
+  for (int f = 0; f < nf; ++f) {
+    uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
+  }
+  const double top = uf.maxCoeff();  // e^{4 (u - top)} cannot overflow
+  const Eigen::ArrayXd scale = (2 * (uf - top)).exp();
+  const Eigen::ArrayXd e2 = scale * face_area.array();
+  const Eigen::ArrayXd e4 = scale * e2;
+  const double s2 = e2.sum(), s4 = e4.sum();
+  if (gradient) {
+    const Eigen::ArrayXd per_face = (4.0 / 3) * (e4 / s4 - e2 / s2);
+    *gradient = Eigen::VectorXd::Zero(u.size());
+    for (int f = 0; f < nf; ++f) {
+      for (int c = 0; c < 3; ++c) (*gradient)[t.triangles(f, c)] += per_face[f];
+    }
+  }
+  return std::log(s4) - 2 * std::log(s2);
+}
+
+/// Curvatures k of the cones S minimising the ConeObjective subject to lo <= k <= hi and, on a
+/// closed surface, sum k = total: a quasi-Newton method (BFGS started from the objective's
+/// Hessian at u = 0: 8 M for log(1 + E), M = G_S^T P G_S the Hessian of J, plus 2 smooth green)
+/// whose steps are the bounded quadratic programmes of bounded_least_squares, with a backtracking
+/// line search. With the cones' columns of A^-1 kept an iterate takes no solve (dense products
+/// of #V x #S); without them two. `k` enters feasible (the J minimiser) and leaves at the
+/// minimiser; returns u there, `gradient_all` (when given) gets the objective's gradient at
+/// every vertex (for the next cone: the one solve of the call with columns). B: in, an estimate
+/// of the Hessian for the first B.rows() cones (from an earlier call); out, the final one.
+Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Eigen::MatrixXd& M,
+                                        const Eigen::MatrixXd& green, const Eigen::VectorXd& lo,
+                                        const Eigen::VectorXd& hi, bool closed, double total,
+                                        Eigen::VectorXd& k, Eigen::MatrixXd& B,
+                                        Eigen::VectorXd* gradient_all, double& value) {
+  const int m = static_cast<int>(objective.S.size());
+  Eigen::VectorXd u = objective.solve_u(k);
+  value = objective.value(u, k);
+  if (m == 0) {
+    if (gradient_all) *gradient_all = objective.gradient_everywhere(u);
+    return u;
+  }
+  Eigen::VectorXd g = objective.gradient(u);
+  // The previous greedy step's estimate for the cones it had (B enters with those rows), the
+  // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
+  Eigen::MatrixXd model_hessian = 8 * M + 2 * objective.smooth * green;
+  model_hessian.diagonal().array() +=
+      kModelHessianRidge * std::max(kSmallestScale, model_hessian.diagonal().cwiseAbs().maxCoeff());
+  Eigen::MatrixXd start = model_hessian;
+  const int kept = static_cast<int>(std::min<Eigen::Index>(B.rows(), m));
+  if (kept > 0 && B.cols() == B.rows()) {
+    start.topLeftCorner(kept, kept) = B.topLeftCorner(kept, kept);
+    if (start.llt().info() != Eigen::Success) start = model_hessian;
+  }
+  B = std::move(start);
+  for (int iteration = 0; iteration < kObjectiveIterations; ++iteration) {
+    const Eigen::VectorXd linear = g - B * k;
+    BoundedLeastSquaresOptions sum;
+    sum.sum_constraint = closed;
+    sum.total = total;
+    const BoundedLeastSquaresResult step_target = bounded_least_squares(B, linear, lo, hi, sum);
+    if (!step_target.feasible) break;
+    const Eigen::VectorXd direction = step_target.x - k;
+    if (direction.cwiseAbs().maxCoeff() < kSmallestStep) break;
+    const double slope = g.dot(direction);
+    if (!(slope < 0)) break;
+    double step = 1;
+    Eigen::VectorXd k_new, u_new;
+    double value_new = INFINITY;
+    for (int tries = 0; tries < kBacktracks; ++tries, step *= kBacktrackFactor) {
+      k_new = k + step * direction;
+      u_new = objective.solve_u(k_new);
+      value_new = objective.value(u_new, k_new);
+      if (value_new <= value + kArmijo * step * slope) break;
+    }
+    if (!(value_new < value)) break;
+    const Eigen::VectorXd g_new = objective.gradient(u_new);
+    const Eigen::VectorXd s = k_new - k, y = g_new - g;
+    const double sy = s.dot(y);
+    if (sy > kCurvatureCondition * s.norm() * y.norm()) {
+      const Eigen::VectorXd Bs = B * s;
+      B += y * y.transpose() / sy - Bs * Bs.transpose() / s.dot(Bs);
+    }
+    const double decrease = value - value_new;
+    k = k_new;
+    u = u_new;
+    g = g_new;
+    value = value_new;
+    if (decrease <= kRelativeDecrease * (1 + std::abs(value))) break;
+  }
+  if (gradient_all) *gradient_all = objective.gradient_everywhere(u);
+  return u;
+}
+
+}  // namespace ricci::cone_steps
