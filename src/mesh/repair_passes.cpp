@@ -20,7 +20,6 @@
 #include "mesh/detail/edge_name.hpp"
 #include "mesh/detail/face_keys.hpp"
 #include "mesh/detail/orientation.hpp"
-#include "mesh/detail/repair_passes.hpp"
 #include "mesh/detail/slivers.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/disjoint_sets.hpp"
