@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 #include <type_traits>
 
 #include "ricci/errors.hpp"
@@ -110,6 +111,8 @@ MeshRecord parse_mesh_record(const std::string& line) {
         field = parse_mesh_outcome(j.at(name).get<std::string>());
       } else if constexpr (std::is_same_v<Field, NumberOrNull<double>>) {
         field.value = number_or_nan(j, name);
+      } else if (std::string_view(name) == "key") {
+        field = j.at(name).get<Field>();  // required: a record names its mesh
       } else {
         field = j.value(name, field);  // absent: the default of a MeshRecord
       }

@@ -63,6 +63,8 @@ TEST(ResultsLog, ARecordSurvivesItsJsonLine) {
             MeshOutcome::NotConverged);
   EXPECT_THROW(parse_mesh_outcome("fine"), InvalidInput);
   EXPECT_THROW(parse_mesh_record("{\"key\": \"a\"}"), InvalidInput);
+  // The key is required (the outcome too); the other fields default.
+  EXPECT_THROW(parse_mesh_record("{\"outcome\": \"ok\"}"), InvalidInput);
   EXPECT_THROW(parse_mesh_record("[1, 2"), InvalidInput);
 }
 
