@@ -11,6 +11,7 @@
 
 #include "param/cones/detail/cone_objective.hpp"
 #include "param/cones/detail/cone_selection_steps.hpp"
+#include "param/cones/detail/linear_flow.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/intrinsic/delaunay_flips.hpp"
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
@@ -28,6 +29,8 @@ using cone_steps::ConeModelData;
 using cone_steps::ConeObjective;
 using cone_steps::kFarFromCones;
 using cone_steps::kSeparationRings;
+using cone_steps::LinearFlow;
+using cone_steps::linearise_flow;
 using cone_steps::vertex_neighbours;
 
 namespace {
@@ -152,24 +155,12 @@ void check_cone_options(const ConeSelectionOptions& options) {
 
 }  // namespace
 
-ConeModel::ConeModel(std::unique_ptr<Data> data) : data_(std::move(data)) {}
-ConeModel::ConeModel(ConeModel&&) noexcept = default;
-ConeModel& ConeModel::operator=(ConeModel&&) noexcept = default;
-ConeModel::~ConeModel() = default;
+namespace cone_steps {
 
-ConeModel build_cone_model(const FlowProblem& problem) {
-  const build_counting::Scope counted(build_counting::Kind::ConeModel);
-  auto data = std::make_unique<ConeModel::Data>();
-  ConeModelData& model = *data;
-  const Mesh& mesh = *problem.mesh;
-  model.topology = &problem.topology;
+LinearFlow linearise_flow(const FlowProblem& problem, const char* who) {
   const Topology& t = problem.topology;
-  if (t.components.size() != 1) {
-    throw InvalidInput("select_cones: the mesh has " + std::to_string(t.components.size()) +
-                       " connected components; choose cones for each on its own");
-  }
-  const int nv = model.nv = t.num_vertices;
   const ConformalStructure& s = problem.structure.structure;
+  LinearFlow linear;
   // The input lengths' vertex-scaling structure, for the intrinsic Delaunay Laplacian: the
   // problem's own when that is its scheme.
   auto vertex_scaling = [&] {
@@ -180,28 +171,53 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   };
   Eigen::VectorXd lengths, hw, ew;
   edge_lengths(t, s, s.initial_u, lengths);
-  if (!corner_angles(t, lengths, model.angles).ok()) {
-    throw InvalidInput("select_cones: the initial metric breaks a triangle inequality");
+  if (!corner_angles(t, lengths, linear.angles).ok()) {
+    throw InvalidInput(std::string(who) + ": the initial metric breaks a triangle inequality");
   }
-  vertex_curvature(t, model.angles, model.curvature);
-  Eigen::SparseMatrix<double> L;
+  vertex_curvature(t, linear.angles, linear.curvature);
   if (scheme_traits(s.scheme).ptolemy_flips) {
     // The flow with flips linearises to the Laplacian of the intrinsic Delaunay triangulation.
-    L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
+    linear.L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
   } else {
-    halfedge_weights(t, s, s.initial_u, lengths, model.angles, hw);
+    halfedge_weights(t, s, s.initial_u, lengths, linear.angles, hw);
     edge_weights(t, hw, ew);
-    L = curvature_hessian(t, ew);
-    if (!positive_definite_with_one_pin(L)) {
+    linear.L = curvature_hessian(t, ew);
+    if (!positive_definite_with_one_pin(linear.L)) {
       // Obtuse needles make some weights negative enough that L is indefinite (the repaired
       // Stanford dragon): the intrinsic Delaunay Laplacian has non-negative weights.
-      L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
+      linear.L = intrinsic_delaunay_laplacian(t, problem.input_lengths, vertex_scaling());
     }
   }
-
   // Area weights: a third of the 3D area of the faces around each vertex, normalised.
-  model.face_area = face_areas(mesh, t);
-  model.area = vertex_areas(t, model.face_area);
+  linear.face_area = face_areas(*problem.mesh, t);
+  linear.area = vertex_areas(t, linear.face_area);
+  return linear;
+}
+
+}  // namespace cone_steps
+
+ConeModel::ConeModel(std::unique_ptr<Data> data) : data_(std::move(data)) {}
+ConeModel::ConeModel(ConeModel&&) noexcept = default;
+ConeModel& ConeModel::operator=(ConeModel&&) noexcept = default;
+ConeModel::~ConeModel() = default;
+
+ConeModel build_cone_model(const FlowProblem& problem) {
+  const build_counting::Scope counted(build_counting::Kind::ConeModel);
+  auto data = std::make_unique<ConeModel::Data>();
+  ConeModelData& model = *data;
+  model.topology = &problem.topology;
+  const Topology& t = problem.topology;
+  if (t.components.size() != 1) {
+    throw InvalidInput("select_cones: the mesh has " + std::to_string(t.components.size()) +
+                       " connected components; choose cones for each on its own");
+  }
+  const int nv = model.nv = t.num_vertices;
+  LinearFlow linear = linearise_flow(problem, "select_cones");
+  const Eigen::SparseMatrix<double>& L = linear.L;
+  model.angles = std::move(linear.angles);
+  model.curvature = std::move(linear.curvature);
+  model.face_area = std::move(linear.face_area);
+  model.area = std::move(linear.area);
   const bool has_boundary = t.num_boundary_loops() > 0;
   model.chi = t.euler_characteristic();
   model.closed = !has_boundary;
