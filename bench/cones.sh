@@ -99,6 +99,32 @@ done <"$reference"
 echo
 echo "ricci beats BFF (lower E, no more angle distortion, no flipped face, seams within 1e-9) on $wins of $rows rows."
 
+# Seams that may bend (--seams free) on the rows where BFF's output carries curvature along its
+# cut (genus >= 1): a map of BFF's own kind at BFF's N.
+if [ -f "$bff_checker" ]; then
+  echo
+  echo "--seams free (cones and cut chosen for bending seams, one length per seam edge) on the rows"
+  echo "where BFF's seams carry curvature:"
+  echo
+  echo "| mesh | cones | BFF E | ricci free E | BFF angle | ricci free angle | flipped | seam mismatch | beats BFF | seam curvature max | ricci s (seams) | BFF s |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  free_rows=0 free_wins=0
+  while IFS=$'\t' read -r name n _ off_vertices _ _ bff_e bff_angle _; do
+    [ "$name" = mesh ] && continue
+    [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
+    [ -n "$(path_of "$name")" ] && [ "$off_vertices" -gt 0 ] || continue
+    bff_s=$(awk -F'\t' -v m="$name" -v c="$n" '$1 == m && $2 == c {print $3}' "$reference")
+    measure "$name" "$n-free" --cones "$n" --seams free
+    verdict=$(beats "$e" "$bff_e" "$angle" "$bff_angle" "$flipped" "$mismatch")
+    free_rows=$((free_rows + 1))
+    [ "$verdict" = yes ] && free_wins=$((free_wins + 1))
+    seams=$(report "$out/$name-$n-free.json" '"%.3g (%.2f)" % (d["seams"]["curvature_max"], d["seams"]["choice_seconds"])')
+    echo "| $name | $n | $bff_e | $e | $bff_angle | $angle | $flipped | $mismatch | $verdict | ${seams% *} | $seconds ${seams#* } | $bff_s |"
+  done <"$bff_checker"
+  echo
+  echo "--seams free beats BFF on $free_wins of $free_rows rows."
+fi
+
 if [ -f "$bff_checker" ]; then
   echo
   echo "Rows where BFF's output is not a flat metric with N cones (bench/bff-checker.tsv: interior"

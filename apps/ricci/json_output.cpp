@@ -279,6 +279,14 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
   j["log_scale_spread"] = one.log_scale_spread;
   j["cone_rounds"] = one.cone_rounds;
   j["cone_selection_area_energy"] = one.cone_selection.area_energy;
+  // What each seam mode leaves on the seams (the cut's vertices off the cones and the
+  // boundary): about the flow's tolerance when rigid, the chosen curvature when free.
+  j["seams"] = {{"mode", seam_mode_name(options.seams)},
+                {"curvature_vertices", one.seam_curvature.vertices},
+                {"curvature_total", one.seam_curvature.total},
+                {"curvature_max", one.seam_curvature.max},
+                {"choice_seconds", one.seam_curvature.free_seconds},
+                {"linear_area_energy", one.seam_curvature.linear_area_energy}};
   j["timings"] = {{"cones", r.timings.cones},       {"flow", r.timings.flow},
                   {"cut", r.timings.cut},           {"development", r.timings.development},
                   {"layout", r.timings.layout},     {"polish", r.timings.polish},

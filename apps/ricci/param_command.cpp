@@ -401,6 +401,7 @@ ParamOptions param_options(const ParamArgs& args) {
   ParamOptions options;
   options.structure.scheme = parse_scheme(args.scheme);
   options.boundary = parse_boundary_mode(args.boundary);
+  options.seams = parse_seam_mode(args.seams);
   options.quantize = args.quantize;
   options.auto_cones.max_log_scale = args.max_log_scale;
   options.auto_cones.max_cones = args.max_cones;

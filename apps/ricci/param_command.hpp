@@ -18,6 +18,7 @@ struct ParamArgs {
   std::string output;
   std::string cones = cone_mode_name(ParamOptions{}.cone_mode);
   std::string boundary = boundary_mode_name(ParamOptions{}.boundary);
+  std::string seams = seam_mode_name(ParamOptions{}.seams);
   std::string scheme = scheme_name(ParamOptions{}.structure.scheme);
   std::string flips = edge_flips_name(ParamOptions{}.flow.flips);
   std::string report;

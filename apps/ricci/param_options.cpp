@@ -28,6 +28,15 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
   param_cmd->add_option("--boundary", param.boundary, "free, disk or disk-length")
       ->capture_default_str();
   param_cmd
+      ->add_option("--seams", param.seams,
+                   "rigid (the flat metric with cones: all curvature at the cones, each seam's "
+                   "two copies related by a rigid motion) or free (the cones and cut as chosen, "
+                   "then the seams carry the curvature that distorts least, both copies of every "
+                   "seam edge one length: texel density continuous across seams, what BFF writes "
+                   "on genus >= 1; far fewer cones do on high genus)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(enum_primary_names<SeamMode>()));
+  param_cmd
       ->add_option("--flips", param.flips,
                    "intrinsic Delaunay edge flips (see ricci flow --help); the output keeps the "
                    "input's own faces, each vertex at its image in the final (flat or "

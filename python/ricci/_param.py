@@ -13,7 +13,7 @@ from ._flow import cone_list, set_fields, set_structure_and_solver
 _CONE_MODES = tuple(name for name in _ricci.ConeMode.names if name != "user")
 
 
-def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scale=None,
+def parameterize(V, F, *, cones=None, boundary=None, seams=None, quantize=None, max_log_scale=None,
                  max_cones=None, try_first_cone_candidates=None, cone_smoothness=None, modify_connectivity=None,
                  scheme=None, packing_init=None, max_intersection_angle=None, fit_sweeps=None,
                  fit_tolerance=None, solver=None, tolerance=None, max_iterations=None,
@@ -37,6 +37,10 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
       of 2 pi chi at one vertex, genus >= 2), or user cones: ``[(vertex, curvature), ...]``,
       ``{vertex: curvature}`` or ``"V:K,V:K"`` (input vertex indices, radians or ``"pi/2"``).
     boundary: ``"free"`` (default), ``"disk"``, ``"disk-length"``.
+    seams: ``"rigid"`` (default: the flat metric with cones, each seam's two copies related by a
+      rigid motion) or ``"free"`` (the cones and cut as chosen, then the seams carry the curvature
+      that distorts least; both copies of every seam edge keep one length, the rotation across a
+      seam is free). routes[0].pipeline.seam_curvature says what the seams carry.
     quantize: round cone curvatures to multiples of pi/2.
     Automatic cones (``ConeSelectionOptions``): max_log_scale (1.0), max_cones (64),
       try_first_cone_candidates (1), cone_smoothness (1000: the curvatures minimise
@@ -80,7 +84,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
     is False and message says why (nothing is raised). routes names the route of each component,
     and routes[c].pipeline (``PipelineDiagnostics``) what its pipeline measured:
     cone_selection, log_scale_spread and cone_rounds (automatic cones),
-    development_length_mismatch. Several components (or one whose exact map gave way): the same
+    development_length_mismatch, seam_curvature. Several components (or one whose exact map gave way): the same
     fields cover the whole atlas, components lists a ``ComponentParam`` per component
     (method, parameterized, message, cones, distortion, overlapping_face_pairs, area_scale,
     chart, vertex_map, face_map, and param: the component's own ``ParamResult``), packing is the
@@ -133,6 +137,9 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
             reuse_factorization_cg_iterations=reuse_factorization_cg_iterations,
             progress=progress, flips=flips, root_face=root_face, polygons=polygons,
             options=options)
+    if seams is not None and _is_hyperbolic(geometry):
+        raise _ricci.InvalidInput("parameterize: seams is an option of the Euclidean "
+                                  "parameterization only")
     if root_face is not None:
         raise _ricci.InvalidInput("parameterize: root_face is an option of "
                                   "geometry='hyperbolic' only")
@@ -141,7 +148,7 @@ def parameterize(V, F, *, cones=None, boundary=None, quantize=None, max_log_scal
                                   f"Euclidean parameterization, got {type(options).__name__}")
     opts = _ricci.ParamOptions() if options is None else copy.copy(options)
     set_cones(opts, cones)
-    set_fields(opts, boundary=boundary, quantize=quantize,
+    set_fields(opts, boundary=boundary, seams=seams, quantize=quantize,
                modify_connectivity=modify_connectivity, polygons=polygons)
     set_fields(opts.packing, gutter=gutter)
     set_fields(opts.polish, enabled=polish)

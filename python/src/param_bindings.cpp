@@ -21,6 +21,30 @@ void bind_param(py::module_& m) {
   bind_enum_names(cone_mode);
   m.def("cone_mode_name", &cone_mode_name, py::arg("mode"));
 
+  py::enum_<SeamMode> seam_mode(m, "SeamMode",
+                                "How a seam's two copies relate: Rigid (the flat metric with "
+                                "cones) or Free (one length, any rotation).");
+  seam_mode.value("Rigid", SeamMode::Rigid).value("Free", SeamMode::Free);
+  seam_mode.def(py::init([](const std::string& name) { return parse_seam_mode(name); }),
+                py::arg("name"));
+  bind_enum_names(seam_mode);
+  m.def("seam_mode_name", &seam_mode_name, py::arg("mode"));
+
+  StructBinding<FreeSeamOptions>(m, "FreeSeamOptions", "How SeamMode.Free chooses the seams.")
+      .field("smoothness", &FreeSeamOptions::smoothness,
+             "weight of the Dirichlet energy of the log scale per face (1000)")
+      .field("selection_smoothness", &FreeSeamOptions::selection_smoothness,
+             "weight of the free curvatures' squares per face while cones are chosen (3)")
+      .repr();
+  StructBinding<SeamCurvature>(m, "SeamCurvature", "Curvature on the seams, off the cones.")
+      .readonly("vertices", &SeamCurvature::vertices, "cut vertices that are not cones")
+      .readonly("total", &SeamCurvature::total, "sum of |K| over them")
+      .readonly("max", &SeamCurvature::max, "largest |K| among them")
+      .readonly("free_seconds", &SeamCurvature::free_seconds, "Free: time to choose it")
+      .readonly("linear_area_energy", &SeamCurvature::linear_area_energy,
+                "Free: E of the linearised choice")
+      .repr();
+
   StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")
       .readonly("cones", &ParamTimings::cones, "")
       .readonly("flow", &ParamTimings::flow, "")
@@ -190,6 +214,9 @@ void bind_param(py::module_& m) {
       .field("quantize", &ParamOptions::quantize, "round cone curvatures to multiples of pi/2")
       .enum_field("boundary", &ParamOptions::boundary, &parse_boundary_mode,
                   "BoundaryMode (or 'free', 'disk', 'disk-length')")
+      .enum_field("seams", &ParamOptions::seams, &parse_seam_mode, "SeamMode (or 'rigid', 'free')")
+      .field("free_seams", &ParamOptions::free_seams,
+             "FreeSeamOptions: how SeamMode.Free chooses the seams' curvature")
       .field("structure", &ParamOptions::structure, "StructureOptions: the discrete metric")
       .field("flow", &ParamOptions::flow, "FlowOptions (tolerance 1e-12 by default)")
       .field("modify_connectivity", &ParamOptions::modify_connectivity,
@@ -342,6 +369,8 @@ void bind_param(py::module_& m) {
                 "automatic cones: times they were chosen again, with more of them")
       .readonly("development_length_mismatch", &PipelineDiagnostics::development_length_mismatch,
                 "how well the input faces developed in the flat metric agree on their edges")
+      .readonly("seam_curvature", &PipelineDiagnostics::seam_curvature,
+                "SeamCurvature: what the seams carry (about 0 with rigid seams)")
       .repr();
 
   StructBinding<ParamResult, Parameterization, PipelineDiagnostics>(

@@ -192,3 +192,32 @@ def test_routes_name_how_each_component_was_laid_out():
     assert torus.routes[0].why == "" and torus.untangle.moved_vertices == 0
     with pytest.raises(ricci.InvalidInput):
         ricci.parameterize(V, F, geometry="hyperbolic", charts=False)
+
+
+def test_free_seams_keep_one_length_per_seam_edge():
+    V, F = ricci.generate.closed_surface(2, 24)
+    rigid = ricci.parameterize(V, F, cones=4)
+    free = ricci.parameterize(V, F, cones=4, seams="free")
+    assert free.converged, free.message
+    _check_uv(free)
+    # Each seam edge's two uv copies have one length (rigid seams: related by a rigid motion).
+    uv, tri, tv = free.uv, free.uv_triangles, free.triangles
+    lengths = {}
+    worst = 0.0
+    for f in range(len(tv)):
+        for k in range(3):
+            a, b = tv[f, k], tv[f, (k + 1) % 3]
+            length = np.linalg.norm(uv[tri[f, k]] - uv[tri[f, (k + 1) % 3]])
+            key = (min(a, b), max(a, b))
+            if key in lengths:
+                worst = max(worst, abs(lengths[key] - length) / max(length, lengths[key]))
+            else:
+                lengths[key] = length
+    assert worst < 1e-9
+    seams = free.routes[0].pipeline.seam_curvature
+    assert seams.vertices > 0 and seams.max > 1e-3
+    assert rigid.routes[0].pipeline.seam_curvature.max < 1e-8
+    assert free.distortion.area_distortion_energy < 0.5 * rigid.distortion.area_distortion_energy
+    assert ricci.ParamOptions().seams == ricci.SeamMode.Rigid
+    with pytest.raises(ricci.InvalidInput):
+        ricci.parameterize(V, F, seams="bent")

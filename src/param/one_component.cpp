@@ -56,6 +56,14 @@ const char* cone_mode_name(ConeMode mode) {
   return enum_name(mode);
 }
 
+SeamMode parse_seam_mode(const std::string& name) {
+  return parse_enum<SeamMode>(name, "parse_seam_mode");
+}
+
+const char* seam_mode_name(SeamMode mode) {
+  return enum_name(mode);
+}
+
 namespace {
 
 /// One run of the single-component pipeline: the problem (connectivity, input lengths,
@@ -174,6 +182,8 @@ void choose_cones(ParamRun& run) {
       break;
     }
     case ConeMode::Auto:
+      // Free seams choose their cones with the cut, once the flow's problem is made.
+      if (options.seams == SeamMode::Free) break;
       run.cones = select_automatic(run, options.auto_cones.count);
       for (const Cone& c : run.cones) {
         // A fixed count too small for the curvature (two cones on a sphere): the least-squares
@@ -254,6 +264,18 @@ struct CutStage {
 const Polygons* kept_polygons(const ParamRun& run) {
   const bool same_faces = run.result.edge_splits == 0 && !run.result.subdivided;
   return same_faces && !run.options.polygons.empty() ? &run.options.polygons : nullptr;
+}
+
+/// A cut made elsewhere, sliced, with the layout's roots.
+CutStage cut_stage_of(const FlowProblem& problem, CutGraph cut) {
+  const auto t = Clock::now();
+  CutStage stage;
+  stage.cut = std::move(cut);
+  stage.cut_mesh = slice(problem.topology, stage.cut);
+  stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
+                                                 stage.roots.first);
+  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+  return stage;
 }
 
 /// Stage 4a: the cut through these cones on the problem's connectivity, never along the
@@ -339,8 +361,9 @@ void flow_to_flat(ParamRun& run, FlowStage& stage) {
   // distortion 3.2; eight cones give 0.031 and 1.43). Where the flow's own u spreads well past
   // the bound, more cones are chosen (from the same model) and the flow run again (on the same
   // problem), keeping the better of the two.
+  // (Free seams: the cones only shape the cut, their curvature is the seams'.)
   if (run.mode != ConeMode::Auto || options.auto_cones.count != 0 || !run.flips ||
-      !result.converged) {
+      !result.converged || options.seams == SeamMode::Free) {
     return;
   }
   std::vector<int> vertices;
@@ -444,6 +467,19 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
     untangle.angles.assign(result.mesh.num_vertices(), 2 * kPi);
     // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
     // whatever else moves: no untangling is tried then.
+    if (run.options.seams == SeamMode::Free) {
+      // Free seams: the copies of a seam vertex differ by no rigid motion, so none can move
+      // with the others; the cut's vertices (and the boundary) stay where the metric put them.
+      untangle.move_boundary = false;
+      for (int e = 0; e < topology.num_edges; ++e) {
+        if (!result.cut.is_cut_edge[e]) continue;
+        for (int k = 0; k < 2; ++k) {
+          const int v = topology.edge_vertices(e, k);
+          untangle.fixed[v] = 1;
+          untangle.angles[v] = 2 * kPi - result.flow.target_curvature[v];
+        }
+      }
+    }
     bool overloaded = false;
     for (const Cone& c : result.cones) {
       if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
@@ -489,6 +525,40 @@ void to_unit_square(ParamResult& result) {
   result.uv = (result.layout.uv.rowwise() - lo.transpose()) * result.uv_scale;
 }
 
+/// Stage 3 with free seams: the flow's target is the chosen curvature at every vertex: flat off
+/// the cut (a disk boundary as its mode asks), the cut's vertices, the cones among them, and a
+/// free boundary at the curvature that distorts least (free_seams.hpp).
+TargetSpec free_seams_spec(FreeSeamTarget chosen, ParamResult& result) {
+  result.seam_curvature.free_seconds = chosen.seconds;
+  result.seam_curvature.linear_area_energy = chosen.linear_area_energy;
+  TargetSpec spec;
+  spec.kind = TargetKind::Values;
+  spec.values = std::move(chosen.target.curvature);
+  return spec;
+}
+
+/// The curvature the final metric leaves at the cut's vertices that are not cones.
+void measure_seam_curvature(ParamResult& result, const Topology& topology) {
+  std::vector<char> seam(topology.num_vertices, 0);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    if (!result.cut.is_cut_edge[e]) continue;
+    seam[topology.edge_vertices(e, 0)] = seam[topology.edge_vertices(e, 1)] = 1;
+  }
+  for (const Cone& c : result.cones) {
+    if (c.vertex >= 0 && c.vertex < topology.num_vertices) seam[c.vertex] = 0;
+  }
+  SeamCurvature& s = result.seam_curvature;
+  s.vertices = 0;
+  s.total = s.max = 0;
+  for (int v = 0; v < topology.num_vertices; ++v) {
+    if (!seam[v] || topology.is_boundary_vertex[v]) continue;
+    const double k = std::abs(result.flow.curvature[v]);
+    ++s.vertices;
+    s.total += k;
+    s.max = std::max(s.max, k);
+  }
+}
+
 /// The stages, in order, filling `result` (all but its total time).
 void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
                   ParamResult& result) {
@@ -522,9 +592,40 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   flat.kind = TargetKind::Flat;
   flat.cones = run.cones;
   flat.boundary = options.boundary;
+  const bool free_seams = options.seams == SeamMode::Free;
+  std::optional<CutStage> cut_first;
+  if (free_seams) {
+    const Target prescribed =
+        flat_target(stage.problem->topology, {}, options.boundary, stage.problem->input_lengths);
+    if (run.mode == ConeMode::Auto) {
+      // Automatic cones with free seams are the cut's ends, chosen for the seams
+      // (select_free_seam_cones), together with the cut.
+      CutGraphOptions cutting;
+      if (const Polygons* polygons = kept_polygons(run)) {
+        cutting.uncut_edges = polygon_diagonals(stage.problem->topology, *polygons);
+      }
+      FreeSeamCones chosen =
+          select_free_seam_cones(*stage.problem, prescribed, options.auto_cones.count,
+                                 options.auto_cones.max_log_scale, cutting, options.free_seams);
+      run.cones.clear();
+      for (int v : chosen.cones) run.cones.push_back({v, chosen.seams.target.curvature[v]});
+      result.cones = run.cones;
+      cut_first = cut_stage_of(*stage.problem, std::move(chosen.cut));
+      flat = free_seams_spec(std::move(chosen.seams), result);
+    } else {
+      // The seams' curvature is chosen on the cut through the given cones.
+      cut_first = cut_through(*stage.problem, run.cones, kept_polygons(run));
+      flat = free_seams_spec(
+          free_seam_target(*stage.problem, cut_first->cut, prescribed, options.free_seams), result);
+    }
+  }
   stage.options = mesh_flow_options(options.structure, options.flow, std::move(flat));
   const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
-  if (!may_subdivide) {
+  if (cut_first) {
+    std::promise<CutStage> made;
+    made.set_value(std::move(*cut_first));
+    stage.cut_ahead = made.get_future();
+  } else if (!may_subdivide) {
     // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
     stage.cut_ahead = parallel::run_beside(
         [problem = stage.problem, cones = run.cones, polygons = kept_polygons(run)] {
@@ -535,6 +636,7 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   lap(result.timings.flow);
   if (result.converged) {
     cut_and_lay_out(run, stage, lap);
+    measure_seam_curvature(result, stage.problem->topology);
     to_unit_square(result);
   } else {
     stage.drop_cut_ahead();

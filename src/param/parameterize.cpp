@@ -82,14 +82,19 @@ std::string describe(const ComponentParam& c, int index) {
 constexpr double kVertexAngleTolerance = 1e-6;
 
 /// Interior vertices whose layout angle (over the corners of all their copies) is not the flat
-/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere (to kVertexAngleTolerance).
-int vertices_off_their_angle(const ParamResult& p) {
+/// metric's: 2 pi minus the cone's curvature, 2 pi elsewhere; with free seams 2 pi minus each
+/// vertex's target curvature (to kVertexAngleTolerance).
+int vertices_off_their_angle(const ParamResult& p, SeamMode seams) {
   const Mesh& mesh = p.mesh;
   const int nv = mesh.num_vertices();
   std::vector<double> angle(nv, 0), expected(nv, 2 * std::numbers::pi);
   std::vector<char> on_boundary(nv, 0);
-  for (const Cone& c : p.cones) {
-    if (c.vertex >= 0 && c.vertex < nv) expected[c.vertex] -= c.curvature;
+  if (seams == SeamMode::Free && p.flow.target_curvature.size() == nv) {
+    for (int v = 0; v < nv; ++v) expected[v] -= p.flow.target_curvature[v];
+  } else {
+    for (const Cone& c : p.cones) {
+      if (c.vertex >= 0 && c.vertex < nv) expected[c.vertex] -= c.curvature;
+    }
   }
   const Triangles& corners = p.cut_mesh.triangles;
   std::vector<std::array<int, 3>> edges;  // (smaller, larger, face) to find boundary edges
@@ -143,7 +148,7 @@ bool passes_checks(const ParamResult& p, const ParamOptions& options, std::strin
   }
   // Every face positive, yet a vertex could still be wrapped twice (angle 4 pi where the metric
   // says 2 pi): the layout's angle at every interior vertex must be the metric's.
-  const int off = vertices_off_their_angle(p);
+  const int off = vertices_off_their_angle(p, options.seams);
   if (off > 0) {
     why = std::to_string(off) + " vertices have another angle in the layout than the flat metric";
     return false;

@@ -757,6 +757,17 @@ expect_rc "param sphere auto cones" 0
 expect_out "param sphere auto cones" '"cones"' '"area_distortion_energy"'
 ricci param meshes/small_disk.obj --cones none --boundary disk -o param/disk_uv.obj --report param/disk.json
 expect_rc "param disk" 0
+# Seams that may bend: the torus's generators carry its curvature, the report says how much.
+ricci param meshes/small_torus.obj --seams free -o param/free_seams.obj --report param/free_seams.json
+expect_rc "param --seams free" 0
+expect_json "param --seams free report" param/free_seams.json \
+  'd["converged"] and d["seams"]["mode"] == "free" and d["seams"]["curvature_max"] > 1e-3 and d["distortion"]["flipped_faces"] == 0'
+expect_json "param rigid seams carry nothing" param/torus.json \
+  'd["seams"]["mode"] == "rigid" and d["seams"]["curvature_max"] < 1e-8'
+ricci param meshes/small_torus.obj --seams bent -o param/bent.obj
+expect_rc "param --seams bent" 2
+expect_err "param --seams bent" "--seams" "rigid"
+expect_no_file "param --seams bent writes nothing" param/bent.obj
 expect_json "param disk report" param/disk.json 'd["converged"] and d["cut"]["cut_edges"] == 0'
 # Files other tools open textured: the OBJ names its material, STEM.mtl its checkerboard STEM.png.
 ricci param meshes/small_torus.obj -o param/textured.obj

@@ -15,6 +15,7 @@
 #include "ricci/param/atlas/atlas.hpp"
 #include "ricci/param/atlas/chart_packing.hpp"
 #include "ricci/param/cones/cones.hpp"
+#include "ricci/param/cones/free_seams.hpp"
 #include "ricci/param/cut/cut_graph.hpp"
 #include "ricci/param/distortion.hpp"
 #include "ricci/param/layout/layout.hpp"
@@ -51,6 +52,33 @@ struct EnumNames<ConeMode> {
 ConeMode parse_cone_mode(const std::string& name);
 const char* cone_mode_name(ConeMode mode);
 
+/// How the two copies of a seam (a cut edge) relate in the layout.
+enum class SeamMode {
+  /// The flat metric with cones: all curvature at the cones, every vertex off them flat, each
+  /// seam's two copies related by a rigid motion (a rotation by the curvature the cut encloses
+  /// and a translation). What a seamless or periodic texture needs; at low cone counts on genus
+  /// >= 1 it distorts area strongly (the curvature of the handles has nowhere else to go).
+  Rigid,
+  /// Seams that may bend: the cones and the cut as chosen, then the cut's vertices (and a free
+  /// boundary) carry the curvature that distorts least (free_seams.hpp) while both copies of
+  /// every seam edge keep one length (texel density continuous across every seam; the rotation
+  /// across it is free). What BFF writes on genus >= 1.
+  Free,
+};
+
+template <>
+struct EnumNames<SeamMode> {
+  static constexpr const char* noun = "seam mode";
+  static constexpr std::array<EnumName<SeamMode>, 2> names{{
+      {SeamMode::Rigid, "rigid"},
+      {SeamMode::Free, "free"},
+  }};
+};
+
+/// "rigid", "free". \throw InvalidInput otherwise
+SeamMode parse_seam_mode(const std::string& name);
+const char* seam_mode_name(SeamMode mode);
+
 /// What parameterize does about a component whose layout fails its own checks: faces drawn
 /// flipped on the input's own faces, a layout that does not close up (a flat metric whose log
 /// scale spans more than double precision can lay out), a flow that does not converge or that
@@ -75,6 +103,9 @@ struct ParamOptions {
   std::vector<Cone> cones;          ///< ConeMode::User: vertices (input indices) and curvatures
   ConeSelectionOptions auto_cones;  ///< ConeMode::Auto: count or log-scale bound
   bool quantize = false;            ///< round cone curvatures to multiples of pi/2
+  /// Rigid seams (the flat metric with cones) or seams that may bend (SeamMode::Free).
+  SeamMode seams = SeamMode::Rigid;
+  FreeSeamOptions free_seams;  ///< SeamMode::Free: how the seams' curvature is chosen
   /// A mesh of several components: how their charts are packed into the unit square.
   ChartPackingOptions packing;
   BoundaryMode boundary = BoundaryMode::Free;  ///< free or disk boundary
@@ -209,9 +240,18 @@ struct Parameterization {
   ParamTimings timings;
 };
 
+/// Curvature on the seams (PipelineDiagnostics::seam_curvature), of the final metric.
+struct SeamCurvature {
+  int vertices = 0;               ///< vertices of the cut that are not cones (nor on the boundary)
+  double total = 0;               ///< sum of |K| over them
+  double max = 0;                 ///< largest |K| among them
+  double free_seconds = 0;        ///< SeamMode::Free: time to choose it (free_seam_target)
+  double linear_area_energy = 0;  ///< SeamMode::Free: E of the linearised choice
+};
+
 /// What the one-component pipeline measured on its way beyond the map itself: how its automatic
-/// cones went, and how its development closed up. A ParamResult's own; in a MeshParamResult, per
-/// component in ComponentRoute::pipeline.
+/// cones went, and how its development closed up, what its seams carry. A ParamResult's own; in a
+/// MeshParamResult, per component in ComponentRoute::pipeline.
 struct PipelineDiagnostics {
   ConeSelection cone_selection;  ///< ConeMode::Auto / OneCone: the greedy history (last round)
   /// Automatic cones with flips: max |u - mean u| of the flat metric's own log scale, away from
@@ -224,6 +264,9 @@ struct PipelineDiagnostics {
   /// With flips: how well the development of the input faces in the intrinsic metric closes up
   /// (largest relative difference of an input edge's length seen from its two faces).
   double development_length_mismatch = 0;
+  /// The curvature the flat metric leaves on the seams: at the cut's vertices that are not
+  /// cones. About 0 (the flow's tolerance) with rigid seams; with free seams what they carry.
+  SeamCurvature seam_curvature;
 };
 
 /// One component parameterized by one route: the pipeline's exact map (cones, flow, cut, layout,

@@ -1,0 +1,360 @@
+#include "ricci/param/cones/free_seams.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/SparseCholesky>
+
+#include "param/cones/detail/cone_selection_steps.hpp"
+#include "param/cones/detail/linear_flow.hpp"
+#include "ricci/errors.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
+#include "ricci/numerics/timer.hpp"
+
+namespace ricci {
+
+namespace {
+
+/// Vertices of the cut's edges, and those the prescribed target leaves free (a free boundary).
+std::vector<char> free_vertices(const Topology& t, const CutGraph& cut, const Target& prescribed) {
+  std::vector<char> free(t.num_vertices, 0);
+  for (int e = 0; e < t.num_edges; ++e) {
+    if (!cut.is_cut_edge[e]) continue;
+    free[t.edge_vertices(e, 0)] = free[t.edge_vertices(e, 1)] = 1;
+  }
+  for (int v = 0; v < t.num_vertices; ++v) free[v] = free[v] || prescribed.fixed[v];
+  return free;
+}
+
+/// Prescribed where prescribed, the linearised flow's curvature where free, its sum made
+/// exactly 2 pi chi (what L u adds sums to 0 up to rounding; the residual goes to the free
+/// vertices in proportion to their area).
+void fill_target(const cone_steps::LinearFlow& linear, const Topology& t, FreeSeamTarget& result,
+                 const Target& prescribed, const Eigen::VectorXd& curvature) {
+  const int nv = t.num_vertices;
+  result.target.curvature = prescribed.curvature;
+  result.target.fixed.assign(nv, 0);
+  double free_area = 0, residual = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (!result.free[v] || t.vertex_component[v] < 0) continue;
+    result.target.curvature[v] = curvature[v];
+    free_area += linear.area[v];
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (t.vertex_component[v] >= 0) residual += result.target.curvature[v] - linear.curvature[v];
+  }
+  for (int v = 0; v < nv && free_area > 0; ++v) {
+    if (result.free[v] && t.vertex_component[v] >= 0)
+      result.target.curvature[v] -= residual * linear.area[v] / free_area;
+  }
+  result.target.description = "flat off the cut, " + std::to_string(result.free_vertices) +
+                              " seam and boundary vertices at their least distorting curvature";
+}
+
+/// E (eq. 9) of the linearised metric, faces scaled by e^{2 u_f}, u_f their corners' mean.
+double seam_area_energy(const cone_steps::LinearFlow& linear, const Topology& t,
+                        const Eigen::VectorXd& u) {
+  double z = 0, e = 0;
+  Eigen::VectorXd scale(t.num_faces);
+  for (int f = 0; f < t.num_faces; ++f) {
+    const double uf = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
+    scale[f] = std::exp(2 * uf);
+    z += linear.face_area[f] * scale[f];
+  }
+  for (int f = 0; f < t.num_faces; ++f) {
+    const double r = scale[f] / z - 1;
+    e += linear.face_area[f] * r * r;
+  }
+  return e;
+}
+
+/// The free seams' problem on one mesh, analysed once: the minimiser of
+///     4 u^T M u + beta sum_{v free} k_v^2   subject to   L u = k - K,
+/// k the target curvature (given on the prescribed vertices, free on the others). Its
+/// stationarity gives u = -M^-1 L lambda / 8 and k_v = lambda_v / (2 beta) on the free vertices,
+/// and the multipliers solve the sparse positive definite system
+///     (L M^-1 L / 8 + diag(free) / (2 beta)) lambda = K - (k on the prescribed rows, 0 else),
+/// whose pattern does not depend on which vertices are free: one symbolic analysis serves every
+/// cut the cone selection tries.
+class SeamSystem {
+ public:
+  SeamSystem(const cone_steps::LinearFlow& linear, const Topology& t, double smoothness)
+      : linear_(linear), t_(t) {
+    const int nv = t.num_vertices;
+    // A vertex of no face has an empty row of L: its area floor keeps M invertible.
+    Eigen::VectorXd inverse_area(nv);
+    for (int v = 0; v < nv; ++v) inverse_area[v] = 1.0 / std::max(linear.area[v], 1e-300);
+    const Eigen::SparseMatrix<double> scaled = inverse_area.asDiagonal() * linear.L;
+    base_ = (linear.L * scaled).pruned() * (1.0 / 8);
+    // The diagonal is in the pattern whatever is free.
+    Eigen::SparseMatrix<double> identity(nv, nv);
+    identity.setIdentity();
+    base_ += identity * 0.0;
+    beta_ = smoothness / std::max(1, t.num_faces);
+    cholesky_.analyze(base_);
+  }
+
+  /// The target for these free vertices; `multiplier` (optional) gets lambda on the prescribed
+  /// vertices (how much freeing each would lower the objective, to first order), 0 elsewhere.
+  FreeSeamTarget solve(std::vector<char> free, const Target& prescribed,
+                       Eigen::VectorXd* multiplier) {
+    const auto start = Clock::now();
+    const int nv = t_.num_vertices;
+    FreeSeamTarget result;
+    result.free = std::move(free);
+    Eigen::SparseMatrix<double> system = base_;
+    Eigen::VectorXd rhs = linear_.curvature;
+    // A free vertex's curvature costs beta k^2; beta = 0 (no smoothing) is approached.
+    const double weight = 1.0 / (2 * std::max(beta_, 1e-12));
+    for (int v = 0; v < nv; ++v) {
+      if (t_.vertex_component[v] < 0) {
+        system.coeffRef(v, v) += 1;  // a vertex of no face: lambda = 0
+        rhs[v] = 0;
+      } else if (result.free[v]) {
+        ++result.free_vertices;
+        system.coeffRef(v, v) += weight;
+      } else {
+        rhs[v] -= prescribed.curvature[v];
+      }
+    }
+    cholesky_.factorize(system);
+    const Eigen::VectorXd lambda = cholesky_.solve(rhs);
+    if (!lambda.allFinite()) {
+      throw SolverError(
+          "free_seam_target: the system of the seams' curvature gave no finite "
+          "solution");
+    }
+    Eigen::VectorXd u = -(linear_.L * lambda);
+    for (int v = 0; v < nv; ++v) u[v] /= 8 * std::max(linear_.area[v], 1e-300);
+    u.array() -= linear_.area.dot(u);
+    if (multiplier != nullptr) {
+      *multiplier = lambda;
+      for (int v = 0; v < nv; ++v) {
+        if (result.free[v] || t_.vertex_component[v] < 0) (*multiplier)[v] = 0;
+      }
+    }
+    const Eigen::VectorXd curvature = linear_.curvature + linear_.L * u;
+    fill_target(linear_, t_, result, prescribed, curvature);
+    result.linear_area_energy = seam_area_energy(linear_, t_, u);
+    result.linear_u = std::move(u);
+    result.seconds = seconds_since(start);
+    return result;
+  }
+
+ private:
+  const cone_steps::LinearFlow& linear_;
+  const Topology& t_;
+  Eigen::SparseMatrix<double> base_;
+  double beta_ = 0;
+  SparseCholesky cholesky_;
+};
+
+/// The minimiser with the Dirichlet energy for the angles (the file comment's problem): one
+/// quasi-definite system [4M + sL, C^T; C, -delta I] of #V + #prescribed rows (Eigen's simplicial
+/// LDL^T, which needs no pivoting on a quasi-definite matrix). Slower than SeamSystem::solve
+/// (no supernodes), so it is solved once, on the final cut.
+FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topology& t,
+                               std::vector<char> free, const Target& prescribed,
+                               double smoothness) {
+  const auto start = Clock::now();
+  const int nv = t.num_vertices;
+  FreeSeamTarget result;
+  result.free = std::move(free);
+  // Prescribed rows, numbered after the #V unknowns of u.
+  std::vector<int> row(nv, -1);
+  int rows = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (t.vertex_component[v] < 0) continue;  // a vertex of no face
+    if (result.free[v]) {
+      ++result.free_vertices;
+    } else {
+      row[v] = rows++;
+    }
+  }
+  const Eigen::SparseMatrix<double>& L = linear.L;
+  const double smooth = smoothness / std::max(1, t.num_faces);
+  // The constraint block's -delta: small enough that the prescribed rows hold to about delta
+  // times the multipliers (the flow then meets them exactly anyway), large enough that every
+  // pivot of the quasi-definite system is safely away from 0 whatever the ordering.
+  const double delta = 1e-8 * std::max(1.0, L.diagonal().cwiseAbs().maxCoeff());
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(2 * L.nonZeros() + nv + rows));
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv + rows);
+  for (int v = 0; v < nv; ++v) {
+    // A vertex of no face keeps u = 0 by its area term alone (its L row is empty).
+    entries.emplace_back(v, v, 4 * std::max(linear.area[v], 1e-300));
+  }
+  for (int j = 0; j < L.outerSize(); ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, j); it; ++it) {
+      const int i = static_cast<int>(it.row());
+      if (i >= j) entries.emplace_back(i, j, smooth * it.value());  // lower triangle
+      // Constraint row of prescribed vertex i: (L u)_i = K-bar_i - K_i.
+      if (row[i] >= 0) entries.emplace_back(nv + row[i], j, it.value());
+    }
+  }
+  for (int v = 0; v < nv; ++v) {
+    if (row[v] < 0) continue;
+    entries.emplace_back(nv + row[v], nv + row[v], -delta);
+    rhs[nv + row[v]] = prescribed.curvature[v] - linear.curvature[v];
+  }
+  Eigen::SparseMatrix<double> kkt(nv + rows, nv + rows);
+  kkt.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(kkt);
+  if (ldlt.info() != Eigen::Success) {
+    throw SolverError(
+        "free_seam_target: the system of the seams' curvature could not be "
+        "factorised");
+  }
+  const Eigen::VectorXd x = ldlt.solve(rhs);
+  if (!x.allFinite()) {
+    throw SolverError(
+        "free_seam_target: the system of the seams' curvature gave no finite "
+        "solution");
+  }
+  Eigen::VectorXd u = x.head(nv);
+  u.array() -= linear.area.dot(u);
+  fill_target(linear, t, result, prescribed, linear.curvature + L * u);
+  result.linear_area_energy = seam_area_energy(linear, t, u);
+  result.linear_u = std::move(u);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+/// max |u - mean u| over the prescribed vertices (off the cut): the measure the automatic count
+/// bounds, as for cones (a seam vertex's own u is what the seam carries, not distortion more
+/// cones could remove).
+double spread_off_the_cut(const FreeSeamTarget& seams, const cone_steps::LinearFlow& linear) {
+  double spread = 0;
+  for (Eigen::Index v = 0; v < seams.linear_u.size(); ++v) {
+    if (!seams.free[v] && linear.area[v] > 0)
+      spread = std::max(spread, std::abs(seams.linear_u[v]));
+  }
+  return spread;
+}
+
+void check_sizes(const Topology& t, const Target& prescribed, const FreeSeamOptions& options,
+                 const char* who) {
+  if (prescribed.curvature.size() != t.num_vertices ||
+      static_cast<int>(prescribed.fixed.size()) != t.num_vertices) {
+    throw InvalidInput(std::string(who) + ": the target does not belong to the mesh");
+  }
+  if (!(options.smoothness >= 0)) {
+    throw InvalidInput(std::string(who) + ": smoothness must be >= 0");
+  }
+}
+
+}  // namespace
+
+FreeSeamTarget free_seam_target(const FlowProblem& problem, const CutGraph& cut,
+                                const Target& prescribed, const FreeSeamOptions& options) {
+  const auto start = Clock::now();
+  const Topology& t = problem.topology;
+  check_sizes(t, prescribed, options, "free_seam_target");
+  if (static_cast<int>(cut.is_cut_edge.size()) != t.num_edges) {
+    throw InvalidInput("free_seam_target: the cut does not belong to the mesh");
+  }
+  const cone_steps::LinearFlow linear = cone_steps::linearise_flow(problem, "free_seam_target");
+  FreeSeamTarget result =
+      solve_dirichlet(linear, t, free_vertices(t, cut, prescribed), prescribed, options.smoothness);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& prescribed,
+                                     int count, double max_log_scale,
+                                     const CutGraphOptions& cut_options,
+                                     const FreeSeamOptions& options) {
+  const auto start = Clock::now();
+  const Topology& t = problem.topology;
+  check_sizes(t, prescribed, options, "select_free_seam_cones");
+  const cone_steps::LinearFlow linear =
+      cone_steps::linearise_flow(problem, "select_free_seam_cones");
+  SeamSystem system(linear, t, options.selection_smoothness);
+  FreeSeamCones result;
+  CutGraphOptions cutting = cut_options;
+  cutting.cones.clear();
+  if (cutting.root_vertex < 0) {
+    // One root for every round: the homology generators all pass through it, and a root that
+    // moved with the cones (cut_graph's default) would change the cut's loops from round to
+    // round. The vertex of most negative curvature: the generators then meet where the surface
+    // is most saddle-shaped, where curvature is to be taken out anyway (on 3holes with 4 cones E
+    // 0.076 against 0.098 from vertex 0, on fertility 0.118 against 0.140).
+    for (int v = 0; v < t.num_vertices; ++v) {
+      if (t.vertex_component[v] < 0) continue;
+      if (cutting.root_vertex < 0 || linear.curvature[v] < linear.curvature[cutting.root_vertex])
+        cutting.root_vertex = v;
+    }
+  }
+  Eigen::VectorXd multiplier;
+  std::vector<int> rings(t.num_vertices);
+  const std::vector<std::vector<int>> neighbours = cone_steps::vertex_neighbours(t);
+  for (;;) {
+    result.cut = cut_graph(t, problem.input_lengths, cutting);
+    result.seams = system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
+    const int have = static_cast<int>(cutting.cones.size());
+    if (count > 0 ? have >= count : spread_off_the_cut(result.seams, linear) <= max_log_scale)
+      break;
+    // The next cones: the prescribed vertices whose rows' multipliers are largest, in a batch
+    // (half as many as are placed, at least one: each round costs a factorisation), each a few
+    // rings from the free vertices and from the others of the batch, so that their paths to
+    // the cut open new regions.
+    const int batch = std::max(1, have / 2);
+    const int wanted = count > 0 ? std::min(count - have, batch) : batch;
+    std::vector<int> frontier;
+    for (int v = 0; v < t.num_vertices; ++v) {
+      if (result.seams.free[v]) frontier.push_back(v);
+    }
+    auto grow = [&](std::vector<int> from, int depth) {
+      for (int r = 1; r <= depth && !from.empty(); ++r) {
+        std::vector<int> next;
+        for (int a : from) {
+          for (int b : neighbours[a]) {
+            if (rings[b] < 0) rings[b] = r, next.push_back(b);
+          }
+        }
+        from = std::move(next);
+      }
+    };
+    // Three rings, fewer where none is left that far (small meshes).
+    int kRings = 3;
+    std::vector<int> order;
+    for (; kRings >= 1; --kRings) {
+      std::fill(rings.begin(), rings.end(), -1);
+      for (int v : frontier) rings[v] = 0;
+      grow(frontier, kRings);
+      order.clear();
+      for (int v = 0; v < t.num_vertices; ++v) {
+        if (rings[v] < 0 && t.vertex_component[v] >= 0) order.push_back(v);
+      }
+      if (!order.empty()) break;
+    }
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return std::abs(multiplier[a]) > std::abs(multiplier[b]) ||
+             (std::abs(multiplier[a]) == std::abs(multiplier[b]) && a < b);
+    });
+    int added = 0;
+    for (int v : order) {
+      if (added == wanted) break;
+      if (rings[v] >= 0) continue;  // near a cone of this batch
+      cutting.cones.push_back(v);
+      rings[v] = 0;
+      grow({v}, kRings);
+      ++added;
+    }
+    if (added == 0) break;  // every vertex is near the cut
+  }
+  for (int v : cutting.cones) result.cones.push_back(v);
+  // The final cut's curvature with the Dirichlet energy; the selection's own where that distorts
+  // more in the model (a guard: the quasi-definite system has no pivoting).
+  FreeSeamTarget dirichlet =
+      solve_dirichlet(linear, t, result.seams.free, prescribed, options.smoothness);
+  if (dirichlet.linear_area_energy <= 10 * result.seams.linear_area_energy) {
+    result.seams = std::move(dirichlet);
+  }
+  result.seams.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace ricci
