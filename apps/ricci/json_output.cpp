@@ -287,6 +287,11 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                 {"curvature_max", one.seam_curvature.max},
                 {"choice_seconds", one.seam_curvature.free_seconds},
                 {"linear_area_energy", one.seam_curvature.linear_area_energy}};
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const ComponentRoute& route : r.routes) {
+    if (!route.pipeline.too_few_cones.empty()) warnings.push_back(route.pipeline.too_few_cones);
+  }
+  if (!warnings.empty()) j["warnings"] = warnings;
   j["timings"] = {{"cones", r.timings.cones},       {"flow", r.timings.flow},
                   {"cut", r.timings.cut},           {"development", r.timings.development},
                   {"layout", r.timings.layout},     {"polish", r.timings.polish},

@@ -592,6 +592,11 @@ int run_param(const ParamArgs& args) {
   } else {
     print_chart_summary(args, options, result, exact);
   }
+  for (const ComponentRoute& route : result.routes) {
+    if (route.pipeline.too_few_cones.empty()) continue;
+    std::cerr << "warning: " << args.mesh << ": " << route.pipeline.too_few_cones << "\n"
+              << "  try: --seams free, or --cones auto\n";
+  }
   // A layout that folds is not a success, whatever the flow did (--fold-free untangle or none
   // leave it as it is; the refinement written beside it is fold-free).
   const bool open_layout =

@@ -70,8 +70,8 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
       ->check(CLI::PositiveNumber);
   param_cmd
       ->add_option("--max-cones", param.max_cones,
-                   "automatic cones: at most this many (0: 64, or 6 |chi| on surfaces of high "
-                   "genus)")
+                   "automatic cones: at most this many (0: no cap; --cones auto stops at "
+                   "--max-log-scale, or once doubling the cones helps by less than 5 %)")
       ->capture_default_str();
   param_cmd
       ->add_option("--cone-smoothness", param.cone_smoothness,

@@ -42,7 +42,7 @@ def parameterize(V, F, *, cones=None, boundary=None, seams=None, quantize=None, 
       that distorts least; both copies of every seam edge keep one length, the rotation across a
       seam is free). routes[0].pipeline.seam_curvature says what the seams carry.
     quantize: round cone curvatures to multiples of pi/2.
-    Automatic cones (``ConeSelectionOptions``): max_log_scale (1.0), max_cones (64),
+    Automatic cones (``ConeSelectionOptions``): max_log_scale (1.0), max_cones (0: no cap),
       try_first_cone_candidates (1), cone_smoothness (1000: the curvatures minimise
       log(1 + E) + cone_smoothness D / #F, D the Dirichlet energy of the log scale; 0: area
       distortion E alone).

@@ -61,8 +61,7 @@ void bind_param(py::module_& m) {
              "place exactly this many cones; 0: as many as max_log_scale needs")
       .field("max_log_scale", &ConeSelectionOptions::max_log_scale,
              "add cones until max |u - mean u| of the linearised flat metric is at most this")
-      .field("max_cones", &ConeSelectionOptions::max_cones,
-             "never more than this many; 0: 64, or 6 |chi| at high genus")
+      .field("max_cones", &ConeSelectionOptions::max_cones, "never more than this many; 0: no cap")
       .field("max_face_angle", &ConeSelectionOptions::max_face_angle,
              "largest average uv corner angle a cone may ask of its faces (radians)")
       .field("max_corner_angle", &ConeSelectionOptions::max_corner_angle,

@@ -9,9 +9,11 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 #include "ricci/errors.hpp"
@@ -559,6 +561,28 @@ void measure_seam_curvature(ParamResult& result, const Topology& topology) {
   }
 }
 
+/// Rigid seams on genus >= 1 with the cones asked for (a count or the user's): when the map
+/// distorts area strongly, too few cones for an exact map of this genus; says so.
+void check_cone_count(ParamRun& run) {
+  const ParamOptions& options = run.options;
+  const bool asked = options.cone_mode == ConeMode::User ||
+                     (options.cone_mode == ConeMode::Auto && options.auto_cones.count > 0);
+  const int genus = run.problem ? run.problem->topology.components.at(0).genus : 0;
+  const double e = run.result.distortion.area_distortion_energy;
+  const int folded = run.result.distortion.flipped_faces;
+  if (options.seams != SeamMode::Rigid || !asked || genus < 1 ||
+      !(e > kTooFewConesEnergy || folded > 0)) {
+    return;
+  }
+  std::ostringstream message;
+  message << std::setprecision(3) << run.cones.size()
+          << " cones are too few for an exact map (rigid seams) of this genus-" << genus
+          << " surface to be good: its area distortion E is " << e;
+  if (folded > 0) message << " and " << folded << " faces fold around its strong cones";
+  message << ". Seams that may bend (seams free) or more cones (cones auto) distort far less";
+  run.result.too_few_cones = message.str();
+}
+
 /// The stages, in order, filling `result` (all but its total time).
 void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
                   ParamResult& result) {
@@ -637,6 +661,7 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   if (result.converged) {
     cut_and_lay_out(run, stage, lap);
     measure_seam_curvature(result, stage.problem->topology);
+    check_cone_count(run);
     to_unit_square(result);
   } else {
     stage.drop_cut_ahead();

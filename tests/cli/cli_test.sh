@@ -764,6 +764,11 @@ expect_json "param --seams free report" param/free_seams.json \
   'd["converged"] and d["seams"]["mode"] == "free" and d["seams"]["curvature_max"] > 1e-3 and d["distortion"]["flipped_faces"] == 0'
 expect_json "param rigid seams carry nothing" param/torus.json \
   'd["seams"]["mode"] == "rigid" and d["seams"]["curvature_max"] < 1e-8'
+# Too few cones for an exact map of genus 12: said, with the remedy.
+ricci generate surface --genus 12 --resolution 100 -o param/genus12.obj
+ricci param param/genus12.obj --cones 8 -o param/genus12_uv.obj --report param/genus12.json
+expect_err "param genus 12 with 8 rigid cones" "too few for an exact map" "try: --seams free"
+expect_json "the report says so" param/genus12.json 'any("too few" in w for w in d["warnings"])'
 ricci param meshes/small_torus.obj --seams bent -o param/bent.obj
 expect_rc "param --seams bent" 2
 expect_err "param --seams bent" "--seams" "rigid"

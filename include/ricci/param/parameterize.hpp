@@ -267,7 +267,17 @@ struct PipelineDiagnostics {
   /// The curvature the flat metric leaves on the seams: at the cut's vertices that are not
   /// cones. About 0 (the flow's tolerance) with rigid seams; with free seams what they carry.
   SeamCurvature seam_curvature;
+  /// Set when the cones asked for (a count, or the user's) are too few for an exact map of this
+  /// genus to be good (rigid seams on genus >= 1, area distortion E above kTooFewConesEnergy, or
+  /// faces that fold around strong cones, whatever route then stood in for the map):
+  /// says so and names the remedies (more cones, SeamMode::Free). Empty otherwise.
+  std::string too_few_cones;
 };
+
+/// Area distortion E (eq. 9) above which a rigid map of genus >= 1 with the cones asked for is
+/// reported as having too few of them (PipelineDiagnostics::too_few_cones): every face's area
+/// off by about its own size on average.
+inline constexpr double kTooFewConesEnergy = 1.0;
 
 /// One component parameterized by one route: the pipeline's exact map (cones, flow, cut, layout,
 /// atlas, distortion), or a route that stood in for it (charts, unfolding; their diagnostics at

@@ -23,8 +23,12 @@ constexpr int kExchangeTwice = 8;
 /// Most doubles the selection keeps as columns of A^-1 (#V per cone): 320 MB.
 constexpr double kColumnValues = 4e7;
 
-/// Automatic selection's cap on the number of cones when options.max_cones is 0.
-constexpr int kDefaultMaxCones = 64;
+/// Without a cap (options.max_cones 0) automatic selection also stops when doubling the cones
+/// no longer lowers the log scale bound's measure by this factor, once it has at least
+/// kStallCheckFrom of them: more cones would buy nothing (a CAD part's needles, whose spread no
+/// cone set removes).
+constexpr double kStallFactor = 0.95;
+constexpr int kStallCheckFrom = 64;
 /// The greedy adds max(1, #S / kBatchDivisor) cones a step (one fit per batch, not per cone).
 constexpr int kBatchDivisor = 8;
 
@@ -104,16 +108,10 @@ ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionO
   selector.smooth = options.smoothness / t.num_faces;
   selector.r.resize(0);
   selector.is_cone.assign(nv, 0);
-  selector.max_cones = options.max_cones;
-  if (selector.max_cones == 0) {
-    selector.max_cones = kDefaultMaxCones;
-    // Each cone can take at most about pi of negative curvature on a valence-6 vertex.
-    if (model.closed && model.chi < 0) {
-      selector.max_cones = std::max(selector.max_cones, 6 * -model.chi);
-    }
-  }
-  selector.wanted =
-      options.count > 0 ? std::min(options.count, std::max(selector.max_cones, 1)) : -1;
+  // No cap unless one is asked for: a count places that many cones, the automatic count stops
+  // at the bound (or when more cones stop helping, see kStallFactor).
+  selector.max_cones = options.max_cones > 0 ? options.max_cones : nv;
+  selector.wanted = options.count > 0 ? std::min(options.count, selector.max_cones) : -1;
   selector.total = 2 * std::numbers::pi * model.chi;
   selector.on_sliver.assign(nv, 0);
   for (int f = 0; f < t.num_faces; ++f) {
@@ -367,6 +365,18 @@ double record_fit(ConeSelector& s, const SetFit& fit, ConeSelection& result) {
   return largest;
 }
 
+/// Automatic count without a cap: the spread measured with half as many cones (or fewer) was
+/// hardly larger than now.
+bool stalled(const ConeSelector& s) {
+  if (s.options.max_cones > 0 || s.spread_history.empty()) return false;
+  const auto [m, now] = s.spread_history.back();
+  if (m < kStallCheckFrom) return false;
+  for (auto it = s.spread_history.rbegin(); it != s.spread_history.rend(); ++it) {
+    if (2 * it->first <= m) return now > kStallFactor * it->second;
+  }
+  return false;
+}
+
 }  // namespace
 
 SetFit grow_cone_set(ConeSelector& selector, ConeSelection& result) {
@@ -381,10 +391,11 @@ SetFit grow_cone_set(ConeSelector& selector, ConeSelection& result) {
     }
     fit = fit_cone_set(s, &warm, true);
     const double largest = record_fit(s, fit, result);
-    const bool done =
-        s.wanted >= 0
-            ? m >= s.wanted
-            : (largest <= s.options.max_log_scale && result.within_bounds) || m >= s.max_cones;
+    s.spread_history.emplace_back(m, largest);
+    const bool done = s.wanted >= 0
+                          ? m >= s.wanted
+                          : (largest <= s.options.max_log_scale && result.within_bounds) ||
+                                m >= s.max_cones || stalled(s);
     if (done || !add_cones(s, fit)) break;
   }
   return fit;

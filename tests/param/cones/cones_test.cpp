@@ -28,6 +28,22 @@ TEST(ConeSelection, CountModeGivesThatManyDistinctCones) {
   EXPECT_NEAR(total, 4 * kPi, 1e-6);
 }
 
+TEST(ConeSelection, NoCapOnTheNumberOfCones) {
+  // A count places that many cones (64 was the cap before), and the automatic count goes past
+  // 64 while its bound asks for it.
+  const Mesh sphere = make_icosphere(4);
+  ConeSelectionOptions count;
+  count.count = 70;
+  EXPECT_EQ(select_cones(sphere, count).vertices.size(), 70u);
+  ConeSelectionOptions automatic;
+  automatic.max_log_scale = 0.02;
+  const ConeSelection s = select_cones(sphere, automatic);
+  EXPECT_GT(s.vertices.size(), 64u);
+  // Asked for, a cap holds.
+  automatic.max_cones = 10;
+  EXPECT_LE(select_cones(sphere, automatic).vertices.size(), 10u);
+}
+
 TEST(ConeSelection, MoreConesLowerTheAreaScale) {
   // An elongated, bumpy closed surface distorts area strongly with few cones.
   const Mesh surface = make_closed_surface(0, 16);

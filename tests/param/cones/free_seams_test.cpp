@@ -4,6 +4,7 @@
 // with the same number of cones.
 #include <cmath>
 #include <map>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -126,6 +127,28 @@ TEST(FreeSeams, UserConesShapeTheCutOnATorus) {
   EXPECT_TRUE(r.cones.empty());
   EXPECT_LT(seam_length_mismatch(r), 1e-9);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
+}
+
+TEST(FreeSeams, TooFewConesForAnExactMapAreReported) {
+  // Genus 12 with 8 cones: the exact map has E 5.7 and folds 19 faces (the charts stand in);
+  // free seams: E 0.055, no fold.
+  const Mesh mesh = make_closed_surface(12, 100);
+  ParamOptions rigid = free_options(8);
+  rigid.seams = SeamMode::Rigid;
+  const MeshParamResult exact = parameterize(mesh, rigid);
+  const std::string& said = exact.routes.at(0).pipeline.too_few_cones;
+  EXPECT_NE(said.find("too few"), std::string::npos) << said;
+  EXPECT_NE(said.find("seams free"), std::string::npos) << said;
+  const MeshParamResult free = parameterize(mesh, free_options(8));
+  ASSERT_TRUE(free.converged) << free.message;
+  EXPECT_TRUE(free.routes.at(0).pipeline.too_few_cones.empty());
+  EXPECT_LT(free.distortion.area_distortion_energy, 0.1);
+  EXPECT_EQ(free.distortion.flipped_faces, 0);
+  // A good exact map says nothing: genus 1 needs no cone.
+  ParamOptions torus;
+  torus.cone_mode = ConeMode::User;
+  const MeshParamResult flat = parameterize(make_torus(48, 24, 1.0, 0.4), torus);
+  EXPECT_TRUE(flat.routes.at(0).pipeline.too_few_cones.empty());
 }
 
 TEST(FreeSeams, TargetRefusesACutOfAnotherMesh) {

@@ -37,8 +37,8 @@ struct ConeSelectionOptions {
   /// Add cones until max |u - mean u| (the largest log area scale factor of the linearised flat
   /// metric, relative to its mean) is at most this.
   double max_log_scale = 1.0;
-  /// Never more than this many; 0: 64, or 6 |chi| on surfaces whose curvature needs more cones
-  /// to stay within the bounds.
+  /// Never more than this many; 0: no cap (a count places that many; the automatic count stops
+  /// at max_log_scale, or once doubling the cones lowers its measure by less than 5 %).
   int max_cones = 0;
   /// On a closed surface the first cone is needed before anything can be solved; try this many
   /// well-spread candidates for it (farthest-point samples) and keep the least distorting one.

@@ -5,6 +5,7 @@
 /// tests/param/cones/cone_selection_steps_test.cpp pins down one by one.
 
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -59,7 +60,7 @@ struct ConeSelector {
   double upper = 0;     ///< every cone's upper curvature bound (options.max_curvature)
   double smooth = 0;    ///< weight of the Dirichlet energy per face (see ConeObjective)
   double total = 0;     ///< 2 pi chi: what the curvatures sum to on a closed surface
-  int max_cones = 0;    ///< the cap of automatic selection
+  int max_cones = 0;    ///< the cap (options.max_cones, else #V: none)
   int wanted = -1;      ///< count mode: the number of cones; -1 automatic
   std::vector<std::vector<int>> neighbours;
   /// A cone of curvature k makes u behave like -(k / 2 pi) log r next to it: the cone itself,
@@ -82,6 +83,8 @@ struct ConeSelector {
   /// iterations then take no solve, and M comes from dot products); empty otherwise.
   std::vector<Eigen::VectorXd> columns;
   Eigen::MatrixXd hessian;  ///< the objective's quasi-Newton Hessian at the previous fit
+  /// (cones, max |u - mean u|) after each fit of the greedy: when more cones stop helping
+  std::vector<std::pair<int, double>> spread_history;
   LastGood last_good;
 };
 
