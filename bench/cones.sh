@@ -4,6 +4,8 @@
 # --quantize, and `--cones auto`; ../shared/tools/checkuv.py measures each written OBJ (area
 # distortion E of the tutorial's eq. 9, log-area rms, angle distortion, flipped faces, seam
 # mismatch, cones). BFF's figures come from the TSV (same checker, same meshes).
+# RICCI_CEPS=PATH (CEPS's parameterize binary, built outside the project) adds the exact peer at
+# its own cone count on the genus >= 1 meshes.
 # bench/bff-checker.tsv (bench/bff-checker.sh, with BFF built outside the project) says where
 # BFF's output is not a flat metric with N cones: curvature on other vertices, along its seams.
 # For those rows the fewest exact cones of ours that beat BFF's figures are searched (N, 2N, ...
@@ -123,6 +125,45 @@ if [ -f "$bff_checker" ]; then
   done <"$bff_checker"
   echo
   echo "--seams free beats BFF on $free_wins of $free_rows rows."
+fi
+
+# The exact peer: CEPS (built outside the project; RICCI_CEPS names its `parameterize` binary)
+# with its default greedy cones on every mesh of genus >= 1, against ours with rigid seams at
+# CEPS's own count (and --seams free at that count for reference).
+ceps=${RICCI_CEPS:-}
+if [ -n "$ceps" ] && [ -x "$ceps" ] && [ -f "$bff_checker" ]; then
+  echo
+  echo "Exact maps at CEPS's own cone count (CEPS: default greedy cones, its linear texture on"
+  echo "the common refinement):"
+  echo
+  echo "| mesh | CEPS cones | CEPS E | ricci E | CEPS angle | ricci angle | ricci flipped | ricci route | CEPS s | ricci s | ricci --seams free E |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  for name in $(awk -F'\t' '$1 != "mesh" && $4 > 0 {print $1}' "$bff_checker" | uniq); do
+    [ "$only" = "  " ] || [[ "$only" == *" $name "* ]] || continue
+    input=$(path_of "$name")
+    [ -n "$input" ] || continue
+    obj="$out/$name-ceps-input.obj"
+    case "$input" in
+      *.off) awk 'NR == 1 {next} NR == 2 {nv = $1; next} nv > 0 {print "v", $1, $2, $3; nv--; next}
+                  NF >= 4 {print "f", $2 + 1, $3 + 1, $4 + 1}' "$input" >"$obj" ;;
+      *) cp "$input" "$obj" ;;
+    esac
+    start=$(date +%s.%N)
+    "$ceps" "$obj" --outputLinearTextureFilename="$out/$name-ceps.obj" >"$out/$name-ceps.log" 2>&1
+    ceps_s=$(printf '%.2f' "$(echo "$(date +%s.%N) - $start" | bc)")
+    /usr/bin/python3 "$checkuv" "$out/$name-ceps.obj" >"$out/$name-ceps.check.json"
+    # CEPS's cones: interior vertices whose uv angle sum is off 2 pi by more than 0.01 (a stock
+    # CEPS writes 6 digits, so the checker's 1e-6 counts rounding, and it lists only the 50
+    # smallest sums: point RICCI_CEPS at a build whose OBJ writer keeps 17 digits).
+    n=$(report "$out/$name-ceps.check.json" 'sum(1 for a in d["cone_angle_sums_over_pi"] if abs(a - 2) > 0.01 / 3.14159)')
+    ceps_e=$(field "$out/$name-ceps.check.json" area_distortion_energy)
+    ceps_angle=$(field "$out/$name-ceps.check.json" angle_distortion_mean)
+    measure "$name" "$n-ceps" --cones "$n"
+    route=$(report "$out/$name-$n-ceps.json" '",".join(r["method"] for r in d["routes"])')
+    row="| $name | $n | $ceps_e | $e | $ceps_angle | $angle | $flipped | $route | $ceps_s | $seconds"
+    measure "$name" "$n-ceps-free" --cones "$n" --seams free
+    echo "$row | $e |"
+  done
 fi
 
 if [ -f "$bff_checker" ]; then
