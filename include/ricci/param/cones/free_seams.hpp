@@ -65,12 +65,14 @@ FreeSeamTarget free_seam_target(const FlowProblem& problem, const CutGraph& cut,
 struct FreeSeamCones {
   std::vector<int> cones;  ///< the cut's chosen ends, in the order they were added
   CutGraph cut;            ///< the cut through them
+  int root = -1;           ///< the root vertex of its homology generators (-1: none, genus 0)
   FreeSeamTarget seams;    ///< the curvature on that cut (seconds: the whole selection)
 };
 
 /// Cones for free seams: the cut's ends chosen where they lower the distortion most. Starting
-/// from the cut the topology needs (homology generators, all through one root at the vertex of
-/// most negative curvature; boundaries), each round solves the free seams' problem on the
+/// from the cut the topology needs (homology generators, all through one root: of the vertices
+/// of most negative and most positive curvature, the one whose generators alone distort less;
+/// boundaries), each round solves the free seams' problem on the
 /// current cut with a fast stand-in for the Dirichlet energy (selection_smoothness times the
 /// free curvatures' squares, a sparse positive definite system analysed once) and adds the
 /// prescribed vertices whose rows carry the largest multipliers (freeing them would lower the
