@@ -25,8 +25,9 @@ constexpr double kColumnValues = 4e7;
 
 /// Without a cap (options.max_cones 0) automatic selection also stops when doubling the cones
 /// no longer lowers the log scale bound's measure by this factor, once it has at least
-/// kStallCheckFrom of them: more cones would buy nothing (a CAD part's needles, whose spread no
-/// cone set removes).
+/// kStallCheckFrom of them (6 |chi| on a closed surface of chi < 0, whose curvature needs about
+/// that many cones within their bounds: each takes at most about pi on a valence-6 vertex):
+/// more cones would buy nothing (a CAD part's needles, whose spread no cone set removes).
 constexpr double kStallFactor = 0.95;
 constexpr int kStallCheckFrom = 64;
 /// The greedy adds max(1, #S / kBatchDivisor) cones a step (one fit per batch, not per cone).
@@ -370,7 +371,9 @@ double record_fit(ConeSelector& s, const SetFit& fit, ConeSelection& result) {
 bool stalled(const ConeSelector& s) {
   if (s.options.max_cones > 0 || s.spread_history.empty()) return false;
   const auto [m, now] = s.spread_history.back();
-  if (m < kStallCheckFrom) return false;
+  const int from = s.model.closed && s.model.chi < 0 ? std::max(kStallCheckFrom, 6 * -s.model.chi)
+                                                     : kStallCheckFrom;
+  if (m < from) return false;
   for (auto it = s.spread_history.rbegin(); it != s.spread_history.rend(); ++it) {
     if (2 * it->first <= m) return now > kStallFactor * it->second;
   }

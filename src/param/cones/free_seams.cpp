@@ -24,6 +24,8 @@ std::vector<char> free_vertices(const Topology& t, const CutGraph& cut, const Ta
     if (!cut.is_cut_edge[e]) continue;
     free[t.edge_vertices(e, 0)] = free[t.edge_vertices(e, 1)] = 1;
   }
+  // The cones are free whether or not a cut edge reaches them (one cone on a sphere has none).
+  for (int v : cut.nodes) free[v] = 1;
   for (int v = 0; v < t.num_vertices; ++v) free[v] = free[v] || prescribed.fixed[v];
   return free;
 }
@@ -296,6 +298,18 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
       if (e < best) best = e, result.root = root;
     }
     cutting.root_vertex = result.root;
+  }
+  const Component& component = t.components.at(0);
+  if (component.genus == 0 && component.num_boundary_loops == 0) {
+    // A sphere has no cut before it has cones, so nothing free to solve for: the first cone is
+    // the vertex of most positive curvature, where some of its 4 pi is to go anyway.
+    int first = -1;
+    for (int v = 0; v < t.num_vertices; ++v) {
+      if (t.vertex_component[v] >= 0 &&
+          (first < 0 || linear.curvature[v] > linear.curvature[first]))
+        first = v;
+    }
+    cutting.cones.push_back(first);
   }
   Eigen::VectorXd multiplier;
   std::vector<int> rings(t.num_vertices);

@@ -72,7 +72,8 @@ struct FreeSeamCones {
 /// Cones for free seams: the cut's ends chosen where they lower the distortion most. Starting
 /// from the cut the topology needs (homology generators, all through one root: of the vertices
 /// of most negative and most positive curvature, the one whose generators alone distort less;
-/// boundaries), each round solves the free seams' problem on the
+/// boundaries; a sphere, which has no cut before it has cones, from its vertex of most positive
+/// curvature), each round solves the free seams' problem on the
 /// current cut with a fast stand-in for the Dirichlet energy (selection_smoothness times the
 /// free curvatures' squares, a sparse positive definite system analysed once) and adds the
 /// prescribed vertices whose rows carry the largest multipliers (freeing them would lower the
