@@ -189,6 +189,22 @@ while kill -0 "$batch_pid" 2>/dev/null; do
   sleep 0.05
 done
 if [[ -n "$victim" ]]; then kill -9 "$victim"; ok; else fail kill-worker "no worker found"; fi
+if [[ "$MODE" == mpi ]]; then
+  # Open MPI's launcher has been seen to stay after a rank's kill -9 with every rank gone (the
+  # others exited but unreaped, mpirun waiting on them for good): once no rank is left alive
+  # for 20 s, the launcher is what hangs, not ricci, and it is killed.
+  gone=0
+  while kill -0 "$batch_pid" 2>/dev/null && [[ $gone -lt 400 ]]; do
+    alive=0
+    for p in $(pgrep -f "batch .*in/normal.tsv -o out_w"); do
+      tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -q '^OMPI_COMM_WORLD_RANK=' || continue
+      [[ "$(awk '{print $3}' "/proc/$p/stat" 2>/dev/null)" == Z ]] || alive=1
+    done
+    if [[ $alive == 0 ]]; then gone=$((gone + 1)); else gone=0; fi
+    sleep 0.05
+  done
+  kill -0 "$batch_pid" 2>/dev/null && pkill -9 -f "mpirun .*in/normal.tsv -o out_w"
+fi
 wait "$batch_pid"
 status=$?
 [[ $status != 0 ]] && ok || fail kill-worker-status "exit 0 after a kill -9"
