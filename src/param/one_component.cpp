@@ -276,7 +276,7 @@ CutStage cut_stage_of(const FlowProblem& problem, CutGraph cut) {
   stage.cut_mesh = slice(problem.topology, stage.cut);
   stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
                                                  stage.roots.first);
-  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+  stage.seconds = seconds_since(t);
   return stage;
 }
 
@@ -285,15 +285,12 @@ CutStage cut_stage_of(const FlowProblem& problem, CutGraph cut) {
 CutStage cut_through(const FlowProblem& problem, const std::vector<Cone>& cones,
                      const Polygons* polygons) {
   const auto t = Clock::now();
-  CutStage stage;
   CutGraphOptions cut_options;
   for (const Cone& c : cones) cut_options.cones.push_back(c.vertex);
   if (polygons != nullptr) cut_options.uncut_edges = polygon_diagonals(problem.topology, *polygons);
-  stage.cut = cut_graph(problem.topology, problem.input_lengths, cut_options);
-  stage.cut_mesh = slice(problem.topology, stage.cut);
-  stage.roots.faces = layout_support::root_faces(stage.cut_mesh.topology, LayoutOptions{}.root_face,
-                                                 stage.roots.first);
-  stage.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+  CutStage stage =
+      cut_stage_of(problem, cut_graph(problem.topology, problem.input_lengths, cut_options));
+  stage.seconds = seconds_since(t);
   return stage;
 }
 
@@ -334,7 +331,9 @@ void flow_to_flat(ParamRun& run, FlowStage& stage) {
     throw InvalidInput(e.what(), fixes_of({{"cones", "auto"}}));
   }
   result.converged = result.flow.converged;
-  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty();
+  // (Free seams chose their target on this mesh's cut: no subdivision under them.)
+  const bool may_subdivide = options.modify_connectivity && !run.flips && !cones.empty() &&
+                             options.seams == SeamMode::Rigid;
   const FlowStatus status = result.flow.status;
   if (!result.converged && may_subdivide &&
       (status == FlowStatus::SolverFailed || status == FlowStatus::LineSearchFailed)) {
@@ -642,6 +641,7 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
       flat = free_seams_spec(
           free_seam_target(*stage.problem, cut_first->cut, prescribed, options.free_seams), result);
     }
+    lap(result.timings.cones);  // (the seams' cones and curvature: the cones' stage)
   }
   stage.options = mesh_flow_options(options.structure, options.flow, std::move(flat));
   const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
