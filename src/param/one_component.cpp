@@ -472,13 +472,11 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
       // Free seams: the copies of a seam vertex differ by no rigid motion, so none can move
       // with the others; the cut's vertices (and the boundary) stay where the metric put them.
       untangle.move_boundary = false;
-      for (int e = 0; e < topology.num_edges; ++e) {
-        if (!result.cut.is_cut_edge[e]) continue;
-        for (int k = 0; k < 2; ++k) {
-          const int v = topology.edge_vertices(e, k);
-          untangle.fixed[v] = 1;
-          untangle.angles[v] = 2 * kPi - result.flow.target_curvature[v];
-        }
+      const std::vector<char> on_cut = cut_vertices(topology, result.cut);
+      for (int v = 0; v < topology.num_vertices; ++v) {
+        if (!on_cut[v]) continue;
+        untangle.fixed[v] = 1;
+        untangle.angles[v] = 2 * kPi - result.flow.target_curvature[v];
       }
     }
     bool overloaded = false;
@@ -540,11 +538,7 @@ TargetSpec free_seams_spec(FreeSeamTarget chosen, ParamResult& result) {
 
 /// The curvature the final metric leaves at the cut's vertices that are not cones.
 void measure_seam_curvature(ParamResult& result, const Topology& topology) {
-  std::vector<char> seam(topology.num_vertices, 0);
-  for (int e = 0; e < topology.num_edges; ++e) {
-    if (!result.cut.is_cut_edge[e]) continue;
-    seam[topology.edge_vertices(e, 0)] = seam[topology.edge_vertices(e, 1)] = 1;
-  }
+  std::vector<char> seam = cut_vertices(topology, result.cut);
   for (const Cone& c : result.cones) {
     if (c.vertex >= 0 && c.vertex < topology.num_vertices) seam[c.vertex] = 0;
   }

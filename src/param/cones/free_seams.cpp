@@ -19,11 +19,7 @@ namespace {
 
 /// Vertices of the cut's edges, and those the prescribed target leaves free (a free boundary).
 std::vector<char> free_vertices(const Topology& t, const CutGraph& cut, const Target& prescribed) {
-  std::vector<char> free(t.num_vertices, 0);
-  for (int e = 0; e < t.num_edges; ++e) {
-    if (!cut.is_cut_edge[e]) continue;
-    free[t.edge_vertices(e, 0)] = free[t.edge_vertices(e, 1)] = 1;
-  }
+  std::vector<char> free = cut_vertices(t, cut);
   // The cones are free whether or not a cut edge reaches them (one cone on a sphere has none).
   for (int v : cut.nodes) free[v] = 1;
   for (int v = 0; v < t.num_vertices; ++v) free[v] = free[v] || prescribed.fixed[v];

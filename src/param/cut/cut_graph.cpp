@@ -611,6 +611,15 @@ bool edges_as_built(const Topology& topology) {
 
 }  // namespace
 
+std::vector<char> cut_vertices(const Topology& topology, const CutGraph& cut) {
+  std::vector<char> on_cut(topology.num_vertices, 0);
+  for (int e = 0; e < topology.num_edges; ++e) {
+    if (cut.is_cut_edge[e])
+      on_cut[topology.edge_vertices(e, 0)] = on_cut[topology.edge_vertices(e, 1)] = 1;
+  }
+  return on_cut;
+}
+
 CutMesh slice(const Topology& topology, const CutGraph& cut) {
   if (static_cast<int>(cut.is_cut_edge.size()) != topology.num_edges)
     throw InvalidInput("slice: cut has " + std::to_string(cut.is_cut_edge.size()) +

@@ -83,4 +83,8 @@ struct CutMesh {
 /// \throw InvalidInput when cut.is_cut_edge does not hold #E flags
 CutMesh slice(const Topology& topology, const CutGraph& cut);
 
+/// #V flags: 1 for the vertices of the cut's edges (the seam vertices, whose copies the slicing
+/// separates). A cone the cut reaches by no edge (one cone on a sphere) is not among them.
+std::vector<char> cut_vertices(const Topology& topology, const CutGraph& cut);
+
 }  // namespace ricci
