@@ -186,6 +186,10 @@ void bind_flow(py::module_& m) {
              "than this many iterations; 0 refactorises every step")
       .field("chord_error", &FlowOptions::chord_error,
              "Newton: reuse the last factorisation as it is (chord steps) below this error")
+      .field("start_u", &FlowOptions::start_u,
+             "where the flow starts: empty, the structure's initial u; else #V log factors near "
+             "the solution (fixed vertices keep their initial u; dropped when its rms error is "
+             "not below the initial metric's)")
       .property(
           "progress", [](const FlowOptions& o) { return progress_callable(o.progress); },
           [](FlowOptions& o, const py::object& f) { o.progress = make_progress(f); },

@@ -165,7 +165,9 @@ bool worth_doubling(const Topology& t, const ConformalStructure& s, const FlowOp
 void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& target,
                   const FlowOptions& options, ComponentFlow& out) {
   Doubled d = double_component(t, s, target);
-  FlowResult flow = ricci_flow(*d.topology, d.structure, d.target, options);
+  FlowOptions doubled_options = options;
+  doubled_options.start_u.resize(0);  // (a start for the component, not for its double)
+  FlowResult flow = ricci_flow(*d.topology, d.structure, d.target, doubled_options);
   if (!flow.converged) return;
   flow.intrinsic.adopt_input(d.topology);  // the result owns the doubled connectivity
   const Development development = flow.intrinsic.develop_input_faces(flow.lengths);
@@ -437,10 +439,16 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
       const Topology& t = *component_topology;
       const int nv = t.num_vertices, ne = t.num_edges;
       const auto [local, target] = restrict_problem(view, structure, result.target);
-      out.flow = ricci_flow(t, local, target, options.flow);
+      FlowOptions component_options = options.flow;
+      if (options.flow.start_u.size() == whole.num_vertices) {
+        component_options.start_u.resize(nv);
+        for (int i = 0; i < nv; ++i)
+          component_options.start_u[i] = options.flow.start_u[view.vertex_map[i]];
+      }
+      out.flow = ricci_flow(t, local, target, component_options);
       out.flow.intrinsic.adopt_input(component_topology);
       if (worth_doubling(t, local, options.flow, out.flow)) {
-        flow_doubled(t, local, target, options.flow, out);
+        flow_doubled(t, local, target, component_options, out);
       }
       if (out.doubled) {
         gather_doubled(out, t, view.vertex_map, view.edge_map, result, eta);

@@ -447,11 +447,21 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   AdmissibilityOptions admissibility;
   admissibility.edge_flips = s.flips;
   check_admissible(topology, structure, target, admissibility);
+  const Eigen::VectorXd& start_u = options.start_u;
+  if (start_u.size() != 0 && (start_u.size() != topology.num_vertices || !start_u.allFinite())) {
+    throw InvalidInput("RicciFlow: start_u has " + std::to_string(start_u.size()) +
+                       " values (or one not finite); expected " +
+                       std::to_string(topology.num_vertices) + " finite log factors or none");
+  }
+  const bool warm = start_u.size() != 0;
   if (s.flips) {
     // The input's triangulation is usually Delaunay already: its pattern's analysis starts now,
-    // beside the test below, and set_u keeps it if no edge flips.
-    s.new_pattern();
-    s.pattern_ahead = true;
+    // beside the test below, and set_u keeps it if no edge flips. (A flow started elsewhere
+    // needs the pattern there.)
+    if (!warm) {
+      s.new_pattern();
+      s.pattern_ahead = true;
+    }
     // The initial metric (the input's lengths) is first retriangulated isometrically to its
     // intrinsic Delaunay triangulation: the same flat (or hyperbolic) surface, so the discrete
     // conformal class is that of the input surface (Gu, Luo, Sun and Wu's definition: vertex
@@ -472,7 +482,36 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
   if (s.options.max_iterations <= 0) {
     s.options.max_iterations = options.solver == FlowSolver::Newton ? 200 : 1000000;
   }
+  if (warm && start_at(start_u)) return;
   set_u(structure.initial_u);
+}
+
+bool RicciFlow::start_at(const Eigen::VectorXd& start_u) {
+  State& s = *state_;
+  // The initial metric's rms error, on the triangulation in hand (the intrinsic Delaunay one of
+  // the input lengths, with flips): the start must beat it. (Not the largest error, which may
+  // sit at a vertex the start hardly moves: 0.1407 at both on a generated disk.)
+  Eigen::VectorXd lengths, curvature;
+  CornerAngles angles;
+  double initial_error = INFINITY;
+  if (flow_detail::evaluate_metric(*s.topology, s.structure, s.structure.initial_u, lengths, angles,
+                                   curvature) == flow_detail::Evaluation::Valid) {
+    const flow_detail::CurvatureErrors e =
+        flow_detail::curvature_errors(*s.topology, s.target, curvature);
+    initial_error = e.count > 0 ? std::sqrt(e.sum_sq / e.count) : 0.0;
+  }
+  // (The lengths in hand are the initial u's, not the start's.)
+  s.initial_lengths_delaunay = false;
+  Eigen::VectorXd u = start_u;
+  for (int v = 0; v < s.topology->num_vertices; ++v) {
+    if (s.target.fixed[v]) u[v] = s.structure.initial_u[v];
+  }
+  try {
+    set_u(u);
+  } catch (const InvalidInput&) {  // a broken triangle there (no flips)
+    return false;
+  }
+  return s.history.back().rms_error < initial_error;
 }
 
 RicciFlow::~RicciFlow() = default;

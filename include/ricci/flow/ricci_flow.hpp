@@ -113,6 +113,12 @@ struct FlowOptions {
   /// written as an ordinary mesh, at the price of leaving some edges non-Delaunay (the
   /// parameterization falls back to this when the unrestricted result is a Delta-complex).
   bool simplicial_flips = false;
+  /// Where the flow starts: empty, the structure's initial u; else #V log factors near the
+  /// solution (the flow linearised at the initial metric: what the first Newton step would
+  /// reach, so that step and its factorisation are saved). Fixed vertices keep their initial u
+  /// whatever this says. A start whose rms |K-bar - K| is not below the initial metric's, or
+  /// that breaks a triangle (no flips), is dropped for the initial u.
+  Eigen::VectorXd start_u;
   FlowProgress progress;  ///< optional callback after each iteration
 };
 
@@ -236,6 +242,9 @@ class RicciFlow {
   FlowResult result() const;
 
  private:
+  /// The constructor's start at FlowOptions::start_u; false (the caller starts at the initial u)
+  /// when that start is dropped.
+  bool start_at(const Eigen::VectorXd& start_u);
   /// result() as the flow's last use: its arrays and flipped topology are moved out, not copied
   /// (ricci_flow calls it; the flow must not be used afterwards).
   FlowResult release_result();

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <Eigen/Dense>
 
+#include "numerics/detail/parallel.hpp"
 #include "ricci/numerics/bounded_least_squares.hpp"
 
 namespace ricci::cone_steps {
@@ -51,11 +53,18 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
                    Eigen::VectorXd* gradient) {
   const int nf = t.num_faces;
   Eigen::ArrayXd uf(nf);
-  for (int f = 0; f < nf; ++f) {
-    uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
-  }
+  // (The quasi-Newton fits call this thousands of times: its per-face passes, the exponential
+  // above all, run on every core; the sums stay sequential.)
+  parallel::for_chunks(nf, [&](std::int64_t begin, std::int64_t end, int) {
+    for (std::int64_t f = begin; f < end; ++f) {
+      uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
+    }
+  });
   const double top = uf.maxCoeff();  // e^{4 (u - top)} cannot overflow
-  const Eigen::ArrayXd scale = (2 * (uf - top)).exp();
+  Eigen::ArrayXd scale(nf);
+  parallel::for_chunks(nf, [&](std::int64_t begin, std::int64_t end, int) {
+    scale.segment(begin, end - begin) = (2 * (uf.segment(begin, end - begin) - top)).exp();
+  });
   const Eigen::ArrayXd e2 = scale * face_area.array();
   const Eigen::ArrayXd e4 = scale * e2;
   const double s2 = e2.sum(), s4 = e4.sum();
@@ -85,12 +94,13 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
                                         Eigen::VectorXd* gradient_all, double& value) {
   const int m = static_cast<int>(objective.S.size());
   Eigen::VectorXd u = objective.solve_u(k);
-  value = objective.value(u, k);
+  Eigen::VectorXd dfdu;
+  value = objective.value(u, k, &dfdu);
   if (m == 0) {
-    if (gradient_all) *gradient_all = objective.gradient_everywhere(u);
+    if (gradient_all) *gradient_all = objective.gradient_everywhere(u, dfdu);
     return u;
   }
-  Eigen::VectorXd g = objective.gradient(u);
+  Eigen::VectorXd g = objective.gradient(u, dfdu);
   // The previous greedy step's estimate for the cones it had (B enters with those rows), the
   // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
   Eigen::MatrixXd model_hessian = 8 * M + 2 * objective.smooth * green;
@@ -115,16 +125,16 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     const double slope = g.dot(direction);
     if (!(slope < 0)) break;
     double step = 1;
-    Eigen::VectorXd k_new, u_new;
+    Eigen::VectorXd k_new, u_new, dfdu_new;
     double value_new = INFINITY;
     for (int tries = 0; tries < kBacktracks; ++tries, step *= kBacktrackFactor) {
       k_new = k + step * direction;
       u_new = objective.solve_u(k_new);
-      value_new = objective.value(u_new, k_new);
+      value_new = objective.value(u_new, k_new, &dfdu_new);
       if (value_new <= value + kArmijo * step * slope) break;
     }
     if (!(value_new < value)) break;
-    const Eigen::VectorXd g_new = objective.gradient(u_new);
+    const Eigen::VectorXd g_new = objective.gradient(u_new, dfdu_new);
     const Eigen::VectorXd s = k_new - k, y = g_new - g;
     const double sy = s.dot(y);
     if (sy > kCurvatureCondition * s.norm() * y.norm()) {
@@ -133,12 +143,13 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     }
     const double decrease = value - value_new;
     k = k_new;
-    u = u_new;
+    u = std::move(u_new);
+    dfdu = std::move(dfdu_new);
     g = g_new;
     value = value_new;
     if (decrease <= kRelativeDecrease * (1 + std::abs(value))) break;
   }
-  if (gradient_all) *gradient_all = objective.gradient_everywhere(u);
+  if (gradient_all) *gradient_all = objective.gradient_everywhere(u, dfdu);
   return u;
 }
 

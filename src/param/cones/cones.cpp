@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -303,6 +304,23 @@ ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& 
   result.vertices = std::move(S);
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;
+}
+
+Eigen::VectorXd linearised_log_factors(const ConeModel& handle, const std::vector<Cone>& cones) {
+  const ConeModelData& model = handle.data();
+  Eigen::VectorXd rhs = model.rhs0;
+  for (const Cone& c : cones) {
+    if (c.vertex < 0 || c.vertex >= model.nv) {
+      throw InvalidInput("linearised_log_factors: cone vertex " + std::to_string(c.vertex) +
+                         " out of range (the model has " + std::to_string(model.nv) + " vertices)");
+    }
+    if (!model.held[c.vertex] || c.vertex == model.gauge) rhs[c.vertex] += c.curvature;
+  }
+  Eigen::VectorXd u = model.cholesky.solve(rhs);
+  for (int v = 0; v < model.nv; ++v) {
+    if (model.held[v]) u[v] = 0;  // (the penalty holds them at about 1e-10 of their neighbours)
+  }
+  return u;
 }
 
 namespace {

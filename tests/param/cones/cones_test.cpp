@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
+#include "ricci/flow/flow_problem.hpp"
+#include "ricci/flow/ricci_flow.hpp"
 #include "ricci/mesh/generate.hpp"
 
 namespace ricci {
@@ -75,6 +77,33 @@ TEST(ConeSelection, RejectsBadOptionsAndSeveralComponents) {
   both.triangles.resize(8, 3);
   both.triangles << two.triangles, (two.triangles.array() + 4).matrix();
   EXPECT_THROW(select_cones(both, {}), InvalidInput);
+}
+
+TEST(ConeSelection, LinearisedLogFactorsAreTheFlowsFirstNewtonStep) {
+  // The flow started there is where the flow from the input metric is after one full step.
+  const Mesh mesh = make_icosphere(3);
+  ConeSelectionOptions options;
+  options.count = 6;
+  const FlowProblem problem = make_flow_problem(mesh, options.structure);
+  const ConeModel model = build_cone_model(problem);
+  const ConeSelection selection = select_cones(model, options);
+  std::vector<Cone> cones;
+  for (std::size_t i = 0; i < selection.vertices.size(); ++i) {
+    cones.push_back({selection.vertices[i], selection.linear_curvature[i]});
+  }
+  const Target target = flat_target(problem.topology, cones);
+  FlowOptions flow = layout_flow_options();
+  const FlowResult cold = ricci_flow(problem.topology, problem.structure.structure, target, flow);
+  ASSERT_TRUE(cold.converged) << cold.message;
+  ASSERT_GE(cold.history.size(), 2U);
+  ASSERT_EQ(cold.history[1].step_length, 1.0);
+  flow.start_u = problem.structure.structure.initial_u + linearised_log_factors(model, cones);
+  const FlowResult warm = ricci_flow(problem.topology, problem.structure.structure, target, flow);
+  ASSERT_TRUE(warm.converged) << warm.message;
+  EXPECT_NEAR(warm.history.front().max_error, cold.history[1].max_error,
+              1e-9 * (1 + cold.history[1].max_error));
+  EXPECT_EQ(warm.iterations, cold.iterations - 1);
+  EXPECT_THROW(linearised_log_factors(model, {{mesh.num_vertices(), 1.0}}), InvalidInput);
 }
 
 TEST(QuantizeCones, RoundsToQuarterTurnsKeepingTheSum) {

@@ -117,6 +117,15 @@ ConeModel build_cone_model(const FlowProblem& problem);
 /// \throw InvalidInput when options are out of range
 ConeSelection select_cones(const ConeModel& model, const ConeSelectionOptions& options);
 
+/// The flow linearised at the model's metric, i.e. its first Newton step from there: the log
+/// factors (#V, relative to the problem's initial u) whose linearised curvature is each cone's
+/// at its vertex and 0 at every other vertex that is not held; held vertices (a boundary, and the
+/// gauge vertex of a closed surface) stay at 0. A start for the flow to the flat metric with
+/// these cones (FlowOptions::start_u, after adding the initial u) that saves the factorisation
+/// of that step: the model has it.
+/// \throw InvalidInput when a cone's vertex is out of range
+Eigen::VectorXd linearised_log_factors(const ConeModel& model, const std::vector<Cone>& cones);
+
 /// The same on a mesh: builds its problem (options.structure) and model, then selects.
 /// \pre the mesh is a single connected component that passed validate_mesh
 /// \throw InvalidInput when options are out of range

@@ -60,31 +60,36 @@ struct ConeObjective {
     for (std::size_t i = 0; i < S.size(); ++i) rhs[S[i]] += k[static_cast<int>(i)];
     return cholesky.solve(rhs);
   }
-  double value(const Eigen::VectorXd& u, const Eigen::VectorXd& k) const {
+  /// The objective at u = solve_u(k); `dfdu` (optional) gets dF/du of its area part, from the
+  /// same pass over the faces (the quasi-Newton iterations then take one pass per point).
+  double value(const Eigen::VectorXd& u, const Eigen::VectorXd& k,
+               Eigen::VectorXd* dfdu = nullptr) const {
     double dirichlet = u.dot(rhs0);
     for (std::size_t i = 0; i < S.size(); ++i) dirichlet += u[S[i]] * k[static_cast<int>(i)];
-    return area_energy(t, face_area, u, nullptr) + smooth * dirichlet;
+    return area_energy(t, face_area, u, dfdu) + smooth * dirichlet;
   }
-  /// d/dk_i for the cones: G_S^T dF/du + 2 smooth u_S.
-  Eigen::VectorXd gradient(const Eigen::VectorXd& u) const {
-    Eigen::VectorXd w;
-    area_energy(t, face_area, u, &w);
+  /// d/dk_i for the cones: G_S^T dF/du + 2 smooth u_S, given dF/du at u.
+  Eigen::VectorXd gradient(const Eigen::VectorXd& u, const Eigen::VectorXd& dfdu) const {
     const int m = static_cast<int>(S.size());
     Eigen::VectorXd g(m);
     if (has_columns()) {
-      for (int i = 0; i < m; ++i) g[i] = columns[i].dot(w) + 2 * smooth * u[S[i]];
+      for (int i = 0; i < m; ++i) g[i] = columns[i].dot(dfdu) + 2 * smooth * u[S[i]];
     } else {
-      const Eigen::VectorXd all = cholesky.solve(w);
+      const Eigen::VectorXd all = cholesky.solve(dfdu);
       for (int i = 0; i < m; ++i) g[i] = all[S[i]] + 2 * smooth * u[S[i]];
     }
     return g;
   }
-  /// d/dk at every vertex (a cone of curvature 0 there included): A^-1 dF/du + 2
-  /// smooth u.
-  Eigen::VectorXd gradient_everywhere(const Eigen::VectorXd& u) const {
-    Eigen::VectorXd w;
-    area_energy(t, face_area, u, &w);
-    return cholesky.solve(w) + 2 * smooth * u;
+  /// The same, dF/du computed here.
+  Eigen::VectorXd gradient(const Eigen::VectorXd& u) const {
+    Eigen::VectorXd dfdu;
+    area_energy(t, face_area, u, &dfdu);
+    return gradient(u, dfdu);
+  }
+  /// d/dk at every vertex (a cone of curvature 0 there included): A^-1 dF/du + 2 smooth u,
+  /// given dF/du at u.
+  Eigen::VectorXd gradient_everywhere(const Eigen::VectorXd& u, const Eigen::VectorXd& dfdu) const {
+    return cholesky.solve(dfdu) + 2 * smooth * u;
   }
 };
 
