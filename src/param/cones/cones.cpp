@@ -28,6 +28,7 @@ namespace ricci {
 using cone_steps::area_energy;
 using cone_steps::ConeModelData;
 using cone_steps::ConeObjective;
+using cone_steps::face_areas;
 using cone_steps::kFarFromCones;
 using cone_steps::kSeparationRings;
 using cone_steps::LinearFlow;
@@ -123,18 +124,6 @@ constexpr int kExchangeCones = 64;
 /// whole rings, a CAD cylinder's fan centres hid every vertex and the spread read 0.
 constexpr double kRingArea = 0.02;
 
-/// Each face's share of the 3D area (summing to 1).
-Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t) {
-  Eigen::VectorXd area(t.num_faces);
-  for (int f = 0; f < t.num_faces; ++f) {
-    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
-    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
-    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
-    area[f] = (b - a).cross(c - a).norm();
-  }
-  return area / area.sum();
-}
-
 /// A third of each vertex's faces' share of the 3D area (summing to 1).
 Eigen::VectorXd vertex_areas(const Topology& t, const Eigen::VectorXd& face_area) {
   Eigen::VectorXd area = Eigen::VectorXd::Zero(t.num_vertices);
@@ -157,6 +146,17 @@ void check_cone_options(const ConeSelectionOptions& options) {
 }  // namespace
 
 namespace cone_steps {
+
+Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t) {
+  Eigen::VectorXd area(t.num_faces);
+  for (int f = 0; f < t.num_faces; ++f) {
+    const Eigen::Vector3d a = mesh.positions.row(t.triangles(f, 0));
+    const Eigen::Vector3d b = mesh.positions.row(t.triangles(f, 1));
+    const Eigen::Vector3d c = mesh.positions.row(t.triangles(f, 2));
+    area[f] = (b - a).cross(c - a).norm();
+  }
+  return area / area.sum();
+}
 
 LinearFlow linearise_flow(const FlowProblem& problem, const char* who) {
   const Topology& t = problem.topology;
@@ -304,6 +304,10 @@ ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& 
   result.vertices = std::move(S);
   result.linear_curvature.assign(k.data(), k.data() + k.size());
   return result;
+}
+
+double cone_lower_bound(const ConeModel& model, const ConeSelectionOptions& options, int v) {
+  return cone_steps::cone_lower_bound(model.data(), options, v);
 }
 
 Eigen::VectorXd linearised_log_factors(const ConeModel& handle, const std::vector<Cone>& cones) {

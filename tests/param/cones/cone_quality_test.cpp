@@ -125,5 +125,30 @@ TEST(ConeQuality, BeatsBffOnSpotAndBunny) {
   }
 }
 
+// The exact peer (CEPS, flat metrics with cones as ours) at its own cone count on the shared
+// genus >= 2 meshes (its E measured by ../shared/tools/checkuv.py on its linear texture; build
+// and figures: docs/cones.md): with so few cones the bounded selection cannot meet its bounds,
+// and parameterize refines the curvatures of the better of two candidate sets on the flow
+// itself (refine_few_cones). The exact map must come out: no charts, no flipped face.
+TEST(ConeQuality, BeatsCepsAtItsOwnCountOnGenusTwoAndMore) {
+  RICCI_REQUIRE_SHARED_MESHES();
+  struct Row {
+    const char* file;
+    int cones;
+    double ceps_e;
+  };
+  for (const Row& row : {Row{"eight.off", 4, 0.2851}, Row{"3holes.off", 5, 0.3478},
+                         Row{"fertility.off", 6, 0.7608}}) {
+    const ReadResult read = read_mesh(*testing::shared_meshes_dir() + "/" + row.file);
+    const MeshParamResult r = with_cones(read.mesh, row.cones, ConeSelectionOptions{}.smoothness);
+    ASSERT_TRUE(r.converged) << row.file;
+    ASSERT_EQ(r.routes.size(), 1U) << row.file;
+    EXPECT_NE(r.routes[0].method, ComponentMethod::Charts) << row.file;
+    EXPECT_EQ(static_cast<int>(r.cones.size()), row.cones) << row.file;
+    EXPECT_EQ(r.distortion.flipped_faces, 0) << row.file;
+    EXPECT_LT(r.distortion.area_distortion_energy, row.ceps_e) << row.file;
+  }
+}
+
 }  // namespace
 }  // namespace ricci

@@ -117,6 +117,21 @@ ConeModel build_cone_model(const FlowProblem& problem);
 /// \throw InvalidInput when options are out of range
 ConeSelection select_cones(const ConeModel& model, const ConeSelectionOptions& options);
 
+/// `count` cones where the linearised flat metric scales most, each cone's log scale held at one
+/// common level (the greedy placement of Ben-Chen, Gotsman and Bunin 2008, which CEPS uses): the
+/// first where the constant-curvature metric scales most (closed surfaces), each next one where
+/// the level fit of the cones so far scales most, then one pass moving each cone to where the
+/// others' fit scales most. Curvatures: the level fit's (no bounds: `within_bounds` is true,
+/// `max_log_scale` empty). A candidate for few cones on a closed surface of chi < 0, where the
+/// bounded selection cannot meet its bounds and the linearised objective misjudges strong cones
+/// (parameterize runs the flow on both and keeps the lower area distortion).
+/// \throw InvalidInput when count < 1
+ConeSelection select_level_cones(const ConeModel& model, int count);
+
+/// The lowest curvature select_cones lets a cone at v take (drawable on the input's faces:
+/// options.max_face_angle and max_corner_angle).
+double cone_lower_bound(const ConeModel& model, const ConeSelectionOptions& options, int v);
+
 /// The flow linearised at the model's metric, i.e. its first Newton step from there: the log
 /// factors (#V, relative to the problem's initial u) whose linearised curvature is each cone's
 /// at its vertex and 0 at every other vertex that is not held; held vertices (a boundary, and the

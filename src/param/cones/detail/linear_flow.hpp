@@ -24,6 +24,9 @@ struct LinearFlow {
   CornerAngles angles;        ///< of the input metric
 };
 
+/// Each face's share of the 3D area (summing to 1).
+Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t);
+
 /// \throw InvalidInput when the initial metric breaks a triangle inequality (`who` names the
 ///        caller in the message)
 LinearFlow linearise_flow(const FlowProblem& problem, const char* who);
