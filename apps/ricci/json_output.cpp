@@ -287,6 +287,17 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                 {"curvature_max", one.seam_curvature.max},
                 {"choice_seconds", one.seam_curvature.free_seconds},
                 {"linear_area_energy", one.seam_curvature.linear_area_energy}};
+  if (one.cone_refinement.ran) {
+    // (Few cones on chi < 0: two candidate sets, the better refined on the flow.)
+    const ConeRefinementReport& c = one.cone_refinement;
+    auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+    j["cone_refinement"] = {{"kept", c.level_cones ? "level" : "selected"},
+                            {"selected_area_energy", finite(c.selected_energy)},
+                            {"level_area_energy", finite(c.level_energy)},
+                            {"refined_area_energy", c.refined_energy},
+                            {"steps", c.steps},
+                            {"flows", c.flows}};
+  }
   nlohmann::json warnings = nlohmann::json::array();
   for (const ComponentRoute& route : r.routes) {
     if (!route.pipeline.too_few_cones.empty()) warnings.push_back(route.pipeline.too_few_cones);

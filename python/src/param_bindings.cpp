@@ -36,6 +36,19 @@ void bind_param(py::module_& m) {
       .field("selection_smoothness", &FreeSeamOptions::selection_smoothness,
              "weight of the free curvatures' squares per face while cones are chosen (3)")
       .repr();
+  StructBinding<ConeRefinementReport>(
+      m, "ConeRefinementReport",
+      "Few cones on chi < 0: two candidate cone sets measured on the flow, the better refined.")
+      .readonly("ran", &ConeRefinementReport::ran, "the count was too few for the bounds")
+      .readonly("level_cones", &ConeRefinementReport::level_cones, "the level cones were kept")
+      .readonly("selected_energy", &ConeRefinementReport::selected_energy,
+                "E of the bounded selection's cones")
+      .readonly("level_energy", &ConeRefinementReport::level_energy, "E of the level cones")
+      .readonly("refined_energy", &ConeRefinementReport::refined_energy, "E after refinement")
+      .readonly("steps", &ConeRefinementReport::steps, "quasi-Newton steps")
+      .readonly("flows", &ConeRefinementReport::flows, "flows run")
+      .repr();
+
   StructBinding<SeamCurvature>(m, "SeamCurvature", "Curvature on the seams, off the cones.")
       .readonly("vertices", &SeamCurvature::vertices, "cut vertices that are not cones")
       .readonly("total", &SeamCurvature::total, "sum of |K| over them")
@@ -368,6 +381,8 @@ void bind_param(py::module_& m) {
                 "automatic cones: times they were chosen again, with more of them")
       .readonly("development_length_mismatch", &PipelineDiagnostics::development_length_mismatch,
                 "how well the input faces developed in the flat metric agree on their edges")
+      .readonly("cone_refinement", &PipelineDiagnostics::cone_refinement,
+                "ConeRefinementReport: few cones on chi < 0 refined on the flow")
       .readonly("seam_curvature", &PipelineDiagnostics::seam_curvature,
                 "SeamCurvature: what the seams carry (about 0 with rigid seams)")
       .repr();

@@ -194,6 +194,21 @@ def test_routes_name_how_each_component_was_laid_out():
         ricci.parameterize(V, F, geometry="hyperbolic", charts=False)
 
 
+def test_few_cones_on_genus_two_are_refined_on_the_flow():
+    # Two cones cannot meet the selection's bounds on genus 2: two candidate sets are measured
+    # on the flow and the better one's curvatures refined there (ConeRefinementReport).
+    V, F = ricci.generate.closed_surface(2, 8)
+    r = ricci.parameterize(V, F, cones=2)
+    assert r.converged, r.message
+    refinement = r.routes[0].pipeline.cone_refinement
+    assert refinement.ran and refinement.flows >= 2
+    assert refinement.refined_energy <= min(refinement.selected_energy, refinement.level_energy)
+    assert len(r.cones) == 2
+    assert abs(sum(c.curvature for c in r.cones) - 2 * np.pi * -2) < 1e-9
+    many = ricci.parameterize(V, F, cones=8)
+    assert not many.routes[0].pipeline.cone_refinement.ran
+
+
 def test_free_seams_keep_one_length_per_seam_edge():
     V, F = ricci.generate.closed_surface(2, 24)
     rigid = ricci.parameterize(V, F, cones=4)

@@ -180,6 +180,11 @@ void refine_few_cones(ParamRun& run) {
       refine_cone_curvatures(problem, level_cones, options.flow, measure_only);
   const bool take_level =
       placed.converged && (!selected.converged || placed.area_energy < selected.area_energy);
+  ConeRefinementReport& report = run.result.cone_refinement;
+  report.ran = true;
+  report.level_cones = take_level;
+  report.selected_energy = selected.converged ? selected.area_energy : kInf;
+  report.level_energy = placed.converged ? placed.area_energy : kInf;
   if (!take_level && !selected.converged) return;
   FlowOptions flow = options.flow;
   flow.start_u = take_level ? placed.u : selected.u;
@@ -194,6 +199,9 @@ void refine_few_cones(ParamRun& run) {
     bounded.lower_bounds.push_back(cone_lower_bound(run.the_cone_model(), drawable, c.vertex));
   }
   const CurvatureRefinement best = refine_cone_curvatures(problem, start, flow, bounded);
+  report.refined_energy = best.area_energy;
+  report.steps = best.steps;
+  report.flows = best.flows + 2;  // (and the two candidates' flows)
   if (take_level) run.result.cone_selection = std::move(level);
   if (!best.converged) return;
   run.cones = best.cones;

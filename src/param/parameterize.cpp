@@ -279,8 +279,10 @@ void lay_out_as_charts(Piece& piece, const Mesh& sub, const Polygons& polygons,
   ChartsLayout charts = lay_out_charts(sub, chart_options, cut_through);
   // The failed map's word on its cone count stays: it says why the charts stood in.
   std::string too_few_cones = std::move(info.param.too_few_cones);
+  const ConeRefinementReport cone_refinement = info.param.cone_refinement;
   info.param = charts_result(sub, charts, polygons);
   info.param.too_few_cones = std::move(too_few_cones);
+  info.param.cone_refinement = cone_refinement;
   info.param.timings.charts = seconds_since(charts_start);
   info.method = ComponentMethod::Charts;
   info.parameterized = !refused_choice;

@@ -764,6 +764,13 @@ expect_json "param --seams free report" param/free_seams.json \
   'd["converged"] and d["seams"]["mode"] == "free" and d["seams"]["curvature_max"] > 1e-3 and d["distortion"]["flipped_faces"] == 0'
 expect_json "param rigid seams carry nothing" param/torus.json \
   'd["seams"]["mode"] == "rigid" and d["seams"]["curvature_max"] < 1e-8'
+# Two cones on genus 2, too few for the selection's bounds: two candidate sets measured on the
+# flow, the better one's curvatures refined there; the report says which and by how much.
+ricci generate surface --genus 2 --resolution 8 -o param/genus2.obj
+ricci param param/genus2.obj --cones 2 -o param/genus2_uv.obj --report param/genus2.json
+expect_rc "param genus 2 with 2 cones" 0
+expect_json "its cone refinement is reported and helped" param/genus2.json \
+  'd["cone_refinement"]["refined_area_energy"] <= min(d["cone_refinement"]["selected_area_energy"], d["cone_refinement"]["level_area_energy"]) and d["cone_refinement"]["kept"] in ("level", "selected") and d["cone_refinement"]["flows"] >= 2 and len(d["cones"]) == 2'
 # Too few cones for an exact map of genus 12: said, with the remedy.
 ricci generate surface --genus 12 --resolution 100 -o param/genus12.obj
 ricci param param/genus12.obj --cones 8 -o param/genus12_uv.obj --report param/genus12.json

@@ -249,6 +249,18 @@ struct SeamCurvature {
   double linear_area_energy = 0;  ///< SeamMode::Free: E of the linearised choice
 };
 
+/// Few automatic cones on a closed surface of chi < 0, refined on the flow
+/// (PipelineDiagnostics::cone_refinement): the two candidate sets measured by their flat
+/// metrics' area distortion E, the better one's curvatures refined (refine_cone_curvatures).
+struct ConeRefinementReport {
+  bool ran = false;            ///< the count was too few for the selection's bounds
+  bool level_cones = false;    ///< the level cones (select_level_cones) were kept
+  double selected_energy = 0;  ///< E of the bounded selection's cones (inf: no flow)
+  double level_energy = 0;     ///< E of the level cones (inf: no flow)
+  double refined_energy = 0;   ///< E after refining the kept set
+  int steps = 0, flows = 0;    ///< the refinement's quasi-Newton steps and flows
+};
+
 /// What the one-component pipeline measured on its way beyond the map itself: how its automatic
 /// cones went, and how its development closed up, what its seams carry. A ParamResult's own; in a
 /// MeshParamResult, per component in ComponentRoute::pipeline.
@@ -267,6 +279,7 @@ struct PipelineDiagnostics {
   /// The curvature the flat metric leaves on the seams: at the cut's vertices that are not
   /// cones. About 0 (the flow's tolerance) with rigid seams; with free seams what they carry.
   SeamCurvature seam_curvature;
+  ConeRefinementReport cone_refinement;
   /// Set when the cones asked for (a count, or the user's) are too few for an exact map of this
   /// genus to be good (rigid seams on genus >= 1, area distortion E above kTooFewConesEnergy, or
   /// faces that fold around strong cones, whatever route then stood in for the map):

@@ -1,5 +1,6 @@
 // What automatic cones buy, measured as the tutorial measures it (area distortion E of eq. 9,
 // angle distortion) on the final parameterization: the behaviour docs/cones.md tabulates.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -147,6 +148,10 @@ TEST(ConeQuality, BeatsCepsAtItsOwnCountOnGenusTwoAndMore) {
     EXPECT_EQ(static_cast<int>(r.cones.size()), row.cones) << row.file;
     EXPECT_EQ(r.distortion.flipped_faces, 0) << row.file;
     EXPECT_LT(r.distortion.area_distortion_energy, row.ceps_e) << row.file;
+    const ConeRefinementReport& refined = r.routes[0].pipeline.cone_refinement;
+    EXPECT_TRUE(refined.ran) << row.file;
+    EXPECT_LE(refined.refined_energy, std::min(refined.selected_energy, refined.level_energy))
+        << row.file;
   }
 }
 
