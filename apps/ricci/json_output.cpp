@@ -287,9 +287,10 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                 {"curvature_max", one.seam_curvature.max},
                 {"choice_seconds", one.seam_curvature.free_seconds},
                 {"linear_area_energy", one.seam_curvature.linear_area_energy}};
-  if (one.cone_refinement.ran) {
-    // (Few cones on chi < 0: two candidate sets, the better refined on the flow.)
-    const ConeRefinementReport& c = one.cone_refinement;
+  // (Few cones on chi < 0: two candidate sets, the better refined on the flow; said for a mesh
+  // of one component also when charts stood in for its exact map.)
+  if (r.routes.size() == 1 && r.routes.front().pipeline.cone_refinement.ran) {
+    const ConeRefinementReport& c = r.routes.front().pipeline.cone_refinement;
     auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
     j["cone_refinement"] = {{"kept", c.level_cones ? "level" : "selected"},
                             {"selected_area_energy", finite(c.selected_energy)},

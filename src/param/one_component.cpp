@@ -157,6 +157,7 @@ void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
 /// (refine_cone_curvatures): the selection's cones, and cones placed where the scale is extreme
 /// at one level (select_level_cones); the lower area distortion is kept, and its flat metric
 /// starts the flow.
+constexpr int kRefinementSteps = 8;
 constexpr double kRefinedFaceAngle = 0.9 * kPi;
 constexpr double kRefinedCornerAngle = 0.95 * kPi;
 void refine_few_cones(ParamRun& run) {
@@ -192,6 +193,9 @@ void refine_few_cones(ParamRun& run) {
   // No cone pushed past what its faces can draw (or past where it starts): stronger ones fold
   // the exact map (fertility, 6 cones: E 0.53 in the flat metric, but faces flipped).
   CurvatureRefinementOptions bounded;
+  // (Most of the gain comes in the first few steps: eight 3, 3holes 7, fertility 5; fertility
+  // with 8 cones took 16 steps, 1 s, to go from 0.72 to 0.50.)
+  bounded.max_steps = kRefinementSteps;
   ConeSelectionOptions drawable = options.auto_cones;
   drawable.max_face_angle = kRefinedFaceAngle;
   drawable.max_corner_angle = kRefinedCornerAngle;
