@@ -202,12 +202,15 @@ void refine_few_cones(ParamRun& run) {
   for (const Cone& c : start) {
     bounded.lower_bounds.push_back(cone_lower_bound(run.the_cone_model(), drawable, c.vertex));
   }
-  const CurvatureRefinement best = refine_cone_curvatures(problem, start, flow, bounded);
+  CurvatureRefinement best = refine_cone_curvatures(problem, start, flow, bounded);
   report.refined_energy = best.area_energy;
   report.steps = best.steps;
   report.flows = best.flows + 2;  // (and the two candidates' flows)
+  if (!best.converged) {          // (the selection's cones stay, as they were)
+    report.level_cones = false;
+    return;
+  }
   if (take_level) run.result.cone_selection = std::move(level);
-  if (!best.converged) return;
   run.cones = best.cones;
   for (std::size_t i = 0; i < best.cones.size(); ++i) {
     run.result.cone_selection.linear_curvature[i] = best.cones[i].curvature;
