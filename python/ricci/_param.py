@@ -84,7 +84,9 @@ def parameterize(V, F, *, cones=None, boundary=None, seams=None, quantize=None, 
     is False and message says why (nothing is raised). routes names the route of each component,
     and routes[c].pipeline (``PipelineDiagnostics``) what its pipeline measured:
     cone_selection, log_scale_spread and cone_rounds (automatic cones),
-    development_length_mismatch, seam_curvature. Several components (or one whose exact map gave way): the same
+    development_length_mismatch, seam_curvature, cone_refinement (a fixed count too few for
+    the selection's bounds on a closed surface of chi < 0: two candidate cone sets measured on
+    the flow, the better one's curvatures refined there). Several components (or one whose exact map gave way): the same
     fields cover the whole atlas, components lists a ``ComponentParam`` per component
     (method, parameterized, message, cones, distortion, overlapping_face_pairs, area_scale,
     chart, vertex_map, face_map, and param: the component's own ``ParamResult``), packing is the
