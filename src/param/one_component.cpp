@@ -151,15 +151,20 @@ void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
   chosen = quantize_cones(chosen, total);
 }
 
-/// Few cones on a closed surface of chi < 0, too few for the selection's bounds (eight with 4,
-/// 3holes with 5): the linearised model misjudges such strong cones (eight, 4 cones: E 0.385
-/// where cones spread more evenly give 0.29). Two candidates are refined on the flow itself
-/// (refine_cone_curvatures): the selection's cones, and cones placed where the scale is extreme
-/// at one level (select_level_cones); the lower area distortion is kept, and its flat metric
-/// starts the flow.
+/// Steps of the few-cone refinement at most: most of the gain comes in the first few (eight 3,
+/// 3holes 7, fertility 5; fertility with 8 cones took 16 steps, 1 s, from 0.72 to 0.50).
 constexpr int kRefinementSteps = 8;
+/// The refinement's drawable bound on a cone: corners up to this on average (the selection's
+/// 0.6 pi is what few cones on chi < 0 cannot meet) and this at most.
 constexpr double kRefinedFaceAngle = 0.9 * kPi;
 constexpr double kRefinedCornerAngle = 0.95 * kPi;
+
+/// Few cones on a closed surface of chi < 0, too few for the selection's bounds (eight with 4,
+/// 3holes with 5): the linearised model misjudges such strong cones (eight, 4 cones: E 0.385
+/// where cones spread more evenly give 0.29). Two candidates are measured by one flow each:
+/// the selection's cones, and cones placed where the scale is extreme at one level
+/// (select_level_cones); the lower area distortion is kept, its curvatures refined on the flow
+/// itself (refine_cone_curvatures), and its flat metric starts the pipeline's flow.
 void refine_few_cones(ParamRun& run) {
   const ParamOptions& options = run.options;
   if (!run.closed || run.chi >= 0 || options.auto_cones.count <= 0 || options.quantize ||
@@ -193,8 +198,6 @@ void refine_few_cones(ParamRun& run) {
   // No cone pushed past what its faces can draw (or past where it starts): stronger ones fold
   // the exact map (fertility, 6 cones: E 0.53 in the flat metric, but faces flipped).
   CurvatureRefinementOptions bounded;
-  // (Most of the gain comes in the first few steps: eight 3, 3holes 7, fertility 5; fertility
-  // with 8 cones took 16 steps, 1 s, to go from 0.72 to 0.50.)
   bounded.max_steps = kRefinementSteps;
   ConeSelectionOptions drawable = options.auto_cones;
   drawable.max_face_angle = kRefinedFaceAngle;

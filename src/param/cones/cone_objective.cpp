@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 
 #include <Eigen/Dense>
 
-#include "numerics/detail/parallel.hpp"
 #include "ricci/numerics/bounded_least_squares.hpp"
 
 namespace ricci::cone_steps {
@@ -53,18 +51,11 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
                    Eigen::VectorXd* gradient) {
   const int nf = t.num_faces;
   Eigen::ArrayXd uf(nf);
-  // (The quasi-Newton fits call this thousands of times: its per-face passes, the exponential
-  // above all, run on every core; the sums stay sequential.)
-  parallel::for_chunks(nf, [&](std::int64_t begin, std::int64_t end, int) {
-    for (std::int64_t f = begin; f < end; ++f) {
-      uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
-    }
-  });
+  for (int f = 0; f < nf; ++f) {
+    uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
+  }
   const double top = uf.maxCoeff();  // e^{4 (u - top)} cannot overflow
-  Eigen::ArrayXd scale(nf);
-  parallel::for_chunks(nf, [&](std::int64_t begin, std::int64_t end, int) {
-    scale.segment(begin, end - begin) = (2 * (uf.segment(begin, end - begin) - top)).exp();
-  });
+  const Eigen::ArrayXd scale = (2 * (uf - top)).exp();
   const Eigen::ArrayXd e2 = scale * face_area.array();
   const Eigen::ArrayXd e4 = scale * e2;
   const double s2 = e2.sum(), s4 = e4.sum();

@@ -115,7 +115,7 @@ ConeSelection select_level_cones(const ConeModel& handle, int count) {
     S.push_back(v);
   }
   // Passes of exchanges: each cone moved to where the others leave the log scale largest.
-  for (int pass = 0; pass < kLevelExchangePasses; ++pass)
+  for (int pass = 0; pass < kLevelExchangePasses; ++pass) {
     for (std::size_t i = 0; i < S.size(); ++i) {
       std::vector<int> others = S;
       others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
@@ -124,6 +124,7 @@ ConeSelection select_level_cones(const ConeModel& handle, int count) {
       const int v = most_scaled(model, fit.u, others);
       if (v >= 0) S[i] = v;
     }
+  }
   const LevelFit fit = fit_level(model, u0, green, S);
   result.vertices = S;
   result.linear_curvature.assign(fit.k.data(), fit.k.data() + fit.k.size());

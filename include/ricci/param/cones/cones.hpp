@@ -120,8 +120,8 @@ ConeSelection select_cones(const ConeModel& model, const ConeSelectionOptions& o
 /// `count` cones where the linearised flat metric scales most, each cone's log scale held at one
 /// common level (the greedy placement of Ben-Chen, Gotsman and Bunin 2008, which CEPS uses): the
 /// first where the constant-curvature metric scales most (closed surfaces), each next one where
-/// the level fit of the cones so far scales most, then one pass moving each cone to where the
-/// others' fit scales most. Curvatures: the level fit's (no bounds: `within_bounds` is true,
+/// the level fit of the cones so far scales most, then four sweeps moving each cone to where
+/// the others' fit scales most. Curvatures: the level fit's (no bounds: `within_bounds` is true,
 /// `max_log_scale` empty). A candidate for few cones on a closed surface of chi < 0, where the
 /// bounded selection cannot meet its bounds and the linearised objective misjudges strong cones
 /// (parameterize runs the flow on both and keeps the lower area distortion).
