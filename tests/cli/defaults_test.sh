@@ -10,7 +10,9 @@
 #   spline   exits 0;
 #   flow/param --geometry hyperbolic (closed genus >= 2) exit 0, the Fuchsian relation to 1e-10
 #            on the shared meshes.
-# Usage: RICCI=build/ricci bash tests/cli/defaults_test.sh [SCRATCH_DIR]
+# Usage: RICCI=build/ricci [RICCI_SWEEP_SHARD=K/N] bash tests/cli/defaults_test.sh [SCRATCH_DIR]
+#   RICCI_SWEEP_SHARD=K/N runs only the cases whose index is K modulo N (ctest runs the sweep as
+#   two shards, so that both cores share it).
 set -u
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/check_framework.sh" defaults_test "${1:-}"
@@ -80,8 +82,16 @@ run() {  # name expected-rc command...
   return $rc
 }
 
-for c in "${cases[@]}"; do
-  read -r name path genus loops origin <<<"$c"
+shard=${RICCI_SWEEP_SHARD:-0/1}
+shard_index=${shard%/*} shard_count=${shard#*/}
+if ! [[ "$shard_index" =~ ^[0-9]+$ && "$shard_count" =~ ^[1-9][0-9]*$ ]] ||
+  ((shard_index >= shard_count)); then
+  echo "defaults_test: RICCI_SWEEP_SHARD must be K/N with 0 <= K < N, got '$shard'" >&2
+  exit 2
+fi
+for index in "${!cases[@]}"; do
+  ((index % shard_count == shard_index)) || continue
+  read -r name path genus loops origin <<<"${cases[$index]}"
   if [[ -n "${refused[$name]:-}" ]]; then
     for command in flow param spline; do
       run "$name: $command --strict refused" 2 "$RICCI" "$command" "$path" --strict -o "$name.$command.out"
