@@ -23,6 +23,9 @@ packages=(
   libtinygltf-dev
   # `ricci batch` on MPI ranks (optional at build time; its test runs mpirun).
   openmpi-bin libopenmpi-dev
+  # `ricci blender-addon` writes the add-on's zip (libzip); its test runs Debian's Blender
+  # headless (Blender 3.4 runs on the same Python 3.11 as the module).
+  libzip-dev blender
   # Fuzzing (fuzz/run.sh): clang++ with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
 )

@@ -42,6 +42,9 @@ Subcommand add_sphere_command(CLI::App& app);
 Subcommand add_spline_command(CLI::App& app);
 /// `ricci generate` (generate_command.cpp).
 Subcommand add_generate_command(CLI::App& app);
+/// `ricci blender-addon` (blender_addon_command.cpp; built with libzip). argv0 locates the
+/// installed Python module when /proc/self/exe cannot.
+Subcommand add_blender_addon_command(CLI::App& app, const char* argv0);
 // `param`: param_command.hpp; `batch`: batch_command.hpp; `render`, `view`: render_command.hpp.
 
 }  // namespace ricci::cli

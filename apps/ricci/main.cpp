@@ -71,6 +71,9 @@ int run_main(int argc, char** argv) {
   commands.push_back(add_spline_command(app));
   commands.push_back(add_batch_command(app, argv[0]));
   commands.push_back(add_generate_command(app));
+#ifdef RICCI_HAVE_BLENDER_ADDON
+  commands.push_back(add_blender_addon_command(app, argv[0]));
+#endif
 
   try {
     app.parse(argc, argv);

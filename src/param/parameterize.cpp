@@ -841,7 +841,12 @@ MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options)
     why = e.what();
     refused = true;
   }
-  if (!refused && (passes_checks(first, options, why) || !options.fold_free.charts)) {
+  // A flow the progress callback cancelled ends the run as it is: the caller asked to stop, so
+  // no other route starts (the result says Cancelled, converged false).
+  const bool cancelled = !refused && first.flow.status == FlowStatus::Cancelled;
+  if (cancelled) why = first.message;
+  if (!refused &&
+      (cancelled || passes_checks(first, options, why) || !options.fold_free.charts)) {
     ComponentRoute route;
     route.method =
         first.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;

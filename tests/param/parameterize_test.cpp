@@ -72,6 +72,24 @@ TEST(Parameterize, TorusWithoutConesIsAPeriodicFlatteningWithoutFlips) {
   EXPECT_TRUE(r.cones.empty());
 }
 
+// A caller that cancels (the Blender add-on's Esc) stops the run: no charts route starts after
+// the cancelled flow, and the result says so.
+TEST(Parameterize, ACancelledFlowEndsTheRunWithoutOtherRoutes) {
+  ParamOptions options;
+  int calls = 0;
+  options.flow.progress = [&calls](const IterationRecord&) {
+    ++calls;
+    return false;
+  };
+  const MeshParamResult r = parameterize(make_torus(48, 24), options);
+  EXPECT_EQ(calls, 1);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.flow.status, FlowStatus::Cancelled);
+  ASSERT_EQ(r.routes.size(), 1u);
+  EXPECT_EQ(r.routes[0].method, ComponentMethod::Flow);
+  EXPECT_NE(r.message.find("cancelled"), std::string::npos) << r.message;
+}
+
 TEST(Parameterize, DiskWithFreeAndDiskBoundary) {
   const Mesh disk = make_disk(10, 0.8);
   for (BoundaryMode mode : {BoundaryMode::Free, BoundaryMode::DiskUniform}) {

@@ -1,0 +1,177 @@
+"""Blender meshes to ricci's arrays and back: no operator, no UI (the operator calls these).
+
+read_mesh(mesh) takes the mesh's positions and Blender's own triangulation of its polygons
+(loop_triangles) and describes each polygon over those triangles as a ``ricci.Polygons``, so that
+ricci's cut never runs inside a face. write_uv(mesh, job, result) puts the layout back on the
+mesh's own loops (quads and n-gons kept), marks the cut as seams and the cones in a vertex group.
+"""
+
+import numpy as np
+
+CONE_GROUP = "ricci_cones"
+
+
+class UnwrapError(Exception):
+    """A mesh this add-on cannot hand to ricci, or a result it cannot write back."""
+
+
+class MeshJob:
+    """One mesh as ricci sees it: V and F over the vertices that faces use (compacted), the
+    polygons over F, and the maps back to the Blender mesh's vertices and loops."""
+
+    def __init__(self, name, V, F, polygons, vertex_of, polygon_of_loop, vertex_of_loop):
+        self.name = name
+        self.V = V                              # (n, 3) float64, compacted vertices
+        self.F = F                              # (m, 3) int64, Blender's loop triangles
+        self.polygons = polygons                # ricci.Polygons over F
+        self.vertex_of = vertex_of              # compacted vertex -> Blender vertex
+        self.polygon_of_loop = polygon_of_loop  # Blender loop -> its polygon
+        self.vertex_of_loop = vertex_of_loop    # Blender loop -> compacted vertex
+
+
+def read_mesh(ricci, name, mesh):
+    """The MeshJob of a bpy Mesh (object mode: its data up to date)."""
+    nv, nl, np_ = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
+    if np_ == 0:
+        raise UnwrapError(f"{name}: the mesh has no faces")
+    co = np.empty(3 * nv, dtype=np.float64)
+    mesh.vertices.foreach_get("co", co)
+    loop_vertex = np.empty(nl, dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    loop_start = np.empty(np_, dtype=np.int64)
+    loop_total = np.empty(np_, dtype=np.int64)
+    mesh.polygons.foreach_get("loop_start", loop_start)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+
+    mesh.calc_loop_triangles()
+    nt = len(mesh.loop_triangles)
+    tri_loops = np.empty(3 * nt, dtype=np.int64)
+    tri_polygon = np.empty(nt, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("loops", tri_loops)
+    mesh.loop_triangles.foreach_get("polygon_index", tri_polygon)
+    tri_loops = tri_loops.reshape(nt, 3)
+
+    # Each polygon's corners in loop order, each named by a corner 3 t + k of one of its
+    # triangles (ricci.Polygons); the polygons in Blender's order.
+    corner_of_loop = np.full(nl, -1, dtype=np.int64)
+    corner_of_loop[tri_loops.ravel()] = np.arange(3 * nt)
+    loops_in_order = np.concatenate([np.arange(s, s + t) for s, t in zip(loop_start, loop_total)])
+    corners = corner_of_loop[loops_in_order]
+    if (corners < 0).any():
+        bad = int(np.searchsorted(np.cumsum(loop_total), int(np.argmax(corners < 0)), side="right"))
+        raise UnwrapError(f"{name}: polygon {bad} has a corner that Blender's triangulation "
+                          "leaves out (a degenerate face: try Mesh > Clean Up > Merge by Distance)")
+    polygon_of_loop = np.repeat(np.arange(np_), loop_total)
+    polygon_of_loop_blender = np.empty(nl, dtype=np.int64)
+    polygon_of_loop_blender[loops_in_order] = polygon_of_loop
+
+    # Only the vertices that faces use (ricci refuses unreferenced ones).
+    used = np.unique(loop_vertex)
+    compact = np.full(nv, -1, dtype=np.int64)
+    compact[used] = np.arange(len(used))
+    V = co.reshape(nv, 3)[used]
+    F = compact[loop_vertex[tri_loops]]
+
+    polygons = ricci.Polygons()
+    polygons.triangle_polygon = tri_polygon.tolist()
+    polygons.corner_start = np.concatenate([[0], np.cumsum(loop_total)]).tolist()
+    polygons.corners = corners.tolist()
+    return MeshJob(name, V, F, polygons, used, polygon_of_loop_blender, compact[loop_vertex])
+
+
+def loop_uv_rows(job, result):
+    """Per Blender loop, the row of result.uv at that corner of its polygon."""
+    tri = np.asarray(result.triangles, dtype=np.int64)
+    uv_tri = np.asarray(result.uv_triangles, dtype=np.int64)
+    if not result.polygons.empty():
+        corners = np.asarray(result.polygons.corners, dtype=np.int64)
+        start = np.asarray(result.polygons.corner_start, dtype=np.int64)
+        polygon = np.repeat(np.arange(len(start) - 1), np.diff(start))
+        vertex = tri.ravel()[corners]
+        row = uv_tri.ravel()[corners]
+    elif tri.shape == job.F.shape and np.array_equal(tri, job.F):
+        polygon = np.asarray(job.polygons.triangle_polygon, dtype=np.int64).repeat(3)
+        vertex = tri.ravel()
+        row = uv_tri.ravel()
+    else:
+        raise UnwrapError(f"{job.name}: ricci changed the triangles (edge splits), so its layout "
+                          "is not on the mesh's own faces: try another scheme")
+    if (vertex >= len(job.V)).any():
+        raise UnwrapError(f"{job.name}: the layout has vertices the mesh does not")
+    # (polygon, vertex) -> row, looked up for every loop.
+    n = len(job.V)
+    keys = polygon * n + vertex
+    order = np.argsort(keys, kind="stable")
+    wanted = job.polygon_of_loop * n + job.vertex_of_loop
+    at = np.searchsorted(keys[order], wanted)
+    at = np.minimum(at, len(order) - 1)
+    found = keys[order][at] == wanted
+    if not found.all():
+        raise UnwrapError(f"{job.name}: loop {int(np.argmin(found))} has no texture coordinate")
+    return row[order][at]
+
+
+def write_uv(mesh, job, result, uv_name=None):
+    """Writes result's layout into the mesh's active UV map (created when there is none, or the
+    map named uv_name), marks the seams (edges whose two sides have different uv rows) and puts
+    the cones in the vertex group CONE_GROUP of obj. Returns (seam edges, cone vertices)."""
+    rows = loop_uv_rows(job, result)
+    uv = np.asarray(result.uv, dtype=np.float64)
+    layer = None
+    if uv_name:
+        layer = mesh.uv_layers.get(uv_name) or mesh.uv_layers.new(name=uv_name)
+    else:
+        layer = mesh.uv_layers.active or mesh.uv_layers.new(name="UVMap")
+    mesh.uv_layers.active = layer
+    layer.data.foreach_set("uv", uv[rows].astype(np.float32).ravel())
+
+    # Seams: per loop, the uv rows at its edge's two vertices (in the edge's own order).
+    nl, ne = len(mesh.loops), len(mesh.edges)
+    loop_edge = np.empty(nl, dtype=np.int64)
+    mesh.loops.foreach_get("edge_index", loop_edge)
+    loop_vertex = np.empty(nl, dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    edge_vertices = np.empty(2 * ne, dtype=np.int64)
+    mesh.edges.foreach_get("vertices", edge_vertices)
+    edge_vertices = edge_vertices.reshape(ne, 2)
+    loop_start = np.empty(len(mesh.polygons), dtype=np.int64)
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_start", loop_start)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    polygon = job.polygon_of_loop
+    position = np.arange(nl) - loop_start[polygon]
+    next_loop = loop_start[polygon] + (position + 1) % loop_total[polygon]
+    forward = loop_vertex == edge_vertices[loop_edge, 0]
+    row0 = np.where(forward, rows, rows[next_loop])
+    row1 = np.where(forward, rows[next_loop], rows)
+    big = np.iinfo(np.int64).max
+    lo0, hi0 = np.full(ne, big), np.full(ne, -1)
+    lo1, hi1 = np.full(ne, big), np.full(ne, -1)
+    np.minimum.at(lo0, loop_edge, row0)
+    np.maximum.at(hi0, loop_edge, row0)
+    np.minimum.at(lo1, loop_edge, row1)
+    np.maximum.at(hi1, loop_edge, row1)
+    seam = (lo0 != hi0) | (lo1 != hi1)
+    seam &= hi0 >= 0  # loose edges: no loop, no seam
+    mesh.edges.foreach_set("use_seam", seam)
+    return int(seam.sum())
+
+
+def cone_vertices(job, result):
+    """The cones as (Blender vertex, curvature) pairs."""
+    out = []
+    for cone in result.cones:
+        if 0 <= cone.vertex < len(job.vertex_of):
+            out.append((int(job.vertex_of[cone.vertex]), float(cone.curvature)))
+    return out
+
+
+def set_cone_group(obj, cones):
+    """The vertex group CONE_GROUP holds exactly the cone vertices (weight 1)."""
+    group = obj.vertex_groups.get(CONE_GROUP)
+    if group is not None:
+        obj.vertex_groups.remove(group)
+    group = obj.vertex_groups.new(name=CONE_GROUP)
+    if cones:
+        group.add([v for v, _ in cones], 1.0, "REPLACE")
+    return group
