@@ -24,8 +24,9 @@ packages=(
   # `ricci batch` on MPI ranks (optional at build time; its test runs mpirun).
   openmpi-bin libopenmpi-dev
   # `ricci blender-addon` writes the add-on's zip (libzip); its test runs Debian's Blender
-  # headless (Blender 3.4 runs on the same Python 3.11 as the module).
-  libzip-dev blender
+  # headless (Blender 3.4 runs on the same Python 3.11 as the module), and with a window under a
+  # virtual X server for the modal run and undo.
+  libzip-dev blender xvfb xauth
   # Fuzzing (fuzz/run.sh): clang++ with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
 )

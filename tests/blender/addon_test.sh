@@ -49,4 +49,22 @@ else
   fail "blender" "$(grep -E '^FAIL|Error|Traceback' blender.log | head -n 20)"
 fi
 grep -E '^(ok|FAIL|     )' blender.log
+
+# The menu's way (modal: the work in a thread, the interface drawing on) and Blender's undo need
+# a window: Blender under a virtual X server (xvfb-run), on a mesh large enough to take several
+# of the operator's timer ticks.
+if command -v xvfb-run >/dev/null; then
+  "$RICCI" generate surface --genus 2 --resolution 90 -o genus2.obj >/dev/null && ok ||
+    fail "generate a larger genus 2" ""
+  if BLENDER_USER_SCRIPTS="$WORK/scripts" BLENDER_USER_CONFIG="$WORK/config" \
+    timeout 300 xvfb-run -a -s "-screen 0 1280x800x24" "$BLENDER" --factory-startup \
+    -P "$here/modal_check.py" -- "$WORK/ricci_uv.zip" "$WORK/genus2.obj" >modal.log 2>&1; then
+    ok
+  else
+    fail "blender (modal, undo)" "$(grep -E '^FAIL|Error|Traceback' modal.log | head -n 20)"
+  fi
+  grep -E '^(ok|FAIL)' modal.log
+else
+  echo "note: xvfb-run not found: the modal run and undo are not checked (apt install xvfb)"
+fi
 finish
