@@ -3,8 +3,8 @@
 For every mesh: ricci Unwrap (the add-on ricci_uv, its defaults: automatic cones, rigid seams,
 polish), then Blender's Unwrap along the seams ricci chose (Conformal, the LSCM, and Angle Based,
 the ABF++ of Blender's default), then Smart UV Project (its defaults: 66 degrees, its own
-islands), each into its own UV map. Each map is measured on the mesh's own polygons as Blender
-stores them, by ../shared/tools/checkuv.py (area distortion E, mean angle distortion, flipped
+islands), each into its own UV map. Each map is measured as Blender stores it, on the triangles
+Blender draws the polygons with, by ../shared/tools/checkuv.py (area distortion E, mean angle distortion, flipped
 triangles) and here (seam length in 3D, over the surface's total edge length; islands: faces
 joined across edges whose two sides have the same uv; seconds: the operator's wall time).
 
@@ -100,9 +100,11 @@ def measure(obj, layer, path):
             f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
         for (_, u, w) in vt:
             f.write("vt %r %r\n" % (u, w))
-        for p in mesh.polygons:
+        # The triangles Blender draws the polygons with (as tests/blender/addon_check.py).
+        mesh.calc_loop_triangles()
+        for t in mesh.loop_triangles:
             f.write("f " + " ".join(f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}"
-                                    for l in p.loop_indices) + "\n")
+                                    for l in t.loops) + "\n")
     run = subprocess.run(["/usr/bin/python3", checkuv, path], capture_output=True, text=True)
     c = json.loads(run.stdout)
     # Per edge, the vt pairs of its sides: a seam where they differ; islands by union-find.

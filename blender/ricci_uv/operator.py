@@ -6,6 +6,7 @@ cancels, and the results are written on the main thread once all objects are don
 step). Called from a script or the redo panel it runs at once (execute).
 """
 
+import re
 import threading
 import time
 
@@ -20,6 +21,28 @@ def _ricci():
     load is reported as an error, not a failed add-on)."""
     from . import ricci
     return ricci
+
+
+# ricci's fixes name the Python module's keywords (`try: cones="auto"`); here they name the
+# operator's options, as the redo panel shows them.
+_FIXES = ((re.compile(r'cones="auto"'), "Cones: Automatic"),
+          (re.compile(r'cones="needed"'), "Cones: Needed"),
+          (re.compile(r"cones=(\d+)"), r"Cones: Count, Cone Count \1"),
+          (re.compile(r'seams="free"'), "Seams: Free"),
+          (re.compile(r'seams="rigid"'), "Seams: Rigid"),
+          (re.compile(r"quantize=False"), "Quantize off"),
+          (re.compile(r"polish=False"), "Polish off"))
+
+
+def blender_message(message):
+    """ricci's message on one line, its `try:` fixes phrased as this operator's options."""
+    lines = []
+    for line in str(message).splitlines():
+        if line.lstrip().startswith("try:"):
+            for pattern, option in _FIXES:
+                line = pattern.sub(option, line)
+        lines.append(line.strip())
+    return "; ".join(line for line in lines if line)
 
 
 def _mesh_objects(context):
@@ -124,7 +147,7 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
                 work.results[name] = ricci.parameterize(job.V, job.F, polygons=job.polygons,
                                                         progress=work.progress, **options)
             except ricci.Error as e:
-                work.errors.append((name, str(e)))
+                work.errors.append((name, blender_message(e)))
             except Exception as e:  # reported in Blender, never a crash
                 work.errors.append((name, f"{type(e).__name__}: {e}"))
         work.done = True
@@ -156,7 +179,7 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
                 line += f", {d.flipped_faces} flipped"
             if not result.converged:
                 line += " (" + result.message + ")"
-                self.report({"WARNING"}, f"ricci: {name}: {result.message}")
+                self.report({"WARNING"}, f"ricci: {name}: {blender_message(result.message)}")
             lines.append(line)
             obj.data.update()
         for name, message in work.errors:

@@ -1,7 +1,7 @@
 """Blender meshes to ricci's arrays and back: no operator, no UI (the operator calls these).
 
 read_mesh(mesh) takes the mesh's positions and Blender's own triangulation of its polygons
-(loop_triangles) and describes each polygon over those triangles as a ``ricci.Polygons``, so that
+(bmesh's, see triangulate) and describes each polygon over those triangles as a ``ricci.Polygons``, so that
 ricci's cut never runs inside a face. write_uv(mesh, job, result) puts the layout back on the
 mesh's own loops (quads and n-gons kept), marks the cut as seams and the cones in a vertex group.
 """
@@ -29,6 +29,29 @@ class MeshJob:
         self.vertex_of_loop = vertex_of_loop    # Blender loop -> compacted vertex
 
 
+def triangulate(mesh):
+    """Each polygon of the mesh as triangles: (m, 3) vertex indices and the polygon of each.
+
+    Blender's own triangulation (bmesh, "beauty" for quads and n-gons) rather than the mesh's
+    loop_triangles: a polygon with vertices along its edges (a subdivided edge, a knife cut) gets
+    zero-area triangles from loop_triangles, which ricci refuses; the beauty triangulation keeps
+    clear of them."""
+    import bmesh  # Blender's module, there only
+
+    bm = bmesh.new()
+    try:
+        bm.from_mesh(mesh)
+        origin = bm.faces.layers.int.new("ricci_polygon")
+        for face in bm.faces:
+            face[origin] = face.index
+        bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method="BEAUTY", ngon_method="BEAUTY")
+        triangles = np.array([[v.index for v in f.verts] for f in bm.faces], dtype=np.int64)
+        polygon = np.array([f[origin] for f in bm.faces], dtype=np.int64)
+    finally:
+        bm.free()
+    return triangles.reshape(-1, 3), polygon
+
+
 def read_mesh(ricci, name, mesh):
     """The MeshJob of a bpy Mesh (object mode: its data up to date)."""
     nv, nl, np_ = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
@@ -42,41 +65,39 @@ def read_mesh(ricci, name, mesh):
     loop_total = np.empty(np_, dtype=np.int64)
     mesh.polygons.foreach_get("loop_start", loop_start)
     mesh.polygons.foreach_get("loop_total", loop_total)
-
-    mesh.calc_loop_triangles()
-    nt = len(mesh.loop_triangles)
-    tri_loops = np.empty(3 * nt, dtype=np.int64)
-    tri_polygon = np.empty(nt, dtype=np.int64)
-    mesh.loop_triangles.foreach_get("loops", tri_loops)
-    mesh.loop_triangles.foreach_get("polygon_index", tri_polygon)
-    tri_loops = tri_loops.reshape(nt, 3)
+    tri_vertex, tri_polygon = triangulate(mesh)
+    nt = len(tri_vertex)
 
     # Each polygon's corners in loop order, each named by a corner 3 t + k of one of its
-    # triangles (ricci.Polygons); the polygons in Blender's order.
-    corner_of_loop = np.full(nl, -1, dtype=np.int64)
-    corner_of_loop[tri_loops.ravel()] = np.arange(3 * nt)
-    loops_in_order = np.concatenate([np.arange(s, s + t) for s, t in zip(loop_start, loop_total)])
-    corners = corner_of_loop[loops_in_order]
-    if (corners < 0).any():
-        bad = int(np.searchsorted(np.cumsum(loop_total), int(np.argmax(corners < 0)), side="right"))
+    # triangles (ricci.Polygons): looked up by (polygon, vertex).
+    polygon_in_order = np.repeat(np.arange(np_), loop_total)
+    first_in_order = np.repeat(np.cumsum(loop_total) - loop_total, loop_total)
+    loops_in_order = np.repeat(loop_start, loop_total) + np.arange(nl) - first_in_order
+    polygon_of_loop = np.empty(nl, dtype=np.int64)
+    polygon_of_loop[loops_in_order] = polygon_in_order
+    corner_keys = np.repeat(tri_polygon, 3) * nv + tri_vertex.ravel()
+    order = np.argsort(corner_keys, kind="stable")
+    wanted = polygon_of_loop[loops_in_order] * nv + loop_vertex[loops_in_order]
+    at = np.minimum(np.searchsorted(corner_keys[order], wanted), 3 * nt - 1)
+    found = corner_keys[order][at] == wanted
+    if not found.all():
+        bad = int(polygon_of_loop[loops_in_order[int(np.argmin(found))]])
         raise UnwrapError(f"{name}: polygon {bad} has a corner that Blender's triangulation "
                           "leaves out (a degenerate face: try Mesh > Clean Up > Merge by Distance)")
-    polygon_of_loop = np.repeat(np.arange(np_), loop_total)
-    polygon_of_loop_blender = np.empty(nl, dtype=np.int64)
-    polygon_of_loop_blender[loops_in_order] = polygon_of_loop
+    corners = order[at]
 
     # Only the vertices that faces use (ricci refuses unreferenced ones).
     used = np.unique(loop_vertex)
     compact = np.full(nv, -1, dtype=np.int64)
     compact[used] = np.arange(len(used))
     V = co.reshape(nv, 3)[used]
-    F = compact[loop_vertex[tri_loops]]
+    F = compact[tri_vertex]
 
     polygons = ricci.Polygons()
     polygons.triangle_polygon = tri_polygon.tolist()
     polygons.corner_start = np.concatenate([[0], np.cumsum(loop_total)]).tolist()
     polygons.corners = corners.tolist()
-    return MeshJob(name, V, F, polygons, used, polygon_of_loop_blender, compact[loop_vertex])
+    return MeshJob(name, V, F, polygons, used, polygon_of_loop, compact[loop_vertex])
 
 
 def loop_uv_rows(job, result):

@@ -1,7 +1,7 @@
 """Run inside Blender (tests/blender/addon_test.sh): installs and enables the add-on zip,
-unwraps generated meshes with bpy.ops.uv.ricci_unwrap, writes each object's polygons and its UV
-map as Blender stores them to an OBJ (float32 values written exactly), and checks them with
-../shared/tools/checkuv.py (an independent reader).
+unwraps generated meshes with bpy.ops.uv.ricci_unwrap, writes each object's UV map as Blender
+stores it (float32 values written exactly) on the triangles Blender draws its polygons with to an
+OBJ, and checks them with ../shared/tools/checkuv.py (an independent reader).
 
   blender -b --factory-startup --python-exit-code 1 -P addon_check.py -- ZIP WORK CHECKUV \
       TORUS.obj GENUS2.obj
@@ -61,8 +61,12 @@ def write_obj(obj, path):
             f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
         for (_, u, w) in vt:
             f.write("vt %r %r\n" % (u, w))
-        for p in mesh.polygons:
-            corners = [f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}" for l in p.loop_indices]
+        # The triangles Blender draws the polygons with (its loop_triangles): what a texture on
+        # them shows. (A fan from each polygon's first corner, as OBJ readers make, is another
+        # reading of an n-gon; Blender's own exporter is checked on the quad torus below.)
+        mesh.calc_loop_triangles()
+        for t in mesh.loop_triangles:
+            corners = [f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}" for l in t.loops]
             f.write("f " + " ".join(corners) + "\n")
     # Each edge's uv length on each side.
     lengths = {}
@@ -168,6 +172,19 @@ bpy.ops.object.mode_set(mode="OBJECT")
 check("quad torus: still quads", all(len(p.vertices) == 4 for p in quads.data.polygons))
 check_unwrapped(quads, "quad_torus")
 
+# Blender's own OBJ exporter (6 decimals) on the same map: what a user exports reads back with
+# the same faces, none flipped (its rounding, not the map, sets the seams' mismatch there).
+select_only([quads])
+bpy.ops.wm.obj_export(filepath=f"{work}/quad_torus_blender.obj", export_selected_objects=True,
+                      export_uv=True, export_normals=False, export_materials=False,
+                      export_triangulated_mesh=False)
+run = subprocess.run(["/usr/bin/python3", checkuv, f"{work}/quad_torus_blender.obj"],
+                     capture_output=True, text=True)
+exported = json.loads(run.stdout)
+check("Blender's OBJ export: 0 flipped, the same triangles", exported.get("flipped") == 0 and
+      exported.get("faces") == sum(len(p.vertices) - 2 for p in quads.data.polygons), exported)
+
+
 # --- two objects at once: a UV sphere (quads and triangles) and a grid (a disk) ------------------
 fresh_scene()
 bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, location=(3, 0, 0))
@@ -179,6 +196,53 @@ result = bpy.ops.uv.ricci_unwrap(margin=0.01)
 check("two objects: FINISHED", result == {"FINISHED"}, result)
 check_unwrapped(sphere, "uv_sphere")
 check_unwrapped(grid, "grid", expect_cones=0)
+
+# --- n-gons: a cylinder with 24-gon caps -------------------------------------------------------
+fresh_scene()
+bpy.ops.mesh.primitive_cylinder_add(vertices=24, depth=2, end_fill_type="NGON")
+cylinder = bpy.context.active_object
+sizes = sorted({len(p.vertices) for p in cylinder.data.polygons})
+select_only([cylinder])
+result = bpy.ops.uv.ricci_unwrap()
+check(f"n-gon cylinder ({sizes}-gons): FINISHED", result == {"FINISHED"}, result)
+check("n-gon cylinder: still its polygons",
+      sorted({len(p.vertices) for p in cylinder.data.polygons}) == sizes)
+check_unwrapped(cylinder, "ngon_cylinder")
+
+# --- polygons with vertices along their edges (every edge cut in 8): a fan from any corner has
+# zero-area triangles, which ricci refuses; the add-on triangulates them clear of those. The map is
+# checked on that triangulation (a fan of such a polygon is not a sound reading of it).
+fresh_scene()
+bpy.ops.mesh.primitive_cylinder_add(vertices=12, depth=2, end_fill_type="NGON")
+cut = bpy.context.active_object
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.mesh.select_all(action="SELECT")
+bpy.ops.mesh.subdivide(number_cuts=7)
+bpy.ops.object.mode_set(mode="OBJECT")
+sizes = sorted({len(p.vertices) for p in cut.data.polygons})
+select_only([cut])
+result = bpy.ops.uv.ricci_unwrap()
+check(f"polygons with vertices along their edges ({sizes}-gons): FINISHED",
+      result == {"FINISHED"}, result)
+from ricci_uv import unwrap as addon_unwrap  # noqa: E402
+triangles, polygon = addon_unwrap.triangulate(cut.data)
+uv = cut.data.uv_layers.active.data
+loop_of = {}
+for p in cut.data.polygons:
+    for l in p.loop_indices:
+        loop_of[(p.index, cut.data.loops[l].vertex_index)] = l
+with open(f"{work}/cut_cylinder_triangles.obj", "w") as f:
+    for v in cut.data.vertices:
+        f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
+    for l in range(len(cut.data.loops)):
+        f.write("vt %r %r\n" % (float(uv[l].uv[0]), float(uv[l].uv[1])))
+    for t, p in zip(triangles, polygon):
+        f.write("f " + " ".join(f"{v + 1}/{loop_of[(int(p), int(v))] + 1}" for v in t) + "\n")
+run = subprocess.run(["/usr/bin/python3", checkuv, f"{work}/cut_cylinder_triangles.obj"],
+                     capture_output=True, text=True)
+on_triangles = json.loads(run.stdout)
+check("polygons with vertices along their edges: 0 flipped on the add-on's triangles",
+      on_triangles.get("flipped") == 0, on_triangles.get("flipped"))
 
 # --- undo: one undo step. Blender's undo needs a window, which a headless Blender has not: the
 # operator's flags are checked here (REGISTER and UNDO: one undo step, and the redo panel).
@@ -201,6 +265,18 @@ except RuntimeError as e:
     message = str(e)
     check("non-manifold: an error report naming the problem",
           "ricci: fin:" in message and "manifold" in message, message)
+
+# An option that cannot work: ricci's fix, phrased as the operator's options.
+fresh_scene()
+bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16)
+select_only([bpy.context.active_object])
+try:
+    bpy.ops.uv.ricci_unwrap(cone_mode="COUNT", cone_count=1)
+    check("one cone on a sphere: refused", False, "no error")
+except RuntimeError as e:
+    message = str(e)
+    check("one cone on a sphere: the fix as the operator's options",
+          "try: Cones: Count, Cone Count 4, or Cones: Automatic" in message, message)
 
 # The flow's progress callback cancels: the work object of the operator, driven directly.
 from ricci_uv import operator as addon_operator, unwrap  # noqa: E402
