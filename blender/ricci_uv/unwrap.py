@@ -1,7 +1,7 @@
 """Blender meshes to ricci's arrays and back: no operator, no UI (the operator calls these).
 
-read_mesh(mesh) takes the mesh's positions and Blender's own triangulation of its polygons
-(bmesh's, see triangulate) and describes each polygon over those triangles as a ``ricci.Polygons``, so that
+read_mesh(mesh) takes the mesh's positions and the triangles Blender draws its polygons with
+(see triangulate) and describes each polygon over those triangles as a ``ricci.Polygons``, so that
 ricci's cut never runs inside a face. write_uv(mesh, job, result) puts the layout back on the
 mesh's own loops (quads and n-gons kept), marks the cut as seams and the cones in a vertex group.
 """
@@ -29,27 +29,53 @@ class MeshJob:
         self.vertex_of_loop = vertex_of_loop    # Blender loop -> compacted vertex
 
 
+# A triangle ricci refuses as of zero area: twice its area at most this times its longest edge
+# squared (ricci's ValidationOptions::zero_area_tolerance is 1e-12; a margin above it).
+ZERO_AREA = 1e-10
+
+
 def triangulate(mesh):
     """Each polygon of the mesh as triangles: (m, 3) vertex indices and the polygon of each.
 
-    Blender's own triangulation (bmesh, "beauty" for quads and n-gons) rather than the mesh's
-    loop_triangles: a polygon with vertices along its edges (a subdivided edge, a knife cut) gets
-    zero-area triangles from loop_triangles, which ricci refuses; the beauty triangulation keeps
-    clear of them."""
+    The triangles Blender draws the polygons with (the mesh's loop_triangles), so that the layout
+    is fold-free on what Blender shows; but a polygon with vertices along its edges (a subdivided
+    edge, a knife cut) gets zero-area triangles there, which ricci refuses: such polygons are
+    triangulated again by bmesh's "beauty" method, which keeps clear of them."""
+    mesh.calc_loop_triangles()
+    nt = len(mesh.loop_triangles)
+    triangles = np.empty(3 * nt, dtype=np.int64)
+    polygon = np.empty(nt, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
+    mesh.loop_triangles.foreach_get("polygon_index", polygon)
+    triangles = triangles.reshape(nt, 3)
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float64)
+    mesh.vertices.foreach_get("co", co)
+    p = co.reshape(-1, 3)[triangles]
+    twice_area = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    longest = np.max([((p[:, (k + 1) % 3] - p[:, k]) ** 2).sum(axis=1) for k in range(3)], axis=0)
+    flat = np.unique(polygon[twice_area <= ZERO_AREA * longest])
+    if len(flat) == 0:
+        return triangles, polygon
+
     import bmesh  # Blender's module, there only
 
     bm = bmesh.new()
     try:
         bm.from_mesh(mesh)
+        bm.faces.ensure_lookup_table()
         origin = bm.faces.layers.int.new("ricci_polygon")
         for face in bm.faces:
             face[origin] = face.index
-        bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method="BEAUTY", ngon_method="BEAUTY")
-        triangles = np.array([[v.index for v in f.verts] for f in bm.faces], dtype=np.int64)
-        polygon = np.array([f[origin] for f in bm.faces], dtype=np.int64)
+        bmesh.ops.triangulate(bm, faces=[bm.faces[i] for i in flat], quad_method="BEAUTY",
+                              ngon_method="BEAUTY")
+        redone = set(flat.tolist())
+        new = [([v.index for v in f.verts], f[origin]) for f in bm.faces if f[origin] in redone]
     finally:
         bm.free()
-    return triangles.reshape(-1, 3), polygon
+    keep = ~np.isin(polygon, flat)
+    triangles = np.concatenate([triangles[keep], np.array([t for t, _ in new], dtype=np.int64)])
+    polygon = np.concatenate([polygon[keep], np.array([q for _, q in new], dtype=np.int64)])
+    return triangles, polygon
 
 
 def read_mesh(ricci, name, mesh):
