@@ -113,8 +113,10 @@ int run_blender_addon(const AddonArgs& args, const char* argv0) {
   const fs::path package = find_python_package(args, argv0);
   const fs::path target(args.output);
   if (target.extension() != ".zip") {
-    throw InvalidInput("blender-addon: the output must be a .zip (Blender installs add-ons from "
-                       "zips), got " + args.output);
+    throw InvalidInput(
+        "blender-addon: the output must be a .zip (Blender installs add-ons from "
+        "zips), got " +
+        args.output);
   }
   // Written beside the target under another name, renamed into place when complete.
   const fs::path temporary = target.string() + ".part";

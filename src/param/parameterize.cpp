@@ -845,8 +845,7 @@ MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options)
   // no other route starts (the result says Cancelled, converged false).
   const bool cancelled = !refused && first.flow.status == FlowStatus::Cancelled;
   if (cancelled) why = first.message;
-  if (!refused &&
-      (cancelled || passes_checks(first, options, why) || !options.fold_free.charts)) {
+  if (!refused && (cancelled || passes_checks(first, options, why) || !options.fold_free.charts)) {
     ComponentRoute route;
     route.method =
         first.untangle.moved_vertices > 0 ? ComponentMethod::Untangled : ComponentMethod::Flow;
