@@ -11,8 +11,8 @@
 #   flow/param --geometry hyperbolic (closed genus >= 2) exit 0, the Fuchsian relation to 1e-10
 #            on the shared meshes.
 # Usage: RICCI=build/ricci [RICCI_SWEEP_SHARD=K/N] bash tests/cli/defaults_test.sh [SCRATCH_DIR]
-#   RICCI_SWEEP_SHARD=K/N runs only the cases whose index is K modulo N (ctest runs the sweep as
-#   two shards, so that both cores share it).
+#   RICCI_SWEEP_SHARD=K/N runs only shard K of N (cases dealt by file size; ctest runs the sweep
+#   as two shards, so that both cores share it).
 set -u
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/check_framework.sh" defaults_test "${1:-}"
@@ -89,8 +89,23 @@ if ! [[ "$shard_index" =~ ^[0-9]+$ && "$shard_count" =~ ^[1-9][0-9]*$ ]] ||
   echo "defaults_test: RICCI_SWEEP_SHARD must be K/N with 0 <= K < N, got '$shard'" >&2
   exit 2
 fi
+# Cases dealt to shards by file size, largest first, each to the shard with the fewest bytes so
+# far (the size stands for the work: the 270k-face scan alone is a third of the sweep).
+declare -a shard_bytes shard_of
+for ((k = 0; k < shard_count; ++k)); do shard_bytes[k]=0; done
+while read -r bytes index; do
+  best=0
+  for ((k = 1; k < shard_count; ++k)); do
+    ((shard_bytes[k] < shard_bytes[best])) && best=$k
+  done
+  shard_of[index]=$best
+  shard_bytes[best]=$((shard_bytes[best] + bytes))
+done < <(for index in "${!cases[@]}"; do
+  read -r _ path _ <<<"${cases[$index]}"
+  echo "$(stat -c %s "$path") $index"
+done | sort -k1,1nr -k2,2n)
 for index in "${!cases[@]}"; do
-  ((index % shard_count == shard_index)) || continue
+  ((shard_of[index] == shard_index)) || continue
   read -r name path genus loops origin <<<"${cases[$index]}"
   if [[ -n "${refused[$name]:-}" ]]; then
     for command in flow param spline; do

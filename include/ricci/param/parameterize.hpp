@@ -405,7 +405,8 @@ struct MeshParamResult : Parameterization {
 /// the others go on. Each component's layout is scaled to its 3D area and the charts are
 /// packed into the unit square (pack_charts with options.packing); MeshParamResult says what the
 /// gathered result holds. A flow cancelled by its progress callback stops everything: the result
-/// then has no uv, converged false and the components done so far.
+/// then has no uv, converged false and the components done so far (one component: its result as
+/// the cancelled flow left it, no other route tried).
 /// \throw InvalidInput (bad cones; one component: also an inadmissible target or cone mode),
 ///        TopologyError
 MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& options = {});

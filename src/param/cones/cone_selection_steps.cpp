@@ -29,7 +29,6 @@ constexpr double kColumnValues = 4e7;
 /// that many cones within their bounds: each takes at most about pi on a valence-6 vertex):
 /// more cones would buy nothing (a CAD part's needles, whose spread no cone set removes).
 constexpr double kStallFactor = 0.95;
-constexpr int kStallCheckFrom = 64;
 /// The greedy adds max(1, #S / kBatchDivisor) cones a step (one fit per batch, not per cone).
 constexpr int kBatchDivisor = 8;
 
@@ -366,21 +365,25 @@ double record_fit(ConeSelector& s, const SetFit& fit, ConeSelection& result) {
   return largest;
 }
 
-/// Automatic count without a cap: the spread measured with half as many cones (or fewer) was
-/// hardly larger than now.
+/// Automatic count without a cap: more cones stopped helping (spread_stalled).
 bool stalled(const ConeSelector& s) {
-  if (s.options.max_cones > 0 || s.spread_history.empty()) return false;
-  const auto [m, now] = s.spread_history.back();
+  if (s.options.max_cones > 0) return false;
   const int from = s.model.closed && s.model.chi < 0 ? std::max(kStallCheckFrom, 6 * -s.model.chi)
                                                      : kStallCheckFrom;
+  return spread_stalled(s.spread_history, from);
+}
+
+}  // namespace
+
+bool spread_stalled(const std::vector<std::pair<int, double>>& history, int from) {
+  if (history.empty()) return false;
+  const auto [m, now] = history.back();
   if (m < from) return false;
-  for (auto it = s.spread_history.rbegin(); it != s.spread_history.rend(); ++it) {
+  for (auto it = history.rbegin(); it != history.rend(); ++it) {
     if (2 * it->first <= m) return now > kStallFactor * it->second;
   }
   return false;
 }
-
-}  // namespace
 
 SetFit grow_cone_set(ConeSelector& selector, ConeSelection& result) {
   ConeSelector& s = selector;

@@ -308,14 +308,27 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
     cutting.cones.push_back(first);
   }
   Eigen::VectorXd multiplier;
+  // (cones, spread off the cut) after each round: automatic cones stop once more stop helping
+  // (cone_steps::spread_stalled, as the rigid selection's): on noisy scans the spread is held up
+  // by bumps no cone set flattens, and the rounds went on to 612 cones on a 5k-face cow and 1542
+  // on a 13k-face cheburashka.
+  std::vector<std::pair<int, double>> spread_history;
+  const int stall_from = component.num_boundary_loops == 0 && component.genus > 1
+                             ? std::max(cone_steps::kStallCheckFrom, 12 * component.genus - 12)
+                             : cone_steps::kStallCheckFrom;
   std::vector<int> rings(t.num_vertices);
   const std::vector<std::vector<int>> neighbours = cone_steps::vertex_neighbours(t);
   for (;;) {
     result.cut = cut_graph(t, problem.input_lengths, cutting);
     result.seams = system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
     const int have = static_cast<int>(cutting.cones.size());
-    if (count > 0 ? have >= count : spread_off_the_cut(result.seams, linear) <= max_log_scale)
-      break;
+    if (count > 0) {
+      if (have >= count) break;
+    } else {
+      const double spread = spread_off_the_cut(result.seams, linear);
+      spread_history.emplace_back(have, spread);
+      if (spread <= max_log_scale || cone_steps::spread_stalled(spread_history, stall_from)) break;
+    }
     // The next cones: the prescribed vertices whose rows' multipliers are largest, in a batch
     // (half as many as are placed, at least one: each round costs a factorisation), each a few
     // rings from the free vertices and from the others of the batch, so that their paths to

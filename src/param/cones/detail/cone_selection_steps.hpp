@@ -154,6 +154,15 @@ inline constexpr int kFarFromCones = std::numeric_limits<int>::max() / 2;
 /// Each vertex's neighbours along the edges, in edge order.
 std::vector<std::vector<int>> vertex_neighbours(const Topology& t);
 
+/// The fewest automatic cones (without a cap) at which spread_stalled may stop a selection.
+inline constexpr int kStallCheckFrom = 64;
+
+/// Automatic count without a cap: whether more cones stopped helping. history holds (cones,
+/// measure of the log scale's spread) after each round; true once the count is at least `from`
+/// and the measure with half as many cones (or fewer) was hardly larger than now (not above
+/// now / 0.95). The greedy selection and the free seams' selection share it.
+bool spread_stalled(const std::vector<std::pair<int, double>>& history, int from);
+
 }  // namespace ricci::cone_steps
 
 namespace ricci {
