@@ -34,6 +34,7 @@ meshes = [a for a in args[2:] if a != "--picture"]
 os.makedirs(out_dir, exist_ok=True)
 
 import ricci_uv.ricci as ricci  # noqa: E402 (the add-on's own module: installed above)
+from ricci_uv import unwrap  # noqa: E402
 
 METHODS = ("ricci", "ricci_free", "conformal", "angle_based", "smart_uv")
 LABELS = {"ricci": "ricci Unwrap", "ricci_free": "ricci Unwrap, free seams",
@@ -90,21 +91,7 @@ def blender_unwrap(obj, method):
 def measure(obj, layer, path):
     """checkuv's figures of the map, with seam length and islands measured here."""
     mesh = obj.data
-    uv = layer.data
-    vt, corner_vt = {}, []
-    for loop, data in zip(mesh.loops, uv):
-        key = (loop.vertex_index, float(data.uv[0]), float(data.uv[1]))
-        corner_vt.append(vt.setdefault(key, len(vt)))
-    with open(path, "w") as f:
-        for v in mesh.vertices:
-            f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
-        for (_, u, w) in vt:
-            f.write("vt %r %r\n" % (u, w))
-        # The triangles Blender draws the polygons with (as tests/blender/addon_check.py).
-        mesh.calc_loop_triangles()
-        for t in mesh.loop_triangles:
-            f.write("f " + " ".join(f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}"
-                                    for l in t.loops) + "\n")
+    corner_vt = unwrap.write_drawn_obj(mesh, layer, path)
     run = subprocess.run(["/usr/bin/python3", checkuv, path], capture_output=True, text=True)
     c = json.loads(run.stdout)
     # Per edge, the vt pairs of its sides: a seam where they differ; islands by union-find.

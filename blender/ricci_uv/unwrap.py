@@ -222,3 +222,25 @@ def set_cone_group(obj, cones):
     if cones:
         group.add([v for v, _ in cones], 1.0, "REPLACE")
     return group
+
+
+def write_drawn_obj(mesh, layer, path):
+    """The UV map `layer` as Blender stores it, on the triangles Blender draws the polygons with
+    (loop_triangles), to an OBJ: float32 values written exactly, and the corners of one vertex
+    with bitwise equal uv sharing a vt, so that a seam is where they do not (what checkers such as
+    ../shared/tools/checkuv.py read). Returns per loop its vt index."""
+    uv = layer.data
+    vt, corner_vt = {}, []
+    for loop, data in zip(mesh.loops, uv):
+        key = (loop.vertex_index, float(data.uv[0]), float(data.uv[1]))
+        corner_vt.append(vt.setdefault(key, len(vt)))
+    mesh.calc_loop_triangles()
+    with open(path, "w") as f:
+        for v in mesh.vertices:
+            f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
+        for (_, u, w) in vt:
+            f.write("vt %r %r\n" % (u, w))
+        for t in mesh.loop_triangles:
+            f.write("f " + " ".join(f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}"
+                                    for l in t.loops) + "\n")
+    return corner_vt

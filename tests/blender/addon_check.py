@@ -50,24 +50,13 @@ def write_obj(obj, path):
     """The object's polygons with its active UV map as stored (float32 values written exactly);
     corners of one vertex with bitwise equal uv share a vt, so that a seam is where they do not.
     Returns the largest absolute difference in uv length between an edge's two copies."""
+    # (On the triangles Blender draws the polygons with: a fan from each polygon's first
+    # corner, as OBJ readers make, is another reading of an n-gon; Blender's own exporter is
+    # checked on the quad torus below.)
+    from ricci_uv import unwrap as addon_unwrap
     mesh = obj.data
     uv = mesh.uv_layers.active.data
-    vt, corner_vt = {}, []
-    for loop, data in zip(mesh.loops, uv):
-        key = (loop.vertex_index, float(data.uv[0]), float(data.uv[1]))
-        corner_vt.append(vt.setdefault(key, len(vt)))
-    with open(path, "w") as f:
-        for v in mesh.vertices:
-            f.write("v %r %r %r\n" % tuple(float(x) for x in v.co))
-        for (_, u, w) in vt:
-            f.write("vt %r %r\n" % (u, w))
-        # The triangles Blender draws the polygons with (its loop_triangles): what a texture on
-        # them shows. (A fan from each polygon's first corner, as OBJ readers make, is another
-        # reading of an n-gon; Blender's own exporter is checked on the quad torus below.)
-        mesh.calc_loop_triangles()
-        for t in mesh.loop_triangles:
-            corners = [f"{mesh.loops[l].vertex_index + 1}/{corner_vt[l] + 1}" for l in t.loops]
-            f.write("f " + " ".join(corners) + "\n")
+    addon_unwrap.write_drawn_obj(mesh, mesh.uv_layers.active, path)
     # Each edge's uv length on each side.
     lengths = {}
     for p in mesh.polygons:
