@@ -136,9 +136,11 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
                 errors.append((obj.name, str(e)))
         return jobs, errors
 
-    def _run(self, work):
+    @staticmethod
+    def _run(work, options):
+        """ricci on every job (in the modal run: in a thread, so it touches no Blender data:
+        the options were read on the main thread)."""
         ricci = _ricci()
-        options = self._options()
         for i, (name, job) in enumerate(work.jobs):
             work.current = i
             if work.cancel:
@@ -160,6 +162,9 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
                 continue
             obj = bpy.data.objects.get(name)
             if obj is None:
+                continue
+            if not job.matches(obj.data):
+                work.errors.append((name, "the mesh was edited while ricci ran: run it again"))
                 continue
             try:
                 seams = unwrap.write_uv(obj.data, job, result)
@@ -213,7 +218,7 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
             jobs, errors = self._prepare(context)
             work = _Work(jobs)
             work.errors.extend(errors)
-            self._run(work)
+            self._run(work, self._options())
             return self._write(context, work)
 
         return {"FINISHED"} if self._in_object_mode(context, action) else {"CANCELLED"}
@@ -231,7 +236,8 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
         self._work = _Work(jobs)
         self._work.errors.extend(errors)
         self._faces = [len(job.F) for _, job in jobs]
-        self._thread = threading.Thread(target=self._run, args=(self._work,), daemon=True)
+        self._thread = threading.Thread(target=self._run, args=(self._work, self._options()),
+                                        daemon=True)
         self._started = time.monotonic()
         self._thread.start()
         wm = context.window_manager
@@ -244,8 +250,11 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
         work = self._work
         if event.type == "ESC":
             work.cancel = True
-        if event.type != "TIMER":
             return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            # The view can be turned and zoomed while ricci runs; an edit of the mesh meanwhile
+            # is caught before writing (MeshJob.matches).
+            return {"PASS_THROUGH"}
         wm = context.window_manager
         if not work.done:
             i = min(work.current, max(0, len(work.jobs) - 1))

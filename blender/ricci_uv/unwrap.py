@@ -28,6 +28,15 @@ class MeshJob:
         self.polygon_of_loop = polygon_of_loop  # Blender loop -> its polygon
         self.vertex_of_loop = vertex_of_loop    # Blender loop -> compacted vertex
 
+    def matches(self, mesh):
+        """Whether `mesh` still has the loops this job was read from (same count, same vertex
+        at every loop): the layout can be written back."""
+        if len(mesh.loops) != len(self.vertex_of_loop):
+            return False
+        loop_vertex = np.empty(len(mesh.loops), dtype=np.int64)
+        mesh.loops.foreach_get("vertex_index", loop_vertex)
+        return bool(np.array_equal(self.vertex_of[self.vertex_of_loop], loop_vertex))
+
 
 # A triangle ricci refuses as of zero area: twice its area at most this times its longest edge
 # squared (ricci's ValidationOptions::zero_area_tolerance is 1e-12; a margin above it).
