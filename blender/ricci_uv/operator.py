@@ -270,11 +270,16 @@ class UV_OT_ricci_unwrap(bpy.types.Operator):
         wm.event_timer_remove(self._timer)
         wm.progress_end()
         context.workspace.status_text_set(None)
+        # Edit mode entered during the run: its edits flushed to the mesh (object mode) before
+        # writing, so that MeshJob.matches sees them and nothing written is lost on leaving it.
+        back_to_edit = self._was_edit or context.mode == "EDIT_MESH"
+        if context.mode == "EDIT_MESH":
+            bpy.ops.object.mode_set(mode="OBJECT")
         try:
             # Cancelled: nothing written (the flow stopped short on the object it was on).
             written = not work.cancel and self._write(context, work)
         finally:
-            if self._was_edit:
+            if back_to_edit:
                 bpy.ops.object.mode_set(mode="EDIT")
         if work.cancel:
             self.report({"WARNING"}, "ricci: cancelled, nothing written")
