@@ -29,6 +29,7 @@ constexpr double kColumnValues = 4e7;
 /// that many cones within their bounds: each takes at most about pi on a valence-6 vertex):
 /// more cones would buy nothing (a CAD part's needles, whose spread no cone set removes).
 constexpr double kStallFactor = 0.95;
+constexpr int kStallCheckFrom = 64;
 /// The greedy adds max(1, #S / kBatchDivisor) cones a step (one fit per batch, not per cone).
 constexpr int kBatchDivisor = 8;
 
@@ -368,12 +369,14 @@ double record_fit(ConeSelector& s, const SetFit& fit, ConeSelection& result) {
 /// Automatic count without a cap: more cones stopped helping (spread_stalled).
 bool stalled(const ConeSelector& s) {
   if (s.options.max_cones > 0) return false;
-  const int from = s.model.closed && s.model.chi < 0 ? std::max(kStallCheckFrom, 6 * -s.model.chi)
-                                                     : kStallCheckFrom;
-  return spread_stalled(s.spread_history, from);
+  return spread_stalled(s.spread_history, stall_check_from(s.model.closed, s.model.chi));
 }
 
 }  // namespace
+
+int stall_check_from(bool closed, int chi) {
+  return closed && chi < 0 ? std::max(kStallCheckFrom, 6 * -chi) : kStallCheckFrom;
+}
 
 bool spread_stalled(const std::vector<std::pair<int, double>>& history, int from) {
   if (history.empty()) return false;

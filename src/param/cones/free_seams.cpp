@@ -313,9 +313,8 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   // by bumps no cone set flattens, and the rounds went on to 612 cones on a 5k-face cow and 1542
   // on a 13k-face cheburashka.
   std::vector<std::pair<int, double>> spread_history;
-  const int stall_from = component.num_boundary_loops == 0 && component.genus > 1
-                             ? std::max(cone_steps::kStallCheckFrom, 12 * component.genus - 12)
-                             : cone_steps::kStallCheckFrom;
+  const int stall_from = cone_steps::stall_check_from(
+      component.num_boundary_loops == 0, 2 - 2 * component.genus - component.num_boundary_loops);
   std::vector<int> rings(t.num_vertices);
   const std::vector<std::vector<int>> neighbours = cone_steps::vertex_neighbours(t);
   for (;;) {

@@ -154,8 +154,11 @@ inline constexpr int kFarFromCones = std::numeric_limits<int>::max() / 2;
 /// Each vertex's neighbours along the edges, in edge order.
 std::vector<std::vector<int>> vertex_neighbours(const Topology& t);
 
-/// The fewest automatic cones (without a cap) at which spread_stalled may stop a selection.
-inline constexpr int kStallCheckFrom = 64;
+/// The fewest automatic cones (without a cap) at which spread_stalled may stop a selection on a
+/// component of Euler characteristic chi: 64, or 6 |chi| on a closed surface of chi < 0, whose
+/// curvature needs about that many cones within their bounds (each takes at most about pi on a
+/// valence-6 vertex).
+int stall_check_from(bool closed, int chi);
 
 /// Automatic count without a cap: whether more cones stopped helping. history holds (cones,
 /// measure of the log scale's spread) after each round; true once the count is at least `from`
