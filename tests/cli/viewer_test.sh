@@ -42,15 +42,22 @@ load() {
   local name="$1" url="file://$WORK/$2${3:-}"
   timeout 60 "$CHROMIUM" "${browser_flags[@]}" --enable-logging=stderr --v=0 --dump-dom "$url" \
     >"$name.dom" 2>"$name.log"
+  check_dom "$name" "$name.log"
+}
+
+# check_dom NAME LOG: NAME.dom says the page loaded without error or warning; LOG has no console
+# message.
+check_dom() {
+  local name="$1" log="$2"
   local root
   root="$(grep -o -m 1 '<html[^>]*>' "$name.dom")"
   if [[ "$root" == *'data-status="ok"'* ]]; then ok; else
-    fail "$name: page status" "${root:-no DOM} $(grep -o 'Uncaught[^"]*' "$name.log" | head -n 2)"
+    fail "$name: page status" "${root:-no DOM} $(grep -o 'Uncaught[^"]*' "$log" | head -n 2)"
   fi
   if [[ "$root" == *data-error=* || "$root" == *data-warnings=* ]]; then
     fail "$name: errors or warnings" "$root"
   else ok; fi
-  quiet_console "$name" "$name.log"
+  quiet_console "$name" "$log"
 }
 
 # quiet_console NAME LOG: no console message of the page in Chromium's log (it logs them as
@@ -62,12 +69,20 @@ quiet_console() {
 }
 
 # shot NAME PAGE [FRAGMENT] [CHECK FLAGS...]: screenshot NAME.png, both halves checked.
+# With SHOT_DOM=1 the same browser run also dumps the DOM, checked as load does (one launch of
+# Chromium instead of two: each costs seconds of CPU).
 shot() {
   local name="$1" page="$2" fragment="${3:-}"
   shift 3
   rm -f "$WORK/$name.png"
-  timeout 60 "$CHROMIUM" "${browser_flags[@]}" --enable-logging=stderr --v=0 \
-    --screenshot="$WORK/$name.png" "file://$WORK/$page$fragment" >/dev/null 2>"$name.shot.log"
+  if [[ "${SHOT_DOM:-0}" == 1 ]]; then
+    timeout 60 "$CHROMIUM" "${browser_flags[@]}" --enable-logging=stderr --v=0 --dump-dom \
+      --screenshot="$WORK/$name.png" "file://$WORK/$page$fragment" >"$name.dom" 2>"$name.shot.log"
+    check_dom "$name" "$name.shot.log"
+  else
+    timeout 60 "$CHROMIUM" "${browser_flags[@]}" --enable-logging=stderr --v=0 \
+      --screenshot="$WORK/$name.png" "file://$WORK/$page$fragment" >/dev/null 2>"$name.shot.log"
+  fi
   if [[ ! -s "$WORK/$name.png" ]]; then
     fail "$name: screenshot" "none written: $(grep -v dbus "$name.shot.log" | tail -n 2)"
     return
@@ -117,11 +132,12 @@ grep -q 'projective texture coordinates (vt u v w)' "$WORK/out.txt" && ok ||
 "$RICCI" view torus.obj -o plain.html >/dev/null 2>"$WORK/err.txt"
 [[ $? == 2 && ! -e plain.html ]] && ok || fail "view without vt" "not refused"
 
-load torus torus.html
-load torus_glb torus_glb.html
+# DOM and screenshot in one browser run where a page gets both.
+SHOT_DOM=1 shot torus torus.html "" --seams
+SHOT_DOM=1 shot torus_glb torus_glb.html "" --seams
 load genus2 genus2.html
-load disk disk.html "#face=700"
-load pictures genus2_pictures/view.html
+SHOT_DOM=1 shot disk disk.html "#face=700" --seams --highlight
+SHOT_DOM=1 shot pictures genus2_pictures/view.html "" --seams --cones
 load exact_pictures exact_pictures/view.html
 # The linked face: shown, and picked back by a pointer at its centre in both views.
 grep -q 'data-picked="700 700"' disk.dom && ok || fail "disk: #face=700" "$(grep -o -m 1 '<html[^>]*>' disk.dom)"
@@ -130,10 +146,6 @@ grep -q '24 cones\|[0-9] cones' genus2.dom && ok || fail "genus2: cones" "no con
 grep -q '"projective": true' exact_pictures/view.html && ok || fail "exact pictures" "not projective"
 grep -q 'projective uv' exact_pictures.dom && ok || fail "exact pictures: stats" "not projective"
 
-shot torus torus.html "" --seams
-shot torus_glb torus_glb.html "" --seams
-shot disk disk.html "#face=700" --seams --highlight
-shot pictures genus2_pictures/view.html "" --seams --cones
 shot exact exact.html "" --seams --cones
 shot linear linear.html "" --seams --cones
 # Real mouse events through the DevTools protocol: hovering either view shows the face's figures
