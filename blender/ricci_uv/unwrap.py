@@ -43,7 +43,7 @@ class MeshJob:
 ZERO_AREA = 1e-10
 
 
-def triangulate(mesh):
+def triangulate(mesh, positions=None):
     """Each polygon of the mesh as triangles: (m, 3) vertex indices and the polygon of each.
 
     The triangles Blender draws the polygons with (the mesh's loop_triangles), so that the layout
@@ -57,9 +57,10 @@ def triangulate(mesh):
     mesh.loop_triangles.foreach_get("vertices", triangles)
     mesh.loop_triangles.foreach_get("polygon_index", polygon)
     triangles = triangles.reshape(nt, 3)
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float64)
-    mesh.vertices.foreach_get("co", co)
-    p = co.reshape(-1, 3)[triangles]
+    if positions is None:  # (read_mesh passes the ones it has read)
+        positions = np.empty(3 * len(mesh.vertices), dtype=np.float64)
+        mesh.vertices.foreach_get("co", positions)
+    p = positions.reshape(-1, 3)[triangles]
     twice_area = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
     longest = np.max([((p[:, (k + 1) % 3] - p[:, k]) ** 2).sum(axis=1) for k in range(3)], axis=0)
     flat = np.unique(polygon[twice_area <= ZERO_AREA * longest])
@@ -100,7 +101,7 @@ def read_mesh(ricci, name, mesh):
     loop_total = np.empty(np_, dtype=np.int64)
     mesh.polygons.foreach_get("loop_start", loop_start)
     mesh.polygons.foreach_get("loop_total", loop_total)
-    tri_vertex, tri_polygon = triangulate(mesh)
+    tri_vertex, tri_polygon = triangulate(mesh, co)
     nt = len(tri_vertex)
 
     # Each polygon's corners in loop order, each named by a corner 3 t + k of one of its
