@@ -184,8 +184,8 @@ TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
 // cones on, and only when twice the cones bought less than 5 % of the spread.
 TEST(ConeSteps, SpreadStallsOnceDoublingTheConesBuysLessThanFivePercent) {
   EXPECT_FALSE(spread_stalled({}, 64));
-  EXPECT_FALSE(spread_stalled({{16, 2.0}, {32, 1.9}}, 64));            // too few cones
-  EXPECT_TRUE(spread_stalled({{16, 2.0}, {32, 1.95}}, 32));  // 1.95 > 0.95 * 2.0
+  EXPECT_FALSE(spread_stalled({{16, 2.0}, {32, 1.9}}, 64));              // too few cones
+  EXPECT_TRUE(spread_stalled({{16, 2.0}, {32, 1.95}}, 32));              // 1.95 > 0.95 * 2.0
   EXPECT_FALSE(spread_stalled({{32, 1.5}, {48, 1.45}, {64, 1.2}}, 64));  // 1.2 < 0.95 * 1.5
   EXPECT_TRUE(spread_stalled({{32, 1.5}, {48, 1.45}, {64, 1.45}}, 64));
   // Half as many or fewer: the latest such round counts (48 is more than half of 64 + 32).

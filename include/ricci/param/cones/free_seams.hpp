@@ -80,9 +80,9 @@ struct FreeSeamCones {
 /// objective most), a few rings from the cut and from each other. It stops when `count` cones
 /// are placed, or (count 0) when max |u| off the cut is at most max_log_scale, when more cones
 /// stop helping (from 64 cones on, twice the cones lowered it by less than 5 %, as the rigid
-/// selection's stop) or no vertex is left away from the cut. The final cut's curvature is then chosen with the Dirichlet energy
-/// (free_seam_target).
-/// \param cut_options the cut's options (its cones are replaced by the chosen ones)
+/// selection's stop) or no vertex is left away from the cut. The final cut's curvature is then
+/// chosen with the Dirichlet energy (free_seam_target). \param cut_options the cut's options (its
+/// cones are replaced by the chosen ones)
 FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& prescribed,
                                      int count, double max_log_scale,
                                      const CutGraphOptions& cut_options,
