@@ -468,7 +468,8 @@ RicciFlow::RicciFlow(const Topology& topology, const ConformalStructure& structu
     // scaling on Delaunay triangulations, flips between them). Ptolemy flips there would change the
     // metric where the input is not Delaunay: on face.obj (13k such edges) the map's mean angle
     // distortion on the input faces went from 1.029 to 1.068.
-    if (edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths).ok()) {
+    if (options.isometric_start &&
+        edge_lengths(*s.topology, s.structure, s.structure.initial_u, s.lengths).ok()) {
       DelaunayFlipOptions isometric = s.flip_options();
       isometric.isometric = true;
       if (count_non_delaunay_edges(*s.topology, s.lengths, isometric.tolerance,

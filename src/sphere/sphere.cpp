@@ -588,10 +588,28 @@ SphereResult map_with_pole(const Mesh& mesh, const Topology& topology, int pole,
   TargetSpec disk_target;
   disk_target.kind = TargetKind::Flat;
   disk_target.boundary = BoundaryMode::DiskLength;
+  // The disk's problem (topology, lengths, structure), built once: the layout reads it too.
+  FlowProblem disk_problem = make_flow_problem(disk, options.structure);
+  if (options.exact_pole_star && disk_problem.structure.structure.scheme == Scheme::VertexScaling) {
+    // Equal spokes in the plane: u_i = -2 ln l(pole, i), centred, fixed on the boundary
+    // (BoundaryMode::Free holds the boundary's u where it starts).
+    disk_target.boundary = BoundaryMode::Free;
+    std::vector<std::pair<int, double>> spokes;
+    double mean = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        if (mesh.triangles(f, k) != pole) continue;
+        const int i = mesh.triangles(f, (k + 1) % 3);
+        const double length = (mesh.positions.row(i) - mesh.positions.row(pole)).norm();
+        spokes.emplace_back(to_disk[i], -2 * std::log(length));
+        mean += spokes.back().second;
+      }
+    }
+    mean /= static_cast<double>(spokes.size());
+    for (const auto& [i, u] : spokes) disk_problem.structure.structure.initial_u(i) += u - mean;
+  }
   MeshFlowOptions flow_options = mesh_flow_options(options.structure, options.flow, disk_target);
   for (int v : result.disk_vertices) flow_options.vertex_labels.push_back(v);
-  // The disk's problem (topology, lengths, structure), built once: the layout reads it too.
-  const FlowProblem disk_problem = make_flow_problem(disk, options.structure);
   result.flow = flow_mesh(disk_problem, flow_options);
   result.flow_seconds = result.flow.total_seconds;
   if (!result.flow.converged) {

@@ -113,6 +113,12 @@ struct FlowOptions {
   /// written as an ordinary mesh, at the price of leaving some edges non-Delaunay (the
   /// parameterization falls back to this when the unrestricted result is a Delta-complex).
   bool simplicial_flips = false;
+  /// With flips: first retriangulate the input metric isometrically to its intrinsic Delaunay
+  /// triangulation (the class of the input surface, Gu, Luo, Sun and Wu's definition), which
+  /// keeps the map closest to the input's own shapes. Off: Ptolemy flips only, from the input's
+  /// triangulation (Bobenko, Pinkall and Springborn's class, in which a mesh and its image under
+  /// a Moebius transformation of space are equivalent exactly: what matching needs).
+  bool isometric_start = true;
   /// Where the flow starts: empty, the structure's initial u; else #V log factors near the
   /// solution (the flow linearised at the initial metric: what the first Newton step would
   /// reach, so that step and its factorisation are saved). Fixed vertices keep their initial u

@@ -58,6 +58,17 @@ struct SphereOptions {
   /// Move the vertices of faces the map inverts into the cone where their whole star keeps its
   /// orientation (see SphereResult::untangled_vertices), then centre again; up to 3 rounds.
   bool untangle = true;
+  /// Make the map exactly Moebius-invariant (vertex scaling only; other schemes ignore it): with
+  /// the pole at infinity its star's faces stay in the surface's discrete conformal class only
+  /// when every spoke (pole, i) has the same length in the plane's metric, that is u_i =
+  /// -2 ln l(pole, i) + C on the disk's boundary, held fixed while the interior flattens. Two
+  /// discretely conformally equivalent meshes (say one the image of the other under a Moebius
+  /// transformation of space) then get maps that differ by a Moebius transformation of the
+  /// sphere, to the flow's tolerance, whatever the pole; the default boundary, turning in
+  /// proportion to its length, is right only to the mesh's resolution (about 1e-3 on a
+  /// 642-vertex sphere). Matching (ricci/match) turns it on. The boundary is then no circle
+  /// (boundary_circle_deviation says how far).
+  bool exact_pole_star = false;
 };
 
 /// What sphere_map returns. Per-face statistics are over the input's faces.
