@@ -40,6 +40,9 @@ Subcommand add_flow_command(CLI::App& app);
 Subcommand add_sphere_command(CLI::App& app);
 /// `ricci spline` (spline_command.cpp).
 Subcommand add_spline_command(CLI::App& app);
+/// `ricci match` and `ricci morph` (match_command.cpp).
+Subcommand add_match_command(CLI::App& app);
+Subcommand add_morph_command(CLI::App& app);
 /// `ricci generate` (generate_command.cpp).
 Subcommand add_generate_command(CLI::App& app);
 /// `ricci blender-addon` (blender_addon_command.cpp; built with libzip). argv0 locates the

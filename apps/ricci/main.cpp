@@ -69,6 +69,8 @@ int run_main(int argc, char** argv) {
 #endif
   commands.push_back(add_sphere_command(app));
   commands.push_back(add_spline_command(app));
+  commands.push_back(add_match_command(app));
+  commands.push_back(add_morph_command(app));
   commands.push_back(add_batch_command(app, argv[0]));
   commands.push_back(add_generate_command(app));
 #ifdef RICCI_HAVE_BLENDER_ADDON

@@ -113,6 +113,7 @@ from ._flow import flow
 from ._mesh import info, polygon_faces, read_mesh, repair, validate, write_mesh, write_obj
 from ._param import common_refinement, interpolate_to_refinement, parameterize
 from ._sphere import sphere
+from ._match import match, morph
 from ._spline import spline
 
 __all__ = [
@@ -120,6 +121,7 @@ __all__ = [
     "CommonRefinement", "CommonRefinementOptions", "read_mesh", "repair", "validate", "write_mesh", "write_obj", "generate",
     "Polygons", "polygon_faces",
     "sphere", "SphereOptions", "SphereResult",
+    "match", "morph",
     "spline", "SplineOptions", "SplineResult", "SplineError", "SplineFit", "ContinuityReport",
     "FuchsianGroup", "HyperbolicLayout", "HyperbolicLayoutOptions", "HyperbolicParamOptions",
     "HyperbolicParamResult", "SegmentIsometry",

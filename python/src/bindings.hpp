@@ -29,6 +29,7 @@ void bind_flow(py::module_& m);
 void bind_param(py::module_& m);
 void bind_hyperbolic_param(py::module_& m);
 void bind_sphere(py::module_& m);
+void bind_match(py::module_& m);
 void bind_spline(py::module_& m);
 void bind_batch(py::module_& m);
 

@@ -94,6 +94,7 @@ PYBIND11_MODULE(_ricci, m) {
   bind_param(m);
   bind_hyperbolic_param(m);
   bind_sphere(m);
+  bind_match(m);
   bind_spline(m);
   bind_batch(m);
 }

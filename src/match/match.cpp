@@ -99,8 +99,15 @@ MatchResult match_surfaces(const Mesh& a, const Mesh& b, const MatchOptions& opt
   const auto start = std::chrono::steady_clock::now();
   MatchResult result;
   auto step = std::chrono::steady_clock::now();
-  const CanonicalDomain domain_a = canonical_domain(a, options.domain);
-  const CanonicalDomain domain_b = canonical_domain(b, options.domain);
+  const auto domain_of = [&](const Mesh& mesh, const char* name) {
+    try {
+      return canonical_domain(mesh, options.domain);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(std::string(name) + ": " + e.what());
+    }
+  };
+  const CanonicalDomain domain_a = domain_of(a, "A");
+  const CanonicalDomain domain_b = domain_of(b, "B");
   result.domain_seconds = seconds_since(step);
   if (domain_a.kind != domain_b.kind) {
     throw InvalidInput(std::string("A maps to the ") + enum_name(domain_a.kind) + " and B to the " +
