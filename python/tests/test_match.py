@@ -8,7 +8,9 @@ import ricci
 
 def _lumpy_sphere():
     V, F = ricci.generate.icosphere(3)
-    r = 1 + 0.15 * np.sin(3 * V[:, 0]) * np.cos(2 * V[:, 1]) + 0.1 * V[:, 2] ** 2
+    # No rotational symmetry (without the last term a half-turn about x would keep it).
+    r = (1 + 0.15 * np.sin(3 * V[:, 0]) * np.cos(2 * V[:, 1]) + 0.1 * V[:, 2] ** 2
+         + 0.1 * np.sin(2 * V[:, 1] + V[:, 2]))
     V = V * r[:, None] * np.array([1.4, 1.0, 0.8])
     return V, F
 

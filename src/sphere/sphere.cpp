@@ -606,7 +606,32 @@ SphereResult map_with_pole(const Mesh& mesh, const Topology& topology, int pole,
       }
     }
     mean /= static_cast<double>(spokes.size());
-    for (const auto& [i, u] : spokes) disk_problem.structure.structure.initial_u(i) += u - mean;
+    // The interior starts at the boundary's values spread inwards (Gauss-Seidel sweeps of the
+    // graph Laplacian): an unchanged interior under a changed boundary would break the triangles
+    // along it, whose boundary edges cannot flip. Where the interior starts does not change
+    // where the flow ends.
+    const Topology& t = disk_problem.topology;
+    Eigen::VectorXd delta = Eigen::VectorXd::Zero(t.num_vertices);
+    std::vector<char> fixed(static_cast<std::size_t>(t.num_vertices), 0);
+    for (const auto& [i, u] : spokes) {
+      delta(i) = u - mean;
+      fixed[static_cast<std::size_t>(i)] = 1;
+    }
+    std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(t.num_vertices));
+    for (int e = 0; e < t.num_edges; ++e) {
+      neighbours[static_cast<std::size_t>(t.edge_vertices(e, 0))].push_back(t.edge_vertices(e, 1));
+      neighbours[static_cast<std::size_t>(t.edge_vertices(e, 1))].push_back(t.edge_vertices(e, 0));
+    }
+    for (int sweep = 0; sweep < 200; ++sweep) {
+      for (int v = 0; v < t.num_vertices; ++v) {
+        const auto& n = neighbours[static_cast<std::size_t>(v)];
+        if (fixed[static_cast<std::size_t>(v)] || n.empty()) continue;
+        double sum = 0;
+        for (int w : n) sum += delta(w);
+        delta(v) = sum / static_cast<double>(n.size());
+      }
+    }
+    disk_problem.structure.structure.initial_u += delta;
   }
   MeshFlowOptions flow_options = mesh_flow_options(options.structure, options.flow, disk_target);
   for (int v : result.disk_vertices) flow_options.vertex_labels.push_back(v);

@@ -29,7 +29,9 @@ Mesh lumpy_sphere(int subdivisions) {
   Mesh mesh = make_icosphere(subdivisions);
   for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
     Eigen::Vector3d p = mesh.positions.row(v);
-    const double r = 1 + 0.15 * std::sin(3 * p.x()) * std::cos(2 * p.y()) + 0.1 * p.z() * p.z();
+    // No rotational symmetry (without the last term a half-turn about x would keep it).
+    const double r = 1 + 0.15 * std::sin(3 * p.x()) * std::cos(2 * p.y()) + 0.1 * p.z() * p.z() +
+                     0.1 * std::sin(2 * p.y() + p.z());
     p *= r;
     mesh.positions.row(v) << 1.4 * p.x(), p.y(), 0.8 * p.z();
   }
