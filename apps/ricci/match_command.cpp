@@ -157,6 +157,20 @@ nlohmann::json match_report(const MatchResult& m, const MatchArgs& args) {
   if (!m.message.empty()) r["message"] = m.message;
   r["alignment"] = {{"method", m.alignment.method},
                     {"factor_mismatch", m.alignment.factor_mismatch}};
+  // The shape signature: what of each surface's conformal structure the domain keeps.
+  for (const auto& [key, modulus] :
+       {std::pair{"signature_a", m.modulus_a}, std::pair{"signature_b", m.modulus_b}}) {
+    if (m.domain == DomainKind::Torus) {
+      r[key] = {{"genus", 1}, {"boundary_loops", 0}, {"modulus", complex_json(modulus)}};
+    } else {
+      r[key] = {
+          {"genus", 0},
+          {"boundary_loops", m.domain == DomainKind::Disk ? 1 : 0},
+          {"invariant", m.domain == DomainKind::Disk
+                            ? "none (every disk is conformal to the unit disk)"
+                            : "none (every genus-0 closed surface is conformal to the sphere)"}};
+    }
+  }
   if (m.domain == DomainKind::Torus) {
     r["alignment"]["affine_map"] = {
         {m.alignment.torus_linear(0, 0), m.alignment.torus_linear(0, 1)},

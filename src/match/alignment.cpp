@@ -440,6 +440,13 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
   for (const auto& [k, l] : all) {
     if (k <= least * (1 + 1e-6) + 1e-9) maps.push_back(l);
   }
+  // The bases' own correspondence (U = I) first: on a symmetric torus the candidates tie, and a
+  // surface matched to itself should then get the identity, not its half-turn.
+  const Eigen::Matrix2d direct = basis_b * basis_a.inverse();
+  std::stable_sort(maps.begin(), maps.end(),
+                   [&](const Eigen::Matrix2d& x, const Eigen::Matrix2d& y) {
+                     return (x - direct).norm() < (y - direct).norm();
+                   });
   // B's conformal factor over its fundamental parallelogram (periodic grid).
   Grid grid;
   grid.nu = grid.nv = 64;
@@ -521,7 +528,9 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
     const double factor = cost(shift);
     const bool better_fit = fit < best_fit - 1e-8;
     const bool tied_fit = std::abs(fit - best_fit) <= 1e-8;
-    if (better_fit || (tied_fit && factor < best_factor)) {
+    // Factors equal to the grid's interpolation (a symmetry of the surface) keep the earlier.
+    const bool better_factor = factor < best_factor - 1e-6 * (1 + best_factor);
+    if (better_fit || (tied_fit && better_factor)) {
       best_fit = fit;
       best_factor = factor;
       best.torus_linear = l;
