@@ -35,6 +35,7 @@ struct MatchArgs {
   std::string report;
   bool json = false;
   bool signature = false;
+  bool progress = false;
 };
 
 struct MorphArgs {
@@ -45,6 +46,7 @@ struct MorphArgs {
   int frames = 8;
   bool rigid = true;
   bool strip = true;
+  bool progress = false;
 };
 
 nlohmann::json complex_json(std::complex<double> z) {
@@ -233,7 +235,9 @@ int run_match(const MatchArgs& args) {
   options.reverse = !args.reverse.empty();
   MatchResult m;
   try {
-    m = match_surfaces(a.mesh, b.mesh, options);
+    m = run_with_progress(args.a + " -> " + args.b, args.progress, args.json, "match",
+                          options.domain.flow,
+                          [&] { return match_surfaces(a.mesh, b.mesh, options); });
   } catch (const InvalidInput& e) {
     throw InvalidInput(std::string(e.what()) +
                        "\n  try: ricci match A B --signature (the conformal invariants of any two "
@@ -333,7 +337,9 @@ int run_morph(const MorphArgs& args) {
   print_warnings(b);
   MatchOptions options;
   if (!args.landmarks.empty()) options.landmarks = read_landmarks(args.landmarks, a, b);
-  const MatchResult m = match_surfaces(a.mesh, b.mesh, options);
+  const MatchResult m = run_with_progress(args.a + " -> " + args.b, args.progress, false, "match",
+                                          options.domain.flow,
+                                          [&] { return match_surfaces(a.mesh, b.mesh, options); });
   if (!m.converged) {
     std::cerr << "error: the canonical maps did not converge: " << m.message << "\n";
     return kNotConverged;
@@ -394,6 +400,7 @@ Subcommand add_match_command(CLI::App& app) {
   cmd->add_flag("--signature", args->signature,
                 "only the conformal invariants of A and B (torus modulus, Fuchsian traces of "
                 "genus >= 2), for any topology");
+  cmd->add_flag("--progress", args->progress, "print the flows' iterations on stderr");
   add_input_options(cmd, args->input);
   return {cmd, [args] { return run_match(*args); }};
 }
@@ -413,6 +420,7 @@ Subcommand add_morph_command(CLI::App& app) {
   cmd->add_option("--landmarks", args->landmarks, "as for ricci match");
   cmd->add_flag("!--no-align", args->rigid, "keep B where it is (no rigid fit onto A)");
   cmd->add_flag("!--no-strip", args->strip, "write no picture strip");
+  cmd->add_flag("--progress", args->progress, "print the flows' iterations on stderr");
   add_input_options(cmd, args->input);
   return {cmd, [args] { return run_morph(*args); }};
 }
