@@ -1,6 +1,5 @@
 #include "ricci/match/canonical_domain.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -9,6 +8,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/topology.hpp"
 #include "ricci/mesh/validate.hpp"
+#include "ricci/numerics/timer.hpp"
 #include "ricci/param/parameterize.hpp"
 #include "ricci/sphere/sphere.hpp"
 
@@ -75,7 +75,7 @@ std::array<std::complex<double>, 2> reduce_lattice(std::complex<double> b0,
 }
 
 CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   validate_mesh(mesh, "canonical_domain");
   const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
   if (topology.components.size() != 1) {
@@ -181,7 +181,7 @@ CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions&
   for (int v = 0; v < nv; ++v) {
     if (weight(v) > 0) domain.log_area_factor(v) /= weight(v);
   }
-  domain.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  domain.seconds = seconds_since(start);
   return domain;
 }
 

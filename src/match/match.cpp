@@ -1,6 +1,5 @@
 #include "ricci/match/match.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -8,13 +7,10 @@
 
 #include "ricci/errors.hpp"
 #include "ricci/match/domain_locator.hpp"
+#include "ricci/numerics/timer.hpp"
 
 namespace ricci {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 SurfaceMap map_vertices(const CanonicalDomain& source, const DomainAlignment& alignment,
                         const DomainLocator& target, const Triangles& source_triangles) {
@@ -96,9 +92,9 @@ Positions mapped_positions(const Mesh& target, const SurfaceMap& map) {
 }
 
 MatchResult match_surfaces(const Mesh& a, const Mesh& b, const MatchOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   MatchResult result;
-  auto step = std::chrono::steady_clock::now();
+  auto step = Clock::now();
   const auto domain_of = [&](const Mesh& mesh, const char* name) {
     try {
       return canonical_domain(mesh, options.domain);
@@ -123,14 +119,14 @@ MatchResult match_surfaces(const Mesh& a, const Mesh& b, const MatchOptions& opt
   if (!domain_b.converged)
     result.message += (result.message.empty() ? "B: " : "; B: ") + domain_b.message;
 
-  step = std::chrono::steady_clock::now();
+  step = Clock::now();
   AlignmentOptions align;
   align.landmarks = options.landmarks;
   align.max_samples = options.max_samples;
   result.alignment = align_domains(domain_a, domain_b, align);
   result.align_seconds = seconds_since(step);
 
-  step = std::chrono::steady_clock::now();
+  step = Clock::now();
   const DomainLocator locator_a(domain_a), locator_b(domain_b);
   result.forward = map_vertices(domain_a, result.alignment, locator_b, a.triangles);
   if (options.reverse)

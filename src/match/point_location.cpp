@@ -14,7 +14,7 @@ namespace {
 
 constexpr double kInsideTolerance = 1e-9;
 
-void check_faces(const Triangles& triangles, Eigen::Index num_points, const char* what) {
+void check_locator_faces(const Triangles& triangles, Eigen::Index num_points, const char* what) {
   if (triangles.rows() == 0)
     throw InvalidInput(std::string(what) + ": no faces to locate points in");
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
@@ -76,7 +76,7 @@ struct Best {
 PlanarLocator::PlanarLocator(const Eigen::Matrix<double, Eigen::Dynamic, 2>& points,
                              const Triangles& triangles)
     : points_(points), triangles_(triangles) {
-  check_faces(triangles, points.rows(), "PlanarLocator");
+  check_locator_faces(triangles, points.rows(), "PlanarLocator");
   if (!points.allFinite()) throw InvalidInput("PlanarLocator: a point is not finite");
   lower_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   upper_ = -lower_;
@@ -160,7 +160,7 @@ FaceLocation PlanarLocator::locate(const Eigen::Vector2d& point) const {
 
 SphereLocator::SphereLocator(const Positions& points, const Triangles& triangles)
     : points_(points), triangles_(triangles) {
-  check_faces(triangles, points.rows(), "SphereLocator");
+  check_locator_faces(triangles, points.rows(), "SphereLocator");
   if (!points.allFinite()) throw InvalidInput("SphereLocator: a point is not finite");
   // Cells of side h with about one face each on the sphere's 4 pi of area; at most 128 a side.
   const double h = std::sqrt(4 * 3.141592653589793 / static_cast<double>(triangles.rows()));
