@@ -35,7 +35,7 @@ Eigen::Vector3d from_homogeneous(const Eigen::Vector2cd& w) {
   return Eigen::Vector3d(p.real(), p.imag(), n1 - n2) / (n1 + n2);
 }
 
-Eigen::Matrix2cd unit_determinant(Eigen::Matrix2cd m) {
+Eigen::Matrix2cd unit_determinant(const Eigen::Matrix2cd& m) {
   return m / std::sqrt(m.determinant());
 }
 
@@ -237,7 +237,8 @@ Eigen::Matrix2cd mobius_of_rotation(const Eigen::Matrix3d& r) {
   std::vector<Eigen::Vector3d> x{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
                                  Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ()};
   std::vector<Eigen::Vector3d> y;
-  for (const auto& p : x) y.push_back(r * p);
+  y.reserve(x.size());
+  for (const auto& p : x) y.emplace_back(r * p);
   return fit_sphere_mobius(x, y);
 }
 
@@ -485,8 +486,8 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       // The mean offset, each taken modulo the lattice next to the first one.
       std::vector<Eigen::Vector2d> offsets;
       for (const auto& [i, j] : options.landmarks) {
-        offsets.push_back(b.points.row(j).head<2>().transpose() -
-                          l * a.points.row(i).head<2>().transpose());
+        offsets.emplace_back(b.points.row(j).head<2>().transpose() -
+                             l * a.points.row(i).head<2>().transpose());
       }
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
       for (const auto& o : offsets) sum += offsets.front() + reduce_modulo(b, o - offsets.front());

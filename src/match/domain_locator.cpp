@@ -48,7 +48,7 @@ FaceLocation DomainLocator::locate(const Eigen::Vector3d& point) const {
         const double slack = 1e-9 * (hi - lo).maxCoeff();
         if ((q.array() < lo.array() - slack).any() || (q.array() > hi.array() + slack).any())
           continue;
-        const FaceLocation at = plane_->locate(q);
+        FaceLocation at = plane_->locate(q);
         if (at.face < 0) continue;
         if (at.inside) return at;
         if (at.outside_by < best_miss) {

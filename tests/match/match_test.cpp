@@ -51,7 +51,8 @@ Mesh split_with_slides(const Mesh& mesh, std::uint32_t seed) {
     const auto found = edge_point.find(key);
     if (found != edge_point.end()) return found->second;
     const double t = 0.35 + 0.3 * ((generator() + 0.5) / 4294967296.0);
-    points.push_back((1 - t) * mesh.positions.row(key.first) + t * mesh.positions.row(key.second));
+    points.emplace_back((1 - t) * mesh.positions.row(key.first) +
+                        t * mesh.positions.row(key.second));
     const int index = static_cast<int>(points.size()) - 1;
     edge_point.emplace(key, index);
     return index;
