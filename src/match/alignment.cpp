@@ -111,6 +111,22 @@ Samples sample_vertices(const CanonicalDomain& a, const Triangles& triangles, in
   return s;
 }
 
+// Every k-th sample, at most `count` (weights renormalised).
+Samples subsample(const Samples& s, int count) {
+  const std::size_t stride =
+      std::max<std::size_t>(1, (s.vertex.size() + count - 1) / static_cast<std::size_t>(count));
+  Samples few;
+  for (std::size_t i = 0; i < s.vertex.size(); i += stride) few.vertex.push_back(s.vertex[i]);
+  few.weight.resize(static_cast<Eigen::Index>(few.vertex.size()));
+  few.factor.resize(few.weight.size());
+  for (std::size_t i = 0, k = 0; i < s.vertex.size(); i += stride, ++k) {
+    few.weight(static_cast<Eigen::Index>(k)) = s.weight(static_cast<Eigen::Index>(i));
+    few.factor(static_cast<Eigen::Index>(k)) = s.factor(static_cast<Eigen::Index>(i));
+  }
+  few.weight /= few.weight.sum();
+  return few;
+}
+
 // A scalar field tabulated on a periodic or clamped rectangular grid, read bilinearly.
 struct Grid {
   int nu = 1, nv = 1;
@@ -148,8 +164,8 @@ double read_factor(const DomainLocator& locator, const Eigen::Vector3d& p) {
 struct SphereField {
   Grid grid;
   explicit SphereField(const DomainLocator& b) {
-    grid.nu = 91;
-    grid.nv = 180;
+    grid.nu = 181;
+    grid.nv = 360;
     grid.periodic_v = true;
     grid.value.resize(grid.nu, grid.nv);
     for (int i = 0; i < grid.nu; ++i) {
@@ -181,12 +197,48 @@ Eigen::Matrix3d axis_rotation(int axis, double angle) {
   return Eigen::AngleAxisd(angle, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
 }
 
-// The rotation R minimising the conformal factors' mismatch, a(x) against b(R x).
-Eigen::Matrix3d best_rotation(const CanonicalDomain& a, const Samples& s,
-                              const SphereField& field) {
+// Coordinate descent over small rotations about the three axes: steps from `largest` halving
+// to `smallest`, at most `moves` accepted moves per step size (a rugged, interpolated cost
+// would otherwise creep on at the finest steps).
+template <class Cost>
+void descend_rotation(Eigen::Matrix3d& r, double& value, const Cost& cost, double largest,
+                      double smallest, int moves) {
+  for (double step = largest; step > smallest; step /= 2) {
+    for (int move = 0; move < moves; ++move) {
+      bool moved = false;
+      for (int axis = 0; axis < 3; ++axis) {
+        for (double sign : {-1.0, 1.0}) {
+          const Eigen::Matrix3d trial = axis_rotation(axis, sign * step) * r;
+          const double ct = cost(trial);
+          if (ct < value) {
+            value = ct;
+            r = trial;
+            moved = true;
+          }
+        }
+      }
+      if (!moved) break;
+    }
+  }
+}
+
+// The rotation R minimising the conformal factors' mismatch, a(x) against b(R x): 4096
+// rotations and the identity on B's table, the best 9 refined there, the best of those polished
+// on B's factor read exactly (a surface matched to itself then gets the identity to rounding).
+Eigen::Matrix3d best_rotation(const CanonicalDomain& a, const Samples& s, const SphereField& field,
+                              const DomainLocator& locator_b) {
+  // The table's cost on at most 1000 samples (4096 rotations), the exact one likewise.
+  const Samples coarse = subsample(s, 1000);
   const auto cost = [&](const Eigen::Matrix3d& r) {
-    return weighted_mismatch(s, [&](int i) {
-      return field.at(r * a.points.row(s.vertex[static_cast<std::size_t>(i)]).transpose());
+    return weighted_mismatch(coarse, [&](int i) {
+      return field.at(r * a.points.row(coarse.vertex[static_cast<std::size_t>(i)]).transpose());
+    });
+  };
+  const Samples& few = coarse;
+  const auto exact_cost = [&](const Eigen::Matrix3d& r) {
+    return weighted_mismatch(few, [&](int i) {
+      return read_factor(locator_b,
+                         r * a.points.row(few.vertex[static_cast<std::size_t>(i)]).transpose());
     });
   };
   std::mt19937 generator(20261128);
@@ -201,32 +253,38 @@ Eigen::Matrix3d best_rotation(const CanonicalDomain& a, const Samples& s,
     const Eigen::Matrix3d r = q.toRotationMatrix();
     candidates.emplace_back(cost(r), r);
   }
-  candidates.emplace_back(cost(Eigen::Matrix3d::Identity()), Eigen::Matrix3d::Identity());
   std::sort(candidates.begin(), candidates.end(),
             [](const auto& x, const auto& y) { return x.first < y.first; });
+  candidates.resize(std::min<std::size_t>(8, candidates.size()));
+  candidates.emplace_back(cost(Eigen::Matrix3d::Identity()), Eigen::Matrix3d::Identity());
   double best_cost = std::numeric_limits<double>::infinity();
   Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
-  for (std::size_t c = 0; c < std::min<std::size_t>(8, candidates.size()); ++c) {
-    auto [value, r] = candidates[c];
-    for (double step = 0.1; step > 1e-6; step /= 2) {
-      bool moved = true;
-      while (moved) {
-        moved = false;
-        for (int axis = 0; axis < 3; ++axis) {
-          for (double sign : {-1.0, 1.0}) {
-            const Eigen::Matrix3d trial = axis_rotation(axis, sign * step) * r;
-            const double ct = cost(trial);
-            if (ct < value) {
-              value = ct;
-              r = trial;
-              moved = true;
-            }
-          }
-        }
-      }
-    }
+  std::vector<std::pair<double, Eigen::Matrix3d>> refined;
+  for (auto [value, r] : candidates) {
+    descend_rotation(r, value, cost, 0.1, 1e-3, 8);
+    refined.emplace_back(value, r);
     if (value < best_cost) {
       best_cost = value;
+      best = r;
+    }
+  }
+  (void)best_cost;
+  // The best 4 on the table, and the identity, polished on B's factor read exactly (the table's
+  // interpolation can misorder rotations where the factor is steep: a rabbit's ears).
+  std::sort(refined.begin(), refined.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  refined.resize(std::min<std::size_t>(4, refined.size()));
+  refined.emplace_back(0.0, Eigen::Matrix3d::Identity());
+  for (auto& [value, r] : refined) value = exact_cost(r);
+  std::sort(refined.begin(), refined.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  // The two best starts only: each polish reads the factor a few hundred times.
+  double best_exact = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < std::min<std::size_t>(2, refined.size()); ++c) {
+    auto [value, r] = refined[c];
+    descend_rotation(r, value, exact_cost, 1e-2, 1e-7, 4);
+    if (value < best_exact) {
+      best_exact = value;
       best = r;
     }
   }
@@ -258,7 +316,7 @@ DomainAlignment align_spheres(const CanonicalDomain& a, const CanonicalDomain& b
     return result;
   }
   const SphereField field(locator_b);
-  Eigen::Matrix3d r = best_rotation(a, s, field);
+  Eigen::Matrix3d r = best_rotation(a, s, field, locator_b);
   result.method = "conformal factor";
   if (!x.empty()) {
     // A few landmarks: the rotation pulled onto them (it stays a rotation, so the centre of
@@ -348,9 +406,18 @@ DomainAlignment align_disks(const CanonicalDomain& a, const CanonicalDomain& b,
       best_angle = angle;
     }
   }
+  // Refined on B's factor read exactly (the table's interpolation would shift the optimum).
+  const auto exact_cost = [&](double angle) {
+    const cd turn = std::polar(1.0, angle);
+    return weighted_mismatch(s, [&](int i) {
+      const cd w = apply_mobius(tb_inverse, turn * centred[static_cast<std::size_t>(i)]);
+      return read_factor(locator_b, {w.real(), w.imag(), 0});
+    });
+  };
+  best_cost = exact_cost(best_angle);
   for (double step = kTwoPi / 1440; step > 1e-9; step /= 2) {
     for (double sign : {-1.0, 1.0}) {
-      const double c = cost(best_angle + sign * step);
+      const double c = exact_cost(best_angle + sign * step);
       if (c < best_cost) {
         best_cost = c;
         best_angle += sign * step;
@@ -507,23 +574,35 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
           }
         }
       }
-      for (double step = 0.5 / n; step > 1e-9; step /= 2) {
-        bool moved = true;
-        while (moved) {
-          moved = false;
-          for (int axis = 0; axis < 2; ++axis) {
-            for (double sign : {-1.0, 1.0}) {
-              const Eigen::Vector2d t = shift + sign * step * basis_b.col(axis);
-              const double c = cost(t);
-              if (c < score) {
-                score = c;
-                shift = t;
-                moved = true;
+      // Refined on the table, then on B's factor read exactly, at most 8 moves a step size.
+      const auto exact_cost = [&](const Eigen::Vector2d& t) {
+        return weighted_mismatch(s, [&](int i) {
+          const Eigen::Vector2d p = mapped[static_cast<std::size_t>(i)] + t;
+          return read_factor(locator_b, {p.x(), p.y(), 0});
+        });
+      };
+      const auto descend = [&](const auto& f, double largest, double smallest) {
+        score = f(shift);
+        for (double step = largest; step > smallest; step /= 2) {
+          for (int move = 0; move < 8; ++move) {
+            bool moved = false;
+            for (int axis = 0; axis < 2; ++axis) {
+              for (double sign : {-1.0, 1.0}) {
+                const Eigen::Vector2d t = shift + sign * step * basis_b.col(axis);
+                const double c = f(t);
+                if (c < score) {
+                  score = c;
+                  shift = t;
+                  moved = true;
+                }
               }
             }
+            if (!moved) break;
           }
         }
-      }
+      };
+      descend(cost, 0.5 / n, 1e-3);
+      descend(exact_cost, 1e-2, 1e-9);
       method = "lattice + conformal factor";
     }
     const double factor = cost(shift);

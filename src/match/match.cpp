@@ -43,22 +43,40 @@ Eigen::Vector3d face_normal(const Mesh& mesh, int f) {
   return (b - a).cross(c - a);
 }
 
-// Each face of A against the triangle of its corners' images on B, flattened in its own plane
-// and mirrored when it turns against B's surface there.
-Distortion map_distortion(const Mesh& a, const Mesh& b, const SurfaceMap& map) {
+// The image of a face's centroid in its domain (on the sphere, projected back onto it; on a
+// torus, of the face's own copy in the laid-out fundamental domain).
+Eigen::Vector3d domain_centroid(const CanonicalDomain& d, Eigen::Index f) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int corner = d.domain_triangles(f, k);
+    if (d.kind == DomainKind::Sphere) {
+      c += d.points.row(corner).transpose();
+    } else {
+      c.head<2>() += d.domain_uv.row(corner).transpose();
+    }
+  }
+  return d.kind == DomainKind::Sphere ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d(c / 3);
+}
+
+// Each face of A against the triangle of its corners' images on B, flattened in its own plane,
+// and mirrored when it turns against the face of B that the image of its centroid lies in.
+Distortion map_distortion(const Mesh& a, const Mesh& b, const SurfaceMap& map,
+                          const CanonicalDomain& domain_a, const DomainAlignment& alignment,
+                          const DomainLocator& locator_b) {
   const Positions image = mapped_positions(b, map);
   const Eigen::Index nf = a.triangles.rows();
   Triangles corners(nf, 3);
   Eigen::Matrix<double, Eigen::Dynamic, 2> uv(3 * nf, 2);
   for (Eigen::Index f = 0; f < nf; ++f) {
     Eigen::Vector3d q[3];
-    Eigen::Vector3d surface_normal = Eigen::Vector3d::Zero();
     for (int k = 0; k < 3; ++k) {
-      const int v = a.triangles(f, k);
-      q[k] = image.row(v).transpose();
-      if (map.face(v) >= 0) surface_normal += face_normal(b, map.face(v)).normalized();
+      q[k] = image.row(a.triangles(f, k)).transpose();
       corners(f, k) = static_cast<int>(3 * f + k);
     }
+    const FaceLocation centre =
+        locator_b.locate(apply_alignment(alignment, domain_centroid(domain_a, f)));
+    const Eigen::Vector3d surface_normal =
+        centre.face >= 0 ? face_normal(b, centre.face) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d e1 = q[1] - q[0], e2 = q[2] - q[0];
     const Eigen::Vector3d n = e1.cross(e2);
     const double length = e1.norm();
@@ -144,7 +162,7 @@ MatchResult match_surfaces(const Mesh& a, const Mesh& b, const MatchOptions& opt
   if (!options.landmarks.empty())
     result.landmark_rms = std::sqrt(sum / static_cast<double>(options.landmarks.size()));
   result.b_diagonal = (b.positions.colwise().maxCoeff() - b.positions.colwise().minCoeff()).norm();
-  result.distortion = map_distortion(a, b, result.forward);
+  result.distortion = map_distortion(a, b, result.forward, domain_a, result.alignment, locator_b);
   result.seconds = seconds_since(start);
   return result;
 }
