@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""Pictures and figures of docs/matching.md: spot (../shared/meshes/spot.obj) matched to a bent
-copy of itself, the same checkerboard carried from A to B, and the morph's strip.
+"""Pictures and figures of docs/matching.md: spot (../shared/meshes/spot.obj) matched to bent
+copies of itself (x rolled onto a circle about y), with and without 4 landmarks (the extremes of
+its two widest axes), against the known correspondence (same vertex); the checkerboard carried
+from A to B (radius 1.2, 4 landmarks) and the morph's strip.
 
 Usage: PYTHONPATH=build/python bench/match_pictures.py RICCI OUT_DIR [MESH]
 """
@@ -66,8 +68,11 @@ for radius in (1e9, 4.0, 2.0, 1.2):
                 f.write("v %.17g %.17g %.17g\n" % tuple(v))
             for t in FA:
                 f.write("f %d %d %d\n" % tuple(t + 1))
-        subprocess.run([ricci_exe, "morph", mesh, os.path.join(out, "B_plain.obj"), "--frames", "5", "-o", os.path.join(out, "morph")],
-                       check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(out, "landmarks.txt"), "w") as f:
+            for i, j in landmarks:
+                f.write("%d %d\n" % (i, j))
+        subprocess.run([ricci_exe, "morph", mesh, os.path.join(out, "B_plain.obj"), "--frames", "5", "-o", os.path.join(out, "morph"),
+                        "--landmarks", os.path.join(out, "landmarks.txt")], check=True, stdout=subprocess.DEVNULL)
 print("| bend radius | landmarks | alignment | mean error | max error | map angle distortion | flipped | seconds |")
 print("|---|---|---|---|---|---|---|---|")
 for r in rows:
