@@ -156,6 +156,7 @@ nlohmann::json match_report(const MatchResult& m, const MatchArgs& args) {
   r["b"] = args.b;
   r["domain"] = enum_name(m.domain);
   r["converged"] = m.converged;
+  r["exact"] = m.exact;
   if (!m.message.empty()) r["message"] = m.message;
   r["alignment"] = {{"method", m.alignment.method},
                     {"factor_mismatch", m.alignment.factor_mismatch}};

@@ -26,6 +26,7 @@ void bind_match(py::module_& m) {
         py::dict d;
         d["domain"] = enum_name(r.domain);
         d["converged"] = r.converged;
+        d["exact"] = r.exact;
         d["message"] = r.message;
         d["faces"] = r.forward.face;
         d["barycentric"] = r.forward.weights;

@@ -414,16 +414,24 @@ DomainAlignment align_disks(const CanonicalDomain& a, const CanonicalDomain& b,
       return read_factor(locator_b, {w.real(), w.imag(), 0});
     });
   };
-  best_cost = exact_cost(best_angle);
-  for (double step = kTwoPi / 1440; step > 1e-9; step /= 2) {
-    for (double sign : {-1.0, 1.0}) {
-      const double c = exact_cost(best_angle + sign * step);
-      if (c < best_cost) {
-        best_cost = c;
-        best_angle += sign * step;
+  // From the table's best and from 0 (a disk matched to itself), the better one kept.
+  const auto polish = [&](double angle, double& value) {
+    value = exact_cost(angle);
+    for (double step = kTwoPi / 1440; step > 1e-9; step /= 2) {
+      for (double sign : {-1.0, 1.0}) {
+        const double c = exact_cost(angle + sign * step);
+        if (c < value) {
+          value = c;
+          angle += sign * step;
+        }
       }
     }
-  }
+    return angle;
+  };
+  double zero_cost = 0;
+  const double from_zero = polish(0.0, zero_cost);
+  best_angle = polish(best_angle, best_cost);
+  if (zero_cost <= best_cost) best_angle = from_zero;
   result.method = "conformal factor";
   const auto assemble = [&](const Eigen::VectorXd& p) {
     // T_B^-1 . rotation . (move by c) . T_A, with c = p0 + i p1 and the angle p2.
@@ -562,37 +570,44 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       for (const auto& o : offsets) fit += reduce_modulo(b, o - shift).squaredNorm();
       method = "lattice + landmarks";
     } else {
-      double score = std::numeric_limits<double>::infinity();
+      // 32 x 32 translations on the table, the best 4 refined there; those and t = 0, the two
+      // best by the factor read exactly polished on it (the table's interpolation can misorder
+      // translations where the factor is steep; a torus matched to itself then gets t = 0).
       const int n = 32;
+      std::vector<std::pair<double, Eigen::Vector2d>> starts;
       for (int i = 0; i < n; ++i) {
         for (int j = 0; j < n; ++j) {
           const Eigen::Vector2d t = basis_b * Eigen::Vector2d(double(i) / n, double(j) / n);
-          const double c = cost(t);
-          if (c < score) {
-            score = c;
-            shift = t;
-          }
+          starts.emplace_back(cost(t), t);
         }
       }
-      // Refined on the table, then on B's factor read exactly, at most 8 moves a step size.
+      std::sort(starts.begin(), starts.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      starts.resize(4);
+      const Samples few = subsample(s, 1000);
+      std::vector<Eigen::Vector2d> few_mapped(few.vertex.size());
+      for (std::size_t i = 0; i < few.vertex.size(); ++i) {
+        few_mapped[i] = l * a.points.row(few.vertex[i]).head<2>().transpose();
+      }
       const auto exact_cost = [&](const Eigen::Vector2d& t) {
-        return weighted_mismatch(s, [&](int i) {
-          const Eigen::Vector2d p = mapped[static_cast<std::size_t>(i)] + t;
+        return weighted_mismatch(few, [&](int i) {
+          const Eigen::Vector2d p = few_mapped[static_cast<std::size_t>(i)] + t;
           return read_factor(locator_b, {p.x(), p.y(), 0});
         });
       };
-      const auto descend = [&](const auto& f, double largest, double smallest) {
-        score = f(shift);
+      // Coordinate descent along the lattice's basis, at most 8 moves a step size.
+      const auto descend = [&](const auto& f, Eigen::Vector2d& t0, double& value, double largest,
+                               double smallest) {
         for (double step = largest; step > smallest; step /= 2) {
           for (int move = 0; move < 8; ++move) {
             bool moved = false;
             for (int axis = 0; axis < 2; ++axis) {
               for (double sign : {-1.0, 1.0}) {
-                const Eigen::Vector2d t = shift + sign * step * basis_b.col(axis);
+                const Eigen::Vector2d t = t0 + sign * step * basis_b.col(axis);
                 const double c = f(t);
-                if (c < score) {
-                  score = c;
-                  shift = t;
+                if (c < value) {
+                  value = c;
+                  t0 = t;
                   moved = true;
                 }
               }
@@ -601,11 +616,30 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
           }
         }
       };
-      descend(cost, 0.5 / n, 1e-3);
-      descend(exact_cost, 1e-2, 1e-9);
+      for (auto& [value, t] : starts) {
+        descend(cost, t, value, 0.5 / n, 1e-3);
+        value = exact_cost(t);
+      }
+      // t = 0 as it is (not moved on the table first).
+      starts.emplace_back(exact_cost(Eigen::Vector2d::Zero()), Eigen::Vector2d::Zero());
+      std::sort(starts.begin(), starts.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      double score = std::numeric_limits<double>::infinity();
+      for (std::size_t c = 0; c < 2; ++c) {
+        auto [value, t] = starts[c];
+        descend(exact_cost, t, value, 1e-2, 1e-9);
+        if (value < score) {
+          score = value;
+          shift = t;
+        }
+      }
       method = "lattice + conformal factor";
     }
-    const double factor = cost(shift);
+    const double factor = weighted_mismatch(s, [&](int i) {
+      const Eigen::Vector2d p =
+          l * a.points.row(s.vertex[static_cast<std::size_t>(i)]).head<2>().transpose() + shift;
+      return read_factor(locator_b, {p.x(), p.y(), 0});
+    });
     const bool better_fit = fit < best_fit - 1e-8;
     const bool tied_fit = std::abs(fit - best_fit) <= 1e-8;
     // Factors equal to the grid's interpolation (a symmetry of the surface) keep the earlier.

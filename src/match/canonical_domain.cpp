@@ -27,17 +27,18 @@ double triangle_area_2d(const Eigen::Matrix<double, Eigen::Dynamic, 2>& uv, cons
   return 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());
 }
 
-// The flat metric of a disk or a torus without cones, laid out exactly (no polish, no untangling,
-// no charts: a matching needs the conformal map itself, or an honest failure).
+// The flat metric of a disk or a torus without cones, laid out exactly (no polish, no charts: a
+// matching needs the conformal map itself); untangled only on the second try, where the exact
+// layout folds (a few vertices then move off the conformal map into their stars).
 ParamResult flat_layout(const Mesh& mesh, const CanonicalDomainOptions& options,
-                        BoundaryMode boundary) {
+                        BoundaryMode boundary, bool untangle) {
   ParamOptions param;
   param.cone_mode = ConeMode::None;
   param.boundary = boundary;
   param.structure = options.structure;
   param.flow = options.flow;
   param.polish.enabled = false;
-  param.fold_free.untangle = false;
+  param.fold_free.untangle = untangle;
   param.fold_free.charts = false;
   MeshParamResult result = parameterize(mesh, param);
   ParamResult one;
@@ -74,9 +75,12 @@ std::array<std::complex<double>, 2> reduce_lattice(std::complex<double> b0,
   return {b0, b1};
 }
 
-CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions& options) {
+namespace {
+
+// One try at the domain: `exact` with the options as given and the sphere's exact pole star,
+// otherwise with the flow's isometric start and the length-proportional pole boundary.
+CanonicalDomain map_to_domain(const Mesh& mesh, const CanonicalDomainOptions& options, bool exact) {
   const auto start = Clock::now();
-  validate_mesh(mesh, "canonical_domain");
   const Topology topology = build_topology(mesh.triangles, mesh.num_vertices());
   if (topology.components.size() != 1) {
     throw InvalidInput("matching needs one connected surface; this mesh has " +
@@ -111,8 +115,10 @@ CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions&
     SphereOptions sphere;
     sphere.structure = options.structure;
     sphere.flow = options.flow;
-    sphere.exact_pole_star = true;
+    sphere.flow.isometric_start = options.flow.isometric_start || !exact;
+    sphere.exact_pole_star = exact;
     const SphereResult map = sphere_map(mesh, sphere);
+    domain.exact = map.exact_pole_star && !sphere.flow.isometric_start;
     domain.converged = map.valid;
     domain.message = map.message;
     domain.points = map.positions;
@@ -123,15 +129,21 @@ CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions&
     }
   } else {
     const bool disk = domain.kind == DomainKind::Disk;
-    const ParamResult flat =
-        flat_layout(mesh, options, disk ? BoundaryMode::DiskLength : BoundaryMode::Free);
+    CanonicalDomainOptions flat_options = options;
+    flat_options.flow.isometric_start = options.flow.isometric_start || !exact;
+    const ParamResult flat = flat_layout(
+        mesh, flat_options, disk ? BoundaryMode::DiskLength : BoundaryMode::Free, !exact);
+    // The disk's boundary turns in proportion to its length: never exact.
+    domain.exact = !disk && !flat_options.flow.isometric_start;
     for (const auto& c : flat.flow.components) domain.flow_iterations += c.flow.iterations;
-    domain.converged = flat.converged && flat.layout.num_flipped_faces == 0;
+    const int flipped = flat.untangle.flipped_before > 0 ? flat.untangle.flipped_after
+                                                         : flat.layout.num_flipped_faces;
+    domain.converged = flat.converged && flipped == 0;
     domain.message = flat.message;
-    if (flat.converged && flat.layout.num_flipped_faces > 0) {
-      domain.message = "the layout of the flat metric flips " +
-                       std::to_string(flat.layout.num_flipped_faces) + " faces";
+    if (flat.converged && flipped > 0) {
+      domain.message = "the layout of the flat metric flips " + std::to_string(flipped) + " faces";
     }
+    domain.untangled_vertices = flat.untangle.moved_vertices;
     Eigen::Matrix<double, Eigen::Dynamic, 2> uv = flat.layout.uv;
     domain.domain_triangles = flat.cut_mesh.triangles;
     domain.domain_vertex = flat.cut_mesh.to_original;
@@ -182,6 +194,33 @@ CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions&
     if (weight(v) > 0) domain.log_area_factor(v) /= weight(v);
   }
   domain.seconds = seconds_since(start);
+  return domain;
+}
+
+}  // namespace
+
+CanonicalDomain canonical_domain(const Mesh& mesh, const CanonicalDomainOptions& options) {
+  validate_mesh(mesh, "canonical_domain");
+  // A flow that breaks a triangle at its start (the exact pole star's boundary) or a layout that
+  // folds is tried again the default way: a map, if not an exactly Moebius-invariant one.
+  std::string first_failure;
+  try {
+    CanonicalDomain domain = map_to_domain(mesh, options, true);
+    if (domain.converged) return domain;
+    first_failure = domain.message;
+  } catch (const TopologyError&) {
+    throw;
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    // Topology and defect refusals are final; a flow's refusal of its start is not.
+    if (what.rfind("RicciFlow", 0) != 0) throw;
+    first_failure = what;
+  }
+  CanonicalDomain domain = map_to_domain(mesh, options, false);
+  domain.exact = false;
+  if (!domain.converged && domain.message != first_failure) {
+    domain.message += " (with the exact options: " + first_failure + ")";
+  }
   return domain;
 }
 

@@ -133,6 +133,7 @@ MatchResult match_surfaces(const Mesh& a, const Mesh& b, const MatchOptions& opt
   result.modulus_a = domain_a.modulus;
   result.modulus_b = domain_b.modulus;
   result.converged = domain_a.converged && domain_b.converged;
+  result.exact = domain_a.exact && domain_b.exact;
   if (!domain_a.converged) result.message = "A: " + domain_a.message;
   if (!domain_b.converged)
     result.message += (result.message.empty() ? "B: " : "; B: ") + domain_b.message;

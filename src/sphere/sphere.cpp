@@ -590,7 +590,10 @@ SphereResult map_with_pole(const Mesh& mesh, const Topology& topology, int pole,
   disk_target.boundary = BoundaryMode::DiskLength;
   // The disk's problem (topology, lengths, structure), built once: the layout reads it too.
   FlowProblem disk_problem = make_flow_problem(disk, options.structure);
-  if (options.exact_pole_star && disk_problem.structure.structure.scheme == Scheme::VertexScaling) {
+  const Eigen::VectorXd plain_initial_u = disk_problem.structure.structure.initial_u;
+  result.exact_pole_star =
+      options.exact_pole_star && disk_problem.structure.structure.scheme == Scheme::VertexScaling;
+  if (result.exact_pole_star) {
     // Equal spokes in the plane: u_i = -2 ln l(pole, i), centred, fixed on the boundary
     // (BoundaryMode::Free holds the boundary's u where it starts).
     disk_target.boundary = BoundaryMode::Free;
@@ -635,7 +638,25 @@ SphereResult map_with_pole(const Mesh& mesh, const Topology& topology, int pole,
   }
   MeshFlowOptions flow_options = mesh_flow_options(options.structure, options.flow, disk_target);
   for (int v : result.disk_vertices) flow_options.vertex_labels.push_back(v);
-  result.flow = flow_mesh(disk_problem, flow_options);
+  // The exact star's boundary can break a triangle along it (its edges cannot flip) or stall the
+  // flow: then the length-proportional boundary, and the result says so.
+  const auto plain_boundary = [&] {
+    result.exact_pole_star = false;
+    disk_problem.structure.structure.initial_u = plain_initial_u;
+    disk_target.boundary = BoundaryMode::DiskLength;
+    flow_options.target = disk_target;
+  };
+  try {
+    result.flow = flow_mesh(disk_problem, flow_options);
+  } catch (const InvalidInput&) {
+    if (!result.exact_pole_star) throw;
+    plain_boundary();
+    result.flow = flow_mesh(disk_problem, flow_options);
+  }
+  if (result.exact_pole_star && !result.flow.converged) {
+    plain_boundary();
+    result.flow = flow_mesh(disk_problem, flow_options);
+  }
   result.flow_seconds = result.flow.total_seconds;
   if (!result.flow.converged) {
     result.message = "the flow on the disk did not converge: " + result.flow.message;

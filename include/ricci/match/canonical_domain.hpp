@@ -58,6 +58,11 @@ struct CanonicalDomain {
   DomainKind kind = DomainKind::Sphere;
   bool converged = false;  ///< the flow converged and the map has no inverted face
   std::string message;     ///< why not, when not
+  /// The map is exactly Moebius-invariant (sphere and torus: Ptolemy-only flips and, on the
+  /// sphere, the exact pole star). False where those failed (a triangle broken at the flow's
+  /// start, a layout that folds) and the default flow and pole boundary were used instead, and
+  /// always for the disk, whose boundary turns in proportion to its length.
+  bool exact = false;
   /// #V by 3: each vertex's point: on the unit sphere; in the unit disk (z = 0); in the torus's
   /// plane (z = 0; one of its copies: the others differ by lattice vectors).
   Positions points;
@@ -78,11 +83,15 @@ struct CanonicalDomain {
   Eigen::VectorXd log_area_factor;
   /// Per face: its 3D area as a share of the total (weights of the centre of mass).
   Eigen::VectorXd area_share;
+  /// Disk and torus, second try: vertices the untangling moved off the conformal map so that no
+  /// face folds (0 for a map that is the discrete conformal map itself).
+  int untangled_vertices = 0;
   int flow_iterations = 0;
   double seconds = 0;
 };
 
 /// Maps one connected manifold mesh onto its canonical domain (see the file comment).
+/// A map that fails with the exact options (see `exact`) is tried once more the default way.
 /// \throw InvalidInput when the mesh is not one component, is not closed genus 0, a disk (one
 ///        boundary loop, genus 0) or closed genus 1 (the message names the topology), or has
 ///        defects (validate_mesh); TopologyError for non-manifold meshes

@@ -55,6 +55,9 @@ struct MatchResult {
   DomainKind domain = DomainKind::Sphere;
   bool converged = false;  ///< both canonical maps converged without inverted faces
   std::string message;     ///< why not, when not
+  /// Both domains exactly Moebius-invariant (CanonicalDomain::exact): a Moebius copy then
+  /// matches to rounding; otherwise to the meshes' resolution.
+  bool exact = false;
   DomainAlignment alignment;
   SurfaceMap forward;   ///< A's vertices on B
   SurfaceMap backward;  ///< B's vertices on A (MatchOptions::reverse)

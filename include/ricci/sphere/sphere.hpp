@@ -86,6 +86,9 @@ struct SphereResult {
   /// Poles tried: 2 when the default pole squeezed the plane more than the sphere (the tip of a
   /// limb) and the widest star of that first map was tried too; the better map is returned.
   int poles_tried = 1;
+  /// SphereOptions::exact_pole_star held: false when it was off, or when its boundary broke a
+  /// triangle of the disk or stalled the flow and the length-proportional one was used instead.
+  bool exact_pole_star = false;
 
   // The flow on the disk (the mesh without the pole and its faces).
   MeshFlowResult flow;             ///< in disk vertex indices
