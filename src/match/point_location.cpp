@@ -197,18 +197,24 @@ SphereLocator::SphereLocator(const Positions& points, const Triangles& triangles
 
 Eigen::Vector3d SphereLocator::raw_weights(int face, const Eigen::Vector3d& p) const {
   const Eigen::Vector3d a = points_.row(triangles_(face, 0)).transpose();
-  const Eigen::Vector3d b = points_.row(triangles_(face, 1)).transpose();
-  const Eigen::Vector3d c = points_.row(triangles_(face, 2)).transpose();
-  const double volume = a.dot(b.cross(c));
-  if (!(std::abs(volume) > 0))
-    return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector3d w(p.dot(b.cross(c)), a.dot(p.cross(c)), a.dot(b.cross(p)));
-  w /= volume;
-  // Weights of the ray's crossing with the triangle's plane: scale to sum 1 (a point behind the
-  // origin, sum <= 0, is on the opposite side of the sphere: not in this face).
-  const double sum = w.sum();
-  if (!(sum > 0)) return Eigen::Vector3d::Constant(-1e300);
-  return w / sum;
+  const Eigen::Vector3d ab = points_.row(triangles_(face, 1)).transpose() - a;
+  const Eigen::Vector3d ac = points_.row(triangles_(face, 2)).transpose() - a;
+  // Everything relative to corner a: a conformal map shrinks faces to 1e-11 of the sphere, where
+  // triple products of the corners themselves cancel to noise.
+  const Eigen::Vector3d n = ab.cross(ac);
+  const double nn = n.squaredNorm();
+  const double along = n.dot(p);
+  if (!(nn > 0) || !(along > 0)) {
+    // Degenerate, or the ray from the origin through p leaves the plane behind it (the face is
+    // on the far side of the sphere).
+    return Eigen::Vector3d::Constant(along > 0 ? std::numeric_limits<double>::quiet_NaN() : -1e300);
+  }
+  // Where the ray crosses the face's plane, relative to a: t p - a with t = (n . a) / (n . p),
+  // written as p - a + (t - 1) p with t - 1 = n . (a - p) / (n . p).
+  const Eigen::Vector3d d = (p - a) + (n.dot(a - p) / along) * p;
+  const double beta = d.cross(ac).dot(n) / nn;
+  const double gamma = ab.cross(d).dot(n) / nn;
+  return {1 - beta - gamma, beta, gamma};
 }
 
 FaceLocation SphereLocator::locate(const Eigen::Vector3d& point) const {
