@@ -1,7 +1,9 @@
 // `ricci match` and `ricci morph`: correspondences between two surfaces through their
 // canonical domains (docs/matching.md), and morphs along them.
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -347,29 +349,47 @@ int run_morph(const MorphArgs& args) {
   }
   const std::vector<Positions> frames =
       morph_frames(a.mesh, mapped_positions(b.mesh, m.forward), args.frames, args.rigid);
+  // Everything is written into a scratch folder beside the output first and moved in only when
+  // all of it was written: a failure leaves no partial set of frames.
+  const fs::path out(args.output);
   std::error_code error;
-  fs::create_directories(args.output, error);
-  if (error || !fs::is_directory(args.output)) {
-    throw IoError(args.output + ": cannot create the output folder (" + error.message() + ")");
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  fs::create_directories(parent, error);
+  std::string scratch_name = (parent / ("." + out.filename().string() + ".partXXXXXX")).string();
+  if (mkdtemp(scratch_name.data()) == nullptr) {
+    throw IoError(args.output + ": cannot create a folder beside it (" +
+                  std::error_code(errno, std::generic_category()).message() + ")");
   }
-  std::vector<std::string> written;
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    std::ostringstream name;
-    name << "frame_" << std::setw(3) << std::setfill('0') << k << ".obj";
-    const std::string path = (fs::path(args.output) / name.str()).string();
-    check_output_is_not_input(path, {args.a, args.b});
-    Mesh frame = a.mesh;
-    frame.positions = frames[k];
-    write_obj(path, frame);
-    written.push_back(path);
-  }
+  const fs::path scratch(scratch_name);
+  std::vector<std::string> names;
+  try {
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      std::ostringstream name;
+      name << "frame_" << std::setw(3) << std::setfill('0') << k << ".obj";
+      check_output_is_not_input((out / name.str()).string(), {args.a, args.b});
+      Mesh frame = a.mesh;
+      frame.positions = frames[k];
+      write_obj((scratch / name.str()).string(), frame);
+      names.push_back(name.str());
+    }
 #ifdef RICCI_HAVE_RENDER
-  if (args.strip) {
-    const std::string path = (fs::path(args.output) / "strip.png").string();
-    write_strip(path, a.mesh, frames);
-    written.push_back(path);
-  }
+    if (args.strip) {
+      write_strip((scratch / "strip.png").string(), a.mesh, frames);
+      names.emplace_back("strip.png");
+    }
 #endif
+    fs::create_directories(out, error);
+    if (error || !fs::is_directory(out)) {
+      throw IoError(args.output + ": cannot create the output folder (" + error.message() + ")");
+    }
+    for (const std::string& name : names) fs::rename(scratch / name, out / name);
+  } catch (...) {
+    fs::remove_all(scratch, error);
+    throw;
+  }
+  fs::remove_all(scratch, error);
+  std::vector<std::string> written;
+  for (const std::string& name : names) written.push_back((out / name).string());
   std::cout << args.a << " -> " << args.b << ": " << frames.size() << " frames ("
             << enum_name(m.domain) << ", " << m.alignment.method << "), map angle distortion mean "
             << m.distortion.angle_distortion_mean << "\n";
