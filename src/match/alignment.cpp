@@ -547,12 +547,15 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
   double best_fit = std::numeric_limits<double>::infinity();
   double best_factor = std::numeric_limits<double>::infinity();
   for (const Eigen::Matrix2d& l : maps) {
-    std::vector<Eigen::Vector2d> mapped(s.vertex.size());
-    for (std::size_t i = 0; i < s.vertex.size(); ++i)
-      mapped[i] = l * a.points.row(s.vertex[i]).head<2>().transpose();
+    // At most 1000 samples for the searches (the table's and the exact one).
+    const Samples few = subsample(s, 1000);
+    std::vector<Eigen::Vector2d> few_mapped(few.vertex.size());
+    for (std::size_t i = 0; i < few.vertex.size(); ++i) {
+      few_mapped[i] = l * a.points.row(few.vertex[i]).head<2>().transpose();
+    }
     const auto cost = [&](const Eigen::Vector2d& t) {
       return weighted_mismatch(
-          s, [&](int i) { return field_b(mapped[static_cast<std::size_t>(i)] + t); });
+          few, [&](int i) { return field_b(few_mapped[static_cast<std::size_t>(i)] + t); });
     };
     Eigen::Vector2d shift = Eigen::Vector2d::Zero();
     double fit = 0;
@@ -584,22 +587,17 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       std::sort(starts.begin(), starts.end(),
                 [](const auto& x, const auto& y) { return x.first < y.first; });
       starts.resize(4);
-      const Samples few = subsample(s, 1000);
-      std::vector<Eigen::Vector2d> few_mapped(few.vertex.size());
-      for (std::size_t i = 0; i < few.vertex.size(); ++i) {
-        few_mapped[i] = l * a.points.row(few.vertex[i]).head<2>().transpose();
-      }
       const auto exact_cost = [&](const Eigen::Vector2d& t) {
         return weighted_mismatch(few, [&](int i) {
           const Eigen::Vector2d p = few_mapped[static_cast<std::size_t>(i)] + t;
           return read_factor(locator_b, {p.x(), p.y(), 0});
         });
       };
-      // Coordinate descent along the lattice's basis, at most 8 moves a step size.
+      // Coordinate descent along the lattice's basis, at most 4 moves a step size.
       const auto descend = [&](const auto& f, Eigen::Vector2d& t0, double& value, double largest,
                                double smallest) {
         for (double step = largest; step > smallest; step /= 2) {
-          for (int move = 0; move < 8; ++move) {
+          for (int move = 0; move < 4; ++move) {
             bool moved = false;
             for (int axis = 0; axis < 2; ++axis) {
               for (double sign : {-1.0, 1.0}) {
@@ -627,7 +625,7 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       double score = std::numeric_limits<double>::infinity();
       for (std::size_t c = 0; c < 2; ++c) {
         auto [value, t] = starts[c];
-        descend(exact_cost, t, value, 1e-2, 1e-9);
+        descend(exact_cost, t, value, 1e-2, 1e-7);
         if (value < score) {
           score = value;
           shift = t;
