@@ -389,6 +389,7 @@ int run_morph(const MorphArgs& args) {
   }
   fs::remove_all(scratch, error);
   std::vector<std::string> written;
+  written.reserve(names.size());
   for (const std::string& name : names) written.push_back((out / name).string());
   std::cout << args.a << " -> " << args.b << ": " << frames.size() << " frames ("
             << enum_name(m.domain) << ", " << m.alignment.method << "), map angle distortion mean "
