@@ -14,6 +14,7 @@
 #include <string_view>
 #include <type_traits>
 
+#include "batch/detail/json_numbers.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 
@@ -21,9 +22,7 @@ namespace ricci {
 
 namespace {
 
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
+using batch_detail::number_or_null;
 
 double number_or_nan(const nlohmann::json& j, const char* name) {
   const auto it = j.find(name);

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
+#include "batch/detail/json_numbers.hpp"
+
 namespace ricci {
 namespace {
 
@@ -33,10 +35,7 @@ double quantile(const std::vector<double>& sorted, double p) {
   return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
 }
 
-/// JSON number, or null when not finite (JSON has no NaN).
-nlohmann::json number_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
+using batch_detail::number_or_null;
 
 nlohmann::json to_json(const Percentiles& p) {
   return {{"count", p.count},

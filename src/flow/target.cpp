@@ -14,8 +14,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 std::string format_value(double x) {
   std::ostringstream out;
   out.precision(12);
@@ -144,7 +142,7 @@ Target flat_target(const Topology& t, const std::vector<Cone>& cones, BoundaryMo
           }
         }
         if (total_weight <= 0) continue;
-        const double remaining = 2 * kPi * comp.euler_characteristic - cone_total[c];
+        const double remaining = 2 * std::numbers::pi * comp.euler_characteristic - cone_total[c];
         for (int v : comp.vertices) {
           if (t.is_boundary_vertex[v] && !is_cone[v]) {
             const double w = boundary == BoundaryMode::DiskLength ? share[v] : 1.0;
@@ -166,8 +164,8 @@ Target uniform_target(const Topology& t) {
   target.curvature = Eigen::VectorXd::Zero(t.num_vertices);
   target.fixed.assign(t.num_vertices, 0);
   for (const Component& comp : t.components) {
-    const double k =
-        2 * kPi * comp.euler_characteristic / static_cast<double>(comp.vertices.size());
+    const double k = 2 * std::numbers::pi * comp.euler_characteristic /
+                     static_cast<double>(comp.vertices.size());
     for (int v : comp.vertices) target.curvature[v] = k;
   }
   target.description = "uniform curvature 2 pi chi / n";
@@ -218,7 +216,7 @@ void check_vertex_targets(const Topology& t, const ConformalStructure& structure
   for (int v = 0; v < t.num_vertices; ++v) {
     if (t.vertex_component[v] < 0 || target.fixed[v]) continue;
     const double k = target.curvature[v];
-    const double top = t.is_boundary_vertex[v] ? kPi : 2 * kPi;
+    const double top = t.is_boundary_vertex[v] ? std::numbers::pi : 2 * std::numbers::pi;
     const double lower = options.edge_flips ? 0.0 : top - bound_sum[v];
     const char* where = t.is_boundary_vertex[v] ? "boundary vertex " : "vertex ";
     if (!std::isfinite(k)) {
@@ -235,7 +233,8 @@ void check_vertex_targets(const Topology& t, const ConformalStructure& structure
     if (!options.edge_flips && !(k > lower)) {
       // The tangential scheme (Phi = 0, pi per face) has the widest bound of the packings: a
       // fix only where the target keeps to it.
-      const bool tangential = scheme.fitted_intersection_angles && k > top - kPi * faces_at[v];
+      const bool tangential =
+          scheme.fitted_intersection_angles && k > top - std::numbers::pi * faces_at[v];
       throw InvalidInput(
           "check_admissible: " + std::string(where) + vertex_label(v, options.vertex_labels) +
               " (valence " + std::to_string(t.vertex_degree[v]) + ") has target curvature " +
@@ -271,10 +270,11 @@ void check_gauss_bonnet(const Topology& t, const ConformalStructure& structure,
     }
     if (any_fixed) continue;
     sum += compensation;
-    const double expected = 2 * kPi * comp.euler_characteristic;
+    const double expected = 2 * std::numbers::pi * comp.euler_characteristic;
     if (geometry_traits(structure.geometry).area_in_gauss_bonnet) {
       // sum K - area = 2 pi chi with a positive area: the sum must exceed 2 pi chi.
-      if (!(sum - expected > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude))) {
+      if (!(sum - expected >
+            options.gauss_bonnet_tolerance * std::max(2 * std::numbers::pi, magnitude))) {
         throw InvalidInput("check_admissible: component " + std::to_string(c) +
                                " cannot carry a hyperbolic metric with this target: its target "
                                "curvatures sum to " +
@@ -287,7 +287,8 @@ void check_gauss_bonnet(const Topology& t, const ConformalStructure& structure,
       }
       continue;
     }
-    if (std::abs(sum - expected) > options.gauss_bonnet_tolerance * std::max(2 * kPi, magnitude)) {
+    if (std::abs(sum - expected) >
+        options.gauss_bonnet_tolerance * std::max(2 * std::numbers::pi, magnitude)) {
       throw InvalidInput("check_admissible: component " + std::to_string(c) +
                              " breaks Gauss-Bonnet: its target curvatures sum to " +
                              format_value(sum) +
@@ -338,7 +339,7 @@ double parse_curvature(const std::string& raw) {
         divisor = NAN;
       }
     }
-    value = factor * kPi / divisor;
+    value = factor * std::numbers::pi / divisor;
     if (std::isfinite(value)) return value;
   }
   throw InvalidInput("parse_curvature: '" + raw +

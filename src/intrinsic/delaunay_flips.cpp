@@ -22,13 +22,13 @@ constexpr double kShortestDiagonal = 1e-9;
 
 /// The quad of interior edge e: halfedge h0 = a -> b in face f0 with opposite corner c, its twin
 /// h1 = b -> a in face f1 with opposite corner d.
-struct Quad {
+struct EdgeQuad {
   int h0, h1, a, b, c, d;
   int ca, cb, da, db;  // edges of the four outer sides
 };
 
-Quad quad_of(const Topology& t, int e) {
-  Quad q;
+EdgeQuad quad_of(const Topology& t, int e) {
+  EdgeQuad q;
   q.h0 = t.edge_halfedges(e, 0);
   q.h1 = t.edge_halfedges(e, 1);
   const int f0 = q.h0 / 3, k0 = q.h0 % 3, f1 = q.h1 / 3, k1 = q.h1 % 3;
@@ -123,7 +123,7 @@ double hyperbolic_diagonal(double ab, double ca, double cb, double da, double db
 
 bool can_flip_edge(const Topology& t, int e, bool keep_simplicial) {
   if (t.edge_halfedges(e, 1) < 0) return false;
-  const Quad q = quad_of(t, e);
+  const EdgeQuad q = quad_of(t, e);
   if (q.h0 / 3 == q.h1 / 3) return false;  // an edge inside one self-glued face
   if (!keep_simplicial) return true;
   if (q.c == q.d) return false;
@@ -133,7 +133,7 @@ bool can_flip_edge(const Topology& t, int e, bool keep_simplicial) {
 }
 
 void flip_edge(Topology& t, int e) {
-  const Quad q = quad_of(t, e);
+  const EdgeQuad q = quad_of(t, e);
   const int f0 = q.h0 / 3, k0 = q.h0 % 3, f1 = q.h1 / 3, k1 = q.h1 % 3;
   // The four outer halfedges c->a, a->d, d->b, b->c and the slots they move to: the new faces
   // are (a, d, c) with corner a at k0 and (b, c, d) with corner b at k1, so that h0 and h1
@@ -196,7 +196,7 @@ namespace {
 /// Flips edge e of quad q to the new length cd, with the eta that makes edge_lengths reproduce
 /// it: lambda_cd^2 = 2 eta exp(u_c + u_d) in both backgrounds (vertex scaling, epsilon = 0).
 void set_flipped_edge(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
-                      Eigen::VectorXd& l, int e, const Quad& q, double cd) {
+                      Eigen::VectorXd& l, int e, const EdgeQuad& q, double cd) {
   flip_edge(t, e);
   l[e] = cd;
   const double lambda = lambda_length(cd, structure.geometry);
@@ -222,7 +222,7 @@ bool is_non_delaunay(const Topology& t, const Eigen::VectorXd& l, int e, double 
 
 double ptolemy_flip(Topology& t, ConformalStructure& structure, const Eigen::VectorXd& u,
                     Eigen::VectorXd& l, int e) {
-  const Quad q = quad_of(t, e);
+  const EdgeQuad q = quad_of(t, e);
   const double cd = ptolemy_diagonal(quad_lengths(t, l, q.h0), structure.geometry);
   set_flipped_edge(t, structure, u, l, e, q, cd);
   return cd;
@@ -272,7 +272,7 @@ DelaunayFlipResult flip_to_delaunay(Topology& t, ConformalStructure& structure,
     stack.pop_back();
     queued[e] = 0;
     if (!touched[e] && !failing[e]) continue;
-    const Quad q = quad_of(t, e);
+    const EdgeQuad q = quad_of(t, e);
     const QuadLengths lengths = quad_lengths(t, l, q.h0);
     if (!(margin_in(geometry, lengths) < -options.tolerance)) continue;
     if (!can_flip_edge(t, e, options.keep_simplicial)) {

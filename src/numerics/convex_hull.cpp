@@ -10,7 +10,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 /// Two bounding rectangles whose areas differ by less than this (relative) are the same
 /// rectangle (a rectangle's four edge directions, computed with rounding): the smaller turn wins.
 constexpr double kAreaTie = 1e-12;
@@ -44,7 +43,7 @@ double minimal_rectangle_rotation(const std::vector<Eigen::Vector2d>& hull) {
     const Eigen::Vector2d d = hull[(i + 1) % hull.size()] - hull[i];
     double angle = -std::atan2(d.y(), d.x());
     // A quarter turn gives the same rectangle: keep the angle nearest to the hull as it is.
-    angle -= kPi / 2 * std::round(angle / (kPi / 2));
+    angle -= std::numbers::pi / 2 * std::round(angle / (std::numbers::pi / 2));
     const double c = std::cos(angle), s = std::sin(angle);
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
     for (const Eigen::Vector2d& q : hull) {

@@ -20,7 +20,7 @@ namespace {
 
 using Complex = std::complex<double>;
 
-[[noreturn]] void invalid(const std::string& what) {
+[[noreturn]] void invalid_distortion_input(const std::string& what) {
   throw InvalidInput("measure_distortion: " + what);
 }
 
@@ -125,8 +125,9 @@ Distortion measure_distortion(const Mesh& mesh, const Triangles& uv_triangles,
   for (int f = 0; f < num_faces; ++f) {
     const FaceMeasure& m = faces[static_cast<std::size_t>(f)];
     if (!(std::isfinite(m.twice_area) && m.twice_area > 0)) {
-      invalid("face " + std::to_string(f) + " has " +
-              (std::isfinite(m.twice_area) ? "zero" : "non-finite") + " area in R^3");
+      invalid_distortion_input("face " + std::to_string(f) + " has " +
+                               (std::isfinite(m.twice_area) ? "zero" : "non-finite") +
+                               " area in R^3");
     }
     twice_surface += m.twice_area;
     if (std::isfinite(m.twice_layout_area)) twice_layout += std::abs(m.twice_layout_area);

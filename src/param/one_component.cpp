@@ -34,7 +34,6 @@ std::vector<OptionFix> more_cones_fixes(std::size_t count) {
   return {OptionFix{"cones", std::to_string(2 * count + 2)}, OptionFix{"cones", "auto"}};
 }
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Automatic cones are chosen again, with more of them, while the flat metric's log scale
 /// spread exceeds the selection's bound by this factor ...
@@ -47,7 +46,7 @@ constexpr int kConeRounds = 3;
 /// other schemes: pi), so valence > (2 pi - k) / guaranteed angle.
 int required_valence(double k, Scheme scheme) {
   const double per_face = scheme_traits(scheme).guaranteed_face_angle;
-  return static_cast<int>(std::floor((2 * kPi - k) / per_face)) + 1;
+  return static_cast<int>(std::floor((2 * std::numbers::pi - k) / per_face)) + 1;
 }
 
 }  // namespace
@@ -147,7 +146,8 @@ void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
   double total = 0;
   for (const Cone& c : chosen) total += c.curvature;
   // Closed surfaces must keep 2 pi chi; with a boundary the nearest multiple of pi/2 will do.
-  total = run.closed ? 2 * kPi * run.chi : std::round(total / (kPi / 2)) * (kPi / 2);
+  total = run.closed ? 2 * std::numbers::pi * run.chi
+                     : std::round(total / (std::numbers::pi / 2)) * (std::numbers::pi / 2);
   chosen = quantize_cones(chosen, total);
 }
 
@@ -156,8 +156,8 @@ void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
 constexpr int kRefinementSteps = 8;
 /// The refinement's drawable bound on a cone: corners up to this on average (the selection's
 /// 0.6 pi is what few cones on chi < 0 cannot meet) and this at most.
-constexpr double kRefinedFaceAngle = 0.9 * kPi;
-constexpr double kRefinedCornerAngle = 0.95 * kPi;
+constexpr double kRefinedFaceAngle = 0.9 * std::numbers::pi;
+constexpr double kRefinedCornerAngle = 0.95 * std::numbers::pi;
 
 /// Few cones on a closed surface of chi < 0, too few for the selection's bounds (eight with 4,
 /// 3holes with 5): the linearised model misjudges such strong cones (eight, 4 cones: E 0.385
@@ -255,7 +255,8 @@ void choose_cones(ParamRun& run) {
       one.try_first_cone_candidates = 16;
       one.max_cones = 1;
       run.result.cone_selection = select_cones(run.the_cone_model(), one);
-      run.cones.push_back({run.result.cone_selection.vertices.front(), 2 * kPi * run.chi});
+      run.cones.push_back(
+          {run.result.cone_selection.vertices.front(), 2 * std::numbers::pi * run.chi});
       break;
     }
     case ConeMode::Auto:
@@ -265,7 +266,7 @@ void choose_cones(ParamRun& run) {
       for (const Cone& c : run.cones) {
         // A fixed count too small for the curvature (two cones on a sphere): the least-squares
         // curvatures leave every bound behind. Say so instead of the flow's refusal of a vertex.
-        if (!run.result.cone_selection.within_bounds && !(c.curvature < 2 * kPi)) {
+        if (!run.result.cone_selection.within_bounds && !(c.curvature < 2 * std::numbers::pi)) {
           throw InvalidInput("parameterize: " + std::to_string(run.cones.size()) +
                                  " automatic cones cannot carry the curvature within their bounds "
                                  "(vertex " +
@@ -573,7 +574,7 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
     // With the charts to fall back on, a layout that cannot come out fold-free is left as is.
     untangle.give_up_when_stuck = run.options.fold_free.charts;
     untangle.fixed.assign(result.mesh.num_vertices(), 0);
-    untangle.angles.assign(result.mesh.num_vertices(), 2 * kPi);
+    untangle.angles.assign(result.mesh.num_vertices(), 2 * std::numbers::pi);
     // A cone whose angle its faces cannot hold, each below pi, leaves one of them flipped
     // whatever else moves: no untangling is tried then.
     if (run.options.seams == SeamMode::Free) {
@@ -584,16 +585,16 @@ void cut_and_lay_out(ParamRun& run, FlowStage& stage, Laps& lap) {
       for (int v = 0; v < topology.num_vertices; ++v) {
         if (!on_cut[v]) continue;
         untangle.fixed[v] = 1;
-        untangle.angles[v] = 2 * kPi - result.flow.target_curvature[v];
+        untangle.angles[v] = 2 * std::numbers::pi - result.flow.target_curvature[v];
       }
     }
     bool overloaded = false;
     for (const Cone& c : result.cones) {
       if (c.vertex < 0 || c.vertex >= result.mesh.num_vertices()) continue;
       untangle.fixed[c.vertex] = 1;
-      untangle.angles[c.vertex] = 2 * kPi - c.curvature;
+      untangle.angles[c.vertex] = 2 * std::numbers::pi - c.curvature;
       const int faces = topology.vertex_degree[c.vertex] - topology.is_boundary_vertex[c.vertex];
-      overloaded = overloaded || 2 * kPi - c.curvature >= faces * kPi;
+      overloaded = overloaded || 2 * std::numbers::pi - c.curvature >= faces * std::numbers::pi;
     }
     if (overloaded) {
       result.untangle = {};

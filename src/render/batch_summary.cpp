@@ -26,7 +26,7 @@ const Rgb kSecondsColour{0.2, 0.4, 0.75};
 const Rgb kDistortionColour{0.88, 0.5, 0.1};
 
 /// A plot rectangle in pixels with a linear x range and a count axis from 0 to y_hi.
-struct Frame {
+struct HistogramFrame {
   double left = 0, right = 0, top = 0, bottom = 0;
   double x_lo = 0, x_hi = 1;
   double y_hi = 1;
@@ -63,19 +63,19 @@ void draw_vertical_text(cairo_t* cr, const std::string& text, double x, double y
 }
 
 /// Adds a line across the frame at x (frame units) to the path.
-void add_vertical_line(cairo_t* cr, const Frame& f, double x) {
+void add_vertical_line(cairo_t* cr, const HistogramFrame& f, double x) {
   cairo_move_to(cr, f.px(x), f.top);
   cairo_line_to(cr, f.px(x), f.bottom);
 }
 
 /// A light grid line across the frame at x (frame units).
-void draw_grid_line(cairo_t* cr, const Frame& f, double x) {
+void draw_grid_line(cairo_t* cr, const HistogramFrame& f, double x) {
   set_colour(cr, kGrid);
   add_vertical_line(cr, f, x);
   cairo_stroke(cr);
 }
 
-void draw_box(cairo_t* cr, const Frame& f) {
+void draw_box(cairo_t* cr, const HistogramFrame& f) {
   set_colour(cr, {0.2, 0.2, 0.2});
   cairo_set_line_width(cr, 1.2);
   cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
@@ -94,8 +94,8 @@ std::vector<int> bin_values(const std::vector<double>& values, double lo, double
 
 /// The count axis (grid lines, tick labels, its label) and the bars of a histogram whose bins
 /// split [frame.x_lo, frame.x_hi] equally.
-void draw_histogram(cairo_t* cr, Frame& f, const std::vector<int>& counts, const Rgb& colour,
-                    double font) {
+void draw_histogram(cairo_t* cr, HistogramFrame& f, const std::vector<int>& counts,
+                    const Rgb& colour, double font) {
   const int most = std::max(1, *std::max_element(counts.begin(), counts.end()));
   const double step = std::max(1.0, nice_step(most, 5));
   f.y_hi = std::ceil(most / step) * step;
@@ -124,7 +124,8 @@ void draw_histogram(cairo_t* cr, Frame& f, const std::vector<int>& counts, const
 }
 
 /// A dashed vertical line at x (frame units) with a label at its top.
-void draw_marker(cairo_t* cr, const Frame& f, double x, const std::string& label, double font) {
+void draw_marker(cairo_t* cr, const HistogramFrame& f, double x, const std::string& label,
+                 double font) {
   if (!std::isfinite(x) || x < f.x_lo || x > f.x_hi) return;
   const double dash[] = {5.0, 4.0};
   cairo_set_dash(cr, dash, 2, 0);
@@ -165,7 +166,7 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
     count_width = std::max(count_width, e.width);
     most = std::max(most, count);
   }
-  Frame f;
+  HistogramFrame f;
   f.left = x0 + name_width + 1.5 * font;
   f.right = x1 - count_width - 1.5 * font;
   f.top = top + 2.2 * font;
@@ -193,10 +194,10 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
 
 /// Panels (b) and (c) start alike: the title, then the plot rectangle under it, which this
 /// returns.
-Frame start_histogram_panel(cairo_t* cr, const std::string& title, double x0, double x1,
-                            double height, double top, double font) {
+HistogramFrame start_histogram_panel(cairo_t* cr, const std::string& title, double x0, double x1,
+                                     double height, double top, double font) {
   draw_panel_title(cr, title, x0, x1, top, font);
-  Frame f;
+  HistogramFrame f;
   f.left = x0 + 5.0 * font;
   f.right = x1 - 1.5 * font;
   f.top = top + 2.2 * font;
@@ -205,8 +206,8 @@ Frame start_histogram_panel(cairo_t* cr, const std::string& title, double x0, do
 }
 
 /// ... and end alike: the frame's box and the label of its x axis.
-void finish_histogram_panel(cairo_t* cr, const Frame& f, const std::string& x_label, double height,
-                            double font) {
+void finish_histogram_panel(cairo_t* cr, const HistogramFrame& f, const std::string& x_label,
+                            double height, double font) {
   draw_box(cr, f);
   set_colour(cr, kInk);
   draw_text(cr, x_label, 0.5 * (f.left + f.right), height - 0.6 * font, font, 0.5, 1);
@@ -215,7 +216,7 @@ void finish_histogram_panel(cairo_t* cr, const Frame& f, const std::string& x_la
 /// Panel (b): seconds per mesh on a log10 axis over whole decades.
 void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, double height,
                   double top, double font) {
-  Frame f = start_histogram_panel(cr, "seconds per mesh", x0, x1, height, top, font);
+  HistogramFrame f = start_histogram_panel(cr, "seconds per mesh", x0, x1, height, top, font);
 
   std::vector<double> logs;
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -269,7 +270,7 @@ void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, doub
 /// Panel (c): angle distortion of the Ok meshes, axis from 1 (conformal).
 void draw_angle_distortion(cairo_t* cr, const BatchSummary& s, double x0, double x1, double height,
                            double top, double font) {
-  Frame f =
+  HistogramFrame f =
       start_histogram_panel(cr, "angle distortion of the Ok meshes", x0, x1, height, top, font);
 
   std::vector<double> values;

@@ -101,8 +101,8 @@ LayoutDrawing prepare(const char* fn, const Mesh& mesh, const Triangles& uv_tria
   const double plot_w = options.width - 2 * margin;
   const double plot_h = options.height - d.bar_height - 2 * margin;
   // A layout of no extent (one point, a line) still gets a finite, positive scale.
-  constexpr double kTinyExtent = 1e-300, kTinyScale = 1e-300;
-  const Eigen::Vector2d extent = (hi - lo).cwiseMax(kTinyExtent);
+  constexpr double kNoExtent = 1e-300, kTinyScale = 1e-300;
+  const Eigen::Vector2d extent = (hi - lo).cwiseMax(kNoExtent);
   d.scale = std::max(std::min(plot_w / extent.x(), plot_h / extent.y()), kTinyScale);
   d.u0 = lo.x();
   d.v1 = hi.y();

@@ -25,8 +25,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// A cone of angle 4 pi (curvature -2 pi) at a valence-5 vertex of make_icosphere(3) and four of
 /// curvature 1.5 pi: admissible, but without flips vertex scaling breaks triangles around the
 /// big cone (each of its five angles must approach 4 pi / 5) and stops.
@@ -34,8 +32,11 @@ MeshFlowOptions strong_cones(EdgeFlips flips) {
   MeshFlowOptions options;
   options.structure.scheme = Scheme::VertexScaling;
   options.target.kind = TargetKind::Flat;
-  options.target.cones = {
-      {0, -2 * kPi}, {5, 1.5 * kPi}, {11, 1.5 * kPi}, {20, 1.5 * kPi}, {30, 1.5 * kPi}};
+  options.target.cones = {{0, -2 * std::numbers::pi},
+                          {5, 1.5 * std::numbers::pi},
+                          {11, 1.5 * std::numbers::pi},
+                          {20, 1.5 * std::numbers::pi},
+                          {30, 1.5 * std::numbers::pi}};
   options.flow.flips = flips;
   return options;
 }
@@ -129,7 +130,7 @@ TEST(EdgeFlips, EveryComponentOfAMeshFlipsIntoTheWholeMeshTriangulation) {
   options.target.kind = TargetKind::Values;
   options.target.values = Eigen::VectorXd::Zero(both.num_vertices());
   for (int v = 0; v < a.num_vertices(); ++v) {
-    options.target.values[v] = 4 * kPi / a.num_vertices();
+    options.target.values[v] = 4 * std::numbers::pi / a.num_vertices();
   }
   for (const Cone& c : strong_cones(EdgeFlips::Auto).target.cones) {
     options.target.values[a.num_vertices() + c.vertex] = c.curvature;
@@ -172,7 +173,7 @@ TEST(EdgeFlips, ParameterizationLaysOutTheInputFacesInTheIntrinsicMetric) {
           std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y());
     }
   }
-  Eigen::VectorXd expected = Eigen::VectorXd::Constant(sphere.num_vertices(), 2 * kPi);
+  Eigen::VectorXd expected = Eigen::VectorXd::Constant(sphere.num_vertices(), 2 * std::numbers::pi);
   for (const Cone& c : options.cones) expected[c.vertex] -= c.curvature;
   EXPECT_LT((angle_sum - expected).cwiseAbs().maxCoeff(), 1e-9);
 }
@@ -256,8 +257,9 @@ TEST(EdgeFlips, TrianglesBreakingAlongTheBoundaryFlipOnTheDoubledSurface) {
     }
   }
   for (int v = 0; v < t.num_vertices; ++v) {
-    const double expected = (t.is_boundary_vertex[v] ? kPi : 2 * kPi) - r.target_curvature[v];
-    EXPECT_NEAR(std::remainder(sum[v] - expected, 2 * kPi), 0.0, 1e-9) << v;
+    const double expected =
+        (t.is_boundary_vertex[v] ? std::numbers::pi : 2 * std::numbers::pi) - r.target_curvature[v];
+    EXPECT_NEAR(std::remainder(sum[v] - expected, 2 * std::numbers::pi), 0.0, 1e-9) << v;
   }
 }
 

@@ -13,8 +13,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // The tutorial's fig. 7: the curvature error of the gradient flow decays exponentially. Near the
 // solution the explicit step multiplies the error by I - dt L, so the asymptotic rate per
 // iteration is max over the non-zero eigenvalues lambda of L of |1 - dt lambda|.
@@ -26,7 +24,9 @@ TEST(GradientFlow, ErrorDecaysExponentiallyAtThePredictedRate) {
   thurston.scheme = Scheme::Thurston;
   const ConformalStructure s =
       make_conformal_structure(t, input_edge_lengths(mesh, t), thurston).structure;
-  const Target target = flat_target(t, {{0, kPi}, {3, kPi}, {5, kPi}, {9, kPi}});
+  const Target target = flat_target(
+      t,
+      {{0, std::numbers::pi}, {3, std::numbers::pi}, {5, std::numbers::pi}, {9, std::numbers::pi}});
   FlowOptions options;
   options.solver = FlowSolver::Gradient;
   const FlowResult r = ricci_flow(t, s, target, options);

@@ -27,15 +27,14 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-struct Metric {
+struct HyperbolicMetric {
   Eigen::VectorXd lengths, curvature;
   CornerAngles angles;
 };
 
-Metric evaluate(const Topology& t, const ConformalStructure& s, const Eigen::VectorXd& u) {
-  Metric m;
+HyperbolicMetric evaluate(const Topology& t, const ConformalStructure& s,
+                          const Eigen::VectorXd& u) {
+  HyperbolicMetric m;
   EXPECT_EQ(edge_lengths(t, s, u, m.lengths).invalid_edges, 0);
   EXPECT_EQ(corner_angles(t, m.lengths, m.angles, s.geometry).first_bad_face, -1);
   vertex_curvature(t, m.angles, m.curvature);
@@ -45,7 +44,7 @@ Metric evaluate(const Topology& t, const ConformalStructure& s, const Eigen::Vec
 /// The dense Hessian dK/du the flow assembles (hyperbolic_hessian_terms).
 Eigen::MatrixXd assembled_hessian(const Topology& t, const ConformalStructure& s,
                                   const Eigen::VectorXd& u) {
-  const Metric m = evaluate(t, s, u);
+  const HyperbolicMetric m = evaluate(t, s, u);
   Eigen::VectorXd w, diag, ew;
   hyperbolic_hessian_terms(t, s, u, m.lengths, m.angles, w, diag);
   edge_weights(t, w, ew);
@@ -100,7 +99,7 @@ TEST(HyperbolicHessian, MatchesFiniteDifferencesAndIsPositiveDefiniteForEverySch
     const double scale = h.cwiseAbs().maxCoeff();
     EXPECT_LT((h - fd).cwiseAbs().maxCoeff(), 1e-7 * scale);
     // Symmetric before symmetrisation: the per-face Jacobians themselves.
-    const Metric m = evaluate(t, s, u);
+    const HyperbolicMetric m = evaluate(t, s, u);
     double asymmetry = 0, size = 0;
     for (int f = 0; f < t.num_faces; ++f) {
       const Eigen::Matrix3d j = hyperbolic_face_jacobian(t, s, u, m.lengths, m.angles, f);
@@ -128,7 +127,7 @@ TEST(HyperbolicStructure, ReproducesTheScaledInputLengths) {
   CornerAngles a;
   edge_lengths(t, r.structure, r.structure.initial_u, l);
   corner_angles(t, l, a, Geometry::Hyperbolic);
-  EXPECT_NEAR(hyperbolic_total_area(a), 4 * kPi, 0.2 * 4 * kPi);
+  EXPECT_NEAR(hyperbolic_total_area(a), 4 * std::numbers::pi, 0.2 * 4 * std::numbers::pi);
 }
 
 /// Runs the default hyperbolic job (zero curvature, geodesic boundary) on a mesh.
@@ -146,7 +145,7 @@ void expect_uniformized(const MeshFlowResult& r, int chi) {
   const FlowResult& f = r.components[0].flow;
   // Gauss-Bonnet in curvature -1: sum K - area = 2 pi chi; with K = 0 the area is -2 pi chi.
   // |area + 2 pi chi| = |sum K| <= #V max |K|.
-  EXPECT_NEAR(f.total_area, -2 * kPi * chi, f.curvature.size() * f.max_error + 1e-12);
+  EXPECT_NEAR(f.total_area, -2 * std::numbers::pi * chi, f.curvature.size() * f.max_error + 1e-12);
   EXPECT_LT(f.gauss_bonnet_relative_error, 1e-12);
   EXPECT_LT(f.iterations, 30);
 }
@@ -192,7 +191,7 @@ TEST(HyperbolicFlow, RefusesTargetsWithNoPositiveArea) {
   const MeshFlowResult r = flow_mesh(mesh, o);
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.components[0].flow.total_area,
-              -0.001 * static_cast<double>(mesh.positions.rows()) + 4 * kPi, 1e-8);
+              -0.001 * static_cast<double>(mesh.positions.rows()) + 4 * std::numbers::pi, 1e-8);
 }
 
 TEST(HyperbolicStructure, RefusesTheVirtualRadiusScheme) {
@@ -397,8 +396,8 @@ TEST(HyperbolicFlips, EachComponentOfAMeshFlowsInTheHyperbolicBackground) {
   const MeshFlowResult r = uniformize_vertex_scaling(both, EdgeFlips::Auto);
   ASSERT_TRUE(r.converged);
   ASSERT_EQ(r.components.size(), 2u);
-  EXPECT_NEAR(r.components[0].flow.total_area, 4 * kPi, 1e-8);
-  EXPECT_NEAR(r.components[1].flow.total_area, 8 * kPi, 1e-8);
+  EXPECT_NEAR(r.components[0].flow.total_area, 4 * std::numbers::pi, 1e-8);
+  EXPECT_NEAR(r.components[1].flow.total_area, 8 * std::numbers::pi, 1e-8);
   EXPECT_GT(r.components[0].flow.intrinsic.flips(), 0);
   // The whole mesh's final triangulation and constants reproduce the gathered lengths.
   Eigen::VectorXd l;

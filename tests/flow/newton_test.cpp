@@ -17,8 +17,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 struct Problem {
   Topology topology;
   StructureResult structure;
@@ -106,7 +104,7 @@ TEST(Newton, DiskBoundaryUniformAndByLength) {
     if (mode == BoundaryMode::DiskUniform) {
       const int m = static_cast<int>(p.topology.boundary_loops[0].size());
       for (int v : p.topology.boundary_loops[0]) {
-        EXPECT_NEAR(r.curvature[v], 2 * kPi / m, 1e-10);
+        EXPECT_NEAR(r.curvature[v], 2 * std::numbers::pi / m, 1e-10);
       }
     }
   }
@@ -122,12 +120,12 @@ TEST(Newton, Genus3WithOneConeOfTwoPiChi) {
   ASSERT_GE(refined.final_valence, 24);
   const Problem p = make_problem(subdivide_midpoint(refined.mesh));
   ASSERT_EQ(p.topology.euler_characteristic(), -4);
-  const Target target = flat_target(p.topology, {{0, -8 * kPi}});
+  const Target target = flat_target(p.topology, {{0, -8 * std::numbers::pi}});
   const FlowResult r = ricci_flow(p.topology, p.structure.structure, target);
   expect_solution(p, target, r);
   testing::expect_quadratic_convergence(r);
   // The cone angle is 2 pi - K = 10 pi.
-  EXPECT_NEAR(2 * kPi - r.curvature[0], 10 * kPi, 1e-10);
+  EXPECT_NEAR(2 * std::numbers::pi - r.curvature[0], 10 * std::numbers::pi, 1e-10);
 }
 
 TEST(Newton, SphereWithFourAndEightCones) {
@@ -260,7 +258,8 @@ TEST(Newton, IterationLimitIsAResultNotAnException) {
 TEST(Newton, InadmissibleTargetsAreRejectedBeforeTheFlow) {
   const Problem p = make_problem(make_icosphere(2));
   // Gauss-Bonnet: one cone of pi on a sphere (needs 4 pi in all).
-  EXPECT_THROW(ricci_flow(p.topology, p.structure.structure, flat_target(p.topology, {{0, kPi}})),
+  EXPECT_THROW(ricci_flow(p.topology, p.structure.structure,
+                          flat_target(p.topology, {{0, std::numbers::pi}})),
                InvalidInput);
 }
 
@@ -269,7 +268,10 @@ TEST(Newton, InadmissibleTargetsAreRejectedBeforeTheFlow) {
 TEST(Newton, StepsThatBreakATriangleAreShortened) {
   const Mesh sphere = make_icosphere(2);
   const Problem p = make_problem(sphere, Scheme::VertexScaling);
-  const Target target = flat_target(p.topology, {{0, kPi}, {50, kPi}, {100, kPi}, {150, kPi}});
+  const Target target = flat_target(p.topology, {{0, std::numbers::pi},
+                                                 {50, std::numbers::pi},
+                                                 {100, std::numbers::pi},
+                                                 {150, std::numbers::pi}});
   FlowOptions options;
   options.solver = FlowSolver::Gradient;
   options.gradient_step = 20.0;

@@ -14,8 +14,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 std::string message_of(const std::function<void()>& f) {
   try {
     f();
@@ -39,8 +37,11 @@ struct Fixture {
 
 TEST(Target, FlatWithConesOnAClosedSurface) {
   Fixture f(make_icosphere(1));
-  const Target target = flat_target(f.t, {{0, kPi}, {7, kPi}, {9, kPi}, {11, kPi}});
-  EXPECT_EQ(target.curvature.sum(), 4 * kPi);
+  const Target target = flat_target(f.t, {{0, std::numbers::pi},
+                                          {7, std::numbers::pi},
+                                          {9, std::numbers::pi},
+                                          {11, std::numbers::pi}});
+  EXPECT_EQ(target.curvature.sum(), 4 * std::numbers::pi);
   EXPECT_FALSE(target.has_fixed_vertices());
   EXPECT_NO_THROW(check_admissible(f.t, f.s, target));
   EXPECT_EQ(target.description, "flat with 4 cones");
@@ -62,7 +63,7 @@ TEST(Target, DiskBoundaryUniformAndProportionalToLength) {
   const Target uniform = flat_target(f.t, {}, BoundaryMode::DiskUniform);
   const auto& loop = f.t.boundary_loops[0];
   const double m = static_cast<double>(loop.size());
-  for (int v : loop) EXPECT_NEAR(uniform.curvature[v], 2 * kPi / m, 1e-15);
+  for (int v : loop) EXPECT_NEAR(uniform.curvature[v], 2 * std::numbers::pi / m, 1e-15);
   EXPECT_NO_THROW(check_admissible(f.t, f.s, uniform));
 
   // Make one boundary edge longer: its ends get more curvature.
@@ -74,7 +75,7 @@ TEST(Target, DiskBoundaryUniformAndProportionalToLength) {
   const Target by_length = flat_target(f.t, {}, BoundaryMode::DiskLength, lengths);
   double total = 0;
   for (int v : loop) total += by_length.curvature[v];
-  EXPECT_NEAR(total, 2 * kPi, 1e-13);
+  EXPECT_NEAR(total, 2 * std::numbers::pi, 1e-13);
   for (int e = 0; e < f.t.num_edges; ++e) {
     if (!f.t.is_boundary_edge[e]) continue;
     // Each boundary edge hands half its share of 2 pi to each end.
@@ -84,7 +85,7 @@ TEST(Target, DiskBoundaryUniformAndProportionalToLength) {
       if (f.t.is_boundary_edge[g] && (f.t.edge_vertices(g, 0) == a || f.t.edge_vertices(g, 1) == a))
         around += 0.5 * lengths[g];
     }
-    EXPECT_NEAR(by_length.curvature[a], 2 * kPi * around / perimeter, 1e-14);
+    EXPECT_NEAR(by_length.curvature[a], 2 * std::numbers::pi * around / perimeter, 1e-14);
   }
   EXPECT_THROW(flat_target(f.t, {}, BoundaryMode::DiskLength), InvalidInput);
 }
@@ -92,14 +93,14 @@ TEST(Target, DiskBoundaryUniformAndProportionalToLength) {
 TEST(Target, UniformSumsToTwoPiChi) {
   Fixture f(make_closed_surface(2, 6));
   const Target target = uniform_target(f.t);
-  EXPECT_NEAR(target.curvature.sum(), 2 * kPi * -2, 1e-11);
-  EXPECT_NEAR(target.curvature[0], 2 * kPi * -2 / f.t.num_vertices, 1e-15);
+  EXPECT_NEAR(target.curvature.sum(), 2 * std::numbers::pi * -2, 1e-11);
+  EXPECT_NEAR(target.curvature[0], 2 * std::numbers::pi * -2 / f.t.num_vertices, 1e-15);
   EXPECT_NO_THROW(check_admissible(f.t, f.s, target));
 }
 
 TEST(Target, GaussBonnetViolationNamesTheComponentAndTheSums) {
   Fixture f(make_icosphere(1));
-  const Target target = flat_target(f.t, {{0, kPi}});
+  const Target target = flat_target(f.t, {{0, std::numbers::pi}});
   const std::string m = message_of([&] { check_admissible(f.t, f.s, target); });
   EXPECT_NE(m.find("Gauss-Bonnet"), std::string::npos) << m;
   EXPECT_NE(m.find("component 0"), std::string::npos) << m;
@@ -110,13 +111,14 @@ TEST(Target, SingleVertexBoundNamesTheVertexAndTheBound) {
   Fixture f(make_icosphere(1));  // valence 5 or 6
   // Vertex 0 has valence 5: K > 2 pi - 5 pi = -3 pi at best (Phi = 0); ask for -4 pi.
   ASSERT_EQ(f.t.vertex_degree[0], 5);
-  const Target target = flat_target(f.t, {{0, -4 * kPi}, {1, 4 * kPi + 2 * kPi}});
+  const Target target = flat_target(
+      f.t, {{0, -4 * std::numbers::pi}, {1, 4 * std::numbers::pi + 2 * std::numbers::pi}});
   const std::string m = message_of([&] { check_admissible(f.t, f.s, target); });
   EXPECT_NE(m.find("vertex 0"), std::string::npos) << m;
   EXPECT_NE(m.find("single-vertex bound"), std::string::npos) << m;
   EXPECT_NE(m.find("valence 5"), std::string::npos) << m;
   // And the upper bound 2 pi.
-  const Target above = flat_target(f.t, {{2, 2 * kPi}, {1, 2 * kPi}});
+  const Target above = flat_target(f.t, {{2, 2 * std::numbers::pi}, {1, 2 * std::numbers::pi}});
   const std::string m2 = message_of([&] { check_admissible(f.t, f.s, above); });
   EXPECT_NE(m2.find("vertex 1"), std::string::npos) << m2;
   EXPECT_NE(m2.find("must be below"), std::string::npos) << m2;
@@ -136,21 +138,23 @@ std::vector<OptionFix> fixes_from(const std::function<void()>& f) {
 TEST(Target, RefusalsNameTheOptionThatWorks) {
   Fixture f(make_icosphere(1));
   // A flat target with too little curvature: the natural or the uniform target.
-  const Target flat = flat_target(f.t, {{0, kPi}});
+  const Target flat = flat_target(f.t, {{0, std::numbers::pi}});
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, flat); }),
             (std::vector<OptionFix>{{"target", "natural"}, {"target", "uniform"}}));
   // The single-vertex bound: edge flips lift it for vertex scaling; a circle packing gets
   // vertex scaling, and the tangential scheme only where its wider bound (2 pi - 5 pi at a
   // valence-5 vertex) holds.
   ASSERT_EQ(f.s.scheme, Scheme::VertexScaling);
-  const Target deep = flat_target(f.t, {{0, -4 * kPi}, {1, 4 * kPi + 2 * kPi}});
+  const Target deep = flat_target(
+      f.t, {{0, -4 * std::numbers::pi}, {1, 4 * std::numbers::pi + 2 * std::numbers::pi}});
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, f.s, deep); }),
             (std::vector<OptionFix>{{"flips", "auto"}}));
   ConformalStructure packing = f.s;
   packing.scheme = Scheme::Thurston;
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, packing, deep); }),
             (std::vector<OptionFix>{{"scheme", "vertex-scaling"}}));
-  const Target within_tangential = flat_target(f.t, {{0, -2.5 * kPi}, {1, 2.5 * kPi + 2 * kPi}});
+  const Target within_tangential = flat_target(
+      f.t, {{0, -2.5 * std::numbers::pi}, {1, 2.5 * std::numbers::pi + 2 * std::numbers::pi}});
   EXPECT_EQ(fixes_from([&] { check_admissible(f.t, packing, within_tangential); }),
             (std::vector<OptionFix>{{"scheme", "vertex-scaling"}, {"scheme", "tangential"}}));
   // A sphere in the hyperbolic background: the Euclidean one.
@@ -182,11 +186,11 @@ TEST(Target, BadConesAreRejected) {
 
 TEST(Target, ParseCurvatureAcceptsPiForms) {
   EXPECT_EQ(parse_curvature("1.5"), 1.5);
-  EXPECT_EQ(parse_curvature("pi"), kPi);
-  EXPECT_EQ(parse_curvature("-pi/2"), -kPi / 2);
-  EXPECT_EQ(parse_curvature("0.5pi"), 0.5 * kPi);
-  EXPECT_EQ(parse_curvature("3*pi/4"), 3 * kPi / 4);
-  EXPECT_EQ(parse_curvature(" -8pi "), -8 * kPi);
+  EXPECT_EQ(parse_curvature("pi"), std::numbers::pi);
+  EXPECT_EQ(parse_curvature("-pi/2"), -std::numbers::pi / 2);
+  EXPECT_EQ(parse_curvature("0.5pi"), 0.5 * std::numbers::pi);
+  EXPECT_EQ(parse_curvature("3*pi/4"), 3 * std::numbers::pi / 4);
+  EXPECT_EQ(parse_curvature(" -8pi "), -8 * std::numbers::pi);
   for (const char* bad : {"", "abc", "pi/0", "2pi/x", "nan", "inf", "1.5.2"}) {
     EXPECT_THROW(parse_curvature(bad), InvalidInput) << bad;
   }
@@ -213,7 +217,7 @@ TEST(Target, ConeAndValueFilesNameTheBadLine) {
   }
   const std::vector<Cone> cones = read_cone_file(cones_path);
   ASSERT_EQ(cones.size(), 2u);
-  EXPECT_EQ(cones[0].curvature, kPi / 2);
+  EXPECT_EQ(cones[0].curvature, std::numbers::pi / 2);
   {
     std::ofstream out(values_path);
     out << "0.1\n0.2\nx\n";

@@ -20,7 +20,6 @@ namespace {
 
 using Complex = std::complex<double>;
 using testing::PairedPolygon;
-constexpr double kPi = std::numbers::pi;
 
 /// a_1 b_1 a_1^-1 b_1^-1 ... spelled in the segments.
 SegmentWord canonical_relator_in_segments(const FuchsianGroup& group) {
@@ -87,7 +86,7 @@ TEST(FuchsianWords, FreeAndCyclicReduction) {
 
 TEST(FuchsianGroup, RegularPolygonClosedForm) {
   // The octagon's corners at 2^(-1/4) (cosh R = (1 + sqrt 2)^2).
-  const auto octagon = testing::regular_polygon(8, kPi / 4);
+  const auto octagon = testing::regular_polygon(8, std::numbers::pi / 4);
   EXPECT_NEAR(std::abs(octagon[3]), std::pow(2.0, -0.25), 1e-15);
   // Side pairings of equal sides are exact; the vertex cycle of a_1 b_1 a_1^-1 b_1^-1 ... is a
   // relation of the side pairings.
@@ -134,7 +133,7 @@ TEST(FuchsianGroup, TwoVertexClassesOfTheOppositeSided4gPlus2Gon) {
   // interior angle 2 pi / (2g + 1), a cut graph with 2 nodes and 2g + 1 segments.
   for (int genus : {2, 3}) {
     const int n = 4 * genus + 2;
-    const PairedPolygon p{testing::regular_polygon(n, 2 * kPi / (2 * genus + 1), 0.2),
+    const PairedPolygon p{testing::regular_polygon(n, 2 * std::numbers::pi / (2 * genus + 1), 0.2),
                           testing::opposite_sides(2 * genus + 1)};
     const SegmentRelations relations = testing::polygon_relations(p);
     ASSERT_EQ(relations.node_words.size(), 2u);

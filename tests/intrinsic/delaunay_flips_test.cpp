@@ -13,6 +13,7 @@
 #include "ricci/metric/curvature.hpp"
 #include "ricci/metric/hyperbolic.hpp"
 #include "ricci/metric/lengths.hpp"
+#include "ricci/numerics/complex.hpp"
 #include "support/hard_meshes.hpp"
 #include "support/test_meshes.hpp"
 
@@ -326,10 +327,6 @@ Eigen::Vector3d on_hyperboloid(std::complex<double> z) {
 /// Hyperbolic distance of two points of the Poincare disk.
 double disk_distance(std::complex<double> p, std::complex<double> q) {
   return 2 * std::atanh(std::abs((q - p) / (1.0 - std::conj(p) * q)));
-}
-
-double cross(std::complex<double> a, std::complex<double> b) {
-  return a.real() * b.imag() - a.imag() * b.real();
 }
 
 /// The hyperbolic quad of edge ab with c on its left and d on its right, from four disk points.

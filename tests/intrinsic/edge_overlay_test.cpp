@@ -15,6 +15,7 @@
 #include "ricci/intrinsic/intrinsic_triangulation.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/metric/scheme.hpp"
+#include "ricci/numerics/complex.hpp"
 #include "support/hard_meshes.hpp"
 
 namespace ricci {
@@ -43,10 +44,6 @@ Tracked track(const Mesh& mesh) {
   EXPECT_EQ(r.host.triangles, f.flipped.triangles);
   EXPECT_EQ(r.host.face_edges, f.flipped.face_edges);
   return r;
-}
-
-double cross(Complex a, Complex b) {
-  return a.real() * b.imag() - a.imag() * b.real();
 }
 
 /// Develops every traced curve along its faces and checks that the straight segment between

@@ -157,7 +157,7 @@ TEST(ReplayFlipsWithOverlay, RefusesAFlipItCannotMake) {
 using WideComplex = std::complex<long double>;
 
 /// Hyperbolic distance of two disk points, and the signed angle at p from q to r.
-long double disk_distance(WideComplex p, WideComplex q) {
+long double wide_disk_distance(WideComplex p, WideComplex q) {
   return 2 * std::atanh(std::abs((q - p) / (1.0L - std::conj(p) * q)));
 }
 long double disk_angle(WideComplex p, WideComplex q, WideComplex r) {
@@ -245,7 +245,7 @@ TEST(IntrinsicTriangulation, HyperbolicDevelopmentAfterPtolemyFlipsKeepsTheVerte
   for (int e = 0; e < input.num_edges; e += 11) {
     const int h = input.edge_halfedges(e, 0);
     const auto& p = d.shapes[h / 3];
-    EXPECT_NEAR(static_cast<double>(disk_distance(p[(h % 3 + 1) % 3], p[(h % 3 + 2) % 3])),
+    EXPECT_NEAR(static_cast<double>(wide_disk_distance(p[(h % 3 + 1) % 3], p[(h % 3 + 2) % 3])),
                 static_cast<double>(d.lengths[e]), 1e-15);
   }
 }

@@ -78,7 +78,7 @@ Thrown classify(const Error& e) {
   return Thrown::Nothing;
 }
 
-void expect_mentions(const std::string& text, const std::vector<std::string>& pieces) {
+void expect_words(const std::string& text, const std::vector<std::string>& pieces) {
   for (const std::string& piece : pieces) {
     EXPECT_NE(text.find(piece), std::string::npos) << "lacks \"" << piece << "\": " << text;
   }
@@ -93,15 +93,15 @@ void run_expectation(const std::string& path, const ReadOptions& options, const 
     std::string said;
     for (const std::string& w : result.warnings) said += w + "\n";
     for (const std::string& m : result.repair.messages) said += m + "\n";
-    expect_mentions(said, expect.words);
+    expect_words(said, expect.words);
     if (expect.check) expect.check(result);
   } catch (const InvalidInput& e) {
     EXPECT_EQ(thrown_name(classify(e)), std::string(thrown_name(expect.thrown))) << e.what();
-    expect_mentions(e.what(), expect.words);
+    expect_words(e.what(), expect.words);
     EXPECT_EQ(e.fixes(), expect.fixes) << e.what();
   } catch (const Error& e) {
     EXPECT_EQ(thrown_name(classify(e)), std::string(thrown_name(expect.thrown))) << e.what();
-    expect_mentions(e.what(), expect.words);
+    expect_words(e.what(), expect.words);
   }
 }
 

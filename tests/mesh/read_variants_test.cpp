@@ -24,7 +24,7 @@ using testing::message_of;
 
 using testing::ByteWriter;
 
-std::string write_test_file(const std::string& name, const std::string& content) {
+std::string write_variant_file(const std::string& name, const std::string& content) {
   return testing::write_text_file(testing::suite_tmp_dir("mesh_read_variants") / name, content);
 }
 
@@ -47,7 +47,7 @@ void expect_mesh(const Mesh& mesh, const Rows& positions, const Faces& triangles
 // STL
 
 /// A regular tetrahedron's four triangles as ASCII STL facets.
-const Rows kTetrahedron = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1.25}};
+const Rows kTetrahedronPositions = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1.25}};
 const Faces kTetrahedronFaces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
 
 std::string ascii_stl_facets() {
@@ -55,8 +55,9 @@ std::string ascii_stl_facets() {
   for (const auto& face : kTetrahedronFaces) {
     text += "facet normal 0 0 0\n outer loop\n";
     for (int v : face) {
-      text += "  vertex " + std::to_string(kTetrahedron[v][0]) + " " +
-              std::to_string(kTetrahedron[v][1]) + " " + std::to_string(kTetrahedron[v][2]) + "\n";
+      text += "  vertex " + std::to_string(kTetrahedronPositions[v][0]) + " " +
+              std::to_string(kTetrahedronPositions[v][1]) + " " +
+              std::to_string(kTetrahedronPositions[v][2]) + "\n";
     }
     text += " endloop\nendfacet\n";
   }
@@ -68,13 +69,13 @@ TEST(ReadVariants, AsciiStlWithoutASolidName) {
   // a binary header ("the header declares 1919252000 triangles").
   for (const std::string solid : {"solid\n", "solid   \t\n", "solid\r\n", "  solid\n"}) {
     const std::string path =
-        write_test_file("unnamed.stl", solid + ascii_stl_facets() + "endsolid\n");
+        write_variant_file("unnamed.stl", solid + ascii_stl_facets() + "endsolid\n");
     const ReadResult result = read_mesh(path);
     SCOPED_TRACE(solid);
-    expect_mesh(result.mesh, kTetrahedron, kTetrahedronFaces);
+    expect_mesh(result.mesh, kTetrahedronPositions, kTetrahedronFaces);
   }
   // A broken one is still ASCII: its error names the line.
-  const std::string broken = write_test_file(
+  const std::string broken = write_variant_file(
       "unnamed_broken.stl", "solid\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertx 1 0 0\n");
   expect_mentions(message_of<IoError>([&] { read_mesh(broken); }),
                   {"unnamed_broken.stl", "line 5", "'vertx'"});
@@ -90,12 +91,12 @@ TEST(ReadVariants, BinaryStlWhoseHeaderReadsLikeAsciiIsBinary) {
   for (const auto& face : kTetrahedronFaces) {
     out.put(0.0F).put(0.0F).put(0.0F);
     for (int v : face) {
-      for (double x : kTetrahedron[v]) out.put(static_cast<float>(x));
+      for (double x : kTetrahedronPositions[v]) out.put(static_cast<float>(x));
     }
     out.put<std::uint16_t>(0);
   }
-  const ReadResult result = read_mesh(write_test_file("header_like_ascii.stl", out.data()));
-  expect_mesh(result.mesh, kTetrahedron, kTetrahedronFaces);
+  const ReadResult result = read_mesh(write_variant_file("header_like_ascii.stl", out.data()));
+  expect_mesh(result.mesh, kTetrahedronPositions, kTetrahedronFaces);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -166,12 +167,12 @@ TEST(ReadVariants, PlyTriangleStripsAlone) {
          {std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, 7, 3},
           std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, -1, 6, 2, 7, 3},
           std::vector<std::int64_t>{4, 0, 5, 1, 6, 2, 7, 3, 3}}) {
-      const std::string path = write_test_file("strips.ply", grid_ply(format, strips, {}));
+      const std::string path = write_variant_file("strips.ply", grid_ply(format, strips, {}));
       expect_mesh(read_mesh(path).mesh, kGrid, kGridStrip);
     }
   }
   // An unsigned index type stores -1 as its largest value.
-  const std::string path = write_test_file(
+  const std::string path = write_variant_file(
       "unsigned_strips.ply",
       grid_ply("binary_little_endian", {4, 0, 5, 1, 6, 2, -1, 6, 2, 7, 3}, {}, true));
   expect_mesh(read_mesh(path).mesh, kGrid, kGridStrip);
@@ -184,11 +185,11 @@ TEST(ReadVariants, PlyTriangleStripsBesideFaces) {
   for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
     SCOPED_TRACE(format);
     const std::string path =
-        write_test_file("strips_and_faces.ply", grid_ply(format, {4, 0, 5, 1, 6, 2}, quad));
+        write_variant_file("strips_and_faces.ply", grid_ply(format, {4, 0, 5, 1, 6, 2}, quad));
     expect_mesh(read_mesh(path).mesh, kGrid, expected);
   }
   const std::string bad =
-      write_test_file("strip_range.ply", grid_ply("ascii", {4, 0, 5, 1, 6, 12}, quad));
+      write_variant_file("strip_range.ply", grid_ply("ascii", {4, 0, 5, 1, 6, 12}, quad));
   expect_mentions(message_of<InvalidInput>([&] { read_mesh(bad); }),
                   {"strip_range.ply", "line 21", "index 12", "tristrips 0"});
 }
@@ -234,7 +235,7 @@ TEST(ReadVariants, BinaryOffInEitherByteOrderWithOrWithoutFaceColours) {
                      (face_colours ? ", face colours" : "") +
                      (vertex_colours ? ", vertex colours" : ""));
         const std::string path =
-            write_test_file("binary.off", binary_off(big_endian, face_colours, vertex_colours));
+            write_variant_file("binary.off", binary_off(big_endian, face_colours, vertex_colours));
         expect_mesh(read_mesh(path).mesh, kPyramid, kPyramidTriangles);
       }
     }
@@ -244,8 +245,9 @@ TEST(ReadVariants, BinaryOffInEitherByteOrderWithOrWithoutFaceColours) {
 TEST(ReadVariants, BadBinaryOffNamesTheByte) {
   std::string cut = binary_off(false, false, false);
   cut.resize(cut.size() - 2);
-  expect_mentions(message_of<IoError>([&] { read_mesh(write_test_file("cut_binary.off", cut)); }),
-                  {"cut_binary.off", "byte ", "truncated"});
+  expect_mentions(
+      message_of<IoError>([&] { read_mesh(write_variant_file("cut_binary.off", cut)); }),
+      {"cut_binary.off", "byte ", "truncated"});
   // Index 9 for the second corner of the last face (little-endian, no colours): after the
   // header line, the counts, 5 vertices, the quad, 3 triangles and the last one's count. Only
   // this reading keeps the file's structure, so its error is the one reported.
@@ -253,7 +255,7 @@ TEST(ReadVariants, BadBinaryOffNamesTheByte) {
   const std::size_t at = 11 + 12 + 5 * 12 + 20 + 3 * 16 + 4 + 4;
   range[at] = 9;
   expect_mentions(
-      message_of<InvalidInput>([&] { read_mesh(write_test_file("range_binary.off", range)); }),
+      message_of<InvalidInput>([&] { read_mesh(write_variant_file("range_binary.off", range)); }),
       {"range_binary.off", "byte " + std::to_string(at), "face 4", "index 9", "little-endian"});
 }
 
@@ -261,7 +263,7 @@ TEST(ReadVariants, BadBinaryOffNamesTheByte) {
 // OFF records over several lines
 
 TEST(ReadVariants, OffRecordsSpreadOverLines) {
-  const std::string path = write_test_file(
+  const std::string path = write_variant_file(
       "wrapped.off",
       "OFF\n5\n5 8\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # comment\n0.5 0.5\n1.25\n"
       "4\n0 3 2 1\n"              // the corner count alone on its line
@@ -277,16 +279,17 @@ TEST(ReadVariants, OffRecordErrorsNameTheLine) {
   // on that line gives it away.
   const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n";
   expect_mentions(message_of<IoError>([&] {
-                    read_mesh(write_test_file("short_face.off", head + "3 0 1\n3 1 3 2\n"));
+                    read_mesh(write_variant_file("short_face.off", head + "3 0 1\n3 1 3 2\n"));
                   }),
                   {"short_face.off", "line 8", "face 0 continues from line 7", "'1'"});
   // An index out of range on a continuation line: that line.
-  expect_mentions(message_of<InvalidInput>([&] {
-                    read_mesh(write_test_file("wrapped_range.off", head + "3\n0 1\n7\n3 0 2 1\n"));
-                  }),
-                  {"wrapped_range.off", "line 9", "face 0", "index 7"});
+  expect_mentions(
+      message_of<InvalidInput>([&] {
+        read_mesh(write_variant_file("wrapped_range.off", head + "3\n0 1\n7\n3 0 2 1\n"));
+      }),
+      {"wrapped_range.off", "line 9", "face 0", "index 7"});
   expect_mentions(message_of<IoError>([&] {
-                    read_mesh(write_test_file("wrapped_cut.off", head + "3 0 1 2\n4 0\n1\n"));
+                    read_mesh(write_variant_file("wrapped_cut.off", head + "3 0 1 2\n4 0\n1\n"));
                   }),
                   {"wrapped_cut.off", "line 9", "ends inside face 1", "begun at line 8"});
 }
@@ -296,24 +299,24 @@ TEST(ReadVariants, OffRecordErrorsNameTheLine) {
 
 TEST(ReadVariants, ObjStatementsContinuedByABackslash) {
   const std::string path =
-      write_test_file("continued.obj",
-                      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 \\\n 0.5 1.25\n"
-                      "f 1 4 \\\r\n3 2\r\n"  // CRLF, as in trimesh's wallhole.obj
-                      "f 1 2\\\n5\n"         // no blank before the backslash
-                      "# a comment that ends in a backslash continues nothing \\\n"
-                      "f 2 \\   \n3 \\\n 5\nf 3 4 5\nf 4 1 5\n");
+      write_variant_file("continued.obj",
+                         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 \\\n 0.5 1.25\n"
+                         "f 1 4 \\\r\n3 2\r\n"  // CRLF, as in trimesh's wallhole.obj
+                         "f 1 2\\\n5\n"         // no blank before the backslash
+                         "# a comment that ends in a backslash continues nothing \\\n"
+                         "f 2 \\   \n3 \\\n 5\nf 3 4 5\nf 4 1 5\n");
   const ReadResult result = read_mesh(path);
   expect_mesh(result.mesh, kPyramid, kPyramidTriangles);
 
   // Errors name the line where the statement starts.
-  const std::string bad =
-      write_test_file("continued_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\n4\nf 1 2 3\n");
+  const std::string bad = write_variant_file(
+      "continued_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\n4\nf 1 2 3\n");
   expect_mentions(message_of<InvalidInput>([&] { read_mesh(bad); }),
                   {"continued_bad.obj", "line 4", "face 0", "index 4"});
 }
 
 TEST(ReadVariants, TexturedObjStatementsContinuedByABackslash) {
-  const std::string path = write_test_file(
+  const std::string path = write_variant_file(
       "continued_textured.obj",
       "v 0 0 0\nv 1 0 0\nv 1 1 \\\n0\nv 0 1 0\nvt 0 0\nvt 1 \\\n 0\nvt 1 1\nvt 0 1\n"
       "f 1/1 2/2 \\\n3/3\nf 1/1 \\\r\n3/3 4/4\r\n");
@@ -324,7 +327,7 @@ TEST(ReadVariants, TexturedObjStatementsContinuedByABackslash) {
   EXPECT_EQ(read.uv(1, 1), 0.0);
   EXPECT_EQ(read.uv_triangles(1, 2), 3);
   const std::string bad =
-      write_test_file("continued_textured_bad.obj", "v 0 0 0\nvt 0 0\nf 1/1 \\\n1/1 1/x\n");
+      write_variant_file("continued_textured_bad.obj", "v 0 0 0\nvt 0 0\nf 1/1 \\\n1/1 1/x\n");
   expect_mentions(message_of<IoError>([&] { read_textured_obj(bad); }),
                   {"continued_textured_bad.obj", "line 3", "'1/x'"});
 }

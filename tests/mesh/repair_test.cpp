@@ -30,16 +30,17 @@ bool mentions(const std::vector<std::string>& lines, const std::string& piece) {
   });
 }
 
-Eigen::Vector3d corner(const Mesh& mesh, int f, int k) {
+Eigen::Vector3d corner_of(const Mesh& mesh, int f, int k) {
   return mesh.positions.row(mesh.triangles(f, k)).transpose();
 }
 
 /// The area vector of face f (its normal times twice its area).
 Eigen::Vector3d twice_area_vector(const Mesh& mesh, int f) {
-  return (corner(mesh, f, 1) - corner(mesh, f, 0)).cross(corner(mesh, f, 2) - corner(mesh, f, 0));
+  return (corner_of(mesh, f, 1) - corner_of(mesh, f, 0))
+      .cross(corner_of(mesh, f, 2) - corner_of(mesh, f, 0));
 }
 
-double total_area(const Mesh& mesh) {
+double total_face_area(const Mesh& mesh) {
   double area = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) area += 0.5 * twice_area_vector(mesh, f).norm();
   return area;
@@ -58,15 +59,16 @@ void expect_pieces_cover_their_faces(const Mesh& input, const RepairResult& r) {
     const Eigen::Vector3d normal = twice_area_vector(input, g);
     double longest = 0;
     for (int k = 0; k < 3; ++k) {
-      longest = std::max(longest, (corner(input, g, k) - corner(input, g, (k + 1) % 3)).norm());
+      longest =
+          std::max(longest, (corner_of(input, g, k) - corner_of(input, g, (k + 1) % 3)).norm());
     }
     if (normal.norm() <= 1e-9 * longest * longest) continue;  // a sliver split across another
     for (int k = 0; k < 3; ++k) {
       // Barycentric coordinates of the corner in g: each in [0, 1] up to rounding.
-      const Eigen::Vector3d p = corner(r.mesh, f, k);
+      const Eigen::Vector3d p = corner_of(r.mesh, f, k);
       for (int i = 0; i < 3; ++i) {
-        const double weight = (corner(input, g, (i + 1) % 3) - p)
-                                  .cross(corner(input, g, (i + 2) % 3) - p)
+        const double weight = (corner_of(input, g, (i + 1) % 3) - p)
+                                  .cross(corner_of(input, g, (i + 2) % 3) - p)
                                   .dot(normal) /
                               normal.squaredNorm();
         EXPECT_GE(weight, -1e-9) << "piece " << f << " corner " << k << " outside face " << g;
@@ -78,7 +80,8 @@ void expect_pieces_cover_their_faces(const Mesh& input, const RepairResult& r) {
     const Eigen::Vector3d whole = twice_area_vector(input, g);
     double scale = 0;  // of the rounding: the longest edge squared
     for (int k = 0; k < 3; ++k) {
-      scale = std::max(scale, (corner(input, g, k) - corner(input, g, (k + 1) % 3)).squaredNorm());
+      scale = std::max(scale,
+                       (corner_of(input, g, k) - corner_of(input, g, (k + 1) % 3)).squaredNorm());
     }
     // The pieces miss the sliver: twice its area is at most 1e-12 times its longest edge squared.
     EXPECT_LE((sum[g] - whole).norm(), 2e-12 * scale) << "the pieces of face " << g;
@@ -384,7 +387,7 @@ void expect_sliver_repair(const Mesh& input, const RepairResult& r, double area)
   for (int f = 0; f < r.mesh.num_faces(); ++f) {
     EXPECT_GT(twice_area_vector(r.mesh, f).z(), 0) << "face " << f << " turned over";
   }
-  EXPECT_NEAR(total_area(r.mesh), area, 1e-12 * area);
+  EXPECT_NEAR(total_face_area(r.mesh), area, 1e-12 * area);
   EXPECT_EQ(r.report.zero_area_faces_left.count, 0);
 }
 

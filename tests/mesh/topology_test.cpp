@@ -31,7 +31,7 @@ const Triangles kAnnulus = make_triangles(
     {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}});
 
 /// Torus grid of n by m quads split into triangles (connectivity only).
-Triangles torus(int n, int m) {
+Triangles torus_triangles(int n, int m) {
   Triangles out(2 * n * m, 3);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < m; ++j) {
@@ -125,7 +125,7 @@ TEST(BuildTopology, AnnulusHasTwoOppositeLoops) {
 }
 
 TEST(BuildTopology, TorusHasGenusOne) {
-  const Topology t = build_topology(torus(6, 4), 24);
+  const Topology t = build_topology(torus_triangles(6, 4), 24);
   expect_consistent(t);
   EXPECT_EQ(t.num_edges, 72);
   EXPECT_EQ(t.euler_characteristic(), 0);
@@ -185,7 +185,7 @@ TEST(BuildTopology, ThrowsOnInconsistentOrientation) {
 }
 
 TEST(BuildTopology, FirstHalfedgeFlagsPickEachEdgesFirstHalfedge) {
-  const Topology plain = build_topology(torus(6, 4), 24);
+  const Topology plain = build_topology(torus_triangles(6, 4), 24);
   // Flag the halfedge the plain build puts second on every interior edge: they all swap, and
   // nothing else changes.
   std::vector<char> first(3 * plain.num_faces, 0);
@@ -193,7 +193,7 @@ TEST(BuildTopology, FirstHalfedgeFlagsPickEachEdgesFirstHalfedge) {
     first[plain.edge_halfedges(e, 1) >= 0 ? plain.edge_halfedges(e, 1)
                                           : plain.edge_halfedges(e, 0)] = 1;
   }
-  const Topology t = build_topology(torus(6, 4), 24, first);
+  const Topology t = build_topology(torus_triangles(6, 4), 24, first);
   expect_consistent(t);
   ASSERT_EQ(t.num_edges, plain.num_edges);
   for (int e = 0; e < t.num_edges; ++e) {
@@ -205,7 +205,7 @@ TEST(BuildTopology, FirstHalfedgeFlagsPickEachEdgesFirstHalfedge) {
   // The plain build's own choice flagged: the same edges.
   std::vector<char> own(3 * plain.num_faces, 0);
   for (int e = 0; e < plain.num_edges; ++e) own[plain.edge_halfedges(e, 0)] = 1;
-  EXPECT_EQ(build_topology(torus(6, 4), 24, own).edge_halfedges, plain.edge_halfedges);
+  EXPECT_EQ(build_topology(torus_triangles(6, 4), 24, own).edge_halfedges, plain.edge_halfedges);
 }
 
 TEST(BuildTopology, FirstHalfedgeFlagsKeepABoundaryEdgesOnlyHalfedge) {

@@ -17,7 +17,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using testing::curvature_at;
 using testing::kAllSchemes;
 using testing::structure_of;
@@ -34,7 +33,8 @@ TEST(Curvature, GaussBonnetOnEveryGeneratedMeshAndScheme) {
           const Eigen::VectorXd k = curvature_at(t, s, u);
           ASSERT_EQ(k.size(), t.num_vertices) << name << " " << scheme_name(scheme);
           const double total = accurate_sum(k);
-          EXPECT_NEAR(total, 2 * kPi * t.euler_characteristic(), 1e-12 * 2 * kPi * t.num_vertices)
+          EXPECT_NEAR(total, 2 * std::numbers::pi * t.euler_characteristic(),
+                      1e-12 * 2 * std::numbers::pi * t.num_vertices)
               << name << " " << scheme_name(scheme) << " round " << round;
           EXPECT_LT(gauss_bonnet_relative_error(t, k), 1e-12);
           for (int v = 0; v < t.num_vertices; ++v) u[v] += noise(rng);
@@ -55,7 +55,7 @@ TEST(Curvature, FlatGridHasZeroInteriorCurvatureAndCornersOfPiOverTwo) {
     if (!t.is_boundary_vertex[v]) {
       EXPECT_NEAR(k[v], 0.0, 1e-14) << "vertex " << v;
     } else if (std::abs(k[v]) > 1e-12) {
-      EXPECT_NEAR(k[v], kPi / 2, 1e-14) << "vertex " << v;
+      EXPECT_NEAR(k[v], std::numbers::pi / 2, 1e-14) << "vertex " << v;
       ++corners;
     }
   }

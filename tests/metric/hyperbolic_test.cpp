@@ -12,18 +12,16 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(HyperbolicCosineLaw, EquilateralTriangleHasTheClosedFormAngle) {
   // Side a: cos A = (cosh^2 a - cosh a) / sinh^2 a = cosh a / (1 + cosh a); area pi - 3A.
   for (double a : {1e-6, 1e-3, 0.1, 1.0, 3.0, 10.0}) {
     const double angle = hyperbolic_angle_from_lengths(a, a, a);
     const double expected = std::acos(std::cosh(a) / (1.0 + std::cosh(a)));
     EXPECT_NEAR(angle, expected, 1e-12 * expected) << "a = " << a;
-    EXPECT_LT(angle, kPi / 3);  // angle sum below pi: negative curvature
+    EXPECT_LT(angle, std::numbers::pi / 3);  // angle sum below pi: negative curvature
   }
   // Small triangles are nearly Euclidean (60 degrees), huge ones nearly ideal (angle -> 0).
-  EXPECT_NEAR(hyperbolic_angle_from_lengths(1e-6, 1e-6, 1e-6), kPi / 3, 1e-12);
+  EXPECT_NEAR(hyperbolic_angle_from_lengths(1e-6, 1e-6, 1e-6), std::numbers::pi / 3, 1e-12);
   EXPECT_LT(hyperbolic_angle_from_lengths(30, 30, 30), 1e-6);
 }
 

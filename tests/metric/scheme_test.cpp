@@ -15,8 +15,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// The tutorial's fig. 5 structure on a tetrahedron: circles of radius 0.5 (epsilon = 1) meeting
 /// at Phi = 0 (eta = cos Phi = 1), so that every edge has length 1.
 ConformalStructure tangent_circles(const Topology& t, Scheme scheme) {
@@ -39,7 +37,7 @@ TEST(Scheme, TutorialFigure5Tetrahedron) {
   CornerAngles angles;
   ASSERT_EQ(corner_angles(t, lengths, angles).first_bad_face, -1);
   const Eigen::VectorXd k = vertex_curvature(t, angles);
-  for (int v = 0; v < 4; ++v) EXPECT_NEAR(k[v], kPi, 1e-14);
+  for (int v = 0; v < 4; ++v) EXPECT_NEAR(k[v], std::numbers::pi, 1e-14);
   // The Thurston fit of the regular tetrahedron finds an exact packing.
   const StructureResult fit = make_conformal_structure(t, input_edge_lengths(mesh, t));
   EXPECT_LT(fit.fit_rms_relative_error, 1e-14);

@@ -19,8 +19,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 using testing::structure_of;
 
 TEST(SchemeTraits, OneRowPerSchemeInTheOrderOfTheEnum) {
@@ -66,9 +64,10 @@ TEST(SchemeTraits, EpsilonPackingAndAnglesAgreeWithTheConstruction) {
     for (int e = 0; e < t.num_edges; ++e) {
       const double angle = max_face_angle(row, s.eta[e]);
       EXPECT_GE(angle, row.guaranteed_face_angle) << "edge " << e;
-      EXPECT_LE(angle, kPi) << "edge " << e;
+      EXPECT_LE(angle, std::numbers::pi) << "edge " << e;
     }
-    EXPECT_EQ(row.guaranteed_face_angle, row.circle_packing ? kPi / 2 : kPi);
+    EXPECT_EQ(row.guaranteed_face_angle,
+              row.circle_packing ? std::numbers::pi / 2 : std::numbers::pi);
   }
 }
 

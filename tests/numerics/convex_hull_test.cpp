@@ -12,8 +12,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(ConvexHull, ContainsEveryPointAndIsStrictlyConvex) {
   std::mt19937 rng(3);
   std::normal_distribution<double> where(0, 1);
@@ -55,7 +53,7 @@ TEST(ConvexHull, SquareWithCollinearInteriorAndRepeatedPoints) {
 }
 
 TEST(MinimalRectangleRotation, TurnsARotatedRectangleBackOntoTheAxes) {
-  for (const double angle : {0.0, 0.1, 0.3, kPi / 6, -0.7, 1.2, 2.0, -2.5}) {
+  for (const double angle : {0.0, 0.1, 0.3, std::numbers::pi / 6, -0.7, 1.2, 2.0, -2.5}) {
     const Eigen::Rotation2Dd turn(angle);
     std::vector<Eigen::Vector2d> points;
     for (const auto& [x, y] : {std::pair{0.0, 0.0}, {3.0, 0.0}, {3.0, 1.0}, {0.0, 1.0}}) {
@@ -64,8 +62,8 @@ TEST(MinimalRectangleRotation, TurnsARotatedRectangleBackOntoTheAxes) {
     points.emplace_back(turn * Eigen::Vector2d(1.5, 0.5) + Eigen::Vector2d(5, -2));  // inside
     const double rotation = minimal_rectangle_rotation(convex_hull(points));
     // Back onto the axes up to a quarter turn, and the smallest such turn.
-    EXPECT_NEAR(std::remainder(rotation + angle, kPi / 2), 0, 1e-12) << angle;
-    EXPECT_LE(std::abs(rotation), kPi / 4 + 1e-12) << angle;
+    EXPECT_NEAR(std::remainder(rotation + angle, std::numbers::pi / 2), 0, 1e-12) << angle;
+    EXPECT_LE(std::abs(rotation), std::numbers::pi / 4 + 1e-12) << angle;
     // The turned box has the rectangle's area.
     const Eigen::Rotation2Dd back(rotation);
     Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = -lo;

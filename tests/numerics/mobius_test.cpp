@@ -15,17 +15,17 @@ namespace ricci {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = std::numbers::pi;
 
 /// A random map moving the origin by up to hyperbolic distance 2 atanh(0.9) (about 2.9).
 Mobius random_map(std::mt19937& random) {
-  std::uniform_real_distribution<double> angle(-kPi, kPi), radius(0.0, 0.9);
+  std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi),
+      radius(0.0, 0.9);
   const Complex w = std::polar(radius(random), angle(random));
   return compose(inverse(translation_to_origin(w)), rotation(angle(random)));
 }
 
 Complex random_point(std::mt19937& random, double max_radius = 0.95) {
-  std::uniform_real_distribution<double> angle(-kPi, kPi), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi), unit(0.0, 1.0);
   return std::polar(max_radius * std::sqrt(unit(random)), angle(random));
 }
 
@@ -172,7 +172,7 @@ TEST(Mobius, DistanceOfClosePointsHasFullRelativeAccuracy) {
   }
   // Anywhere in the disk, against the long-double atanh form.
   std::mt19937 random(7);
-  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
   for (int trial = 0; trial < 500; ++trial) {
     const Complex z = random_point(random);
     const Complex w = z + std::polar(1e-9, angle(random));
@@ -197,7 +197,8 @@ TEST(Mobius, DistanceNearTheBoundary) {
 
 /// As random_map, in long double (the angles and radius drawn in double, then widened).
 WideMobius random_wide_map(std::mt19937& random) {
-  std::uniform_real_distribution<double> angle(-kPi, kPi), radius(0.0, 0.9);
+  std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi),
+      radius(0.0, 0.9);
   const std::complex<long double> w = std::polar<long double>(radius(random), angle(random));
   return compose(inverse(translation_to_origin<long double>(w)),
                  rotation<long double>(angle(random)));

@@ -10,27 +10,12 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/mesh/io.hpp"
 #include "support/shared_meshes.hpp"
+#include "support/uv_checks.hpp"
 
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-/// Sum of the layout's corner angles at every copy of vertex v: the cone angle 2 pi - K read back
-/// from the texture coordinates.
-double uv_angle_sum(const Parameterization& r, int v) {
-  double sum = 0;
-  for (int f = 0; f < r.mesh.num_faces(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      if (r.mesh.triangles(f, k) != v) continue;
-      const Eigen::Vector2d p = r.uv.row(r.cut_mesh.triangles(f, k)).transpose();
-      const Eigen::Vector2d a = r.uv.row(r.cut_mesh.triangles(f, (k + 1) % 3)).transpose() - p;
-      const Eigen::Vector2d b = r.uv.row(r.cut_mesh.triangles(f, (k + 2) % 3)).transpose() - p;
-      sum += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-    }
-  }
-  return sum;
-}
+using testing::uv_angle_sum;
 
 /// Invariants every successful parameterization must show.
 void expect_good(const Parameterization& r, const std::string& what) {
@@ -50,7 +35,7 @@ void expect_good(const Parameterization& r, const std::string& what) {
   }
   // Requested cone angles read back from the layout.
   for (const Cone& c : r.cones) {
-    EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * kPi - c.curvature, 1e-8)
+    EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * std::numbers::pi - c.curvature, 1e-8)
         << what << " cone at " << c.vertex;
   }
   // Unit square, aspect ratio kept: one side spans [0, 1].
@@ -113,10 +98,10 @@ TEST(Parameterize, SphereWithAutomaticQuantizedCones) {
   expect_good(r, "sphere auto");
   double total = 0;
   for (const Cone& c : r.cones) {
-    EXPECT_NEAR(std::remainder(c.curvature, kPi / 2), 0.0, 1e-12);
+    EXPECT_NEAR(std::remainder(c.curvature, std::numbers::pi / 2), 0.0, 1e-12);
     total += c.curvature;
   }
-  EXPECT_NEAR(total, 4 * kPi, 1e-12);
+  EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-12);
   EXPECT_EQ(r.distortion.flipped_faces, 0);
 }
 
@@ -159,10 +144,10 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
   EXPECT_TRUE(r.routes.front().pipeline.cone_selection.within_bounds);
   double total = 0;
   for (const Cone& c : r.cones) {
-    EXPECT_LT(c.curvature, 2 * kPi);
+    EXPECT_LT(c.curvature, 2 * std::numbers::pi);
     total += c.curvature;
   }
-  EXPECT_NEAR(total, 4 * kPi, 1e-9);
+  EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-9);
   // Lengths on 0.1-degree slivers: the layout's relative error depends on where the cones are
   // (1e-6 and below with the L2 objective's cones, 1.07e-6 and 2.03e-6 with the area
   // distortion's as it was tuned).
@@ -190,7 +175,8 @@ TEST(Parameterize, AutomaticConesStayWithinTheirBoundsOnACadNeedleCylinder) {
 TEST(Parameterize, UserConesOnASphere) {
   ParamOptions options;
   options.cone_mode = ConeMode::User;
-  options.cones = {{0, kPi}, {3, kPi}, {5, kPi}, {9, kPi}};
+  options.cones = {
+      {0, std::numbers::pi}, {3, std::numbers::pi}, {5, std::numbers::pi}, {9, std::numbers::pi}};
   const MeshParamResult r = parameterize(make_icosphere(2), options);
   expect_good(r, "sphere user");
   EXPECT_EQ(r.cones.size(), 4u);
@@ -205,7 +191,7 @@ TEST(Parameterize, GenusTwoWithOneConeRaisesItsValence) {
   const MeshParamResult r = parameterize(surface, options);
   expect_good(r, "genus 2, one cone");
   ASSERT_EQ(r.cones.size(), 1u);
-  EXPECT_NEAR(r.cones[0].curvature, -4 * kPi, 1e-12);
+  EXPECT_NEAR(r.cones[0].curvature, -4 * std::numbers::pi, 1e-12);
   EXPECT_GT(r.edge_splits, 0);
   EXPECT_GT(r.mesh.num_vertices(), surface.num_vertices());
   // Input vertices keep their index; every added vertex splits an edge of earlier vertices.

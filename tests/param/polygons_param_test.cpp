@@ -26,7 +26,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using testing::PolygonSoup;
 
 struct PolygonCase {
@@ -270,7 +269,7 @@ TEST(PolygonParameterize, ACubeOfQuadsWithItsCornersAsCones) {
   options.cone_mode = ConeMode::User;
   for (int v = 0; v < read.mesh.num_vertices(); ++v) {
     const Eigen::RowVector3d p = read.mesh.positions.row(v);
-    if (p.cwiseAbs().minCoeff() == 1) options.cones.push_back({v, kPi / 2});
+    if (p.cwiseAbs().minCoeff() == 1) options.cones.push_back({v, std::numbers::pi / 2});
   }
   ASSERT_EQ(options.cones.size(), 8u);
   const MeshParamResult r = expect_polygons_kept(read, options, "cube with corner cones");

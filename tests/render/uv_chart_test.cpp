@@ -16,7 +16,6 @@ namespace ricci {
 namespace {
 
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
-constexpr double kPi = std::numbers::pi;
 
 using testing::TexturedMesh;
 using testing::unrolled_pyramid;
@@ -50,13 +49,14 @@ TEST(UvChart, DiagonalCutOfASquare) {
 }
 
 TEST(UvChart, ApexOfAnUnrolledPyramidIsACone) {
-  const TexturedMesh flat = unrolled_pyramid(kPi / 2);  // angles add up to 2 pi: not a cone
+  const TexturedMesh flat =
+      unrolled_pyramid(std::numbers::pi / 2);  // angles add up to 2 pi: not a cone
   EXPECT_TRUE(analyse_uv_chart(flat.mesh, flat.uv_triangles, flat.uv).cones.empty());
-  const TexturedMesh p = unrolled_pyramid(kPi / 3);
+  const TexturedMesh p = unrolled_pyramid(std::numbers::pi / 3);
   const UvChart chart = analyse_uv_chart(p.mesh, p.uv_triangles, p.uv);
   ASSERT_EQ(chart.cones.size(), 1u);
   EXPECT_EQ(chart.cones[0], 0);
-  EXPECT_NEAR(chart.cone_angles[0], 4 * kPi / 3, 1e-14);
+  EXPECT_NEAR(chart.cone_angles[0], 4 * std::numbers::pi / 3, 1e-14);
   // Seams: the cut edge (two halfedges) and the four base edges.
   EXPECT_EQ(chart.seam_edges, 5);
   EXPECT_EQ(chart.seam_halfedges.size(), 6u);
@@ -78,7 +78,7 @@ TEST(UvChart, FindsTheConesOfAParameterization) {
     for (const Cone& c : result.cones) {
       // The layout reproduces the flat metric to ~1e-9: the angle sum is 2 pi - K to that order.
       if (c.vertex == chart.cones[i]) {
-        EXPECT_NEAR(chart.cone_angles[i], 2 * kPi - c.curvature, 1e-6);
+        EXPECT_NEAR(chart.cone_angles[i], 2 * std::numbers::pi - c.curvature, 1e-6);
       }
     }
   }

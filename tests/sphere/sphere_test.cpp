@@ -22,8 +22,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// Faces whose chordal triangle on the sphere turns against the outward direction: the normal
 /// (b - a) x (c - a) against the centroid a + b + c, in long double from the differences of
 /// the double positions (exact for nearby doubles), so that faces of 1e-13 still count right.
@@ -107,7 +105,7 @@ void expect_sphere_invariants(const Mesh& mesh, const SphereResult& r, const std
     const double la_ = arc(b, c), lb_ = arc(c, a), lc_ = arc(a, b);
     area_by_cosine_law += spherical_angle_from_lengths(la_, lb_, lc_) +
                           spherical_angle_from_lengths(lb_, lc_, la_) +
-                          spherical_angle_from_lengths(lc_, la_, lb_) - kPi;
+                          spherical_angle_from_lengths(lc_, la_, lb_) - std::numbers::pi;
     const Eigen::Vector3d pa = mesh.positions.row(mesh.triangles(f, 0));
     const double w = (Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 1))) - pa)
                          .cross(Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 2))) - pa)
@@ -119,9 +117,9 @@ void expect_sphere_invariants(const Mesh& mesh, const SphereResult& r, const std
   EXPECT_EQ(r.inverted_faces, inverted) << what;
   EXPECT_EQ(r.inverted_by_rounding, 0) << what;
   EXPECT_EQ(r.inverted_pole_faces, 0) << what;
-  EXPECT_NEAR(area, 4 * kPi, 1e-8) << what;
-  EXPECT_NEAR(area_by_cosine_law, 4 * kPi, 1e-8) << what;
-  EXPECT_NEAR(r.spherical_area, 4 * kPi, 1e-8) << what;
+  EXPECT_NEAR(area, 4 * std::numbers::pi, 1e-8) << what;
+  EXPECT_NEAR(area_by_cosine_law, 4 * std::numbers::pi, 1e-8) << what;
+  EXPECT_NEAR(r.spherical_area, 4 * std::numbers::pi, 1e-8) << what;
   EXPECT_LT((centre / total_3d).norm(), 1e-9) << what;
   EXPECT_LT(r.centre_of_mass, 1e-9) << what;
   EXPECT_GE(r.angle_distortion_mean, 1.0) << what;
@@ -279,11 +277,11 @@ TEST(SphereMap, DefaultPoleLeavesTheLinkTheAnglesTheBoundaryWants) {
         }
       }
     }
-    double s = std::abs(2 * kPi - angle_sum[v]);
+    double s = std::abs(2 * std::numbers::pi - angle_sum[v]);
     for (const auto& [w, angle] : outside) {
-      s = std::max(s, std::abs(angle - (kPi - 2 * kPi / valence[v])));
+      s = std::max(s, std::abs(angle - (std::numbers::pi - 2 * std::numbers::pi / valence[v])));
     }
-    return s + (valence[v] < 5 ? kPi : 0.0);
+    return s + (valence[v] < 5 ? std::numbers::pi : 0.0);
   };
   const int pole = choose_pole_vertex(sphere);
   const double best = score(pole);

@@ -9,20 +9,20 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(SphericalCosineLaw, EquilateralTriangleHasTheClosedFormAngle) {
   // Side a: cos A = (cos a - cos^2 a) / sin^2 a = cos a / (1 + cos a); area 3A - pi > 0.
   for (double a : {1e-6, 1e-3, 0.1, 1.0, 2.0, 2.09}) {
     const double angle = spherical_angle_from_lengths(a, a, a);
     const double expected = std::acos(std::cos(a) / (1.0 + std::cos(a)));
     EXPECT_NEAR(angle, expected, 1e-12 * expected) << "a = " << a;
-    EXPECT_GT(angle, kPi / 3 - 1e-12);  // angle sum above pi: positive curvature
+    EXPECT_GT(angle, std::numbers::pi / 3 - 1e-12);  // angle sum above pi: positive curvature
   }
   // The octant: three right angles, area pi / 2.
-  EXPECT_NEAR(spherical_angle_from_lengths(kPi / 2, kPi / 2, kPi / 2), kPi / 2, 1e-15);
+  EXPECT_NEAR(spherical_angle_from_lengths(std::numbers::pi / 2, std::numbers::pi / 2,
+                                           std::numbers::pi / 2),
+              std::numbers::pi / 2, 1e-15);
   // Small triangles are nearly Euclidean.
-  EXPECT_NEAR(spherical_angle_from_lengths(1e-6, 1e-6, 1e-6), kPi / 3, 1e-12);
+  EXPECT_NEAR(spherical_angle_from_lengths(1e-6, 1e-6, 1e-6), std::numbers::pi / 3, 1e-12);
 }
 
 TEST(SphericalCosineLaw, AgreesWithTheCosineFormAndRefusesImpossibleTriangles) {
@@ -32,7 +32,7 @@ TEST(SphericalCosineLaw, AgreesWithTheCosineFormAndRefusesImpossibleTriangles) {
   for (int trial = 0; trial < 1000; ++trial) {
     const double a = side(random), b = side(random), c = side(random);
     const double angle = spherical_angle_from_lengths(a, b, c);
-    if (std::abs(b - c) >= a || a >= b + c || a + b + c >= 2 * kPi) {
+    if (std::abs(b - c) >= a || a >= b + c || a + b + c >= 2 * std::numbers::pi) {
       EXPECT_TRUE(std::isnan(angle));
       continue;
     }

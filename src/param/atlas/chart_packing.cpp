@@ -25,7 +25,6 @@ using atlas_detail::check_uv_input;
 using atlas_detail::uv_point;
 
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
-constexpr double kPi = std::numbers::pi;
 /// The gutter never goes below this: the placement's rounding (a few ulps of 1) stays inside it.
 constexpr double kMinGutter = 1e-9;
 /// Above this many charts the rectangles go on shelves instead of MaxRects: MaxRects scans every
@@ -360,7 +359,7 @@ struct ChartShape {
 
 /// The grid of the shape packing: cells of side `cell`, `side` of them across the square, each
 /// chart grown by `dilation` cells (so that two charts' cells lie 2 dilation cells apart).
-struct Grid {
+struct ShapeGrid {
   double cell = 0;
   int side = 0, dilation = 1;
 };
@@ -369,7 +368,7 @@ struct Grid {
 /// kRasterMargin; the chart turned by its rotation, scaled, and moved by `offset` inside the box.
 std::vector<char> rasterise(const Points& layout, const Triangles& triangles,
                             const PackedChart& chart, const ChartShape& shape, double scale,
-                            const Grid& grid, const Eigen::Vector2d& offset, int w, int h) {
+                            const ShapeGrid& grid, const Eigen::Vector2d& offset, int w, int h) {
   const Eigen::Rotation2Dd turn(shape.rotation);
   std::vector<char> bitmap(static_cast<std::size_t>(w) * h, 0);
   for (int f : chart.faces) {
@@ -464,8 +463,8 @@ SpanMask span_mask(const std::vector<char>& grown, int w, int h, int turns) {
 /// the work counted (first_fit) passes the budget.
 bool pack_shapes(const Points& layout, const Triangles& triangles,
                  const std::vector<PackedChart>& charts, const std::vector<ChartShape>& shapes,
-                 double scale, const Grid& grid, bool rotate, long long& work, long long budget,
-                 std::vector<Placement>& placement) {
+                 double scale, const ShapeGrid& grid, bool rotate, long long& work,
+                 long long budget, std::vector<Placement>& placement) {
   const int n = static_cast<int>(charts.size());
   const int d = grid.dilation;
   std::vector<std::array<SpanMask, 4>> masks(n);
@@ -685,8 +684,8 @@ double pack_by_rectangles(const std::vector<ChartShape>& shapes, double gutter, 
 
 /// The grid of the shape packing: cells of about 1 / resolution, two dilations wide exactly the
 /// gutter when it is wider.
-Grid shape_grid(double gutter, int resolution) {
-  Grid grid;
+ShapeGrid shape_grid(double gutter, int resolution) {
+  ShapeGrid grid;
   const double target = 1.0 / resolution;
   grid.dilation = std::max(1, static_cast<int>(std::lround(gutter / (2 * target))));
   grid.cell = gutter >= 2 * target ? gutter / (2 * grid.dilation) : target;
@@ -702,7 +701,7 @@ void pack_by_shapes(const Points& layout, const Triangles& triangles,
                     const std::vector<ChartShape>& shapes, double gutter, double tolerance,
                     const ChartPackingOptions& options, double& scale,
                     std::vector<Placement>& placement, ChartPacking& out) {
-  const Grid grid = shape_grid(gutter, options.raster_resolution);
+  const ShapeGrid grid = shape_grid(gutter, options.raster_resolution);
   double chart_area = 0;
   for (const PackedChart& chart : out.charts) {
     for (int f : chart.faces) chart_area += 0.5 * std::abs(twice_area(layout, triangles, f));
@@ -775,7 +774,7 @@ void place_charts(const Points& layout, const Triangles& triangles,
     PackedChart& chart = out.charts[c];
     const ChartShape& shape = shapes[c];
     const Placement& p = placement[c];
-    chart.rotation = shape.rotation + p.turns * kPi / 2;
+    chart.rotation = shape.rotation + p.turns * std::numbers::pi / 2;
     const Eigen::Rotation2Dd rotation(shape.rotation);
     for (int v : chart_vertices[c]) {
       const Eigen::Vector2d q = out.scale * (rotation * uv_point(layout, v) - shape.lo) + p.offset;

@@ -23,11 +23,11 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 /// Vertex -> incident edges in compressed rows (edges of each vertex in ascending index order).
-struct VertexEdges {
+struct SortedVertexEdges {
   std::vector<int> offsets;  ///< #V + 1
   std::vector<int> edges;    ///< 2 #E
 
-  explicit VertexEdges(const Topology& topology) {
+  explicit SortedVertexEdges(const Topology& topology) {
     const int nv = topology.num_vertices;
     const int ne = topology.num_edges;
     offsets.assign(nv + 1, 0);
@@ -58,7 +58,7 @@ struct VertexEdges {
 /// boundary, so nothing but real interior edges is ever cut.
 struct ContractedGraph {
   const Topology& topology;
-  const VertexEdges& vertex_edges;
+  const SortedVertexEdges& vertex_edges;
   /// #E or empty: edges the cut must not contain (CutGraphOptions::uncut_edges), left out of
   /// the graph, so that no tree and no path runs along them.
   const std::vector<char>& uncut;
@@ -67,7 +67,8 @@ struct ContractedGraph {
   std::vector<int> loop_vertices;
   int num_nodes = 0;
 
-  ContractedGraph(const Topology& t, const VertexEdges& ve, const std::vector<char>& uncut_edges)
+  ContractedGraph(const Topology& t, const SortedVertexEdges& ve,
+                  const std::vector<char>& uncut_edges)
       : topology(t), vertex_edges(ve), uncut(uncut_edges) {
     const int nv = t.num_vertices;
     node_of.resize(nv);
@@ -207,7 +208,7 @@ int edge_component(const Topology& topology, int e) {
 
 /// Per component, the vertex the primal tree grows from (only for components of genus >= 1).
 std::vector<int> pick_roots(const Topology& topology, const Eigen::VectorXd& lengths,
-                            const VertexEdges& vertex_edges, const CutGraphOptions& options,
+                            const SortedVertexEdges& vertex_edges, const CutGraphOptions& options,
                             const std::vector<char>& is_cone) {
   const int nc = static_cast<int>(topology.components.size());
   std::vector<int> roots(nc, -1);
@@ -350,7 +351,7 @@ int homology_generators(const Topology& topology, const Eigen::VectorXd& lengths
 
 /// Removes cut edges with an end of cut-degree 1 that is neither a cone nor on a boundary,
 /// repeatedly.
-void prune(const Topology& topology, const VertexEdges& vertex_edges,
+void prune(const Topology& topology, const SortedVertexEdges& vertex_edges,
            const std::vector<char>& is_cone, std::vector<char>& is_cut) {
   const int nv = topology.num_vertices;
   std::vector<int> degree(nv, 0);
@@ -496,7 +497,7 @@ void widen_single_edge_cuts(const Topology& topology, const Eigen::VectorXd& len
 }
 
 /// Nodes and segments of a finished cut.
-void split_into_segments(const Topology& topology, const VertexEdges& vertex_edges,
+void split_into_segments(const Topology& topology, const SortedVertexEdges& vertex_edges,
                          const std::vector<int>& cones, CutGraph& cut) {
   const int nv = topology.num_vertices;
   std::vector<int> cut_degree(nv, 0), boundary_degree(nv, 0);
@@ -565,7 +566,7 @@ CutGraph cut_graph(const Topology& topology, const Eigen::VectorXd& lengths,
   std::vector<char> is_cone(topology.num_vertices, 0);
   for (const int cone : cones) is_cone[cone] = 1;
 
-  const VertexEdges vertex_edges(topology);
+  const SortedVertexEdges vertex_edges(topology);
   const ContractedGraph graph(topology, vertex_edges, options.uncut_edges);
 
   CutGraph cut;

@@ -20,7 +20,7 @@ namespace {
 using Complex = std::complex<double>;
 using Uv = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 
-[[noreturn]] void invalid(const std::string& what) {
+[[noreturn]] void invalid_polish_input(const std::string& what) {
   throw InvalidInput("polish_angles: " + what);
 }
 
@@ -153,25 +153,26 @@ bool nearest_feasible_point(const std::vector<Eigen::Vector2d>& n, const std::ve
   return std::isfinite(nearest);
 }
 
-void check_inputs(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
-                  const PolishOptions& options) {
+void check_polish_inputs(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
+                         const PolishOptions& options) {
   const int num_faces = mesh.num_faces();
   const int num_uv = static_cast<int>(uv.rows());
   if (uv_triangles.rows() != num_faces) {
-    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
-            std::to_string(num_faces) + " faces");
+    invalid_polish_input("uv_triangles has " + std::to_string(uv_triangles.rows()) +
+                         " rows but the mesh has " + std::to_string(num_faces) + " faces");
   }
-  if (options.max_sweeps < 0) invalid("max_sweeps is negative");
-  if (!(options.tolerance >= 0)) invalid("tolerance is negative or NaN");
+  if (options.max_sweeps < 0) invalid_polish_input("max_sweeps is negative");
+  if (!(options.tolerance >= 0)) invalid_polish_input("tolerance is negative or NaN");
   for (int f = 0; f < num_faces; ++f) {
     for (int k = 0; k < 3; ++k) {
       const int i = uv_triangles(f, k), v = mesh.triangles(f, k);
       if (i < 0 || i >= num_uv) {
-        invalid("face " + std::to_string(f) + " has uv index " + std::to_string(i) +
-                " out of range [0, " + std::to_string(num_uv) + ")");
+        invalid_polish_input("face " + std::to_string(f) + " has uv index " + std::to_string(i) +
+                             " out of range [0, " + std::to_string(num_uv) + ")");
       }
       if (v < 0 || v >= mesh.num_vertices()) {
-        invalid("face " + std::to_string(f) + " has vertex " + std::to_string(v) + " out of range");
+        invalid_polish_input("face " + std::to_string(f) + " has vertex " + std::to_string(v) +
+                             " out of range");
       }
     }
   }
@@ -346,7 +347,7 @@ constexpr double kStepCap = 0.25;
 /// stays bit for bit).
 constexpr double kNegligibleDecrease = 1e-13;
 /// The line search halves the step down to this fraction of the Newton step.
-constexpr double kSmallestStep = 1e-6;
+constexpr double kSmallestPolishStep = 1e-6;
 
 /// The sum over vertex i's faces before and after relax_vertex, and how many faces.
 struct VertexEnergy {
@@ -389,7 +390,7 @@ VertexEnergy relax_vertex(Drawing& d, int i, std::vector<Term>& terms) {
     const double negligible = kNegligibleDecrease * e;
     if (!(-g.dot(dir) > negligible)) break;
     bool accepted = false;
-    for (double t = 1; t > kSmallestStep; t *= 0.5) {
+    for (double t = 1; t > kSmallestPolishStep; t *= 0.5) {
       const Complex trial = w + t * Complex(dir.x(), dir.y());
       const double et = energy(terms, trial);
       if (et < e - negligible) {
@@ -450,7 +451,7 @@ void sweep_free_vertices(Drawing& d, const std::vector<int>& free, const PolishO
 PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
                            const PolishOptions& options) {
   const auto start = Clock::now();
-  check_inputs(mesh, uv_triangles, uv, options);
+  check_polish_inputs(mesh, uv_triangles, uv, options);
   const int num_faces = mesh.num_faces();
   const int num_uv = static_cast<int>(uv.rows());
   PolishResult result;

@@ -29,7 +29,7 @@ using untangle_energy::face_energy;
 using untangle_energy::Mat4;
 using untangle_energy::Vec4;
 
-[[noreturn]] void invalid(const std::string& what) {
+[[noreturn]] void invalid_untangle_input(const std::string& what) {
   throw InvalidInput("untangle_layout: " + what);
 }
 
@@ -72,32 +72,32 @@ double signed_area(const Uv& uv, const Triangles& t, int f) {
   return b.x() * c.y() - b.y() * c.x();
 }
 
-void check_inputs(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
-                  const UntangleOptions& options) {
+void check_untangle_inputs(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
+                           const UntangleOptions& options) {
   const int nf = mesh.num_faces(), nv = mesh.num_vertices();
   const int nuv = static_cast<int>(uv.rows());
   if (uv_triangles.rows() != nf) {
-    invalid("uv_triangles has " + std::to_string(uv_triangles.rows()) + " rows but the mesh has " +
-            std::to_string(nf) + " faces");
+    invalid_untangle_input("uv_triangles has " + std::to_string(uv_triangles.rows()) +
+                           " rows but the mesh has " + std::to_string(nf) + " faces");
   }
   if (!options.angles.empty() && static_cast<int>(options.angles.size()) != nv) {
-    invalid("angles has " + std::to_string(options.angles.size()) + " entries for " +
-            std::to_string(nv) + " vertices");
+    invalid_untangle_input("angles has " + std::to_string(options.angles.size()) + " entries for " +
+                           std::to_string(nv) + " vertices");
   }
   if (!options.fixed.empty() && static_cast<int>(options.fixed.size()) != nv) {
-    invalid("fixed has " + std::to_string(options.fixed.size()) + " entries for " +
-            std::to_string(nv) + " vertices");
+    invalid_untangle_input("fixed has " + std::to_string(options.fixed.size()) + " entries for " +
+                           std::to_string(nv) + " vertices");
   }
   if (options.rings < 0 || options.max_rings < options.rings || options.newton_iterations < 1 ||
       options.max_stages < 1 || options.stall_stages < 1 || options.max_face_iterations < 0 ||
       !(options.area_weight >= 0 && options.area_weight < 1) || !(options.min_det > 0)) {
-    invalid("an option is out of range");
+    invalid_untangle_input("an option is out of range");
   }
   for (int f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       if (uv_triangles(f, k) < 0 || uv_triangles(f, k) >= nuv) {
-        invalid("face " + std::to_string(f) + " has uv index " +
-                std::to_string(uv_triangles(f, k)) + " out of range");
+        invalid_untangle_input("face " + std::to_string(f) + " has uv index " +
+                               std::to_string(uv_triangles(f, k)) + " out of range");
       }
     }
   }
@@ -309,7 +309,7 @@ struct Untangler {
 constexpr double kDiagonalShift = 1e-9;
 /// Backtracking: the Armijo constant, and the smallest step tried.
 constexpr double kArmijo = 1e-4;
-constexpr double kSmallestStep = 1e-12;
+constexpr double kSmallestUntangleStep = 1e-12;
 /// A Newton step that lowers the energy by less than this fraction ends the stage: converged.
 constexpr double kStageConverged = 1e-9;
 /// The first eps: sqrt(kEpsFloor^2 + (kEpsScale * min(det, 0))^2) (the paper's choice), and
@@ -546,7 +546,7 @@ void minimise_stage(Untangler& u, const Cluster& c, double eps, NewtonSystem& sy
     const double slope = g.dot(d);
     if (!(slope < 0) || !d.allFinite()) return;
     bool accepted = false;
-    for (double t = 1; t > kSmallestStep; t *= 0.5) {
+    for (double t = 1; t > kSmallestUntangleStep; t *= 0.5) {
       const Eigen::VectorXd trial = x + t * d;
       const double et = c.total(trial, eps);
       if (et <= e + kArmijo * t * slope) {
@@ -749,7 +749,7 @@ std::vector<std::vector<int>> clusters_of(Untangler& u, const std::vector<int>& 
 UntangleResult untangle_layout(const Mesh& mesh, const Triangles& uv_triangles, const Uv& uv,
                                const UntangleOptions& options) {
   const auto start = Clock::now();
-  check_inputs(mesh, uv_triangles, uv, options);
+  check_untangle_inputs(mesh, uv_triangles, uv, options);
   const int nf = mesh.num_faces(), nv = mesh.num_vertices();
   UntangleResult result;
   result.uv = uv;

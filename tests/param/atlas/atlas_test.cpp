@@ -22,7 +22,6 @@ namespace ricci {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = std::numbers::pi;
 using testing::uv_of;
 
 /// A flattening with the affine atlas of its layout.
@@ -148,7 +147,7 @@ void expect_valid_atlas(const FlattenedWithAtlas& f, bool expect_unflipped,
       }
       ++one_rings_checked;
       EXPECT_EQ(faces_around, topology.vertex_degree[v]);
-      EXPECT_NEAR(angle_sum, 2 * kPi, 1e-8) << "segment " << s << ", vertex " << v;
+      EXPECT_NEAR(angle_sum, 2 * std::numbers::pi, 1e-8) << "segment " << s << ", vertex " << v;
     }
   }
   EXPECT_GT(one_rings_checked, 0);

@@ -17,10 +17,9 @@ namespace {
 
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 using Triangle = std::array<Eigen::Vector2d, 3>;
-constexpr double kPi = std::numbers::pi;
 
 /// A layout of several charts built piece by piece.
-struct Layout {
+struct PieceLayout {
   std::vector<Eigen::Vector2d> points;
   std::vector<std::array<int, 3>> triangles;
   std::vector<int> face_chart;
@@ -42,8 +41,8 @@ struct Layout {
     const int centre = static_cast<int>(points.size());
     points.push_back(at);
     for (int i = 0; i < n; ++i) {
-      points.emplace_back(
-          at + r * Eigen::Vector2d(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n)));
+      points.emplace_back(at + r * Eigen::Vector2d(std::cos(2 * std::numbers::pi * i / n),
+                                                   std::sin(2 * std::numbers::pi * i / n)));
     }
     for (int i = 0; i < n; ++i) {
       triangles.push_back({centre, centre + 1 + i, centre + 1 + (i + 1) % n});
@@ -89,7 +88,7 @@ double triangle_distance(const Triangle& a, const Triangle& b) {
 /// The properties every packing must have: uv in the square, each chart a rotation of its input
 /// scaled by the common factor and moved, the faces of different charts at least a gutter apart
 /// (so never overlapping; checked here by brute force), the coverage what it says.
-void expect_valid_packing(const Layout& input, const ChartPacking& p, double gutter) {
+void expect_valid_packing(const PieceLayout& input, const ChartPacking& p, double gutter) {
   const Points layout = input.uv();
   const Triangles faces = input.faces();
   ASSERT_EQ(p.uv.rows(), layout.rows());
@@ -171,7 +170,7 @@ TEST(FindUvOverlaps, AgreesWithEveryPairTested) {
 TEST(PackCharts, EqualSquaresFillTheSquare) {
   // 16 unit squares pack 4 x 4: the scale is 1/4 less the gutter, coverage (1 - 4 g)^2 up to the
   // search's relative tolerance of 1e-3 on the scale (2e-3 on the area).
-  Layout input;
+  PieceLayout input;
   for (int i = 0; i < 16; ++i) input.rectangle(1, 1, 0, Eigen::Vector2d(3.0 * i, 0), i);
   ChartPackingOptions options;
   options.gutter = 0.01;
@@ -185,11 +184,13 @@ TEST(PackCharts, EqualSquaresFillTheSquare) {
 TEST(PackCharts, ChartsTurnToTheirSmallestRectangle) {
   // A 1 x 0.1 strip given at 30 degrees: turned back, it spans the square (coverage 0.1 less the
   // gutter's share); kept at 30 degrees, it covers less (below).
-  Layout input;
-  input.rectangle(1, 0.1, kPi / 6, Eigen::Vector2d(0.3, -2), 0);
+  PieceLayout input;
+  input.rectangle(1, 0.1, std::numbers::pi / 6, Eigen::Vector2d(0.3, -2), 0);
   const ChartPacking turned = pack_charts(input.uv(), input.faces());
   expect_valid_packing(input, turned, 0.002);
-  EXPECT_NEAR(std::remainder(turned.charts[0].rotation + kPi / 6, kPi / 2), 0, 1e-12);
+  EXPECT_NEAR(
+      std::remainder(turned.charts[0].rotation + std::numbers::pi / 6, std::numbers::pi / 2), 0,
+      1e-12);
   EXPECT_NEAR(turned.coverage, 0.1 * std::pow(1 - 0.002, 2), 3e-4);
   ChartPackingOptions keep;
   keep.rotate = false;
@@ -198,19 +199,19 @@ TEST(PackCharts, ChartsTurnToTheirSmallestRectangle) {
   EXPECT_EQ(kept.charts[0].rotation, 0.0);
   // At 30 degrees the strip's box is cos 30 + 0.1 sin 30 = 0.916 wide (and 0.587 high): the
   // scale is (1 - gutter) / 0.916 and the coverage 0.1 times its square, 0.119.
-  const double wide = std::cos(kPi / 6) + 0.1 * std::sin(kPi / 6);
+  const double wide = std::cos(std::numbers::pi / 6) + 0.1 * std::sin(std::numbers::pi / 6);
   EXPECT_NEAR(kept.coverage, 0.1 * std::pow((1 - 0.002) / wide, 2), 3e-4);
 }
 
 TEST(PackCharts, ManyChartsOfVeryDifferentSizesKeepTheirRelativeScale) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> unit(0, 1);
-  Layout input;
+  PieceLayout input;
   for (int c = 0; c < 120; ++c) {
     const double size = std::pow(10.0, -2 + 3 * unit(rng));  // 0.01 to 10
     const Eigen::Vector2d at(100 * unit(rng), 100 * unit(rng));
     if (c % 2 == 0) {
-      input.rectangle(size, size * (0.2 + unit(rng)), 2 * kPi * unit(rng), at, c);
+      input.rectangle(size, size * (0.2 + unit(rng)), 2 * std::numbers::pi * unit(rng), at, c);
     } else {
       input.polygon(3 + c % 7, size, at, c);
     }
@@ -231,10 +232,10 @@ TEST(PackCharts, ManyChartsOfVeryDifferentSizesKeepTheirRelativeScale) {
 TEST(PackCharts, ThousandsOfChartsGoOnShelves) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(0, 1);
-  Layout input;
+  PieceLayout input;
   for (int c = 0; c < 2100; ++c) {
     const double size = 0.5 + unit(rng);
-    input.rectangle(size, size * (0.3 + unit(rng)), 2 * kPi * unit(rng),
+    input.rectangle(size, size * (0.3 + unit(rng)), 2 * std::numbers::pi * unit(rng),
                     Eigen::Vector2d(100 * unit(rng), 100 * unit(rng)), c);
   }
   ChartPackingOptions options;
@@ -251,7 +252,7 @@ TEST(PackCharts, ThousandsOfChartsGoOnShelves) {
 TEST(PackCharts, ShapesNestWhereRectanglesCannot) {
   // Right triangles: each fills half its rectangle, so rectangles cover at most half the square;
   // by shape, pairs of triangles turned half a turn against each other fill a rectangle.
-  Layout input;
+  PieceLayout input;
   for (int c = 0; c < 40; ++c) {
     const int base = static_cast<int>(input.points.size());
     for (const Eigen::Vector2d& p :
@@ -276,7 +277,7 @@ TEST(PackCharts, ShapesNestWhereRectanglesCannot) {
 }
 
 TEST(PackCharts, ConnectedPiecesAreChartsByDefault) {
-  Layout input;
+  PieceLayout input;
   input.rectangle(1, 2, 0, Eigen::Vector2d(0, 0), 0);
   input.polygon(5, 1, Eigen::Vector2d(0.5, 1), 1);  // overlapping the rectangle in the input
   const ChartPacking p = pack_charts(input.uv(), input.faces());
@@ -286,7 +287,7 @@ TEST(PackCharts, ConnectedPiecesAreChartsByDefault) {
 }
 
 TEST(PackCharts, RefusesBadInput) {
-  Layout input;
+  PieceLayout input;
   input.rectangle(1, 1, 0, Eigen::Vector2d(0, 0), 0);
   Triangles bad = input.faces();
   bad(1, 2) = 7;

@@ -16,22 +16,14 @@
 #include "ricci/mesh/hard_cases.hpp"
 #include "ricci/param/atlas/chart_packing.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "support/uv_checks.hpp"
 
 namespace ricci {
 namespace {
 
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 
-int count_flipped(const UV& uv, const Triangles& t) {
-  int n = 0;
-  for (int f = 0; f < t.rows(); ++f) {
-    const Eigen::Vector2d a = uv.row(t(f, 0)).transpose();
-    const Eigen::Vector2d b = uv.row(t(f, 1)).transpose() - a;
-    const Eigen::Vector2d c = uv.row(t(f, 2)).transpose() - a;
-    n += !(b.x() * c.y() - b.y() * c.x() > 0);
-  }
-  return n;
-}
+using testing::count_flipped;
 
 /// Over the mesh edges cut open (two faces, two different uv edges): the largest relative
 /// difference between the two sides.

@@ -15,11 +15,10 @@
 #include "ricci/param/parameterize.hpp"
 #include "support/shared_meshes.hpp"
 #include "support/test_meshes.hpp"
+#include "support/uv_checks.hpp"
 
 namespace ricci {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 /// Meshes side by side (each scaled, then moved along x): one mesh of several components.
 Mesh combine(const std::vector<std::pair<Mesh, double>>& parts) {
@@ -65,19 +64,7 @@ double area_3d(const Mesh& m, int f) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
 
-/// Sum of the uv corner angles at every copy of vertex v.
-double uv_angle_sum(const Parameterization& r, int v) {
-  double sum = 0;
-  for (int f = 0; f < r.mesh.num_faces(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      if (r.mesh.triangles(f, k) != v) continue;
-      const Eigen::Vector2d a = uv_of(r, f, (k + 1) % 3) - uv_of(r, f, k);
-      const Eigen::Vector2d b = uv_of(r, f, (k + 2) % 3) - uv_of(r, f, k);
-      sum += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-    }
-  }
-  return sum;
-}
+using testing::uv_angle_sum;
 
 /// What every atlas of several components must satisfy, converged or not: faces and corners
 /// consistent, uv in the square, no flipped face, no two charts overlapping (counted again here),
@@ -165,7 +152,8 @@ TEST(ParameterizeComponents, TorusSphereDiskTriangleAndTetrahedronAtVeryDifferen
   for (const ComponentParam& comp : r.components) cones += comp.cones.size();
   EXPECT_EQ(r.cones.size(), cones);
   for (const Cone& c : r.cones) {
-    EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * kPi - c.curvature, 1e-8) << "cone " << c.vertex;
+    EXPECT_NEAR(uv_angle_sum(r, c.vertex), 2 * std::numbers::pi - c.curvature, 1e-8)
+        << "cone " << c.vertex;
   }
   // The unfolded triangle keeps its 3D shape exactly (up to the common scale).
   for (int c : {3}) {
@@ -201,14 +189,15 @@ TEST(ParameterizeComponents, ClosedComponentsWhosePipelineFailsUnfold) {
   expect_atlas(r, "torus, tetrahedron, cube");
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_EQ(r.components[0].method, ComponentMethod::Flow);
-  for (const auto& [c, cones, curvature] : {std::tuple{1, 4u, kPi}, std::tuple{2, 8u, kPi / 2}}) {
+  for (const auto& [c, cones, curvature] :
+       {std::tuple{1, 4u, std::numbers::pi}, std::tuple{2, 8u, std::numbers::pi / 2}}) {
     const ComponentParam& comp = r.components[c];
     EXPECT_EQ(comp.method, ComponentMethod::Unfolded);
     EXPECT_NE(comp.message.find("no flat metric without cones"), std::string::npos) << comp.message;
     ASSERT_EQ(comp.cones.size(), cones);
     for (const Cone& cone : comp.cones) {
       EXPECT_NEAR(cone.curvature, curvature, 1e-12);
-      EXPECT_NEAR(uv_angle_sum(r, cone.vertex), 2 * kPi - curvature, 1e-12);
+      EXPECT_NEAR(uv_angle_sum(r, cone.vertex), 2 * std::numbers::pi - curvature, 1e-12);
     }
     EXPECT_NEAR(comp.distortion.angle_distortion_max, 1.0, 1e-12);
   }
@@ -291,7 +280,7 @@ TEST(ParameterizeComponents, UserConesGoToTheirComponents) {
   const int offset = make_torus(24, 10).num_vertices();
   ParamOptions options = vertex_scaling();
   options.cone_mode = ConeMode::User;
-  for (int v = 0; v < 8; ++v) options.cones.push_back({offset + 10 * v, kPi / 2});
+  for (int v = 0; v < 8; ++v) options.cones.push_back({offset + 10 * v, std::numbers::pi / 2});
   const MeshParamResult r = parameterize(input, options);
   expect_atlas(r, "user cones");
   ASSERT_TRUE(r.converged) << r.message;
@@ -299,7 +288,7 @@ TEST(ParameterizeComponents, UserConesGoToTheirComponents) {
   ASSERT_EQ(r.components[1].cones.size(), 8u);
   for (int v = 0; v < 8; ++v) {
     EXPECT_EQ(r.components[1].cones[v].vertex, offset + 10 * v);
-    EXPECT_NEAR(uv_angle_sum(r, offset + 10 * v), 1.5 * kPi, 1e-8);
+    EXPECT_NEAR(uv_angle_sum(r, offset + 10 * v), 1.5 * std::numbers::pi, 1e-8);
   }
   options.cones.push_back({input.num_vertices(), 1.0});
   EXPECT_THROW(parameterize(input, options), InvalidInput);
@@ -419,7 +408,8 @@ TEST(ParameterizeComponents, EdgeSplitsInOneComponentKeepTheOthersFaces) {
   EXPECT_EQ(r.components[1].face_map.front(), 1);
   const int disk_faces = make_disk(4).num_faces();
   EXPECT_EQ(r.mesh.triangles.bottomRows(disk_faces), input.triangles.bottomRows(disk_faces));
-  EXPECT_NEAR(uv_angle_sum(r, split.cones.front().vertex), 2 * kPi + 4 * kPi, 1e-8);
+  EXPECT_NEAR(uv_angle_sum(r, split.cones.front().vertex),
+              2 * std::numbers::pi + 4 * std::numbers::pi, 1e-8);
 }
 
 TEST(ParameterizeComponents, ALayoutThatOverlapsItselfIsCutIntoChartsThatDoNot) {

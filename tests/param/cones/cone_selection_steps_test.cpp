@@ -16,7 +16,6 @@ namespace {
 
 using namespace cone_steps;
 
-constexpr double kPi = std::numbers::pi;
 /// The bounded programme meets its sum to the active-set solve's rounding (1e-12 relative to
 /// curvatures of order pi) and its bounds to the violation tolerance 1e-12.
 constexpr double kTolerance = 1e-9;
@@ -129,7 +128,7 @@ TEST(ConeSteps, FitSatisfiesGaussBonnetAndTheBounds) {
     EXPECT_EQ(fit.q.size(), fixture.data().nv);
     // The sum holds in bounds and out (one cone cannot carry 4 pi: the fallback ignores the
     // bounds, not the sum).
-    EXPECT_NEAR(fit.k.sum(), 4 * kPi, kTolerance);
+    EXPECT_NEAR(fit.k.sum(), 4 * std::numbers::pi, kTolerance);
     if (fit.within) {
       ++within;
       for (int i = 0; i < m; ++i) {
@@ -150,7 +149,7 @@ TEST(ConeSteps, GrowStopsAtTheWantedCount) {
   EXPECT_EQ(grown.fit.k.size(), 5);
   EXPECT_TRUE(grown.result.within_bounds);
   EXPECT_FALSE(grown.result.max_log_scale.empty());
-  EXPECT_NEAR(grown.fit.k.sum(), 4 * kPi, kTolerance);
+  EXPECT_NEAR(grown.fit.k.sum(), 4 * std::numbers::pi, kTolerance);
 }
 
 TEST(ConeSteps, ExchangeNeverIncreasesTheObjective) {
@@ -165,7 +164,7 @@ TEST(ConeSteps, ExchangeNeverIncreasesTheObjective) {
   std::sort(sorted.begin(), sorted.end());
   EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
   for (int v : grown.selector.S) EXPECT_TRUE(grown.selector.is_cone[v]);
-  EXPECT_NEAR(grown.fit.k.sum(), 4 * kPi, kTolerance);
+  EXPECT_NEAR(grown.fit.k.sum(), 4 * std::numbers::pi, kTolerance);
 }
 
 TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
@@ -173,11 +172,11 @@ TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
   const Eigen::VectorXd kq = quantize_in_model(grown.selector, grown.selector.S, grown.fit.k);
   ASSERT_EQ(kq.size(), grown.fit.k.size());
   for (int i = 0; i < kq.size(); ++i) {
-    const double units = kq[i] / (kPi / 2);
+    const double units = kq[i] / (std::numbers::pi / 2);
     EXPECT_NEAR(units, std::round(units), 1e-12);
     EXPECT_LE(kq[i], grown.selector.upper + 1e-12);
   }
-  EXPECT_NEAR(kq.sum(), 4 * kPi, 1e-12);
+  EXPECT_NEAR(kq.sum(), 4 * std::numbers::pi, 1e-12);
 }
 
 // The stop both automatic selections share (the greedy's, the free seams'): only from `from`

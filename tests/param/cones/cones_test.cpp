@@ -13,8 +13,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(ConeSelection, CountModeGivesThatManyDistinctCones) {
   const Mesh sphere = make_icosphere(3);
   ConeSelectionOptions options;
@@ -27,7 +25,7 @@ TEST(ConeSelection, CountModeGivesThatManyDistinctCones) {
   // The linearised cones carry the sphere's whole curvature 4 pi.
   double total = 0;
   for (double k : s.linear_curvature) total += k;
-  EXPECT_NEAR(total, 4 * kPi, 1e-6);
+  EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-6);
 }
 
 TEST(ConeSelection, NoCapOnTheNumberOfCones) {
@@ -111,21 +109,25 @@ TEST(QuantizeCones, RoundsToQuarterTurnsKeepingTheSum) {
   double raw = 0;
   for (const Cone& c : cones) raw += c.curvature;
   ASSERT_NEAR(raw, 12.9, 1e-12);  // about 4 pi = 12.566: the rounding must move it there
-  const std::vector<Cone> q = quantize_cones(cones, 4 * kPi);
+  const std::vector<Cone> q = quantize_cones(cones, 4 * std::numbers::pi);
   double total = 0;
   for (const Cone& c : q) {
-    const double units = c.curvature / (kPi / 2);
+    const double units = c.curvature / (std::numbers::pi / 2);
     EXPECT_NEAR(units, std::round(units), 1e-12);
-    EXPECT_LT(c.curvature, 2 * kPi);
+    EXPECT_LT(c.curvature, 2 * std::numbers::pi);
     EXPECT_NE(c.curvature, 0.0);
     total += c.curvature;
   }
-  EXPECT_NEAR(total, 4 * kPi, 1e-12);
+  EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-12);
   // A cone whose curvature rounds to nothing is dropped.
-  const std::vector<Cone> small =
-      quantize_cones({{1, kPi + 0.1}, {2, kPi - 0.1}, {3, kPi}, {4, kPi}, {5, 0.2}}, 4 * kPi);
+  const std::vector<Cone> small = quantize_cones({{1, std::numbers::pi + 0.1},
+                                                  {2, std::numbers::pi - 0.1},
+                                                  {3, std::numbers::pi},
+                                                  {4, std::numbers::pi},
+                                                  {5, 0.2}},
+                                                 4 * std::numbers::pi);
   ASSERT_EQ(small.size(), 4u);
-  for (const Cone& c : small) EXPECT_DOUBLE_EQ(c.curvature, kPi);
+  for (const Cone& c : small) EXPECT_DOUBLE_EQ(c.curvature, std::numbers::pi);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // with the same number of cones.
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -17,8 +18,6 @@
 
 namespace ricci {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 ParamOptions free_options(int cones) {
   ParamOptions options;
@@ -73,7 +72,7 @@ TEST(FreeSeams, SeamCopiesKeepOneLengthAndTheRestIsFlat) {
       EXPECT_NEAR(r.flow.curvature[v], 0, 1e-9) << "vertex " << v;
     }
   }
-  EXPECT_NEAR(total, 2 * kPi * -2, 1e-8);
+  EXPECT_NEAR(total, 2 * std::numbers::pi * -2, 1e-8);
   const SeamCurvature& seams = r.routes.at(0).pipeline.seam_curvature;
   EXPECT_GT(seams.vertices, 10);
   EXPECT_GT(seams.max, 1e-3);  // the seams do carry curvature
@@ -164,7 +163,7 @@ TEST(FreeSeams, ASphereStartsFromItsMostCurvedVertex) {
   EXPECT_EQ(r.distortion.flipped_faces, 0);
   double total = 0;
   for (Eigen::Index v = 0; v < r.flow.curvature.size(); ++v) total += r.flow.curvature[v];
-  EXPECT_NEAR(total, 4 * kPi, 1e-8);
+  EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-8);
 }
 
 TEST(FreeSeams, TargetRefusesACutOfAnotherMesh) {

@@ -14,8 +14,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// A generated genus-2 surface, its problem and cone model.
 struct GenusTwo {
   Mesh mesh = make_closed_surface(2, 10);
@@ -40,7 +38,7 @@ TEST(LevelCones, HoldEveryConeAtOneLevelAndSumToTwoPiChi) {
     sum += s.linear_curvature[i];
     for (std::size_t j = 0; j < i; ++j) EXPECT_NE(s.vertices[i], s.vertices[j]);
   }
-  EXPECT_NEAR(sum, 2 * kPi * -2, 1e-9);
+  EXPECT_NEAR(sum, 2 * std::numbers::pi * -2, 1e-9);
   // The linearised flat metric with these cones has one log scale at all of them.
   const Eigen::VectorXd u = linearised_log_factors(g.model, cones_of(s));
   for (int v : s.vertices) EXPECT_NEAR(u[v], u[s.vertices[0]], 1e-7) << "cone " << v;
@@ -61,7 +59,7 @@ TEST(CurvatureRefinement, LowersTheFlatMetricsDistortionKeepingTheSum) {
     EXPECT_EQ(r.cones[i].vertex, start[i].vertex);
     sum += r.cones[i].curvature;
   }
-  EXPECT_NEAR(sum, 2 * kPi * -2, 1e-12);
+  EXPECT_NEAR(sum, 2 * std::numbers::pi * -2, 1e-12);
   // u is the flat metric with the refined cones: a flow started there has nothing left to do.
   FlowOptions warm = flow;
   warm.start_u = r.u;

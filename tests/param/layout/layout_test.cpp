@@ -28,7 +28,6 @@ namespace ricci {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = std::numbers::pi;
 using testing::flat_flow;
 using testing::flatten;
 using testing::Flattened;
@@ -205,7 +204,8 @@ TEST(Layout, CurvedDiskWithFreeAndDiskBoundaries) {
     // tolerance (1e-10) plus rounding.
     const Eigen::VectorXd sums = uv_angle_sums(flow.intrinsic.topology(), u.cut_mesh, layout);
     for (int v = 0; v < flow.intrinsic.topology().num_vertices; ++v) {
-      const double full = flow.intrinsic.topology().is_boundary_vertex[v] ? kPi : 2 * kPi;
+      const double full =
+          flow.intrinsic.topology().is_boundary_vertex[v] ? std::numbers::pi : 2 * std::numbers::pi;
       EXPECT_NEAR(sums[v], full - flow.target_curvature[v], 1e-8) << "vertex " << v;
     }
   }
@@ -326,7 +326,7 @@ void expect_valid_layout(const Flattened& f, const std::string& what) {
 
   const Eigen::VectorXd sums = uv_angle_sums(topology, f.cut_mesh, layout);
   for (int v = 0; v < topology.num_vertices; ++v) {
-    const double full = topology.is_boundary_vertex[v] ? kPi : 2 * kPi;
+    const double full = topology.is_boundary_vertex[v] ? std::numbers::pi : 2 * std::numbers::pi;
     ASSERT_NEAR(sums[v], full - f.flow.target_curvature[v], 1e-8) << "vertex " << v;
   }
 }
@@ -406,15 +406,15 @@ TEST(Layout, SphereWithFourAndEightCones) {
     EXPECT_TRUE(f.layout.lattice.empty());
     for (std::size_t s = 0; s < f.cut.segments.size(); ++s) {
       const SeamTransition& t = f.layout.segment_transitions[s];
-      EXPECT_LE(off_multiple(t.angle, kPi / 2), 1e-8) << what << ", segment " << s;
+      EXPECT_LE(off_multiple(t.angle, std::numbers::pi / 2), 1e-8) << what << ", segment " << s;
       const double enclosed = cones_beside(f.cut, s, cones);
-      EXPECT_LE(std::min(off_multiple(t.angle - enclosed, 2 * kPi),
-                         off_multiple(t.angle + enclosed, 2 * kPi)),
+      EXPECT_LE(std::min(off_multiple(t.angle - enclosed, 2 * std::numbers::pi),
+                         off_multiple(t.angle + enclosed, 2 * std::numbers::pi)),
                 1e-8)
           << what << ", segment " << s << ": angle " << t.angle << ", cones beside " << enclosed;
     }
     for (const SeamTransition& t : f.layout.transitions) {
-      EXPECT_LE(off_multiple(t.angle, kPi / 2), 1e-8) << what << ", edge " << t.edge;
+      EXPECT_LE(off_multiple(t.angle, std::numbers::pi / 2), 1e-8) << what << ", edge " << t.edge;
     }
   }
 }
@@ -423,11 +423,11 @@ TEST(Layout, DiskWithOneConeTurnsByItsCurvatureAcrossTheCut) {
   // A cap with a cone of pi/2 at its centre (vertex 0): the cut runs from the cone to the
   // boundary, and the two sides of it differ by a rotation of +-pi/2, the holonomy around the
   // cone.
-  const Flattened f = flatten(make_disk(10, 0.5), BoundaryMode::Free, {{0, kPi / 2}});
+  const Flattened f = flatten(make_disk(10, 0.5), BoundaryMode::Free, {{0, std::numbers::pi / 2}});
   expect_valid_layout(f, "disk with a cone");
   ASSERT_FALSE(f.layout.segment_transitions.empty());
   for (const SeamTransition& t : f.layout.segment_transitions) {
-    EXPECT_NEAR(std::abs(t.angle), kPi / 2, 1e-8) << "segment " << t.segment;
+    EXPECT_NEAR(std::abs(t.angle), std::numbers::pi / 2, 1e-8) << "segment " << t.segment;
   }
 }
 
@@ -437,14 +437,14 @@ TEST(Layout, Genus2WithOneConeOfTwoPiChi) {
   // single-vertex bound and Thurston's conditions around it hold.
   const ValenceResult refined = raise_valence(make_closed_surface(2, 10), 0, 16);
   const Mesh mesh = subdivide_midpoint(refined.mesh);
-  const Flattened f = flatten(mesh, BoundaryMode::Free, {{0, -4 * kPi}});
+  const Flattened f = flatten(mesh, BoundaryMode::Free, {{0, -4 * std::numbers::pi}});
   expect_valid_layout(f, "genus 2");
   EXPECT_TRUE(f.layout.lattice.empty());
   // The cone angle 6 pi reads back from the uv angles around the cone's copies. (The segments'
   // rotations are the holonomy of non-contractible loops, which a flat metric with cones leaves
   // free: nothing to assert about them.)
   const Eigen::VectorXd sums = uv_angle_sums(f.flow.intrinsic.topology(), f.cut_mesh, f.layout);
-  EXPECT_NEAR(sums[0], 6 * kPi, 1e-8);
+  EXPECT_NEAR(sums[0], 6 * std::numbers::pi, 1e-8);
 }
 
 /// Reads a shared mesh by file name, or nothing when it is not there.
@@ -457,14 +457,14 @@ std::optional<Mesh> shared_mesh(const std::string& name) {
 
 TEST(Layout, SharedMeshesOnePerTopologyClass) {
   RICCI_REQUIRE_SHARED_MESHES();
-  struct Case {
+  struct TopologyCase {
     std::string file;
     BoundaryMode boundary;
   };
   // A disk with the disk target, a closed torus, a torus with a hole and a free boundary.
-  for (const Case& c :
-       {Case{"camelhead.off", BoundaryMode::DiskUniform}, Case{"bob_tri.obj", BoundaryMode::Free},
-        Case{"punctured-torus.obj", BoundaryMode::Free}}) {
+  for (const TopologyCase& c : {TopologyCase{"camelhead.off", BoundaryMode::DiskUniform},
+                                TopologyCase{"bob_tri.obj", BoundaryMode::Free},
+                                TopologyCase{"punctured-torus.obj", BoundaryMode::Free}}) {
     const std::optional<Mesh> mesh = shared_mesh(c.file);
     if (!mesh) continue;
     const Flattened f = flatten(*mesh, c.boundary);
@@ -495,7 +495,7 @@ TEST(Layout, SharedGenus3WithEightCones) {
   }
   std::vector<Cone> cones;
   cones.reserve(picked.size());
-  for (int v : picked) cones.push_back({v, -kPi});
+  for (int v : picked) cones.push_back({v, -std::numbers::pi});
   const Flattened f = flatten(*mesh, BoundaryMode::Free, cones);
   expect_valid_layout(f, "3holes.off");
   EXPECT_TRUE(f.layout.lattice.empty());

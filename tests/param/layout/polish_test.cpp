@@ -22,7 +22,6 @@ namespace ricci {
 namespace {
 
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
-constexpr double kPi = std::numbers::pi;
 
 struct Figures {
   double mean_ratio = 0;  // unweighted over the faces with positive layout area
@@ -176,7 +175,7 @@ TEST(PolishAngles, InParameterizeTheSeamsAreTheFlatMetricsBitForBit) {
   const Mesh sphere = make_icosphere(3);
   ParamOptions options;
   options.cone_mode = ConeMode::User;
-  for (int v = 0; v < 4; ++v) options.cones.push_back({7 * v, kPi});
+  for (int v = 0; v < 4; ++v) options.cones.push_back({7 * v, std::numbers::pi});
   const MeshParamResult polished = parameterize(sphere, options);
   options.polish.enabled = false;
   const MeshParamResult exact = parameterize(sphere, options);

@@ -19,12 +19,12 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "support/uv_checks.hpp"
 
 namespace ricci {
 namespace {
 
 using UV = Eigen::Matrix<double, Eigen::Dynamic, 2>;
-constexpr double kPi = std::numbers::pi;
 
 double signed_area(const UV& uv, const Triangles& t, int f) {
   const Eigen::Vector2d a = uv.row(t(f, 0)).transpose();
@@ -33,11 +33,7 @@ double signed_area(const UV& uv, const Triangles& t, int f) {
   return b.x() * c.y() - b.y() * c.x();
 }
 
-int count_flipped(const UV& uv, const Triangles& t) {
-  int n = 0;
-  for (int f = 0; f < t.rows(); ++f) n += !(signed_area(uv, t, f) > 0);
-  return n;
-}
+using testing::count_flipped;
 
 /// Largest relative difference between the two layout copies of an edge (over edges of two
 /// faces): 0 inside a chart, the seam mismatch across a cut.
@@ -217,12 +213,13 @@ TEST(Untangle, ConesKeepTheirPositionsAndAngles) {
       angle_sum[p.mesh.triangles(f, k)] += std::atan2(b.x() * c.y() - b.y() * c.x(), b.dot(c));
     }
   }
-  for (const Cone& c : p.cones) EXPECT_NEAR(angle_sum[c.vertex], 2 * kPi - c.curvature, 1e-9);
+  for (const Cone& c : p.cones)
+    EXPECT_NEAR(angle_sum[c.vertex], 2 * std::numbers::pi - c.curvature, 1e-9);
   for (int v = 0; v < p.mesh.num_vertices(); ++v) {
     bool is_cone = false;
     for (const Cone& c : p.cones) is_cone = is_cone || c.vertex == v;
     if (!is_cone) {
-      EXPECT_NEAR(angle_sum[v], 2 * kPi, 1e-9) << v;
+      EXPECT_NEAR(angle_sum[v], 2 * std::numbers::pi, 1e-9) << v;
     }
   }
 }

@@ -29,7 +29,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using Complex = std::complex<double>;
 
 MeshParamResult param_vertex_scaling(const Mesh& mesh, std::vector<Cone> cones,
@@ -63,7 +62,7 @@ Eigen::Vector3d barycentric(const std::array<Complex, 3>& s, Complex z) {
   return Eigen::Vector3d(area(z, s[1], s[2]), area(s[0], z, s[2]), area(s[0], s[1], z)) / total;
 }
 
-struct Figures {
+struct RefinementFigures {
   int circle_checks = 0;        // pieces whose projective map was checked on circles
   double circle_error = 0;      // largest relative distance of an image from the circle
   double isometry_error = 0;    // 3D edge vs Delaunay-shape edge, relative to the mean edge
@@ -74,8 +73,8 @@ struct Figures {
 };
 
 /// Every check of the file comment; returns the figures for tests to bound.
-Figures check_refinement(const Parameterization& p, const CommonRefinement& r) {
-  Figures fig;
+RefinementFigures check_refinement(const Parameterization& p, const CommonRefinement& r) {
+  RefinementFigures fig;
   const Mesh& mesh = p.mesh;
   const int nv = mesh.num_vertices(), nt = static_cast<int>(r.triangles.rows());
   const Topology t0 = build_topology(mesh.triangles, nv);
@@ -199,7 +198,7 @@ Figures check_refinement(const Parameterization& p, const CommonRefinement& r) {
     const Complex cd = circumcentre(ds), cf = circumcentre(fs);
     const double rd = std::abs(ds[0] - cd), rf = std::abs(fs[0] - cf);
     for (int i = 0; i < 8; ++i) {
-      const Complex z = cd + std::polar(rd, 2 * kPi * (i + 0.5) / 8);
+      const Complex z = cd + std::polar(rd, 2 * std::numbers::pi * (i + 0.5) / 8);
       Eigen::Vector3d y = A * barycentric(ds, z);
       y /= y.sum();
       fig.circle_error = std::max(fig.circle_error, std::abs(std::abs(at(fs, y) - cf) - rf) / rf);
@@ -225,14 +224,14 @@ Figures check_refinement(const Parameterization& p, const CommonRefinement& r) {
 
 TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMinusU) {
   const Mesh sphere = make_icosphere(3);
-  const MeshParamResult p =
-      param_vertex_scaling(sphere, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
+  const MeshParamResult p = param_vertex_scaling(
+      sphere, {{0, 1.5 * std::numbers::pi}, {5, 1.5 * std::numbers::pi}, {20, std::numbers::pi}});
   ASSERT_TRUE(p.converged) << p.message;
   ASSERT_EQ(p.flow.intrinsic.flips(), 0);
   const CommonRefinement r = common_refinement(p);
   EXPECT_EQ(r.positions.rows(), sphere.num_vertices());
   EXPECT_EQ(r.triangles.rows(), sphere.num_faces());
-  const Figures fig = check_refinement(p, r);
+  const RefinementFigures fig = check_refinement(p, r);
   EXPECT_EQ(fig.circle_checks, sphere.num_faces());
   EXPECT_LT(fig.circle_error, 1e-10);
   // diag(e^{-u}): the weights of a face's corners are in the ratios of e^{-u}.
@@ -247,28 +246,33 @@ TEST(CommonRefinement, WithoutFlipsThePiecesAreTheInputFacesWithWeightsEToTheMin
 
 TEST(CommonRefinement, ValenceThreeSphereWithStrongConesFlipsBothWays) {
   const Mesh mesh = testing::icosphere_split_near_corners(1, 0.05);
-  const MeshParamResult p = param_vertex_scaling(mesh, {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}});
+  const MeshParamResult p = param_vertex_scaling(
+      mesh, {{0, 1.5 * std::numbers::pi}, {5, 1.5 * std::numbers::pi}, {20, std::numbers::pi}});
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);
   EXPECT_GT(r.isometric_flips, 50);
   EXPECT_GT(r.ptolemy_flips, 5);
   EXPECT_GT(r.delaunay_intrinsic_points, 0);
   EXPECT_GT(r.interior_points, 0);
-  const Figures fig = check_refinement(p, r);
+  const RefinementFigures fig = check_refinement(p, r);
   EXPECT_GT(fig.circle_checks, 100);
   EXPECT_LT(fig.circle_error, 1e-10);
 }
 
 TEST(CommonRefinement, IcosphereWithNegativeConesFlipsDuringTheFlow) {
   const Mesh sphere = make_icosphere(3);
-  const MeshParamResult p = param_vertex_scaling(
-      sphere,
-      {{0, -kPi}, {100, -kPi}, {1, 1.95 * kPi}, {2, 1.95 * kPi}, {3, 1.95 * kPi}, {50, 0.15 * kPi}},
-      1e-10);
+  const MeshParamResult p = param_vertex_scaling(sphere,
+                                                 {{0, -std::numbers::pi},
+                                                  {100, -std::numbers::pi},
+                                                  {1, 1.95 * std::numbers::pi},
+                                                  {2, 1.95 * std::numbers::pi},
+                                                  {3, 1.95 * std::numbers::pi},
+                                                  {50, 0.15 * std::numbers::pi}},
+                                                 1e-10);
   ASSERT_TRUE(p.converged) << p.message;
   const CommonRefinement r = common_refinement(p);
   EXPECT_GT(r.ptolemy_flips, 10);
-  const Figures fig = check_refinement(p, r);
+  const RefinementFigures fig = check_refinement(p, r);
   EXPECT_LT(fig.circle_error, 1e-10);
 }
 
@@ -280,7 +284,7 @@ TEST(CommonRefinement, CadFanWithFreeBoundaryIsCutAlongItsDelaunayTriangulation)
   EXPECT_GT(r.isometric_flips, 40);
   // Every input edge of the fans crosses many Delaunay edges.
   EXPECT_GT(r.input_delaunay_points, 10 * strip.num_faces());
-  const Figures fig = check_refinement(p, r);
+  const RefinementFigures fig = check_refinement(p, r);
   EXPECT_LT(fig.circle_error, 1e-10);
 }
 
@@ -314,7 +318,7 @@ TEST(CommonRefinement, ADiskFlowedOnItsDoubleKeepsItsOwnHalf) {
   EXPECT_GT(r.isometric_flips + r.ptolemy_flips, 100);
   EXPECT_GT(r.triangles.rows(), disk.num_faces());
   for (int f : r.input_face) EXPECT_LT(f, disk.num_faces());
-  const Figures fig = check_refinement(p, r);
+  const RefinementFigures fig = check_refinement(p, r);
   EXPECT_GT(fig.circle_checks, 100);
   EXPECT_LT(fig.circle_error, 1e-10);
 }
@@ -334,7 +338,7 @@ TEST(CommonRefinement, SharedMeshesWithAutomaticCones) {
     const CommonRefinement r = common_refinement(p);
     EXPECT_GT(r.isometric_flips, 100) << m.file;
     EXPECT_GT(r.ptolemy_flips, 10) << m.file;
-    const Figures fig = check_refinement(p, r);
+    const RefinementFigures fig = check_refinement(p, r);
     EXPECT_LT(fig.circle_error, 1e-8) << m.file;
     EXPECT_EQ(r.degenerate_triangles, 0) << m.file;
     ++tested;
@@ -348,7 +352,7 @@ TEST(CommonRefinement, IsTheSameWithAndWithoutTheAnglePolish) {
   const Mesh mesh = make_icosphere(2);
   std::vector<Cone> cones;
   cones.reserve(4);
-  for (int v = 0; v < 4; ++v) cones.push_back({3 * v, kPi});
+  for (int v = 0; v < 4; ++v) cones.push_back({3 * v, std::numbers::pi});
   MeshParamResult polished = param_vertex_scaling(mesh, cones);
   ASSERT_TRUE(polished.converged) << polished.message;
   ASSERT_GT(polished.polish.moved_vertices, 0);

@@ -21,8 +21,6 @@
 namespace ricci::refinement_support {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// Every stage run in order, with what each one handed on (the Context refers to the mesh, the
 /// result and u held here, so the object stays where it was made).
 struct Stages {
@@ -47,7 +45,8 @@ const Stages& stages() {
     ParamOptions options;
     options.structure.scheme = Scheme::VertexScaling;
     options.cone_mode = ConeMode::User;
-    options.cones = {{0, 1.5 * kPi}, {5, 1.5 * kPi}, {20, kPi}};
+    options.cones = {
+        {0, 1.5 * std::numbers::pi}, {5, 1.5 * std::numbers::pi}, {20, std::numbers::pi}};
     options.flow.tolerance = 1e-12;
     s->param = parameterize(testing::icosphere_split_near_corners(1, 0.05), options);
     s->flow = flow_input(s->param);
