@@ -19,6 +19,15 @@ if [ ! -f "$build/compile_commands.json" ]; then
   echo "tidy: $build/compile_commands.json not found (configure the build first)" >&2
   exit 2
 fi
+# A unity build's database names its batches, not the files: configure (only) a tree beside it
+# with the same compiler, type and flags, file by file, and lint with that one's database.
+if grep -q '"file": "[^"]*/Unity/unity_' "$build/compile_commands.json"; then
+  cache() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+  cmake -S . -B "$build/tidy-db" -DRICCI_UNITY_BUILD=OFF -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
+    -DCMAKE_CXX_COMPILER="$(cache CMAKE_CXX_COMPILER)" -DCMAKE_BUILD_TYPE="$(cache CMAKE_BUILD_TYPE)" \
+    -DCMAKE_CXX_FLAGS="$(cache CMAKE_CXX_FLAGS)" >/dev/null
+  build="$build/tidy-db"
+fi
 # Each folder whose files the build compiled (a build without the Python module or the tests has
 # no flags for them).
 sources=('src/*.cpp' 'apps/*.cpp')
