@@ -193,6 +193,16 @@ double weighted_mismatch(const Samples& s, const std::function<double(int)>& fac
   return sum;
 }
 
+// The residuals whose squared norm is weighted_mismatch, for Levenberg-Marquardt.
+Eigen::VectorXd weighted_residuals(const Samples& s,
+                                   const std::function<double(int)>& factor_b_at) {
+  Eigen::VectorXd out(s.weight.size());
+  for (Eigen::Index i = 0; i < out.size(); ++i) {
+    out(i) = std::sqrt(s.weight(i)) * (s.factor(i) - factor_b_at(static_cast<int>(i)));
+  }
+  return out;
+}
+
 // The rotation by |w| about w (the exponential map).
 Eigen::Matrix3d rotation_of(const Eigen::Vector3d& w) {
   const double angle = w.norm();
@@ -292,12 +302,10 @@ Eigen::Matrix3d best_rotation(const CanonicalDomain& a, const Samples& s, const 
   const auto residuals_from = [&](const Eigen::Matrix3d& r0) {
     return [&, r0](const Eigen::VectorXd& w) {
       const Eigen::Matrix3d r = rotation_of(w) * r0;
-      Eigen::VectorXd out(few.weight.size());
-      for (Eigen::Index i = 0; i < out.size(); ++i) {
-        const Eigen::Vector3d x = a.points.row(few.vertex[static_cast<std::size_t>(i)]).transpose();
-        out(i) = std::sqrt(few.weight(i)) * (few.factor(i) - read_factor(locator_b, r * x));
-      }
-      return out;
+      return weighted_residuals(few, [&](int i) {
+        return read_factor(locator_b,
+                           r * a.points.row(few.vertex[static_cast<std::size_t>(i)]).transpose());
+      });
     };
   };
   // The two best starts only: each polish reads the factor a few hundred times.
@@ -653,13 +661,10 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       double score = std::numeric_limits<double>::infinity();
       // Then Levenberg-Marquardt on the residuals (as for the sphere's rotation).
       const auto residuals = [&](const Eigen::VectorXd& t) {
-        Eigen::VectorXd out(few.weight.size());
-        for (Eigen::Index i = 0; i < out.size(); ++i) {
+        return weighted_residuals(few, [&](int i) {
           const Eigen::Vector2d p = few_mapped[static_cast<std::size_t>(i)] + t;
-          out(i) = std::sqrt(few.weight(i)) *
-                   (few.factor(i) - read_factor(locator_b, {p.x(), p.y(), 0}));
-        }
-        return out;
+          return read_factor(locator_b, {p.x(), p.y(), 0});
+        });
       };
       for (std::size_t c = 0; c < 2; ++c) {
         auto [value, t] = starts[c];
