@@ -167,6 +167,7 @@ void flow_doubled(const Topology& t, const ConformalStructure& s, const Target& 
   Doubled d = double_component(t, s, target);
   FlowOptions doubled_options = options;
   doubled_options.start_u.resize(0);  // (a start for the component, not for its double)
+  doubled_options.start_preconditioner = nullptr;
   FlowResult flow = ricci_flow(*d.topology, d.structure, d.target, doubled_options);
   if (!flow.converged) return;
   flow.intrinsic.adopt_input(d.topology);  // the result owns the doubled connectivity
@@ -440,6 +441,7 @@ MeshFlowResult mesh_flow_internal::flow_mesh_keeping_topology(
       const int nv = t.num_vertices, ne = t.num_edges;
       const auto [local, target] = restrict_problem(view, structure, result.target);
       FlowOptions component_options = options.flow;
+      component_options.start_preconditioner = nullptr;  // (the whole mesh's vertices)
       if (options.flow.start_u.size() == whole.num_vertices) {
         component_options.start_u.resize(nv);
         for (int i = 0; i < nv; ++i)

@@ -101,7 +101,11 @@ struct RicciFlow::State {
         target(tg),
         options(o),
         start(Clock::now()),
-        system(o.use_cholmod, o.solver == FlowSolver::Newton) {}
+        system(o.use_cholmod, o.solver == FlowSolver::Newton) {
+    if (o.start_preconditioner && o.solver == FlowSolver::Newton) {
+      system.set_start_preconditioner(o.start_preconditioner, t.num_vertices);
+    }
+  }
 
   /// Flips the current triangulation to the Delaunay one at u (lengths l, updated); its own copy
   /// of the topology is made only when some edge fails the test.
@@ -255,18 +259,18 @@ struct RicciFlow::State {
     if (chord.due(options, system, iteration, history) && chord_step()) return;
     chord.allowed = true;
     system.assemble(*topology, structure, u, lengths, angles, timings);
-    system.ensure_analyzed(timings);
     const Eigen::VectorXd rhs = newton_rhs();
 
     // An earlier factorisation preconditions conjugate gradients well while the Hessian changes
     // little (NewtonSystem::solve_reusing_factor).
     Eigen::VectorXd delta_rows;
     bool solved = false;
-    if (options.reuse_factorization_cg_iterations > 0 && system.factor_matches_pattern()) {
+    if (options.reuse_factorization_cg_iterations > 0 && system.has_preconditioner()) {
       solved = system.solve_reusing_factor(rhs, options.reuse_factorization_cg_iterations,
-                                           delta_rows, timings);
+                                           options.tolerance, delta_rows, timings);
     }
     if (!solved) {
+      system.ensure_analyzed(timings);
       try {
         system.factorize(iteration, timings);
       } catch (const SolverError& e) {

@@ -406,6 +406,7 @@ bool same_cones(const std::vector<Cone>& a, const std::vector<Cone>& b) {
 void start_where_linearised(ParamRun& run, FlowStage& stage) {
   FlowOptions& flow = stage.options.flow;
   flow.start_u.resize(0);
+  flow.start_preconditioner = nullptr;
   const TargetSpec& target = stage.options.target;
   if (!run.cone_model || !run.problem || stage.problem != &*run.problem ||
       target.kind != TargetKind::Flat || run.options.seams != SeamMode::Rigid ||
@@ -415,10 +416,15 @@ void start_where_linearised(ParamRun& run, FlowStage& stage) {
   if (run.start_u.size() == stage.problem->topology.num_vertices &&
       same_cones(target.cones, run.cones)) {
     flow.start_u = run.start_u;
-    return;
+  } else {
+    flow.start_u = stage.problem->structure.structure.initial_u +
+                   linearised_log_factors(*run.cone_model, target.cones);
   }
-  flow.start_u = stage.problem->structure.structure.initial_u +
-                 linearised_log_factors(*run.cone_model, target.cones);
+  // The model's factorisation preconditions the flow's first Newton steps (run keeps the model
+  // through the flow).
+  flow.start_preconditioner = [model = &*run.cone_model](const Eigen::VectorXd& r) {
+    return linearised_inverse(*model, r);
+  };
 }
 
 /// Stage 3: the Ricci flow to the flat metric with the run's cones, with its fallbacks: one

@@ -125,6 +125,13 @@ struct FlowOptions {
   /// whatever this says. A start whose rms |K-bar - K| is not below the initial metric's, or
   /// that breaks a triangle (no flips), is dropped for the initial u.
   Eigen::VectorXd start_u;
+  /// Newton: the inverse of a matrix close to the Hessian, applied to a #V vector (zero at the
+  /// vertices whose u is held; those entries of the result are ignored), e.g. the linearised
+  /// flow's that start_u came from (linearised_inverse). It preconditions conjugate gradients
+  /// until the flow needs a factorisation of its own (reuse_factorization_cg_iterations), which
+  /// then saves the first analysis and factorisation. Used on a flow of the whole mesh only
+  /// (vertex indices of its topology); must stay valid through the flow.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> start_preconditioner;
   FlowProgress progress;  ///< optional callback after each iteration
 };
 

@@ -22,10 +22,18 @@ NewtonSystem::~NewtonSystem() {
 void NewtonSystem::new_pattern(const Topology& t, Geometry geometry, const Target& target,
                                FlowTimings& timings) {
   finish_analysis(timings);
+  const std::vector<int> rows_before = vertex_of_row_;
   build_pattern(t, geometry, target, timings);
+  if (vertex_of_row_ != rows_before) {
+    previous_factor_.reset();
+  } else if (factor_matches_pattern_) {
+    previous_factor_ = std::make_unique<SparseCholesky>(std::move(cholesky_));
+  }  // (else the previous pattern had none of its own: the older one stays)
   cholesky_ = SparseCholesky(use_cholmod_);
   factor_matches_pattern_ = false;
-  start_analysis();
+  // With an earlier factorisation in hand the next steps try conjugate gradients first: this
+  // pattern is analysed only when they need a factorisation of their own (ensure_analyzed).
+  if (!previous_factor_ && !start_preconditioner_) start_analysis();
 }
 
 void NewtonSystem::build_pattern(const Topology& t, Geometry geometry, const Target& target,
@@ -199,9 +207,24 @@ void NewtonSystem::ensure_analyzed(FlowTimings& timings) {
 
 bool NewtonSystem::preconditioned_cg(const Eigen::VectorXd& b, double relative_tolerance,
                                      int max_iterations, Eigen::VectorXd& x) {
+  const SparseCholesky* factor = factor_matches_pattern_ ? &cholesky_ : previous_factor_.get();
+  Eigen::VectorXd on_vertices;  // (the start preconditioner's)
+  auto precondition = [&](const Eigen::VectorXd& residual) -> Eigen::VectorXd {
+    if (factor != nullptr) return factor->solve(residual);
+    on_vertices.setZero(start_vertices_);
+    for (std::size_t i = 0; i < vertex_of_row_.size(); ++i) {
+      on_vertices[vertex_of_row_[i]] = residual[static_cast<Eigen::Index>(i)];
+    }
+    const Eigen::VectorXd solved = start_preconditioner_(on_vertices);
+    Eigen::VectorXd z(residual.size());
+    for (std::size_t i = 0; i < vertex_of_row_.size(); ++i) {
+      z[static_cast<Eigen::Index>(i)] = solved[vertex_of_row_[i]];
+    }
+    return z;
+  };
   x.setZero(b.size());
   Eigen::VectorXd r = b;
-  Eigen::VectorXd z = cholesky_.solve(r);
+  Eigen::VectorXd z = precondition(r);
   Eigen::VectorXd p = z;
   double rz = r.dot(z);
   const double goal = relative_tolerance * b.norm();
@@ -214,7 +237,7 @@ bool NewtonSystem::preconditioned_cg(const Eigen::VectorXd& b, double relative_t
     r -= alpha * Hp;
     ++cg_iterations_;
     if (r.norm() <= goal) return true;
-    z = cholesky_.solve(r);
+    z = precondition(r);
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;
@@ -223,10 +246,13 @@ bool NewtonSystem::preconditioned_cg(const Eigen::VectorXd& b, double relative_t
 }
 
 bool NewtonSystem::solve_reusing_factor(const Eigen::VectorXd& rhs, int max_iterations,
-                                        Eigen::VectorXd& x, FlowTimings& timings) {
+                                        double tolerance, Eigen::VectorXd& x,
+                                        FlowTimings& timings) {
   const auto t0 = Clock::now();
-  const double forcing =
+  const double norm = rhs.norm();
+  double forcing =
       std::clamp(forcing_factor * rhs.cwiseAbs().maxCoeff(), min_forcing, max_forcing);
+  if (norm > 0) forcing = std::max(forcing, std::min(max_forcing, tolerance_share * tolerance / norm));
   const bool solved = preconditioned_cg(rhs, forcing, max_iterations, x);
   timings.solve += seconds_since(t0);
   return solved;
@@ -243,6 +269,8 @@ void NewtonSystem::factorize(int iteration, FlowTimings& timings) {
   ++factorizations_;
   factored_at_ = iteration;
   factor_matches_pattern_ = true;
+  previous_factor_.reset();
+  start_preconditioner_ = nullptr;
   timings.factorization += seconds_since(t0);
 }
 

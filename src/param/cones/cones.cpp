@@ -327,6 +327,19 @@ Eigen::VectorXd linearised_log_factors(const ConeModel& handle, const std::vecto
   return u;
 }
 
+Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorXd& r) {
+  const ConeModelData& model = handle.data();
+  if (r.size() != model.nv) {
+    throw InvalidInput("linearised_inverse: " + std::to_string(r.size()) +
+                       " values for a model of " + std::to_string(model.nv) + " vertices");
+  }
+  Eigen::VectorXd z = model.cholesky.solve(r);
+  for (int v = 0; v < model.nv; ++v) {
+    if (model.held[v]) z[v] = 0;
+  }
+  return z;
+}
+
 namespace {
 
 double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Eigen::VectorXd& u,

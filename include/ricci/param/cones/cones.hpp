@@ -141,6 +141,13 @@ double cone_lower_bound(const ConeModel& model, const ConeSelectionOptions& opti
 /// \throw InvalidInput when a cone's vertex is out of range
 Eigen::VectorXd linearised_log_factors(const ConeModel& model, const std::vector<Cone>& cones);
 
+/// The linearised flow's inverse applied to r (#V): the model's Laplacian, its held vertices
+/// pinned by a penalty, solved with its factorisation; held entries of the result are 0. Near
+/// the flat metric's Hessian away from strong cones, so it preconditions the flow's first Newton
+/// steps (FlowOptions::start_preconditioner) in place of a factorisation of their own.
+/// \throw InvalidInput when r does not have #V entries
+Eigen::VectorXd linearised_inverse(const ConeModel& model, const Eigen::VectorXd& r);
+
 /// The same on a mesh: builds its problem (options.structure) and model, then selects.
 /// \pre the mesh is a single connected component that passed validate_mesh
 /// \throw InvalidInput when options are out of range
