@@ -50,7 +50,7 @@ ParsedObj parse_by_hand(const std::string& path) {
     if (keyword == "v" || keyword == "vt") {
       std::vector<double> row;
       std::string number;
-      // strtod reads %.17g back to the same double.
+      // strtod reads the shortest round-trip text back to the same double.
       while (fields >> number) row.push_back(std::strtod(number.c_str(), nullptr));
       (keyword == "v" ? parsed.positions : parsed.texture_coordinates).push_back(row);
     } else if (keyword == "f") {
@@ -132,7 +132,7 @@ TEST(ObjUv, LinesHaveTheDocumentedForm) {
   std::string line;
   for (int i = 0; i < 4; ++i) std::getline(lines, line);
   std::getline(lines, line);
-  EXPECT_EQ(line, "vt 0.14285714285714285 -0.66666666666666663");
+  EXPECT_EQ(line, "vt 0.14285714285714285 -0.6666666666666666");
   for (int i = 0; i < 5; ++i) std::getline(lines, line);
   std::getline(lines, line);
   EXPECT_EQ(line, "f 1/1 2/2 3/3");

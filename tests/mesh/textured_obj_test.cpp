@@ -72,7 +72,7 @@ TEST(TexturedObj, ReadsWhatWriteObjWrites) {
   EXPECT_EQ(t.mesh.positions, grid.positions);
   EXPECT_EQ(t.mesh.triangles, grid.triangles);
   EXPECT_EQ(t.uv_triangles, grid.triangles);
-  EXPECT_EQ(t.uv, uv);  // written with 17 significant digits: exact
+  EXPECT_EQ(t.uv, uv);  // written in shortest round-trip digits: exact
 }
 
 TEST(TexturedObj, ReadsHomogeneousTextureCoordinates) {

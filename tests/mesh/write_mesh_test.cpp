@@ -115,7 +115,7 @@ TEST(WriteMesh, ObjWithTextureCoordinatesIsWhatWriteObjWritesAndReadsBack) {
   EXPECT_EQ(back.mesh.positions, grid.mesh.positions);
   EXPECT_EQ(back.mesh.triangles, grid.mesh.triangles);
   EXPECT_EQ(back.uv_triangles, grid.uv_triangles);
-  EXPECT_EQ(back.uv, grid.uv);  // 17 significant digits: exact
+  EXPECT_EQ(back.uv, grid.uv);  // shortest round-trip digits: exact
   EXPECT_EQ(back.uv_weights.size(), 0);
 
   // Without texture coordinates: write_obj's plain OBJ.

@@ -179,7 +179,7 @@ struct WriteOptions {
 /// path's extension, atomically (the target is untouched when anything fails):
 /// - Obj: `v`, then (with texture coordinates) `vt` per uv row and `f v/vt`, with
 ///   homogeneous coordinates (uv_weights) `vt u*w v*w w`; the bytes write_obj writes.
-/// - Off: ASCII OFF, positions with 17 significant digits (exact).
+/// - Off: ASCII OFF, positions in the shortest decimal that reads back as the same double (exact).
 /// - Ply: binary little-endian PLY, double positions and int indices (exact).
 /// - Stl: binary STL: positions rounded to float, per-face normals, no vertex sharing (reading
 ///   welds corners at equal positions again); vertices without faces are lost.

@@ -1,4 +1,3 @@
-#include <cstdio>
 #include <ostream>
 #include <string>
 
@@ -17,24 +16,30 @@ void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* 
                     const ObjMaterial& material, const Polygons& polygons) {
   write_file_atomically(path, [&](std::ostream& stream) {
     BlockOutput out(stream);
-    char line[160];
     const bool textured = uv_triangles != nullptr;
     if (textured && !material.library.empty()) {
       const std::string statement = "mtllib " + material.library + "\n";
       out.append(statement.data(), static_cast<int>(statement.size()));
     }
+    // (Numbers by std::to_chars, shortest round trip: the same doubles as %.17g read back,
+    // written several times faster.)
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      out.append(line,
-                 std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", mesh.positions(v, 0),
-                               mesh.positions(v, 1), mesh.positions(v, 2)));
+      out.text("v");
+      for (int c = 0; c < 3; ++c) {
+        out.text(" ");
+        out.number(mesh.positions(v, c));
+      }
+      out.text("\n");
+      out.end_of_item();
     }
     for (Eigen::Index t = 0; textured && t < uv.rows(); ++t) {
-      if constexpr (Columns == 2) {
-        out.append(line, std::snprintf(line, sizeof line, "vt %.17g %.17g\n", uv(t, 0), uv(t, 1)));
-      } else {
-        out.append(line, std::snprintf(line, sizeof line, "vt %.17g %.17g %.17g\n", uv(t, 0),
-                                       uv(t, 1), uv(t, 2)));
+      out.text("vt");
+      for (int c = 0; c < Columns; ++c) {
+        out.text(" ");
+        out.number(uv(t, c));
       }
+      out.text("\n");
+      out.end_of_item();
     }
     if (textured && !material.library.empty()) {
       const std::string statement = "usemtl " + material.name + "\n";
@@ -42,11 +47,11 @@ void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* 
     }
     // One corner " v" or " v/vt" (1-based).
     auto corner = [&](int f, int k) {
+      out.text(" ");
+      out.integer(mesh.triangles(f, k) + 1);
       if (textured) {
-        out.append(line, std::snprintf(line, sizeof line, " %d/%d", mesh.triangles(f, k) + 1,
-                                       (*uv_triangles)(f, k) + 1));
-      } else {
-        out.append(line, std::snprintf(line, sizeof line, " %d", mesh.triangles(f, k) + 1));
+        out.text("/");
+        out.integer((*uv_triangles)(f, k) + 1);
       }
     };
     if (polygons.empty()) {

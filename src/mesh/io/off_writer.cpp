@@ -1,4 +1,3 @@
-#include <cstdio>
 #include <ostream>
 #include <string>
 
@@ -14,22 +13,32 @@ void write_off(const std::string& path, const Mesh& mesh, const Polygons& polygo
         "OFF\n" + std::to_string(mesh.num_vertices()) + " " +
         std::to_string(polygons.empty() ? mesh.num_faces() : polygons.num_polygons()) + " 0\n";
     out.append(header.data(), static_cast<int>(header.size()));
-    char line[96];
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      out.append(line, std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", mesh.positions(v, 0),
-                                     mesh.positions(v, 1), mesh.positions(v, 2)));
+      for (int c = 0; c < 3; ++c) {
+        if (c > 0) out.text(" ");
+        out.number(mesh.positions(v, c));
+      }
+      out.text("\n");
+      out.end_of_item();
     }
     for (int f = 0; polygons.empty() && f < mesh.num_faces(); ++f) {
-      out.append(line, std::snprintf(line, sizeof line, "3 %d %d %d\n", mesh.triangles(f, 0),
-                                     mesh.triangles(f, 1), mesh.triangles(f, 2)));
+      out.text("3");
+      for (int k = 0; k < 3; ++k) {
+        out.text(" ");
+        out.integer(mesh.triangles(f, k));
+      }
+      out.text("\n");
+      out.end_of_item();
     }
     for (int p = 0; p < polygons.num_polygons(); ++p) {
-      out.append(line, std::snprintf(line, sizeof line, "%d", polygons.size(p)));
+      out.integer(polygons.size(p));
       for (int i = polygons.corner_start[p]; i < polygons.corner_start[p + 1]; ++i) {
         const int c = polygons.corners[i];
-        out.append(line, std::snprintf(line, sizeof line, " %d", mesh.triangles(c / 3, c % 3)));
+        out.text(" ");
+        out.integer(mesh.triangles(c / 3, c % 3));
       }
-      out.append("\n", 1);
+      out.text("\n");
+      out.end_of_item();
     }
   });
 }

@@ -229,8 +229,9 @@ SetFit fit_cone_set(ConeSelector& selector, const Eigen::VectorXd* start, bool n
     // From the L2 minimiser to the area distortion's: the gradient of F at it chooses the next
     // cone, so the greedy measures what the texture shows. A start within the bounds (the
     // previous step's minimiser) saves most iterations; `hessian` holds the previous estimate.
-    const ConeObjective objective{model.cholesky,  model.rhs0, s.u0,      *model.topology,
-                                  model.face_area, S,          s.columns, s.smooth};
+    const ConeObjective objective{model.cholesky,  model.rhs0,      s.u0,
+                                  *model.topology, model.face_area, S,
+                                  s.columns,       s.smooth,        &model.vertex_faces};
     if (start && start->size() == m) {
       bool inside =
           std::abs(start->sum() - fit.k.sum()) <= kCurvatureSumSlack * (1 + std::abs(s.total));
@@ -549,8 +550,9 @@ Eigen::VectorXd quantize_in_model(const ConeSelector& selector, const std::vecto
     return value <= s.options.max_curvature + kQuarterTurnSlack &&
            value >= cone_lower_bound(model, s.options, cones[i]) - kQuarterTurnSlack;
   };
-  const ConeObjective objective{model.cholesky,  model.rhs0, s.u0,      *model.topology,
-                                model.face_area, cones,      s.columns, s.smooth};
+  const ConeObjective objective{model.cholesky,  model.rhs0,      s.u0,
+                                *model.topology, model.face_area, cones,
+                                s.columns,       s.smooth,        &model.vertex_faces};
   Eigen::VectorXd u = objective.solve_u(kq);
   double value = objective.value(u, kq);
   for (int move = 0; move < 4 * m + 8; ++move) {

@@ -219,6 +219,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   model.curvature = std::move(linear.curvature);
   model.face_area = std::move(linear.face_area);
   model.area = std::move(linear.area);
+  model.vertex_faces = cone_steps::vertex_faces(t);
   const bool has_boundary = t.num_boundary_loops() > 0;
   model.chi = t.euler_characteristic();
   model.closed = !has_boundary;
@@ -295,8 +296,9 @@ ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& 
   }
   if (options.quantize && result.within_bounds && !S.empty()) {
     k = quantize_in_model(selector, S, k);
-    const ConeObjective objective{model.cholesky,  model.rhs0, selector.u0,      t,
-                                  model.face_area, S,          selector.columns, selector.smooth};
+    const ConeObjective objective{model.cholesky,     model.rhs0, selector.u0,      t,
+                                  model.face_area,    S,          selector.columns, selector.smooth,
+                                  &model.vertex_faces};
     const Eigen::VectorXd u = objective.solve_u(k);
     result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
     result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(model.spread(u))));

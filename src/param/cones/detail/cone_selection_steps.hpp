@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "param/cones/detail/cone_objective.hpp"
 #include "ricci/metric/angles.hpp"
 #include "ricci/numerics/sparse_cholesky.hpp"
 #include "ricci/param/cones/cones.hpp"
@@ -28,6 +29,7 @@ struct ConeModelData {
   std::vector<char> held;  ///< boundary vertices and the gauge, held at u = 0
   Eigen::VectorXd curvature, area, angle_sum, largest_corner;
   Eigen::VectorXd face_area;  ///< each face's share of the 3D area
+  VertexFaces vertex_faces;   ///< of the topology (area_energy in parallel)
   CornerAngles angles;
   Eigen::SparseMatrix<double> A;  ///< L plus the penalty on the held vertices
   SparseCholesky cholesky;
