@@ -23,24 +23,8 @@ void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* 
     }
     // (Numbers by std::to_chars, shortest round trip: the same doubles as %.17g read back,
     // written several times faster.)
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      out.text("v");
-      for (int c = 0; c < 3; ++c) {
-        out.text(" ");
-        out.number(mesh.positions(v, c));
-      }
-      out.text("\n");
-      out.end_of_item();
-    }
-    for (Eigen::Index t = 0; textured && t < uv.rows(); ++t) {
-      out.text("vt");
-      for (int c = 0; c < Columns; ++c) {
-        out.text(" ");
-        out.number(uv(t, c));
-      }
-      out.text("\n");
-      out.end_of_item();
-    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) out.number_line("v ", mesh.positions.row(v));
+    for (Eigen::Index t = 0; textured && t < uv.rows(); ++t) out.number_line("vt ", uv.row(t));
     if (textured && !material.library.empty()) {
       const std::string statement = "usemtl " + material.name + "\n";
       out.append(statement.data(), static_cast<int>(statement.size()));

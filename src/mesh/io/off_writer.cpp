@@ -13,14 +13,7 @@ void write_off(const std::string& path, const Mesh& mesh, const Polygons& polygo
         "OFF\n" + std::to_string(mesh.num_vertices()) + " " +
         std::to_string(polygons.empty() ? mesh.num_faces() : polygons.num_polygons()) + " 0\n";
     out.append(header.data(), static_cast<int>(header.size()));
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      for (int c = 0; c < 3; ++c) {
-        if (c > 0) out.text(" ");
-        out.number(mesh.positions(v, c));
-      }
-      out.text("\n");
-      out.end_of_item();
-    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) out.number_line("", mesh.positions.row(v));
     for (int f = 0; polygons.empty() && f < mesh.num_faces(); ++f) {
       out.text("3");
       for (int k = 0; k < 3; ++k) {

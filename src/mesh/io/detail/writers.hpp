@@ -44,6 +44,18 @@ class BlockOutput {
     const auto end = std::to_chars(text, text + sizeof text, i).ptr;
     bytes_.append(text, static_cast<std::size_t>(end - text));
   }
+  /// One line: `prefix` (e.g. "v "; may be empty), the row's numbers separated by spaces, a
+  /// newline (an item).
+  template <class Row>
+  void number_line(std::string_view prefix, const Row& row) {
+    bytes_.append(prefix);
+    for (Eigen::Index c = 0; c < row.size(); ++c) {
+      if (c > 0) bytes_.push_back(' ');
+      number(row(c));
+    }
+    bytes_.push_back('\n');
+    end_of_item();
+  }
   /// Appends a piece of text (no end_of_item: a line's pieces end with one).
   void text(std::string_view s) { bytes_.append(s); }
   /// The block being filled, for binary values appended directly; call end_of_item after each.
