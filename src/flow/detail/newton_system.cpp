@@ -250,9 +250,9 @@ bool NewtonSystem::solve_reusing_factor(const Eigen::VectorXd& rhs, int max_iter
                                         FlowTimings& timings) {
   const auto t0 = Clock::now();
   const double norm = rhs.norm();
-  double forcing =
-      std::clamp(forcing_factor * rhs.cwiseAbs().maxCoeff(), min_forcing, max_forcing);
-  if (norm > 0) forcing = std::max(forcing, std::min(max_forcing, tolerance_share * tolerance / norm));
+  double forcing = std::clamp(forcing_factor * rhs.cwiseAbs().maxCoeff(), min_forcing, max_forcing);
+  if (norm > 0)
+    forcing = std::max(forcing, std::min(max_forcing, tolerance_share * tolerance / norm));
   const bool solved = preconditioned_cg(rhs, forcing, max_iterations, x);
   timings.solve += seconds_since(t0);
   return solved;

@@ -61,12 +61,12 @@ class NewtonSystem {
   /// The symbolic analysis, when none was made (or started) for this pattern.
   void ensure_analyzed(FlowTimings& timings);
   /// Conjugate gradients on H x = rhs preconditioned with the factorisation in hand (of an
-  /// earlier Hessian, possibly of an earlier pattern: has_preconditioner), to a relative residual proportional to the error (clamped to
-  /// [min_forcing, max_forcing]). Returns false when max_iterations do not reach it.
-  /// A residual of norm at most tolerance_share * tolerance is enough whatever the forcing term
-  /// asks (`tolerance`: the flow's, on max |K-bar - K|): the step's linear error then lies a
-  /// tenth below it. (The last step from 6e-11 to the tolerance 1e-12 took 18 iterations of 0.025
-  /// s on igea to a relative residual of 6e-12, where 2e-3 does.)
+  /// earlier Hessian, possibly of an earlier pattern: has_preconditioner), to a relative residual
+  /// proportional to the error (clamped to [min_forcing, max_forcing]). Returns false when
+  /// max_iterations do not reach it. A residual of norm at most tolerance_share * tolerance is
+  /// enough whatever the forcing term asks (`tolerance`: the flow's, on max |K-bar - K|): the
+  /// step's linear error then lies a tenth below it. (The last step from 6e-11 to the tolerance
+  /// 1e-12 took 18 iterations of 0.025 s on igea to a relative residual of 6e-12, where 2e-3 does.)
   bool solve_reusing_factor(const Eigen::VectorXd& rhs, int max_iterations, double tolerance,
                             Eigen::VectorXd& x, FlowTimings& timings);
   /// The numeric factorisation of H, made at this flow iteration.
