@@ -39,16 +39,6 @@ constexpr double kRelativeDecrease = 1e-8;
 
 }  // namespace
 
-/// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
-///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
-/// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 with Z = sum_f a_f e^{2 u_f}, u_f the mean of u over the
-/// corners of face f (its area scales by e^{2 u_f} when u is linear over it) and a_f its share
-/// of the 3D area: the checker's E. Unlike the L2 norm of u it charges expansion exponentially:
-/// a strong positive cone (u ~ -(k / 2 pi) log r next to it, so area grows like r^(-k / pi))
-/// costs what it costs in the texture, and shrinking costs little. (Per face rather than per
-/// vertex: a cone's own u counts once per vertex but touches deg faces; on spot with 4 cones
-/// the per-vertex form gave the checker's E 1.01, this one 0.92.)
-/// Returns F; `gradient` (optional) gets dF/du.
 VertexFaces vertex_faces(const Topology& t) {
   VertexFaces incidence;
   incidence.offset.assign(static_cast<std::size_t>(t.num_vertices) + 1, 0);
@@ -72,7 +62,7 @@ namespace {
 constexpr std::int64_t kFaceBlock = 8;
 
 /// body(begin, end) over consecutive ranges of [0, n) that start at multiples of kFaceBlock, in
-/// parallel when `parallel` (one range otherwise).
+/// parallel when in_parallel (one range otherwise).
 template <class Body>
 void for_face_blocks(int n, bool in_parallel, Body&& body) {
   if (!in_parallel) {
@@ -91,6 +81,16 @@ void for_face_blocks(int n, bool in_parallel, Body&& body) {
 
 }  // namespace
 
+/// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
+///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
+/// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 with Z = sum_f a_f e^{2 u_f}, u_f the mean of u over the
+/// corners of face f (its area scales by e^{2 u_f} when u is linear over it) and a_f its share
+/// of the 3D area: the checker's E. Unlike the L2 norm of u it charges expansion exponentially:
+/// a strong positive cone (u ~ -(k / 2 pi) log r next to it, so area grows like r^(-k / pi))
+/// costs what it costs in the texture, and shrinking costs little. (Per face rather than per
+/// vertex: a cone's own u counts once per vertex but touches deg faces; on spot with 4 cones
+/// the per-vertex form gave the checker's E 1.01, this one 0.92.)
+/// Returns F; `gradient` (optional) gets dF/du.
 double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Eigen::VectorXd& u,
                    Eigen::VectorXd* gradient, const VertexFaces* incidence) {
   const int nf = t.num_faces;

@@ -322,11 +322,7 @@ Eigen::VectorXd linearised_log_factors(const ConeModel& handle, const std::vecto
     }
     if (!model.held[c.vertex] || c.vertex == model.gauge) rhs[c.vertex] += c.curvature;
   }
-  Eigen::VectorXd u = model.cholesky.solve(rhs);
-  for (int v = 0; v < model.nv; ++v) {
-    if (model.held[v]) u[v] = 0;  // (the penalty holds them at about 1e-10 of their neighbours)
-  }
-  return u;
+  return linearised_inverse(handle, rhs);
 }
 
 Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorXd& r) {
@@ -337,7 +333,7 @@ Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorX
   }
   Eigen::VectorXd z = model.cholesky.solve(r);
   for (int v = 0; v < model.nv; ++v) {
-    if (model.held[v]) z[v] = 0;
+    if (model.held[v]) z[v] = 0;  // (the penalty holds them at about 1e-10 of their neighbours)
   }
   return z;
 }
