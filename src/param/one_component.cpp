@@ -465,6 +465,8 @@ void flow_to_flat(ParamRun& run, FlowStage& stage) {
     result.subdivided = true;
     run.remake_problem(result.mesh);
     stage.problem = &*run.problem;
+    // The start and its preconditioner belonged to the old mesh's model (gone with it): cleared.
+    start_where_linearised(run, stage);
     result.flow = stage.run(stage.kept_topology);
     result.converged = result.flow.converged;
   }
