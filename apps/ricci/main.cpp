@@ -11,6 +11,7 @@
 #include "param_command.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
+#include "ricci/numerics/sparse_cholesky.hpp"
 #ifdef RICCI_HAVE_RENDER
 #include "render_command.hpp"
 #endif
@@ -113,6 +114,9 @@ int run_main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before anything else: OpenBLAS's worker threads spin for their first 0.1 s, a core's worth
+  // on two cores, and ricci never gives them work (sparse_cholesky.hpp).
+  ricci::SparseCholesky::release_blas_threads();
   // What escapes run_main's own handlers (building the option parser, say) is a bug too.
   try {
     return run_main(argc, argv);

@@ -37,9 +37,14 @@ namespace {
 using SetThreads = void (*)(int);
 using GetThreads = int (*)();
 
+using StopThreads = int (*)();
+
 struct OpenBlasThreadControl {
   SetThreads set = nullptr;
   GetThreads get = nullptr;
+  // blas_thread_shutdown_: not in OpenBLAS's documented API, but exported by every 0.3 release
+  // (its fork handler calls it); optional, so a BLAS without it only misses the saving.
+  StopThreads stop = nullptr;
 };
 
 void* find_loaded_symbol(const char* name) {
@@ -71,7 +76,8 @@ const OpenBlasThreadControl& openblas_thread_control() {
     OpenBlasThreadControl c;
     c.set = reinterpret_cast<SetThreads>(find_loaded_symbol("openblas_set_num_threads"));
     c.get = reinterpret_cast<GetThreads>(find_loaded_symbol("openblas_get_num_threads"));
-    if (c.set == nullptr || c.get == nullptr) c = {};
+    if (c.set == nullptr || c.get == nullptr) return OpenBlasThreadControl{};
+    c.stop = reinterpret_cast<StopThreads>(find_loaded_symbol("blas_thread_shutdown_"));
     return c;
   }();
   return control;
@@ -159,6 +165,22 @@ bool SparseCholesky::blas_threads_pinned() {
 #endif
 }
 
+bool SparseCholesky::release_blas_threads() {
+#ifdef RICCI_PIN_BLAS_THREADS
+  const OpenBlasThreadControl& blas = openblas_thread_control();
+  if (blas.set == nullptr) return false;
+  // One thread first: stopped workers are started again by openblas_set_num_threads with more
+  // than one (SingleThreadedBlas's restore would do it mid-run, and they would spin again).
+  const bool had_threads = blas.get() > 1;
+  blas.set(1);
+  if (blas.stop == nullptr || !had_threads) return false;
+  blas.stop();
+  return true;
+#else
+  return false;
+#endif
+}
+
 const char* SparseCholesky::backend() const {
   return impl_->use_cholmod ? "cholmod-supernodal" : "eigen-simplicial-ldlt";
 }
@@ -215,6 +237,16 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
   }
 #endif
   return impl_->eigen.solve(b);
+}
+
+Eigen::MatrixXd SparseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
+#ifdef RICCI_HAVE_CHOLMOD
+  if (impl_->use_cholmod) {
+    [[maybe_unused]] const SingleThreadedBlas one_thread;
+    return impl_->cholmod.solve(B);
+  }
+#endif
+  return impl_->eigen.solve(B);
 }
 
 }  // namespace ricci

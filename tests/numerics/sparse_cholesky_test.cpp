@@ -2,6 +2,8 @@
 
 #include <dlfcn.h>
 
+#include <filesystem>
+#include <iterator>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -86,6 +88,82 @@ TEST(SparseCholesky, BitIdenticalAcrossBlasThreadCounts) {
     EXPECT_TRUE((solutions[k].array() == solutions[0].array()).all())
         << "max difference " << (solutions[k] - solutions[0]).cwiseAbs().maxCoeff();
   }
+}
+
+// A block of right-hand sides solved at once gives each column's solution (to rounding), with
+// CHOLMOD and with Eigen's solver.
+TEST(SparseCholesky, SolvesColumnsAtOnce) {
+  const Eigen::SparseMatrix<double> A = torus_laplacian(30);
+  Eigen::MatrixXd B(A.rows(), 5);
+  for (int j = 0; j < 5; ++j) B.col(j) = Eigen::VectorXd::LinSpaced(A.rows(), -1.0 - j, 2.0 * j);
+  for (const bool use_cholmod : {true, false}) {
+    SparseCholesky cholesky(use_cholmod);
+    cholesky.factorize(A);
+    const Eigen::MatrixXd X = cholesky.solve_columns(B);
+    ASSERT_EQ(X.rows(), A.rows());
+    ASSERT_EQ(X.cols(), 5);
+    for (int j = 0; j < 5; ++j) {
+      const Eigen::VectorXd x = cholesky.solve(B.col(j));
+      EXPECT_LT((X.col(j) - x).norm(), 1e-12 * x.norm()) << cholesky.backend() << " column " << j;
+      EXPECT_LT((A * X.col(j) - B.col(j)).norm(), 1e-9 * B.col(j).norm());
+    }
+  }
+}
+
+/// The number of threads of this process (Linux: the entries of /proc/self/task).
+long thread_count() {
+  const std::filesystem::directory_iterator tasks("/proc/self/task");
+  return std::distance(std::filesystem::begin(tasks), std::filesystem::end(tasks));
+}
+
+// OpenBLAS's workers are stopped (the process loses them) and it stays at one thread; solves
+// after that give the same bits as before, and OpenBLAS still computes on threads when a caller
+// asks for them again.
+TEST(SparseCholesky, ReleasesBlasThreads) {
+  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+  if (!SparseCholesky::blas_threads_pinned()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  using SetThreads = void (*)(int);
+  using GetThreads = int (*)();
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  ASSERT_NE(set, nullptr);
+  ASSERT_NE(get, nullptr);
+  const int initial = get();
+  set(2);  // starts a worker if OpenBLAS had none
+
+  const Eigen::SparseMatrix<double> A = torus_laplacian(40);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
+  SparseCholesky before;
+  before.factorize(A);
+  const Eigen::VectorXd x = before.solve(b);
+
+  const long threads = thread_count();
+  EXPECT_TRUE(SparseCholesky::release_blas_threads());
+  EXPECT_LT(thread_count(), threads) << "the worker is gone";
+  EXPECT_EQ(get(), 1);
+  EXPECT_FALSE(SparseCholesky::release_blas_threads()) << "nothing left to stop";
+
+  SparseCholesky after;
+  after.factorize(A);
+  EXPECT_TRUE((after.solve(b).array() == x.array()).all());
+
+  // Asked for threads again, OpenBLAS restarts its workers and dgemm on them is right.
+  set(2);
+  using Dgemm = void (*)(const char*, const char*, const int*, const int*, const int*,
+                         const double*, const double*, const int*, const double*, const int*,
+                         const double*, double*, const int*);
+  const auto dgemm = reinterpret_cast<Dgemm>(dlsym(RTLD_DEFAULT, "dgemm_"));
+  if (dgemm != nullptr) {
+    const int n = 400;
+    const Eigen::MatrixXd P = Eigen::MatrixXd::Random(n, n), Q = Eigen::MatrixXd::Random(n, n);
+    Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, n);
+    const double one = 1.0, zero = 0.0;
+    dgemm("N", "N", &n, &n, &n, &one, P.data(), &n, Q.data(), &n, &zero, R.data(), &n);
+    EXPECT_LT((R - P * Q).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_GE(thread_count(), threads) << "OpenBLAS started its worker again";
+    EXPECT_EQ(get(), 2);
+  }
+  set(initial);
 }
 
 }  // namespace

@@ -32,6 +32,10 @@ class SparseCholesky {
   void factorize(const Eigen::SparseMatrix<double>& A);
   /// Solves A x = b with the last factorisation.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  /// Solves A X = B for every column of B at once: CHOLMOD's supernodal solve then works on
+  /// blocks of columns (BLAS 3), several times faster per column than one solve each; a column
+  /// may differ from solve()'s in the last bits.
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
 
   bool analyzed() const;
   /// "cholmod-supernodal" or "eigen-simplicial-ldlt".
@@ -41,6 +45,13 @@ class SparseCholesky {
   /// Whether the BLAS under CHOLMOD is OpenBLAS and is held at one thread while CHOLMOD factorises
   /// and solves (false with another BLAS, whose thread count is left alone, or without CHOLMOD).
   static bool blas_threads_pinned();
+  /// For a process that calls the BLAS only through this class (the command line): sets
+  /// OpenBLAS to one thread for good and stops its worker threads (true when there were OpenBLAS
+  /// threads to stop). OpenBLAS starts them when it loads, and each spins in sched_yield for
+  /// about 2^28 cycles (0.1 s) before it sleeps; since the calls here run on one thread (above),
+  /// they never get work, and on a 2-core machine the spinning one competes with ricci's own
+  /// threads for the whole of a small run. Later openblas_set_num_threads calls start them again.
+  static bool release_blas_threads();
 
  private:
   struct Impl;
