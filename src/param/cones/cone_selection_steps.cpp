@@ -190,16 +190,18 @@ std::vector<int> first_cone_candidates(const ConeSelector& selector) {
 int seed_cone(const ConeSelector& selector) {
   const ConeModelData& model = selector.model;
   const std::vector<int> candidates = first_cone_candidates(selector);
+  const int n = static_cast<int>(candidates.size());
+  // One solve for all candidates (a block of right-hand sides).
+  Eigen::MatrixXd rhs = model.rhs0.replicate(1, n);
+  for (int j = 0; j < n; ++j) rhs(candidates[j], j) += selector.total;
+  const Eigen::MatrixXd u = model.cholesky.solve_columns(rhs);
   int best = candidates.front();
   double best_energy = INFINITY;
-  for (int c : candidates) {
-    Eigen::VectorXd rhs = model.rhs0;
-    rhs[c] += selector.total;
-    const Eigen::VectorXd u = model.cholesky.solve(rhs);
-    const double energy = u.dot(model.spread(u));
+  for (int j = 0; j < n; ++j) {
+    const double energy = u.col(j).dot(model.spread(u.col(j)));
     if (energy < best_energy) {
       best_energy = energy;
-      best = c;
+      best = candidates[j];
     }
   }
   return best;
