@@ -1,8 +1,8 @@
 #include "ricci/numerics/predicates.hpp"
 
+#include <array>
 #include <cmath>
 #include <utility>
-#include <vector>
 
 namespace ricci {
 namespace {
@@ -20,32 +20,39 @@ void two_sum(double a, double b, double& x, double& y) {
   y = (a - av) + (b - bv);
 }
 
-/// Adds b to a nonoverlapping expansion (components in increasing magnitude), exactly.
-void grow_expansion(std::vector<double>& h, double b) {
-  double q = b;
-  for (double& component : h) {
-    double sum, error;
-    two_sum(q, component, sum, error);
-    component = error;
-    q = sum;
+/// A nonoverlapping expansion (components in increasing magnitude) of at most 12 components,
+/// on the stack: the exact path runs for every pair of triangles that share a vertex (the
+/// filter cannot decide a zero), so it must not allocate.
+struct Expansion {
+  std::array<double, 12> components{};
+  int size = 0;
+
+  /// Adds b, exactly.
+  void grow(double b) {
+    double q = b;
+    for (int i = 0; i < size; ++i) {
+      double sum, error;
+      two_sum(q, components[i], sum, error);
+      components[i] = error;
+      q = sum;
+    }
+    components[size++] = q;
   }
-  h.push_back(q);
-}
+};
 
 /// Sign of sum over terms of x_i y_i, exact unless a product underflows: each product is split
 /// into its rounded value and its error (fma), and the pieces summed as an expansion, whose sign
 /// is that of its largest nonzero component.
 int exact_sign_of_products(const std::array<std::array<double, 2>, 6>& products) {
-  std::vector<double> h;
-  h.reserve(12);
+  Expansion h;
   for (const auto& [x, y] : products) {
     const double p = x * y;
-    grow_expansion(h, p);
-    grow_expansion(h, std::fma(x, y, -p));
+    h.grow(p);
+    h.grow(std::fma(x, y, -p));
   }
-  for (auto it = h.rbegin(); it != h.rend(); ++it) {
-    if (*it > 0) return 1;
-    if (*it < 0) return -1;
+  for (int i = h.size - 1; i >= 0; --i) {
+    if (h.components[i] > 0) return 1;
+    if (h.components[i] < 0) return -1;
   }
   return 0;
 }
@@ -74,6 +81,8 @@ int orientation_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const E
   const double bound = kOrientationErrorBound * (std::abs(left) + std::abs(right));
   if (det > bound) return 1;
   if (-det > bound) return -1;
+  // Repeated points, the common undecided case (triangles that share a vertex), are exactly 0.
+  if (c == a || c == b || a == b) return 0;
   // det = bx cy - bx ay - ax cy - by cx + by ax + ay cx (the ax ay terms cancel).
   return exact_sign_of_products({{{b.x(), c.y()},
                                   {-b.x(), a.y()},

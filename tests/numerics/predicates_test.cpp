@@ -27,6 +27,20 @@ TEST(OrientationSign, ExactWhereTheNaiveDeterminantRoundsWrongly) {
   EXPECT_GT(naive_wrong, 0);  // the test exercises the exact path
 }
 
+// A repeated point (two triangles sharing a vertex: the common case the filter cannot decide)
+// is collinear whatever the coordinates; distinct points an ulp apart still turn.
+TEST(OrientationSign, RepeatedPointsAreCollinear) {
+  const Eigen::Vector2d a(0.1, 1e-300), b(3e12, -7.25), c(-1.0 / 3, 5e-17);
+  for (const auto& [p, q, r] : {std::array{a, a, b}, std::array{a, b, a}, std::array{b, a, a},
+                                std::array{b, c, c}, std::array{c, c, c}}) {
+    EXPECT_EQ(orientation_sign(p, q, r), 0);
+  }
+  const double ulp = std::ldexp(1.0, -52);
+  EXPECT_EQ(orientation_sign(Eigen::Vector2d(1, 1), Eigen::Vector2d(1 + ulp, 1),
+                             Eigen::Vector2d(1, 1 + ulp)),
+            1);
+}
+
 TEST(OrientationSign, KnownTurnsAndCollinearPoints) {
   const Eigen::Vector2d a(0, 0), b(1, 0);
   EXPECT_EQ(orientation_sign(a, b, Eigen::Vector2d(0, 1)), 1);
