@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -115,6 +117,38 @@ TEST(PolishAngles, ShakenInteriorIsDrawnBackAndTheBoundaryKept) {
   EXPECT_EQ(none.uv, uv);
   EXPECT_EQ(none.sweeps, 0);
   EXPECT_NEAR(none.angle_distortion_after, before.mean_ratio, 1e-12);
+}
+
+// The sweeps relax classes of vertices that share no face in parallel: 1, 2 and 3 threads give
+// the same bits (a 120 x 120 grid: several threads' worth of free vertices in every class).
+TEST(PolishAngles, SameBitsWhateverTheThreadCount) {
+  const Mesh grid = make_grid(120, 120);
+  UV uv = grid.positions.leftCols<2>();
+  const std::set<int> boundary = boundary_of(grid.triangles);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> shake(-0.002, 0.002);  // a quarter of the spacing
+  for (int v = 0; v < uv.rows(); ++v) {
+    if (!boundary.count(v)) uv.row(v) += Eigen::RowVector2d(shake(random), shake(random));
+  }
+  const char* before = std::getenv("RICCI_NUM_THREADS");
+  const std::string saved = before ? before : "";
+  std::vector<PolishResult> results;
+  for (const char* threads : {"1", "2", "3"}) {
+    setenv("RICCI_NUM_THREADS", threads, 1);
+    results.push_back(polish_angles(grid, grid.triangles, uv));
+  }
+  if (before) {
+    setenv("RICCI_NUM_THREADS", saved.c_str(), 1);
+  } else {
+    unsetenv("RICCI_NUM_THREADS");
+  }
+  EXPECT_LT(results[0].angle_distortion_after - 1, 0.1 * (results[0].angle_distortion_before - 1));
+  EXPECT_EQ(results[0].moved_vertices, 119 * 119);
+  for (std::size_t k = 1; k < results.size(); ++k) {
+    EXPECT_TRUE((results[k].uv.array() == results[0].uv.array()).all()) << k + 1 << " threads";
+    EXPECT_EQ(results[k].sweeps, results[0].sweeps);
+    EXPECT_EQ(results[k].angle_distortion_after, results[0].angle_distortion_after);
+  }
 }
 
 // A face drawn flipped with a vertex free to move is unflipped first: the vertex goes where all
