@@ -1,6 +1,7 @@
 # `ricci blender-addon` (apps/ricci/blender_addon_command.cpp): the add-on's Python files
 # (blender/ricci_uv) compiled into the program by cmake/embed_files.cmake, so that it needs no
-# data folder at run time, and libzip to write the zip. Without libzip there is no such command.
+# data folder at run time, and libzip to write the zip (opened on demand, below). Without libzip
+# there is no such command.
 # (pkg-config: Debian's libzip CMake package names tools from another package, /usr/bin/zipcmp.)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP IMPORTED_TARGET libzip)
@@ -26,5 +27,16 @@ add_custom_command(
   VERBATIM)
 target_sources(ricci PRIVATE apps/ricci/blender_addon_command.cpp
                              "${CMAKE_BINARY_DIR}/generated/blender_addon_files.cpp")
-target_link_libraries(ricci PRIVATE PkgConfig::LIBZIP)
-target_compile_definitions(ricci PRIVATE RICCI_HAVE_BLENDER_ADDON=1)
+# libzip is opened when the command runs (dlopen), not loaded with the program: it brings
+# libcrypto, whose relocations cost every other command about 3 ms of start-up. Its headers
+# give the functions' types; its soname, from the library found here, is what is opened.
+file(REAL_PATH "${LIBZIP_LINK_LIBRARIES}" ricci_libzip_file)
+get_filename_component(ricci_libzip_name "${ricci_libzip_file}" NAME)
+string(REGEX MATCH "^libzip\\.so\\.[0-9]+" ricci_libzip_soname "${ricci_libzip_name}")
+if(NOT ricci_libzip_soname)
+  set(ricci_libzip_soname "libzip.so")
+endif()
+target_include_directories(ricci PRIVATE ${LIBZIP_INCLUDE_DIRS})
+target_link_libraries(ricci PRIVATE ${CMAKE_DL_LIBS})
+target_compile_definitions(ricci PRIVATE RICCI_HAVE_BLENDER_ADDON=1
+                                         RICCI_LIBZIP_SONAME="${ricci_libzip_soname}")

@@ -1,6 +1,7 @@
 // `ricci blender-addon`: the Blender add-on ricci_uv as a zip that Blender installs (Preferences >
 // Add-ons > Install): the add-on's Python files (blender/ricci_uv, compiled into this program) and
 // the compiled ricci module for Blender's Python, found beside this program or in its build tree.
+#include <dlfcn.h>
 #include <zip.h>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "commands.hpp"
@@ -91,19 +93,72 @@ fs::path find_python_package(const AddonArgs& args, const char* argv0) {
       "): build it (-DRICCI_BUILD_PYTHON=ON) or name its folder with --python-package");
 }
 
+/// The libzip functions the command calls, opened when it runs (cmake/BlenderAddon.cmake: the
+/// program does not load libzip, nor libcrypto with it, for its other commands).
+struct Libzip {
+  decltype(&zip_open) open = nullptr;
+  decltype(&zip_close) close = nullptr;
+  decltype(&zip_discard) discard = nullptr;
+  decltype(&zip_strerror) strerror = nullptr;
+  decltype(&zip_file_add) file_add = nullptr;
+  decltype(&zip_source_buffer) source_buffer = nullptr;
+  decltype(&zip_source_file) source_file = nullptr;
+  decltype(&zip_source_free) source_free = nullptr;
+  decltype(&zip_error_init_with_code) error_init_with_code = nullptr;
+  decltype(&zip_error_strerror) error_strerror = nullptr;
+  decltype(&zip_error_fini) error_fini = nullptr;
+};
+
+/// Opens libzip once (kept open for the process). \throw IoError naming what is missing
+const Libzip& libzip() {
+  static const Libzip zip = [] {
+    void* handle = dlopen(RICCI_LIBZIP_SONAME, RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      const char* why = dlerror();
+      throw IoError(std::string("blender-addon: cannot open libzip (") + RICCI_LIBZIP_SONAME +
+                    "): " + (why ? why : "not found") + "; install it (apt install libzip4)");
+    }
+    Libzip z;
+    const auto find = [&](auto& function, const char* name) {
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(handle, name));
+      if (function == nullptr) {
+        throw IoError(std::string("blender-addon: libzip (") + RICCI_LIBZIP_SONAME + ") has no " +
+                      name);
+      }
+    };
+    find(z.open, "zip_open");
+    find(z.close, "zip_close");
+    find(z.discard, "zip_discard");
+    find(z.strerror, "zip_strerror");
+    find(z.file_add, "zip_file_add");
+    find(z.source_buffer, "zip_source_buffer");
+    find(z.source_file, "zip_source_file");
+    find(z.source_free, "zip_source_free");
+    find(z.error_init_with_code, "zip_error_init_with_code");
+    find(z.error_strerror, "zip_error_strerror");
+    find(z.error_fini, "zip_error_fini");
+    return z;
+  }();
+  return zip;
+}
+
 /// Closes a zip archive being written without saving it (unless released).
 struct Archive {
+  Archive(const Libzip& library, zip_t* archive) : lib(library), zip(archive) {}
+  const Libzip& lib;
   zip_t* zip = nullptr;
   ~Archive() {
-    if (zip != nullptr) zip_discard(zip);
+    if (zip != nullptr) lib.discard(zip);
   }
+  Archive(const Archive&) = delete;
+  Archive& operator=(const Archive&) = delete;
   [[noreturn]] void fail(const std::string& what) const {
-    throw IoError("blender-addon: " + what + ": " + zip_strerror(zip));
+    throw IoError("blender-addon: " + what + ": " + lib.strerror(zip));
   }
   void add(const std::string& name, zip_source_t* source) {
     if (source == nullptr) fail("cannot read " + name);
-    if (zip_file_add(zip, name.c_str(), source, ZIP_FL_ENC_UTF_8 | ZIP_FL_OVERWRITE) < 0) {
-      zip_source_free(source);
+    if (lib.file_add(zip, name.c_str(), source, ZIP_FL_ENC_UTF_8 | ZIP_FL_OVERWRITE) < 0) {
+      lib.source_free(source);
       fail("cannot add " + name);
     }
   }
@@ -122,19 +177,20 @@ int run_blender_addon(const AddonArgs& args, const char* argv0) {
   const fs::path temporary = target.string() + ".part";
   std::error_code ec;
   fs::remove(temporary, ec);
+  const Libzip& lib = libzip();
   int error = 0;
-  Archive archive{zip_open(temporary.c_str(), ZIP_CREATE | ZIP_EXCL, &error)};
+  Archive archive{lib, lib.open(temporary.c_str(), ZIP_CREATE | ZIP_EXCL, &error)};
   if (archive.zip == nullptr) {
     zip_error_t z;
-    zip_error_init_with_code(&z, error);
-    const std::string why = zip_error_strerror(&z);
-    zip_error_fini(&z);
+    lib.error_init_with_code(&z, error);
+    const std::string why = lib.error_strerror(&z);
+    lib.error_fini(&z);
     throw IoError("blender-addon: cannot write " + temporary.string() + ": " + why);
   }
   int files = 0;
   for (const AddonFile& file : kAddonFiles) {
     archive.add(std::string("ricci_uv/") + file.name,
-                zip_source_buffer(archive.zip, file.bytes, file.size, 0));
+                lib.source_buffer(archive.zip, file.bytes, file.size, 0));
     ++files;
   }
   std::vector<fs::path> module_files;  // in name order: the same zip from the same files
@@ -146,10 +202,10 @@ int run_blender_addon(const AddonArgs& args, const char* argv0) {
   std::sort(module_files.begin(), module_files.end());
   for (const fs::path& file : module_files) {
     archive.add("ricci_uv/ricci/" + file.filename().string(),
-                zip_source_file(archive.zip, file.c_str(), 0, 0 /* to its end */));
+                lib.source_file(archive.zip, file.c_str(), 0, 0 /* to its end */));
     ++files;
   }
-  if (zip_close(archive.zip) < 0) archive.fail("cannot write " + temporary.string());
+  if (lib.close(archive.zip) < 0) archive.fail("cannot write " + temporary.string());
   archive.zip = nullptr;
   fs::rename(temporary, target);
   std::cout << "wrote " << target.string() << ": the add-on ricci_uv (" << files
