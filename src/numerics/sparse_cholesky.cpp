@@ -229,24 +229,28 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   }
 }
 
-Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+namespace {
+
+/// A X = B with the last factorisation, B one column or several (Impl: SparseCholesky::Impl).
+template <class Impl, class Dense>
+Dense solve_dense(const Impl& impl, const Dense& b) {
 #ifdef RICCI_HAVE_CHOLMOD
-  if (impl_->use_cholmod) {
+  if (impl.use_cholmod) {
     [[maybe_unused]] const SingleThreadedBlas one_thread;
-    return impl_->cholmod.solve(b);
+    return impl.cholmod.solve(b);
   }
 #endif
-  return impl_->eigen.solve(b);
+  return impl.eigen.solve(b);
+}
+
+}  // namespace
+
+Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+  return solve_dense(*impl_, b);
 }
 
 Eigen::MatrixXd SparseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
-#ifdef RICCI_HAVE_CHOLMOD
-  if (impl_->use_cholmod) {
-    [[maybe_unused]] const SingleThreadedBlas one_thread;
-    return impl_->cholmod.solve(B);
-  }
-#endif
-  return impl_->eigen.solve(B);
+  return solve_dense(*impl_, B);
 }
 
 }  // namespace ricci

@@ -57,21 +57,34 @@ TEST(SparseCholesky, RefusesAnIndefiniteMatrix) {
   }
 }
 
+/// Tests of OpenBLAS's thread control (found in the process, as sparse_cholesky.cpp finds it):
+/// skipped without CHOLMOD or with another BLAS; the thread count is restored afterwards.
+class OpenBlasThreads : public ::testing::Test {
+ protected:
+  using SetThreads = void (*)(int);
+  using GetThreads = int (*)();
+  void SetUp() override {
+    if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+    if (!SparseCholesky::blas_threads_pinned()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+    set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    ASSERT_NE(set, nullptr);
+    ASSERT_NE(get, nullptr);
+    initial = get();
+  }
+  void TearDown() override {
+    if (set != nullptr) set(initial);
+  }
+  SetThreads set = nullptr;
+  GetThreads get = nullptr;
+  int initial = 1;
+};
+
 // OpenBLAS's threaded kernels sum in a thread-count-dependent order: without the pinning in
 // sparse_cholesky.cpp, CHOLMOD's supernodal solution of this system differs by ~1e-13 between 1 and
 // 2 OpenBLAS threads (measured). With it, the results must be bit-identical and the caller's thread
 // count must be back in place afterwards.
-TEST(SparseCholesky, BitIdenticalAcrossBlasThreadCounts) {
-  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
-  if (!SparseCholesky::blas_threads_pinned()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
-  using SetThreads = void (*)(int);
-  using GetThreads = int (*)();
-  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  ASSERT_NE(set, nullptr);
-  ASSERT_NE(get, nullptr);
-  const int initial = get();
-
+TEST_F(OpenBlasThreads, CholmodIsBitIdenticalAcrossThreadCounts) {
   const Eigen::SparseMatrix<double> A = torus_laplacian(60);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
   std::vector<Eigen::VectorXd> solutions;
@@ -82,7 +95,6 @@ TEST(SparseCholesky, BitIdenticalAcrossBlasThreadCounts) {
     solutions.push_back(cholesky.solve(b));
     EXPECT_EQ(get(), threads) << "the caller's BLAS thread count is restored";
   }
-  set(initial);
   for (std::size_t k = 1; k < solutions.size(); ++k) {
     // Bit for bit: == on doubles, no tolerance.
     EXPECT_TRUE((solutions[k].array() == solutions[0].array()).all())
@@ -119,16 +131,7 @@ long thread_count() {
 // OpenBLAS's workers are stopped (the process loses them) and it stays at one thread; solves
 // after that give the same bits as before, and OpenBLAS still computes on threads when a caller
 // asks for them again.
-TEST(SparseCholesky, ReleasesBlasThreads) {
-  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
-  if (!SparseCholesky::blas_threads_pinned()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
-  using SetThreads = void (*)(int);
-  using GetThreads = int (*)();
-  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  ASSERT_NE(set, nullptr);
-  ASSERT_NE(get, nullptr);
-  const int initial = get();
+TEST_F(OpenBlasThreads, ReleasedThreadsStopAndComeBackOnDemand) {
   set(2);  // starts a worker if OpenBLAS had none
 
   const Eigen::SparseMatrix<double> A = torus_laplacian(40);
@@ -163,7 +166,6 @@ TEST(SparseCholesky, ReleasesBlasThreads) {
     EXPECT_GE(thread_count(), threads) << "OpenBLAS started its worker again";
     EXPECT_EQ(get(), 2);
   }
-  set(initial);
 }
 
 }  // namespace
