@@ -36,7 +36,6 @@ namespace {
 
 using SetThreads = void (*)(int);
 using GetThreads = int (*)();
-
 using StopThreads = int (*)();
 
 struct OpenBlasThreadControl {
