@@ -177,13 +177,20 @@ void refine_few_cones(ParamRun& run) {
   for (std::size_t i = 0; i < level.vertices.size(); ++i) {
     level_cones.push_back({level.vertices[i], level.linear_curvature[i]});
   }
-  // Each candidate's flat metric first; only the less distorting one is refined.
+  // Each candidate's flat metric first; only the less distorting one is refined. The two flows
+  // are independent: the level cones' runs beside (these meshes are small, so each flow keeps to
+  // one thread), unless the caller's flow options hold a preconditioner, which may not be called
+  // from two threads at once.
   CurvatureRefinementOptions measure_only;
   measure_only.max_steps = 0;
+  const auto measure_level = [&] {
+    return refine_cone_curvatures(problem, level_cones, options.flow, measure_only);
+  };
+  std::future<CurvatureRefinement> placed_beside;
+  if (!options.flow.start_preconditioner) placed_beside = parallel::run_beside(measure_level);
   const CurvatureRefinement selected =
       refine_cone_curvatures(problem, run.cones, options.flow, measure_only);
-  const CurvatureRefinement placed =
-      refine_cone_curvatures(problem, level_cones, options.flow, measure_only);
+  const CurvatureRefinement placed = placed_beside.valid() ? placed_beside.get() : measure_level();
   const bool take_level =
       placed.converged && (!selected.converged || placed.area_energy < selected.area_energy);
   ConeRefinementReport& report = run.result.cone_refinement;

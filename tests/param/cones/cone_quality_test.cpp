@@ -2,7 +2,9 @@
 // angle distortion) on the final parameterization: the behaviour docs/cones.md tabulates.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -124,6 +126,31 @@ TEST(ConeQuality, BeatsBffOnSpotAndBunny) {
     EXPECT_LT(r.distortion.area_distortion_energy, row.bff_e) << row.file << " " << row.cones;
     EXPECT_LE(face_mean_angle_distortion(r), row.bff_angle) << row.file << " " << row.cones;
   }
+}
+
+// Few cones on a generated genus-2 surface: the refinement measures its two candidate sets with
+// one flow each, side by side on two threads; one thread or two, the map is the same bits.
+TEST(ConeQuality, FewConesRefinementIsTheSameOnOneThreadOrTwo) {
+  const Mesh surface = make_closed_surface(2);
+  const char* before = std::getenv("RICCI_NUM_THREADS");
+  const std::string saved = before ? before : "";
+  std::vector<MeshParamResult> results;
+  for (const char* threads : {"1", "2"}) {
+    setenv("RICCI_NUM_THREADS", threads, 1);
+    results.push_back(with_cones(surface, 2, ConeSelectionOptions{}.smoothness));
+  }
+  if (before) {
+    setenv("RICCI_NUM_THREADS", saved.c_str(), 1);
+  } else {
+    unsetenv("RICCI_NUM_THREADS");
+  }
+  ASSERT_TRUE(results[0].converged);
+  ASSERT_EQ(results[0].routes.size(), 1U);
+  EXPECT_TRUE(results[0].routes[0].pipeline.cone_refinement.ran);
+  EXPECT_EQ(results[1].cones.size(), results[0].cones.size());
+  EXPECT_TRUE((results[1].layout.uv.array() == results[0].layout.uv.array()).all());
+  EXPECT_EQ(results[1].distortion.area_distortion_energy,
+            results[0].distortion.area_distortion_energy);
 }
 
 // The exact peer (CEPS, flat metrics with cones as ours) at its own cone count on the shared
