@@ -12,6 +12,7 @@
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "support/scoped_threads.hpp"
 #include "support/shared_meshes.hpp"
 
 namespace ricci {
@@ -132,17 +133,10 @@ TEST(ConeQuality, BeatsBffOnSpotAndBunny) {
 // one flow each, side by side on two threads; one thread or two, the map is the same bits.
 TEST(ConeQuality, FewConesRefinementIsTheSameOnOneThreadOrTwo) {
   const Mesh surface = make_closed_surface(2);
-  const char* before = std::getenv("RICCI_NUM_THREADS");
-  const std::string saved = before ? before : "";
   std::vector<MeshParamResult> results;
   for (const char* threads : {"1", "2"}) {
-    setenv("RICCI_NUM_THREADS", threads, 1);
+    const testing::ScopedThreads scoped(threads);
     results.push_back(with_cones(surface, 2, ConeSelectionOptions{}.smoothness));
-  }
-  if (before) {
-    setenv("RICCI_NUM_THREADS", saved.c_str(), 1);
-  } else {
-    unsetenv("RICCI_NUM_THREADS");
   }
   ASSERT_TRUE(results[0].converged);
   ASSERT_EQ(results[0].routes.size(), 1U);

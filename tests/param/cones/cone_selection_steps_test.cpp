@@ -13,6 +13,7 @@
 #include "ricci/flow/flow_problem.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/mesh/topology.hpp"
+#include "support/scoped_threads.hpp"
 
 namespace ricci {
 namespace {
@@ -215,20 +216,13 @@ TEST(AreaEnergy, ParallelPassesGiveTheSequentialBits) {
   Eigen::VectorXd sequential_gradient;
   const double sequential = cone_steps::area_energy(t, area, u, &sequential_gradient);
   const VertexFaces incidence = vertex_faces(t);
-  const char* before = std::getenv("RICCI_NUM_THREADS");
-  const std::string saved = before ? before : "";
   for (const char* threads : {"1", "2", "3"}) {
-    setenv("RICCI_NUM_THREADS", threads, 1);
+    const testing::ScopedThreads scoped(threads);
     Eigen::VectorXd gradient;
     EXPECT_EQ(cone_steps::area_energy(t, area, u, &gradient, &incidence), sequential) << threads;
     EXPECT_EQ(cone_steps::area_energy(t, area, u, nullptr, &incidence), sequential) << threads;
     ASSERT_EQ(gradient.size(), sequential_gradient.size());
     EXPECT_TRUE((gradient.array() == sequential_gradient.array()).all()) << threads;
-  }
-  if (before) {
-    setenv("RICCI_NUM_THREADS", saved.c_str(), 1);
-  } else {
-    unsetenv("RICCI_NUM_THREADS");
   }
 }
 

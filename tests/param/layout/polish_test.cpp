@@ -19,6 +19,7 @@
 #include "ricci/errors.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/param/parameterize.hpp"
+#include "support/scoped_threads.hpp"
 
 namespace ricci {
 namespace {
@@ -130,17 +131,10 @@ TEST(PolishAngles, SameBitsWhateverTheThreadCount) {
   for (int v = 0; v < uv.rows(); ++v) {
     if (!boundary.count(v)) uv.row(v) += Eigen::RowVector2d(shake(random), shake(random));
   }
-  const char* before = std::getenv("RICCI_NUM_THREADS");
-  const std::string saved = before ? before : "";
   std::vector<PolishResult> results;
   for (const char* threads : {"1", "2", "3"}) {
-    setenv("RICCI_NUM_THREADS", threads, 1);
+    const testing::ScopedThreads scoped(threads);
     results.push_back(polish_angles(grid, grid.triangles, uv));
-  }
-  if (before) {
-    setenv("RICCI_NUM_THREADS", saved.c_str(), 1);
-  } else {
-    unsetenv("RICCI_NUM_THREADS");
   }
   EXPECT_LT(results[0].angle_distortion_after - 1, 0.1 * (results[0].angle_distortion_before - 1));
   EXPECT_EQ(results[0].moved_vertices, 119 * 119);
