@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -52,6 +53,14 @@ VertexFaces vertex_faces(const Topology& t) {
     for (int c = 0; c < 3; ++c) incidence.faces[fill[t.triangles(f, c)]++] = f;
   }
   return incidence;
+}
+
+Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x) {
+  Eigen::VectorXd means(t.num_faces);
+  for (int f = 0; f < t.num_faces; ++f) {
+    means[f] = (x[t.triangles(f, 0)] + x[t.triangles(f, 1)] + x[t.triangles(f, 2)]) / 3;
+  }
+  return means;
 }
 
 namespace {
@@ -136,6 +145,85 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
   return std::log(s4) - 2 * std::log(s2);
 }
 
+namespace {
+
+/// evaluate's passes over the faces work in blocks of this many faces (a multiple of
+/// kFaceBlock), each block's sums kept apart and added in block order afterwards: the same
+/// sums whatever the thread count, with a block's u_f, e^{2 u_f} and columns in cache.
+constexpr int kEvaluationBlock = 2048;
+
+}  // namespace
+
+ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
+  const int m = static_cast<int>(S.size());
+  ObjectiveValue out;
+  if (!on_faces()) {
+    const Eigen::VectorXd u = solve_u(k);
+    Eigen::VectorXd dfdu;
+    out.value = value(u, k, &dfdu);
+    out.gradient = gradient(u, dfdu);
+    return out;
+  }
+  const int nf = t.num_faces;
+  const int blocks = (nf + kEvaluationBlock - 1) / kEvaluationBlock;
+  const bool in_parallel = incidence != nullptr;
+  auto for_blocks = [&](auto&& body) {
+    auto run = [&](std::int64_t b, std::int64_t e, int) {
+      for (std::int64_t block = b; block < e; ++block) {
+        const int begin = static_cast<int>(block) * kEvaluationBlock;
+        body(static_cast<int>(block), begin, std::min(nf, begin + kEvaluationBlock) - begin);
+      }
+    };
+    if (in_parallel) {
+      parallel::for_chunks(blocks, run, parallel::kDefaultMinChunk / kEvaluationBlock);
+    } else {
+      run(0, blocks, 0);
+    }
+  };
+  // Pass 1: u_f and each block's largest (e^{4 (u_f - top)} cannot overflow).
+  Eigen::ArrayXd uf(nf);
+  std::vector<double> block_top(static_cast<std::size_t>(blocks));
+  for_blocks([&](int block, int begin, int n) {
+    auto segment = uf.segment(begin, n);
+    segment = u0_faces->array().segment(begin, n);
+    for (int i = 0; i < m; ++i) segment += k[i] * columns[i].faces.array().segment(begin, n);
+    block_top[block] = segment.maxCoeff();
+  });
+  const double top = *std::max_element(block_top.begin(), block_top.end());
+  // Pass 2: e2 = a e^{2 (u_f - top)}, e4 = a e^{4 (u_f - top)}, their sums, and their sums
+  // against each column (dF/dk_i = 4 sum_f g_i,f (e4_f / s4 - e2_f / s2)).
+  Eigen::MatrixXd sums(2 * m + 2, blocks);
+  for_blocks([&](int block, int begin, int n) {
+    const Eigen::ArrayXd scale = (2 * (uf.segment(begin, n) - top)).exp();
+    const Eigen::ArrayXd e2 = scale * face_area.array().segment(begin, n);
+    const Eigen::ArrayXd e4 = scale * e2;
+    sums(0, block) = e2.sum();
+    sums(1, block) = e4.sum();
+    for (int i = 0; i < m; ++i) {
+      const auto column = columns[i].faces.array().segment(begin, n);
+      sums(2 + i, block) = (column * e2).sum();
+      sums(2 + m + i, block) = (column * e4).sum();
+    }
+  });
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(2 * m + 2);
+  for (int block = 0; block < blocks; ++block) total += sums.col(block);
+  const double s2 = total[0], s4 = total[1];
+  // u at the cones and D = u . rhs0 + u_S . k, without u.
+  const Eigen::VectorXd u_cones = [&] {
+    Eigen::VectorXd u_s(m);
+    for (int i = 0; i < m; ++i) u_s[i] = u0[S[i]];
+    return Eigen::VectorXd(u_s + *green * k);
+  }();
+  double dirichlet = u0_rhs0;
+  for (int i = 0; i < m; ++i) dirichlet += k[i] * columns[i].rhs0_dot + u_cones[i] * k[i];
+  out.value = std::log(s4) - 2 * std::log(s2) + smooth * dirichlet;
+  out.gradient.resize(m);
+  for (int i = 0; i < m; ++i) {
+    out.gradient[i] = 4 * (total[2 + m + i] / s4 - total[2 + i] / s2) + 2 * smooth * u_cones[i];
+  }
+  return out;
+}
+
 /// Curvatures k of the cones S minimising the ConeObjective subject to lo <= k <= hi and, on a
 /// closed surface, sum k = total: a quasi-Newton method (BFGS started from the objective's
 /// Hessian at u = 0: 8 M for log(1 + E), M = G_S^T P G_S the Hessian of J, plus 2 smooth green)
@@ -151,14 +239,24 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
                                         Eigen::VectorXd& k, Eigen::MatrixXd& B,
                                         Eigen::VectorXd* gradient_all, double& value) {
   const int m = static_cast<int>(objective.S.size());
-  Eigen::VectorXd u = objective.solve_u(k);
-  Eigen::VectorXd dfdu;
-  value = objective.value(u, k, &dfdu);
-  if (m == 0) {
-    if (gradient_all) *gradient_all = objective.gradient_everywhere(u, dfdu);
+  // u itself (and dF/du at every vertex) only at the minimiser.
+  auto finish = [&] {
+    const Eigen::VectorXd u = objective.solve_u(k);
+    if (gradient_all) {
+      Eigen::VectorXd dfdu;
+      area_energy(objective.t, objective.face_area, u, &dfdu, objective.incidence);
+      *gradient_all = objective.gradient_everywhere(u, dfdu);
+    }
     return u;
+  };
+  if (m == 0) {
+    const Eigen::VectorXd u = objective.solve_u(k);
+    value = objective.value(u, k);
+    return finish();
   }
-  Eigen::VectorXd g = objective.gradient(u, dfdu);
+  ObjectiveValue at = objective.evaluate(k);
+  value = at.value;
+  Eigen::VectorXd g = std::move(at.gradient);
   // The previous greedy step's estimate for the cones it had (B enters with those rows), the
   // model's Hessian at u = 0 for the new ones; the model's alone if that is not positive definite.
   Eigen::MatrixXd model_hessian = 8 * M + 2 * objective.smooth * green;
@@ -183,16 +281,17 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     const double slope = g.dot(direction);
     if (!(slope < 0)) break;
     double step = 1;
-    Eigen::VectorXd k_new, u_new, dfdu_new;
-    double value_new = INFINITY;
+    Eigen::VectorXd k_new;
+    ObjectiveValue trial;
+    trial.value = INFINITY;
     for (int tries = 0; tries < kBacktracks; ++tries, step *= kBacktrackFactor) {
       k_new = k + step * direction;
-      u_new = objective.solve_u(k_new);
-      value_new = objective.value(u_new, k_new, &dfdu_new);
-      if (value_new <= value + kArmijo * step * slope) break;
+      trial = objective.evaluate(k_new);
+      if (trial.value <= value + kArmijo * step * slope) break;
     }
+    const double value_new = trial.value;
     if (!(value_new < value)) break;
-    const Eigen::VectorXd g_new = objective.gradient(u_new, dfdu_new);
+    const Eigen::VectorXd& g_new = trial.gradient;
     const Eigen::VectorXd s = k_new - k, y = g_new - g;
     const double sy = s.dot(y);
     if (sy > kCurvatureCondition * s.norm() * y.norm()) {
@@ -201,14 +300,11 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     }
     const double decrease = value - value_new;
     k = k_new;
-    u = std::move(u_new);
-    dfdu = std::move(dfdu_new);
     g = g_new;
     value = value_new;
     if (decrease <= kRelativeDecrease * (1 + std::abs(value))) break;
   }
-  if (gradient_all) *gradient_all = objective.gradient_everywhere(u, dfdu);
-  return u;
+  return finish();
 }
 
 }  // namespace ricci::cone_steps

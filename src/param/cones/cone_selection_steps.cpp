@@ -100,6 +100,8 @@ ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionO
   ConeSelector selector(model, options);
   selector.u0 = model.cholesky.solve(model.rhs0);
   selector.Pu0 = model.spread(selector.u0);
+  selector.u0_faces = face_means(t, selector.u0);
+  selector.u0_rhs0 = selector.u0.dot(model.rhs0);
   selector.upper = options.max_curvature;
   selector.neighbours = vertex_neighbours(t);
   selector.separation = kSeparationRings;
@@ -122,6 +124,17 @@ ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionO
   return selector;
 }
 
+ConeObjective cone_objective(const ConeSelector& selector, const std::vector<int>& cones) {
+  const ConeSelector& s = selector;
+  const ConeModelData& model = s.model;
+  ConeObjective objective{model.cholesky, model.rhs0, s.u0,     *model.topology,    model.face_area,
+                          cones,          s.columns,  s.smooth, &model.vertex_faces};
+  objective.u0_faces = &s.u0_faces;
+  objective.u0_rhs0 = s.u0_rhs0;
+  if (&cones == &s.S) objective.green = &s.green;
+  return objective;
+}
+
 void add_cone(ConeSelector& selector, int v) {
   ConeSelector& s = selector;
   const ConeModelData& model = s.model;
@@ -133,12 +146,14 @@ void add_cone(ConeSelector& selector, int v) {
   const Eigen::VectorXd Pg = model.spread(g);
   const bool keep = static_cast<double>(nv) * (m + 1) <= kColumnValues &&
                     s.columns.size() == static_cast<std::size_t>(m);
+  const int nf = model.topology->num_faces;
+  const bool keep_faces = keep && static_cast<double>(nv + nf) * (m + 1) <= kColumnValues;
   s.M.conservativeResize(m + 1, m + 1);
   s.green.conservativeResize(m + 1, m + 1);
   s.r.conservativeResize(m + 1);
   if (keep) {
     // M_im = g_i^T P g_m (= (A^-1 P g_m)_{S_i}: A is symmetric).
-    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = s.columns[i].dot(Pg);
+    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = s.columns[i].g.dot(Pg);
     s.M(m, m) = g.dot(Pg);
   } else {
     s.columns.clear();
@@ -150,7 +165,13 @@ void add_cone(ConeSelector& selector, int v) {
   s.is_cone[v] = 1;
   for (int i = 0; i <= m; ++i) s.green(i, m) = s.green(m, i) = g[s.S[i]];
   s.r[m] = g.dot(s.Pu0);
-  if (keep) s.columns.push_back(std::move(g));
+  if (keep) {
+    ConeColumn column;
+    if (keep_faces) column.faces = face_means(*model.topology, g);
+    column.rhs0_dot = g.dot(model.rhs0);
+    column.g = std::move(g);
+    s.columns.push_back(std::move(column));
+  }
   grow_rings(s.neighbours, v, s.separation, s.ring);
 }
 
@@ -231,9 +252,7 @@ SetFit fit_cone_set(ConeSelector& selector, const Eigen::VectorXd* start, bool n
     // From the L2 minimiser to the area distortion's: the gradient of F at it chooses the next
     // cone, so the greedy measures what the texture shows. A start within the bounds (the
     // previous step's minimiser) saves most iterations; `hessian` holds the previous estimate.
-    const ConeObjective objective{model.cholesky,  model.rhs0,      s.u0,
-                                  *model.topology, model.face_area, S,
-                                  s.columns,       s.smooth,        &model.vertex_faces};
+    const ConeObjective objective = cone_objective(s, S);
     if (start && start->size() == m) {
       bool inside =
           std::abs(start->sum() - fit.k.sum()) <= kCurvatureSumSlack * (1 + std::abs(s.total));
@@ -438,7 +457,7 @@ struct ConeSetBackup {
   std::vector<int> ring;
   int removed = -1;
   bool had_columns = false;
-  Eigen::VectorXd removed_column;
+  ConeColumn removed_column;
 };
 
 /// Takes cone i out of the set (its rows of M, green, r, the Hessian and its column); returns
@@ -552,9 +571,7 @@ Eigen::VectorXd quantize_in_model(const ConeSelector& selector, const std::vecto
     return value <= s.options.max_curvature + kQuarterTurnSlack &&
            value >= cone_lower_bound(model, s.options, cones[i]) - kQuarterTurnSlack;
   };
-  const ConeObjective objective{model.cholesky,  model.rhs0,      s.u0,
-                                *model.topology, model.face_area, cones,
-                                s.columns,       s.smooth,        &model.vertex_faces};
+  const ConeObjective objective = cone_objective(s, cones);
   Eigen::VectorXd u = objective.solve_u(kq);
   double value = objective.value(u, kq);
   for (int move = 0; move < 4 * m + 8; ++move) {

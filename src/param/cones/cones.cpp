@@ -296,9 +296,7 @@ ConeSelection select_cones(const ConeModel& handle, const ConeSelectionOptions& 
   }
   if (options.quantize && result.within_bounds && !S.empty()) {
     k = quantize_in_model(selector, S, k);
-    const ConeObjective objective{model.cholesky,     model.rhs0, selector.u0,      t,
-                                  model.face_area,    S,          selector.columns, selector.smooth,
-                                  &model.vertex_faces};
+    const ConeObjective objective = cone_steps::cone_objective(selector, S);
     const Eigen::VectorXd u = objective.solve_u(k);
     result.area_energy = std::expm1(area_energy(t, model.face_area, u, nullptr));
     result.log_scale_rms = std::sqrt(std::max(0.0, u.dot(model.spread(u))));

@@ -21,6 +21,9 @@ struct VertexFaces {
 };
 VertexFaces vertex_faces(const Topology& t);
 
+/// x's mean over the corners of each face ((x_a + x_b + x_c) / 3, as area_energy takes u_f).
+Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x);
+
 /// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
 ///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
 /// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 with Z = sum_f a_f e^{2 u_f}, u_f the mean of u over the
@@ -35,6 +38,22 @@ VertexFaces vertex_faces(const Topology& t);
 /// the same order as the sequential passes (the same bits whatever the thread count).
 double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Eigen::VectorXd& u,
                    Eigen::VectorXd* gradient, const VertexFaces* incidence = nullptr);
+
+/// A cone's column of A^-1 (g = A^-1 e_s: how u answers a unit of curvature there), with what
+/// the objective's evaluations read of it: its mean over each face and g . rhs0. `faces` is
+/// empty when the selection cannot afford #F more doubles per cone (then the evaluations work on
+/// the vertices).
+struct ConeColumn {
+  Eigen::VectorXd g;
+  Eigen::VectorXd faces;
+  double rhs0_dot = 0;
+};
+
+/// An evaluation of the ConeObjective at curvatures k: its value and gradient in k.
+struct ObjectiveValue {
+  double value = 0;
+  Eigen::VectorXd gradient;
+};
 
 /// The objective the cone curvatures minimise: log(1 + E) of the linearised flat metric plus
 /// `smooth` times its Dirichlet energy D = sum over edges of w_ij (u_i - u_j)^2 = u^T L u. The
@@ -53,18 +72,35 @@ struct ConeObjective {
   const Topology& t;
   const Eigen::VectorXd& face_area;
   const std::vector<int>& S;
-  /// A^-1 e_s for the cones, when kept (then u and the cones' gradient take no
-  /// solve); empty when they would take too much memory.
-  const std::vector<Eigen::VectorXd>& columns;
+  /// The cones' columns, when kept (then u and the cones' gradient take no solve); empty when
+  /// they would take too much memory.
+  const std::vector<ConeColumn>& columns;
   double smooth = 0;
   /// The model's vertex_faces: area_energy in parallel (null: sequential).
   const VertexFaces* incidence = nullptr;
+  /// u0's mean over each face and u0 . rhs0: with every column's `faces` an evaluation never
+  /// touches the vertices (u_f = u0_f + sum_i k_i g_i,f), see evaluate.
+  const Eigen::VectorXd* u0_faces = nullptr;
+  double u0_rhs0 = 0;
+  /// A^-1 restricted to S (green(i, j) = g_j at S_i): u at the cones without u.
+  const Eigen::MatrixXd* green = nullptr;
 
   bool has_columns() const { return !S.empty() && columns.size() == S.size(); }
+  /// Whether evaluate works on the faces alone.
+  bool on_faces() const {
+    if (!has_columns() || u0_faces == nullptr || green == nullptr ||
+        green->rows() != static_cast<Eigen::Index>(S.size())) {
+      return false;
+    }
+    for (const ConeColumn& c : columns) {
+      if (c.faces.size() != t.num_faces) return false;
+    }
+    return true;
+  }
   Eigen::VectorXd solve_u(const Eigen::VectorXd& k) const {
     if (has_columns()) {
       Eigen::VectorXd u = u0;
-      for (std::size_t i = 0; i < S.size(); ++i) u += k[static_cast<int>(i)] * columns[i];
+      for (std::size_t i = 0; i < S.size(); ++i) u += k[static_cast<int>(i)] * columns[i].g;
       return u;
     }
     Eigen::VectorXd rhs = rhs0;
@@ -84,7 +120,7 @@ struct ConeObjective {
     const int m = static_cast<int>(S.size());
     Eigen::VectorXd g(m);
     if (has_columns()) {
-      for (int i = 0; i < m; ++i) g[i] = columns[i].dot(dfdu) + 2 * smooth * u[S[i]];
+      for (int i = 0; i < m; ++i) g[i] = columns[i].g.dot(dfdu) + 2 * smooth * u[S[i]];
     } else {
       const Eigen::VectorXd all = cholesky.solve(dfdu);
       for (int i = 0; i < m; ++i) g[i] = all[S[i]] + 2 * smooth * u[S[i]];
@@ -97,6 +133,11 @@ struct ConeObjective {
     area_energy(t, face_area, u, &dfdu, incidence);
     return gradient(u, dfdu);
   }
+  /// The value and the gradient in k at k. On the faces (on_faces()) two passes over the faces'
+  /// columns (#F x #S) and no per-vertex work: u_f = u0_f + sum_i k_i g_i,f; dF/dk_i =
+  /// sum_f dF/du_f g_i,f; D from g_i . rhs0 and green. Otherwise through u (solve_u, value,
+  /// gradient). Either way the same whatever the thread count.
+  ObjectiveValue evaluate(const Eigen::VectorXd& k) const;
   /// d/dk at every vertex (a cone of curvature 0 there included): A^-1 dF/du + 2 smooth u,
   /// given dF/du at u.
   Eigen::VectorXd gradient_everywhere(const Eigen::VectorXd& u, const Eigen::VectorXd& dfdu) const {

@@ -82,9 +82,12 @@ struct ConeSelector {
   /// corners: 6 flipped faces, 2 with this). They are candidates only when no other vertex is.
   std::vector<char> on_sliver;
   /// The cones' columns of A^-1, kept while they fit in kColumnValues doubles (the objective's
-  /// iterations then take no solve, and M comes from dot products); empty otherwise.
-  std::vector<Eigen::VectorXd> columns;
-  Eigen::MatrixXd hessian;  ///< the objective's quasi-Newton Hessian at the previous fit
+  /// iterations then take no solve, and M comes from dot products); empty otherwise. Their means
+  /// over the faces too while those fit as well (the iterations then work on the faces alone).
+  std::vector<ConeColumn> columns;
+  Eigen::VectorXd u0_faces;  ///< u0's mean over each face
+  double u0_rhs0 = 0;        ///< u0 . rhs0
+  Eigen::MatrixXd hessian;   ///< the objective's quasi-Newton Hessian at the previous fit
   /// (cones, max |u - mean u|) after each fit of the greedy: when more cones stop helping
   std::vector<std::pair<int, double>> spread_history;
   LastGood last_good;
@@ -103,6 +106,9 @@ ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionO
 
 /// The lowest curvature a cone at v may take (drawable on the input's faces).
 double cone_lower_bound(const ConeModelData& model, const ConeSelectionOptions& options, int v);
+
+/// The objective over the cones `cones` (S or a prefix of it) with what the selector keeps.
+ConeObjective cone_objective(const ConeSelector& selector, const std::vector<int>& cones);
 
 /// Adds a cone at v: extends M, green, r (and the columns while they fit) and its rings.
 void add_cone(ConeSelector& selector, int v);
