@@ -4,6 +4,10 @@
 
 #ifdef RICCI_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
+
+#include <optional>
+
+#include "numerics/detail/supernodal_split.hpp"
 #endif
 
 #include "ricci/errors.hpp"
@@ -128,12 +132,50 @@ class SingleThreadedBlas {};
 
 }  // namespace
 
+#ifdef RICCI_HAVE_CHOLMOD
+namespace {
+
+/// Eigen's wrapper, with its factor in view (for the solves on two threads).
+class CholmodLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> {
+ public:
+  /// The factor as supernodal::solve reads it, or none when CHOLMOD did not leave a supernodal
+  /// L L^T with int indices.
+  std::optional<supernodal::Factor> factor() const {
+    const cholmod_factor* L = m_cholmodFactor;
+    if (L == nullptr || !L->is_super || !L->is_ll || L->xtype != CHOLMOD_REAL ||
+        L->itype != CHOLMOD_INT || L->dtype != CHOLMOD_DOUBLE || L->x == nullptr) {
+      return std::nullopt;
+    }
+    supernodal::Factor f;
+    f.n = static_cast<int>(L->n);
+    f.num_super = static_cast<int>(L->nsuper);
+    f.super = static_cast<const int*>(L->super);
+    f.pi = static_cast<const int*>(L->pi);
+    f.px = static_cast<const int*>(L->px);
+    f.s_index = static_cast<const int*>(L->s);
+    f.perm = static_cast<const int*>(L->Perm);
+    f.values = static_cast<const double*>(L->x);
+    return f;
+  }
+};
+
+/// Factors of at least this many values solve on two threads (supernodal_split.hpp: below it a
+/// solve sits in the cache and a second thread gains nothing).
+constexpr double kSplitSolveValues = 2e6;
+
+}  // namespace
+#endif
+
 struct SparseCholesky::Impl {
   bool use_cholmod = false;
   bool analyzed = false;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> eigen;
 #ifdef RICCI_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholmod;
+  CholmodLLT cholmod;
+  /// The factor's split for solves on two threads (from its structure: made at the first
+  /// factorisation after an analysis), and whether it was looked for.
+  std::optional<supernodal::Split> split;
+  bool split_checked = false;
 #endif
 };
 
@@ -188,10 +230,20 @@ bool SparseCholesky::analyzed() const {
   return impl_->analyzed;
 }
 
+bool SparseCholesky::solves_on_two_threads() const {
+#ifdef RICCI_HAVE_CHOLMOD
+  return impl_->use_cholmod && impl_->split.has_value();
+#else
+  return false;
+#endif
+}
+
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
     impl_->cholmod.analyzePattern(A);
+    impl_->split.reset();
+    impl_->split_checked = false;
     if (impl_->cholmod.info() != Eigen::Success) {
       throw SolverError("SparseCholesky::analyze: CHOLMOD's symbolic analysis failed");
     }
@@ -219,6 +271,11 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
           "SparseCholesky::factorize: the matrix is not positive definite "
           "(CHOLMOD's numeric factorisation failed)");
     }
+    if (!impl_->split_checked) {
+      const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+      if (factor) impl_->split = supernodal::split_factor(*factor, kSplitSolveValues);
+      impl_->split_checked = true;
+    }
     return;
   }
 #endif
@@ -245,6 +302,12 @@ Dense solve_dense(const Impl& impl, const Dense& b) {
 }  // namespace
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+#ifdef RICCI_HAVE_CHOLMOD
+  if (impl_->use_cholmod && impl_->split) {
+    const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+    if (factor && b.size() == factor->n) return supernodal::solve(*factor, *impl_->split, b);
+  }
+#endif
   return solve_dense(*impl_, b);
 }
 

@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.hpp"
+#include "support/scoped_threads.hpp"
 
 namespace ricci {
 namespace {
@@ -120,6 +122,41 @@ TEST(SparseCholesky, SolvesColumnsAtOnce) {
       EXPECT_LT((A * X.col(j) - B.col(j)).norm(), 1e-9 * B.col(j).norm());
     }
   }
+}
+
+// A large factor solves on two threads (its elimination tree split in two groups of subtrees):
+// the solution is CHOLMOD's own to rounding, and the same bits on one thread or two. A small
+// one keeps CHOLMOD's solve.
+TEST(SparseCholesky, LargeFactorsSolveOnTwoThreadsWithTheSameBits) {
+  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+  SparseCholesky small;
+  small.factorize(torus_laplacian(20));
+  EXPECT_FALSE(small.solves_on_two_threads());
+  const Eigen::SparseMatrix<double> A = torus_laplacian(400);
+  SparseCholesky cholesky;
+  cholesky.factorize(A);
+  ASSERT_TRUE(cholesky.solves_on_two_threads());
+  Eigen::VectorXd b(A.rows());
+  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = std::sin(0.01 * static_cast<double>(i));
+  const Eigen::VectorXd cholmod = cholesky.solve_columns(b);  // CHOLMOD's solve
+  Eigen::VectorXd first;
+  for (const char* threads : {"1", "2"}) {
+    const testing::ScopedThreads scoped(threads);
+    const Eigen::VectorXd x = cholesky.solve(b);
+    EXPECT_LT((x - cholmod).norm(), 1e-12 * cholmod.norm()) << threads;
+    EXPECT_LT((A * x - b).norm(), 1e-9 * b.norm()) << threads;
+    if (first.size() == 0) {
+      first = x;
+    } else {
+      EXPECT_TRUE((x.array() == first.array()).all()) << threads;
+    }
+  }
+  // A refactorisation (same pattern, other values) keeps the split and solves with the new
+  // values.
+  const Eigen::SparseMatrix<double> twice = 2 * A;
+  cholesky.factorize(twice);
+  EXPECT_TRUE(cholesky.solves_on_two_threads());
+  EXPECT_LT((cholesky.solve(b) - 0.5 * cholmod).norm(), 1e-12 * cholmod.norm());
 }
 
 /// The number of threads of this process (Linux: the entries of /proc/self/task).

@@ -38,6 +38,10 @@ class SparseCholesky {
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
 
   bool analyzed() const;
+  /// Whether solve() runs on two threads: a CHOLMOD factor of at least 2M values whose
+  /// elimination tree splits in two (src/numerics/detail/supernodal_split.hpp); the same bits
+  /// on one thread or two either way.
+  bool solves_on_two_threads() const;
   /// "cholmod-supernodal" or "eigen-simplicial-ldlt".
   const char* backend() const;
   /// Whether CHOLMOD was compiled in.

@@ -1,0 +1,173 @@
+#include "numerics/detail/supernodal_split.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "numerics/detail/parallel.hpp"
+
+namespace ricci::supernodal {
+namespace {
+
+/// The top separators are taken off the tree while one subtree holds more than this share of
+/// the work left: what remains splits into parts of comparable size.
+constexpr double kDominantShare = 0.6;
+/// Each group must hold at least this share of the work, else the split is not worth a thread.
+constexpr double kSmallestGroupShare = 0.25;
+
+struct Block {
+  int first_column, columns, rows_below;
+  const int* below;  ///< row indices under the supernode's own columns
+  Eigen::Map<const Eigen::MatrixXd> values;
+};
+
+Block block_of(const Factor& f, int s) {
+  const int first_column = f.super[s], columns = f.super[s + 1] - first_column;
+  const int rows = f.pi[s + 1] - f.pi[s];
+  return {first_column, columns, rows - columns, f.s_index + f.pi[s] + columns,
+          Eigen::Map<const Eigen::MatrixXd>(f.values + f.px[s], rows, columns)};
+}
+
+/// Forward substitution through supernode s: its unknowns, then its updates of the rows below
+/// (into `elsewhere` for the top columns when it is given, into x otherwise).
+void forward(const Factor& f, int s, double* x, double* elsewhere, const std::vector<char>* top,
+             Eigen::VectorXd& work) {
+  const Block b = block_of(f, s);
+  Eigen::Map<Eigen::VectorXd> y(x + b.first_column, b.columns);
+  b.values.topRows(b.columns).triangularView<Eigen::Lower>().solveInPlace(y);
+  if (b.rows_below == 0) return;
+  Eigen::Map<Eigen::VectorXd> t(work.data(), b.rows_below);
+  t.noalias() = b.values.bottomRows(b.rows_below) * y;
+  for (int j = 0; j < b.rows_below; ++j) {
+    const int row = b.below[j];
+    if (elsewhere != nullptr && (*top)[row]) {
+      elsewhere[row] -= t[j];
+    } else {
+      x[row] -= t[j];
+    }
+  }
+}
+
+/// Backward substitution through supernode s (the rows below it already solved).
+void backward(const Factor& f, int s, double* x, Eigen::VectorXd& work) {
+  const Block b = block_of(f, s);
+  Eigen::Map<Eigen::VectorXd> y(x + b.first_column, b.columns);
+  if (b.rows_below > 0) {
+    Eigen::Map<Eigen::VectorXd> g(work.data(), b.rows_below);
+    for (int j = 0; j < b.rows_below; ++j) g[j] = x[b.below[j]];
+    y.noalias() -= b.values.bottomRows(b.rows_below).transpose() * g;
+  }
+  b.values.topRows(b.columns).transpose().triangularView<Eigen::Upper>().solveInPlace(y);
+}
+
+}  // namespace
+
+std::optional<Split> split_factor(const Factor& f, double min_values) {
+  if (f.num_super < 3 || f.px[f.num_super] < min_values) return std::nullopt;
+  std::vector<int> super_of_column(static_cast<std::size_t>(f.n));
+  for (int s = 0; s < f.num_super; ++s) {
+    for (int k = f.super[s]; k < f.super[s + 1]; ++k) super_of_column[k] = s;
+  }
+  // The supernodal elimination tree (CHOLMOD numbers supernodes in postorder: a subtree is the
+  // range from its first descendant to its root) and the work (values) of each subtree.
+  std::vector<int> parent(f.num_super, -1), first(f.num_super);
+  std::vector<double> own(f.num_super), subtree(f.num_super);
+  std::vector<std::vector<int>> children(f.num_super);
+  std::vector<int> frontier;
+  Split split;
+  for (int s = 0; s < f.num_super; ++s) {
+    const Block b = block_of(f, s);
+    own[s] = subtree[s] = static_cast<double>(b.values.size());
+    first[s] = s;
+    split.widest_below = std::max(split.widest_below, b.rows_below);
+    if (b.rows_below > 0) parent[s] = super_of_column[b.below[0]];
+  }
+  for (int s = 0; s < f.num_super; ++s) {
+    if (parent[s] < 0) {
+      frontier.push_back(s);
+      continue;
+    }
+    subtree[parent[s]] += subtree[s];
+    first[parent[s]] = std::min(first[parent[s]], first[s]);
+    children[parent[s]].push_back(s);
+  }
+  double left = 0;
+  for (int r : frontier) left += subtree[r];
+  std::vector<char> is_top(f.num_super, 0);
+  for (;;) {
+    const auto largest = std::max_element(frontier.begin(), frontier.end(),
+                                          [&](int a, int b) { return subtree[a] < subtree[b]; });
+    if (largest == frontier.end() || subtree[*largest] <= kDominantShare * left) break;
+    const int t = *largest;
+    frontier.erase(largest);
+    is_top[t] = 1;
+    left -= own[t];
+    frontier.insert(frontier.end(), children[t].begin(), children[t].end());
+  }
+  // Largest subtrees first, each to the lighter group.
+  std::sort(frontier.begin(), frontier.end(), [&](int a, int b) {
+    return subtree[a] != subtree[b] ? subtree[a] > subtree[b] : a < b;
+  });
+  std::vector<int> roots[2];
+  double weight[2] = {0, 0};
+  for (int r : frontier) {
+    const int g = weight[0] <= weight[1] ? 0 : 1;
+    roots[g].push_back(r);
+    weight[g] += subtree[r];
+  }
+  const double total = subtree.empty() ? 0 : weight[0] + weight[1];
+  if (std::min(weight[0], weight[1]) < kSmallestGroupShare * total) return std::nullopt;
+  std::vector<int>* groups[2] = {&split.first, &split.second};
+  for (int g = 0; g < 2; ++g) {
+    std::sort(roots[g].begin(), roots[g].end());
+    for (int r : roots[g]) {
+      for (int s = first[r]; s <= r; ++s) groups[g]->push_back(s);
+    }
+  }
+  split.top_column.assign(static_cast<std::size_t>(f.n), 0);
+  for (int s = 0; s < f.num_super; ++s) {
+    if (!is_top[s]) continue;
+    split.top.push_back(s);
+    for (int k = f.super[s]; k < f.super[s + 1]; ++k) split.top_column[k] = 1;
+  }
+  return split;
+}
+
+Eigen::VectorXd solve(const Factor& f, const Split& split, const Eigen::VectorXd& b) {
+  Eigen::VectorXd x(f.n);
+  for (int k = 0; k < f.n; ++k) x[k] = b[f.perm[k]];
+  // The second group's updates of the top columns, added after the first group's.
+  Eigen::VectorXd elsewhere = Eigen::VectorXd::Zero(f.n);
+  Eigen::VectorXd work_first(split.widest_below), work_second(split.widest_below);
+  {
+    auto second = parallel::run_beside([&] {
+      for (int s : split.second)
+        forward(f, s, x.data(), elsewhere.data(), &split.top_column, work_second);
+    });
+    for (int s : split.first) forward(f, s, x.data(), nullptr, nullptr, work_first);
+    second.get();
+  }
+  for (int s : split.top) {
+    for (int k = f.super[s]; k < f.super[s + 1]; ++k) x[k] += elsewhere[k];
+  }
+  for (int s : split.top) forward(f, s, x.data(), nullptr, nullptr, work_first);
+  for (auto s = split.top.rbegin(); s != split.top.rend(); ++s)
+    backward(f, *s, x.data(), work_first);
+  {
+    auto second = parallel::run_beside([&] {
+      for (auto s = split.second.rbegin(); s != split.second.rend(); ++s) {
+        backward(f, *s, x.data(), work_second);
+      }
+    });
+    for (auto s = split.first.rbegin(); s != split.first.rend(); ++s) {
+      backward(f, *s, x.data(), work_first);
+    }
+    second.get();
+  }
+  Eigen::VectorXd out(f.n);
+  for (int k = 0; k < f.n; ++k) out[f.perm[k]] = x[k];
+  return out;
+}
+
+}  // namespace ricci::supernodal
