@@ -147,80 +147,112 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
 
 namespace {
 
-/// evaluate's passes over the faces work in blocks of this many faces (a multiple of
-/// kFaceBlock), each block's sums kept apart and added in block order afterwards: the same
-/// sums whatever the thread count, with a block's u_f, e^{2 u_f} and columns in cache.
+/// evaluate's passes work in blocks of this many faces or vertices (a multiple of kFaceBlock),
+/// each block's sums kept apart and added in block order afterwards: the same sums whatever the
+/// thread count, with a block's values in cache while every column passes over it.
 constexpr int kEvaluationBlock = 2048;
+
+/// body(block, begin, count) for the blocks of [0, n), in parallel when in_parallel.
+template <class Body>
+void for_blocks(int n, bool in_parallel, Body&& body) {
+  const int blocks = (n + kEvaluationBlock - 1) / kEvaluationBlock;
+  auto run = [&](std::int64_t b, std::int64_t e, int) {
+    for (std::int64_t block = b; block < e; ++block) {
+      const int begin = static_cast<int>(block) * kEvaluationBlock;
+      body(static_cast<int>(block), begin, std::min(n, begin + kEvaluationBlock) - begin);
+    }
+  };
+  if (in_parallel) {
+    parallel::for_chunks(blocks, run, parallel::kDefaultMinChunk / kEvaluationBlock);
+  } else {
+    run(0, blocks, 0);
+  }
+}
+
+int block_count(int n) {
+  return (n + kEvaluationBlock - 1) / kEvaluationBlock;
+}
 
 }  // namespace
 
 ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
   const int m = static_cast<int>(S.size());
+  const bool in_parallel = incidence != nullptr;
   ObjectiveValue out;
-  if (!on_faces()) {
+  if (!has_columns()) {
     const Eigen::VectorXd u = solve_u(k);
     Eigen::VectorXd dfdu;
     out.value = value(u, k, &dfdu);
     out.gradient = gradient(u, dfdu);
     return out;
   }
-  const int nf = t.num_faces;
-  const int blocks = (nf + kEvaluationBlock - 1) / kEvaluationBlock;
-  const bool in_parallel = incidence != nullptr;
-  auto for_blocks = [&](auto&& body) {
-    auto run = [&](std::int64_t b, std::int64_t e, int) {
-      for (std::int64_t block = b; block < e; ++block) {
-        const int begin = static_cast<int>(block) * kEvaluationBlock;
-        body(static_cast<int>(block), begin, std::min(nf, begin + kEvaluationBlock) - begin);
-      }
-    };
-    if (in_parallel) {
-      parallel::for_chunks(blocks, run, parallel::kDefaultMinChunk / kEvaluationBlock);
-    } else {
-      run(0, blocks, 0);
-    }
-  };
-  // Pass 1: u_f and each block's largest (e^{4 (u_f - top)} cannot overflow).
-  Eigen::ArrayXd uf(nf);
-  std::vector<double> block_top(static_cast<std::size_t>(blocks));
-  for_blocks([&](int block, int begin, int n) {
-    auto segment = uf.segment(begin, n);
-    segment = u0_faces->array().segment(begin, n);
-    for (int i = 0; i < m; ++i) segment += k[i] * columns[i].faces.array().segment(begin, n);
-    block_top[block] = segment.maxCoeff();
-  });
-  const double top = *std::max_element(block_top.begin(), block_top.end());
-  // Pass 2: e2 = a e^{2 (u_f - top)}, e4 = a e^{4 (u_f - top)}, their sums, and their sums
-  // against each column (dF/dk_i = 4 sum_f g_i,f (e4_f / s4 - e2_f / s2)).
-  Eigen::MatrixXd sums(2 * m + 2, blocks);
-  for_blocks([&](int block, int begin, int n) {
-    const Eigen::ArrayXd scale = (2 * (uf.segment(begin, n) - top)).exp();
-    const Eigen::ArrayXd e2 = scale * face_area.array().segment(begin, n);
-    const Eigen::ArrayXd e4 = scale * e2;
-    sums(0, block) = e2.sum();
-    sums(1, block) = e4.sum();
-    for (int i = 0; i < m; ++i) {
-      const auto column = columns[i].faces.array().segment(begin, n);
-      sums(2 + i, block) = (column * e2).sum();
-      sums(2 + m + i, block) = (column * e4).sum();
-    }
-  });
-  Eigen::VectorXd total = Eigen::VectorXd::Zero(2 * m + 2);
-  for (int block = 0; block < blocks; ++block) total += sums.col(block);
-  const double s2 = total[0], s4 = total[1];
-  // u at the cones and D = u . rhs0 + u_S . k, without u.
-  const Eigen::VectorXd u_cones = [&] {
-    Eigen::VectorXd u_s(m);
-    for (int i = 0; i < m; ++i) u_s[i] = u0[S[i]];
-    return Eigen::VectorXd(u_s + *green * k);
-  }();
+  // u at the cones (green) and D = u . rhs0 + u_S . k (the columns' g . rhs0), without u.
+  Eigen::VectorXd u_cones(m);
+  for (int i = 0; i < m; ++i) u_cones[i] = u0[S[i]];
+  if (green != nullptr && green->rows() == m) u_cones += *green * k;
   double dirichlet = u0_rhs0;
-  for (int i = 0; i < m; ++i) dirichlet += k[i] * columns[i].rhs0_dot + u_cones[i] * k[i];
-  out.value = std::log(s4) - 2 * std::log(s2) + smooth * dirichlet;
-  out.gradient.resize(m);
-  for (int i = 0; i < m; ++i) {
-    out.gradient[i] = 4 * (total[2 + m + i] / s4 - total[2 + i] / s2) + 2 * smooth * u_cones[i];
+  for (int i = 0; i < m; ++i) dirichlet += k[i] * columns[i].rhs0_dot;
+  Eigen::VectorXd area_gradient(m);
+  double area = 0;
+  if (on_faces()) {
+    // Pass 1: u_f and each block's largest (e^{4 (u_f - top)} cannot overflow).
+    const int nf = t.num_faces, blocks = block_count(nf);
+    Eigen::ArrayXd uf(nf);
+    std::vector<double> block_top(static_cast<std::size_t>(blocks));
+    for_blocks(nf, in_parallel, [&](int block, int begin, int n) {
+      auto segment = uf.segment(begin, n);
+      segment = u0_faces->array().segment(begin, n);
+      for (int i = 0; i < m; ++i) segment += k[i] * columns[i].faces.array().segment(begin, n);
+      block_top[block] = segment.maxCoeff();
+    });
+    const double top = *std::max_element(block_top.begin(), block_top.end());
+    // Pass 2: e2 = a e^{2 (u_f - top)}, e4 = a e^{4 (u_f - top)}, their sums, and each column
+    // against e4 / s4 - e2 / s2 (dF/dk_i = 4 sum_f g_i,f (e4_f / s4 - e2_f / s2)) from its sums
+    // against both.
+    Eigen::MatrixXd sums(2 * m + 2, blocks);
+    for_blocks(nf, in_parallel, [&](int block, int begin, int n) {
+      const Eigen::ArrayXd scale = (2 * (uf.segment(begin, n) - top)).exp();
+      const Eigen::ArrayXd e2 = scale * face_area.array().segment(begin, n);
+      const Eigen::ArrayXd e4 = scale * e2;
+      sums(0, block) = e2.sum();
+      sums(1, block) = e4.sum();
+      for (int i = 0; i < m; ++i) {
+        const auto column = columns[i].faces.segment(begin, n);
+        sums(2 + i, block) = column.dot(e2.matrix());
+        sums(2 + m + i, block) = column.dot(e4.matrix());
+      }
+    });
+    Eigen::VectorXd total = Eigen::VectorXd::Zero(2 * m + 2);
+    for (int block = 0; block < blocks; ++block) total += sums.col(block);
+    const double s2 = total[0], s4 = total[1];
+    area = std::log(s4) - 2 * std::log(s2);
+    for (int i = 0; i < m; ++i) area_gradient[i] = 4 * (total[2 + m + i] / s4 - total[2 + i] / s2);
+  } else {
+    // u = u0 + sum_i k_i g_i a block of vertices at a time, area_energy, then each column
+    // against dF/du the same way: each column read twice.
+    const int nv = static_cast<int>(u0.size()), blocks = block_count(nv);
+    Eigen::VectorXd u(nv);
+    for_blocks(nv, in_parallel, [&](int, int begin, int n) {
+      auto segment = u.segment(begin, n);
+      segment = u0.segment(begin, n);
+      for (int i = 0; i < m; ++i) segment += k[i] * columns[i].g.segment(begin, n);
+    });
+    if (green == nullptr || green->rows() != m) {
+      for (int i = 0; i < m; ++i) u_cones[i] = u[S[i]];
+    }
+    Eigen::VectorXd dfdu;
+    area = area_energy(t, face_area, u, &dfdu, incidence);
+    Eigen::MatrixXd sums(m, blocks);
+    for_blocks(nv, in_parallel, [&](int block, int begin, int n) {
+      for (int i = 0; i < m; ++i) {
+        sums(i, block) = columns[i].g.segment(begin, n).dot(dfdu.segment(begin, n));
+      }
+    });
+    area_gradient = sums.rowwise().sum();
   }
+  for (int i = 0; i < m; ++i) dirichlet += u_cones[i] * k[i];
+  out.value = area + smooth * dirichlet;
+  out.gradient = area_gradient + 2 * smooth * u_cones;
   return out;
 }
 

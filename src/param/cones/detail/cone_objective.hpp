@@ -133,10 +133,11 @@ struct ConeObjective {
     area_energy(t, face_area, u, &dfdu, incidence);
     return gradient(u, dfdu);
   }
-  /// The value and the gradient in k at k. On the faces (on_faces()) two passes over the faces'
-  /// columns (#F x #S) and no per-vertex work: u_f = u0_f + sum_i k_i g_i,f; dF/dk_i =
-  /// sum_f dF/du_f g_i,f; D from g_i . rhs0 and green. Otherwise through u (solve_u, value,
-  /// gradient). Either way the same whatever the thread count.
+  /// The value and the gradient in k at k, the same bits whatever the thread count. With the
+  /// columns' face means (on_faces()): two passes over them (#F x #S) and no per-vertex work,
+  /// u_f = u0_f + sum_i k_i g_i,f and dF/dk_i = sum_f dF/du_f g_i,f. With the columns alone: u a
+  /// block of vertices at a time, area_energy, each column against dF/du. D comes from
+  /// g_i . rhs0 and green either way. Without columns: through solve_u, value and gradient.
   ObjectiveValue evaluate(const Eigen::VectorXd& k) const;
   /// d/dk at every vertex (a cone of curvature 0 there included): A^-1 dF/du + 2 smooth u,
   /// given dF/du at u.
