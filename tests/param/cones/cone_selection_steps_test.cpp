@@ -232,16 +232,9 @@ TEST(AreaEnergy, ParallelPassesGiveTheSequentialBits) {
 namespace ricci {
 namespace {
 
-// The objective evaluated on the faces (the columns' face means, no per-vertex work) is the
-// objective through u to rounding, value and gradient, and gives the same bits on 1, 2 and 3
-// threads (icosphere 6: 81920 faces, 40 blocks, split between threads).
-TEST(ConeObjective, EvaluationOnTheFacesIsTheOneThroughU) {
-  const Fixture fixture(make_icosphere(6), with_count(3));
-  ConeSelector selector = fixture.selector();
-  for (int v : {17, 5000, 23000, 39000}) add_cone(selector, v);
-  const ConeObjective objective = cone_objective(selector, selector.S);
-  ASSERT_TRUE(objective.on_faces());
-  const Eigen::Vector4d k(1.1, -0.4, 2.3, 0.1 + 4 * std::numbers::pi - 3.0);
+/// evaluate(k) against value and gradient through u = solve_u(k), to rounding, and the same
+/// bits on 1, 2 and 3 threads.
+void expect_evaluation_through_u(const ConeObjective& objective, const Eigen::VectorXd& k) {
   const Eigen::VectorXd u = objective.solve_u(k);
   Eigen::VectorXd dfdu;
   const double value = objective.value(u, k, &dfdu);
@@ -249,20 +242,41 @@ TEST(ConeObjective, EvaluationOnTheFacesIsTheOneThroughU) {
   ObjectiveValue first;
   for (const char* threads : {"1", "2", "3"}) {
     const testing::ScopedThreads scoped(threads);
-    const ObjectiveValue on_faces = objective.evaluate(k);
-    EXPECT_NEAR(on_faces.value, value, 1e-12 * (1 + std::abs(value))) << threads;
-    ASSERT_EQ(on_faces.gradient.size(), 4);
-    for (int i = 0; i < 4; ++i) {
-      EXPECT_NEAR(on_faces.gradient[i], gradient[i], 1e-10 * (1 + gradient.cwiseAbs().maxCoeff()))
+    const ObjectiveValue evaluated = objective.evaluate(k);
+    EXPECT_NEAR(evaluated.value, value, 1e-12 * (1 + std::abs(value))) << threads;
+    ASSERT_EQ(evaluated.gradient.size(), k.size());
+    for (int i = 0; i < k.size(); ++i) {
+      EXPECT_NEAR(evaluated.gradient[i], gradient[i], 1e-10 * (1 + gradient.cwiseAbs().maxCoeff()))
           << threads << " cone " << i;
     }
     if (first.gradient.size() == 0) {
-      first = on_faces;
+      first = evaluated;
     } else {
-      EXPECT_EQ(on_faces.value, first.value) << threads;
-      EXPECT_TRUE((on_faces.gradient.array() == first.gradient.array()).all()) << threads;
+      EXPECT_EQ(evaluated.value, first.value) << threads;
+      EXPECT_TRUE((evaluated.gradient.array() == first.gradient.array()).all()) << threads;
     }
   }
+}
+
+// The objective evaluated on the faces (a few cones: the columns' face means, no per-vertex
+// work) and on the vertices (more cones: u a block at a time) is the objective through u, and
+// gives the same bits on 1, 2 and 3 threads (icosphere 6: 81920 faces, 40962 vertices, split
+// between threads).
+TEST(ConeObjective, EvaluationsAreTheObjectiveThroughU) {
+  const Fixture fixture(make_icosphere(6), with_count(3));
+  ConeSelector selector = fixture.selector();
+  for (int v : {17, 5000, 23000, 39000}) add_cone(selector, v);
+  const ConeObjective few = cone_objective(selector, selector.S);
+  ASSERT_TRUE(few.on_faces());
+  const Eigen::Vector4d k(1.1, -0.4, 2.3, 0.1 + 4 * std::numbers::pi - 3.0);
+  expect_evaluation_through_u(few, k);
+  for (int v : {100, 3000, 9000, 12000, 16000, 20000, 27000, 31000, 35000}) add_cone(selector, v);
+  const ConeObjective many = cone_objective(selector, selector.S);
+  ASSERT_FALSE(many.on_faces());
+  ASSERT_TRUE(many.has_columns());
+  Eigen::VectorXd k13 = Eigen::VectorXd::LinSpaced(13, -0.5, 1.2);
+  k13[12] += 4 * std::numbers::pi - k13.sum();
+  expect_evaluation_through_u(many, k13);
 }
 
 }  // namespace
