@@ -5,6 +5,7 @@
 #ifdef RICCI_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 
+#include <mutex>
 #include <optional>
 
 #include "numerics/detail/supernodal_split.hpp"
@@ -172,6 +173,9 @@ struct SparseCholesky::Impl {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> eigen;
 #ifdef RICCI_HAVE_CHOLMOD
   CholmodLLT cholmod;
+  /// CHOLMOD's solves write into its common workspace: one at a time (the split solve reads the
+  /// factor only and needs none).
+  mutable std::mutex solve_mutex;
   /// The factor's split for solves on two threads (from its structure: made at the first
   /// factorisation after an analysis), and whether it was looked for.
   std::optional<supernodal::Split> split;
@@ -292,6 +296,7 @@ template <class Impl, class Dense>
 Dense solve_dense(const Impl& impl, const Dense& b) {
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl.use_cholmod) {
+    const std::lock_guard<std::mutex> one_solve(impl.solve_mutex);
     [[maybe_unused]] const SingleThreadedBlas one_thread;
     return impl.cholmod.solve(b);
   }

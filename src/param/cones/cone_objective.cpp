@@ -191,7 +191,7 @@ ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
   for (int i = 0; i < m; ++i) u_cones[i] = u0[S[i]];
   if (green != nullptr && green->rows() == m) u_cones += *green * k;
   double dirichlet = u0_rhs0;
-  for (int i = 0; i < m; ++i) dirichlet += k[i] * columns[i].rhs0_dot;
+  for (int i = 0; i < m; ++i) dirichlet += k[i] * columns[i]->rhs0_dot;
   Eigen::VectorXd area_gradient(m);
   double area = 0;
   if (on_faces()) {
@@ -202,7 +202,7 @@ ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
     for_blocks(nf, in_parallel, [&](int block, int begin, int n) {
       auto segment = uf.segment(begin, n);
       segment = u0_faces->array().segment(begin, n);
-      for (int i = 0; i < m; ++i) segment += k[i] * columns[i].faces.array().segment(begin, n);
+      for (int i = 0; i < m; ++i) segment += k[i] * columns[i]->faces.array().segment(begin, n);
       block_top[block] = segment.maxCoeff();
     });
     const double top = *std::max_element(block_top.begin(), block_top.end());
@@ -217,7 +217,7 @@ ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
       sums(0, block) = e2.sum();
       sums(1, block) = e4.sum();
       for (int i = 0; i < m; ++i) {
-        const auto column = columns[i].faces.segment(begin, n);
+        const auto column = columns[i]->faces.segment(begin, n);
         sums(2 + i, block) = column.dot(e2.matrix());
         sums(2 + m + i, block) = column.dot(e4.matrix());
       }
@@ -235,7 +235,7 @@ ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
     for_blocks(nv, in_parallel, [&](int, int begin, int n) {
       auto segment = u.segment(begin, n);
       segment = u0.segment(begin, n);
-      for (int i = 0; i < m; ++i) segment += k[i] * columns[i].g.segment(begin, n);
+      for (int i = 0; i < m; ++i) segment += k[i] * columns[i]->g.segment(begin, n);
     });
     if (green == nullptr || green->rows() != m) {
       for (int i = 0; i < m; ++i) u_cones[i] = u[S[i]];
@@ -245,7 +245,7 @@ ObjectiveValue ConeObjective::evaluate(const Eigen::VectorXd& k) const {
     Eigen::MatrixXd sums(m, blocks);
     for_blocks(nv, in_parallel, [&](int block, int begin, int n) {
       for (int i = 0; i < m; ++i) {
-        sums(i, block) = columns[i].g.segment(begin, n).dot(dfdu.segment(begin, n));
+        sums(i, block) = columns[i]->g.segment(begin, n).dot(dfdu.segment(begin, n));
       }
     });
     area_gradient = sums.rowwise().sum();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numbers>
 #include <utility>
@@ -9,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include "numerics/detail/parallel.hpp"
 #include "param/cones/detail/cone_objective.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/bounded_least_squares.hpp"
@@ -109,7 +111,6 @@ ConeSelector make_cone_selector(const ConeModelData& model, const ConeSelectionO
   selector.u0_faces = face_means(t, selector.u0);
   selector.u0_rhs0 = selector.u0.dot(model.rhs0);
   selector.upper = options.max_curvature;
-  selector.neighbours = vertex_neighbours(t);
   selector.separation = kSeparationRings;
   selector.ring.assign(nv, kFarFromCones);
   selector.M.resize(0, 0);
@@ -160,7 +161,7 @@ void add_cone(ConeSelector& selector, int v) {
   s.r.conservativeResize(m + 1);
   if (keep) {
     // M_im = g_i^T P g_m (= (A^-1 P g_m)_{S_i}: A is symmetric).
-    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = s.columns[i].g.dot(Pg);
+    for (int i = 0; i < m; ++i) s.M(i, m) = s.M(m, i) = s.columns[i]->g.dot(Pg);
     s.M(m, m) = g.dot(Pg);
   } else {
     s.columns.clear();
@@ -173,18 +174,19 @@ void add_cone(ConeSelector& selector, int v) {
   for (int i = 0; i <= m; ++i) s.green(i, m) = s.green(m, i) = g[s.S[i]];
   s.r[m] = g.dot(s.Pu0);
   if (keep) {
-    ConeColumn column;
-    if (keep_faces) column.faces = face_means(*model.topology, g);
-    column.rhs0_dot = g.dot(model.rhs0);
-    column.g = std::move(g);
+    auto column = std::make_shared<ConeColumn>();
+    if (keep_faces) column->faces = face_means(*model.topology, g);
+    column->rhs0_dot = g.dot(model.rhs0);
+    column->g = std::move(g);
     s.columns.push_back(std::move(column));
   }
-  grow_rings(s.neighbours, v, s.separation, s.ring);
+  grow_rings(s.model.neighbours, v, s.separation, s.ring);
 }
 
 void reset_rings(ConeSelector& selector) {
   std::fill(selector.ring.begin(), selector.ring.end(), kFarFromCones);
-  for (int v : selector.S) grow_rings(selector.neighbours, v, selector.separation, selector.ring);
+  for (int v : selector.S)
+    grow_rings(selector.model.neighbours, v, selector.separation, selector.ring);
 }
 
 std::vector<int> first_cone_candidates(const ConeSelector& selector) {
@@ -201,7 +203,7 @@ std::vector<int> first_cone_candidates(const ConeSelector& selector) {
   }
   std::vector<int> candidates = {first};
   std::vector<int> hops(nv, std::numeric_limits<int>::max());
-  grow_rings(selector.neighbours, first, std::numeric_limits<int>::max(), hops);
+  grow_rings(selector.model.neighbours, first, std::numeric_limits<int>::max(), hops);
   while (static_cast<int>(candidates.size()) <
          std::max(1, selector.options.try_first_cone_candidates)) {
     int far = -1;
@@ -210,7 +212,7 @@ std::vector<int> first_cone_candidates(const ConeSelector& selector) {
     }
     if (far < 0 || hops[far] == 0) break;
     candidates.push_back(far);
-    grow_rings(selector.neighbours, far, std::numeric_limits<int>::max(), hops);
+    grow_rings(selector.model.neighbours, far, std::numeric_limits<int>::max(), hops);
   }
   return candidates;
 }
@@ -464,7 +466,7 @@ struct ConeSetBackup {
   std::vector<int> ring;
   int removed = -1;
   bool had_columns = false;
-  ConeColumn removed_column;
+  SharedColumn removed_column;
 };
 
 /// Takes cone i out of the set (its rows of M, green, r, the Hessian and its column); returns
@@ -516,16 +518,48 @@ void restore_cone_set(ConeSelector& s, ConeSetBackup&& before, int i) {
   s.is_cone[before.removed] = 1;
 }
 
+/// The first half of exchange i: the fit of the other cones (s.S without cone i, which
+/// take_out_cone removed) and the quasi-Newton Hessian it left.
+struct WithoutCone {
+  SetFit without;
+  Eigen::MatrixXd hessian;
+};
+
+/// Fits the cones left after taking out cone i of the set whose curvatures were k, starting from
+/// cone i's curvature shared by the others (the sum is kept).
+WithoutCone fit_without_cone(ConeSelector& s, const Eigen::VectorXd& k, int i) {
+  Eigen::VectorXd start(s.S.size());
+  for (int a = 0, ya = 0; a < k.size(); ++a) {
+    if (a != i) start[ya++] = k[a] + k[i] / static_cast<double>(s.S.size());
+  }
+  WithoutCone result;
+  result.without = fit_cone_set(s, &start, true);
+  result.hessian = s.hessian;
+  return result;
+}
+
 /// Cone i taken out and the best candidate for the others put in; kept (fit becomes the new
 /// set's, the new cone at the end of S) when the objective falls. Returns whether it was kept.
-bool exchange_cone(ConeSelector& s, SetFit& fit, int i) {
-  ConeSetBackup before = take_out_cone(s, i);
-  // Start: cone i's curvature shared by the others (the sum is kept).
-  Eigen::VectorXd start(s.S.size());
-  for (int a = 0, ya = 0; a < fit.k.size(); ++a) {
-    if (a != i) start[ya++] = fit.k[a] + fit.k[i] / static_cast<double>(s.S.size());
+/// `ahead` (when valid): the first half of this exchange, computed beside the one before on a
+/// copy of the state this exchange starts from. `next` gets the first half of exchange i + 1 on
+/// this state (what that exchange starts from when this one is not kept), computed beside.
+bool exchange_cone(ConeSelector& s, SetFit& fit, int i, std::future<WithoutCone>& ahead,
+                   std::future<WithoutCone>& next) {
+  if (i + 1 < static_cast<int>(s.S.size())) {
+    next = parallel::run_beside([copy = s, k = fit.k, i]() mutable {
+      take_out_cone(copy, i + 1);
+      return fit_without_cone(copy, k, i + 1);
+    });
   }
-  const SetFit without = fit_cone_set(s, &start, true);
+  ConeSetBackup before = take_out_cone(s, i);
+  WithoutCone half;
+  if (ahead.valid()) {
+    half = ahead.get();
+    s.hessian = half.hessian;
+  } else {
+    half = fit_without_cone(s, fit.k, i);
+  }
+  const SetFit& without = half.without;
   const int v = without.within ? best_candidate(s, without) : -1;
   if (v >= 0 && v != before.removed) {
     add_cone(s, v);
@@ -550,8 +584,17 @@ bool exchange_cones(ConeSelector& selector, SetFit& fit) {
   bool any = false;
   for (int pass = 0; pass < passes; ++pass) {
     bool improved = false;
+    // Each exchange's first half is fitted beside the exchange before it, on the state that one
+    // leaves when it is not kept (most are not); kept, the look-ahead is dropped. The same
+    // exchanges, in the same order, as one after the other.
+    std::future<WithoutCone> ahead;
     for (int i = 0; i < static_cast<int>(selector.S.size()); ++i) {
-      if (exchange_cone(selector, fit, i)) improved = true;
+      std::future<WithoutCone> next;
+      if (exchange_cone(selector, fit, i, ahead, next)) {
+        improved = true;
+        next = {};  // (waits for the look-ahead: it read the state before this exchange)
+      }
+      ahead = std::move(next);
     }
     any = any || improved;
     if (!improved) break;

@@ -220,6 +220,7 @@ ConeModel build_cone_model(const FlowProblem& problem) {
   model.face_area = std::move(linear.face_area);
   model.area = std::move(linear.area);
   model.vertex_faces = cone_steps::vertex_faces(t);
+  model.neighbours = vertex_neighbours(t);
   const bool has_boundary = t.num_boundary_loops() > 0;
   model.chi = t.euler_characteristic();
   model.closed = !has_boundary;

@@ -171,6 +171,30 @@ TEST(ConeSteps, ExchangeNeverIncreasesTheObjective) {
   EXPECT_NEAR(grown.fit.k.sum(), 4 * std::numbers::pi, kTolerance);
 }
 
+// Each exchange's first half is fitted beside the one before it (a look-ahead on a copy of the
+// state): on one thread (no look-ahead runs beside) or two, the same cones and the same bits.
+TEST(ConeSteps, ExchangesAreTheSameOnOneThreadOrTwo) {
+  std::vector<int> cones[2];
+  Eigen::VectorXd curvatures[2];
+  double values[2] = {0, 0};
+  int kept[2] = {0, 0};
+  for (int run = 0; run < 2; ++run) {
+    const testing::ScopedThreads scoped(run == 0 ? "1" : "2");
+    Grown grown(6);
+    const std::vector<int> before = grown.selector.S;
+    exchange_cones(grown.selector, grown.fit);
+    cones[run] = grown.selector.S;
+    curvatures[run] = grown.fit.k;
+    values[run] = grown.fit.value;
+    for (int v : cones[run]) kept[run] += std::count(before.begin(), before.end(), v) ? 0 : 1;
+  }
+  EXPECT_GT(kept[0], 0) << "no exchange was kept: the look-ahead's discarding is not exercised";
+  EXPECT_EQ(cones[0], cones[1]);
+  EXPECT_EQ(values[0], values[1]);
+  ASSERT_EQ(curvatures[0].size(), curvatures[1].size());
+  EXPECT_TRUE((curvatures[0].array() == curvatures[1].array()).all());
+}
+
 TEST(ConeSteps, QuantizeGivesQuarterTurnsWithTheSumKept) {
   const Grown grown(8);
   const Eigen::VectorXd kq = quantize_in_model(grown.selector, grown.selector.S, grown.fit.k);

@@ -5,6 +5,7 @@
 /// and its quasi-Newton minimiser with bounded quadratic steps. cone_selection_steps.cpp fits
 /// each cone set with it; cones.cpp measures a flat metric's area distortion with area_energy.
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -48,6 +49,9 @@ struct ConeColumn {
   Eigen::VectorXd faces;
   double rhs0_dot = 0;
 };
+/// Columns are shared, never changed once made: a copy of the selection's state (the exchanges'
+/// look-ahead) copies pointers, not #V + #F values per cone.
+using SharedColumn = std::shared_ptr<const ConeColumn>;
 
 /// An evaluation of the ConeObjective at curvatures k: its value and gradient in k.
 struct ObjectiveValue {
@@ -74,7 +78,7 @@ struct ConeObjective {
   const std::vector<int>& S;
   /// The cones' columns, when kept (then u and the cones' gradient take no solve); empty when
   /// they would take too much memory.
-  const std::vector<ConeColumn>& columns;
+  const std::vector<SharedColumn>& columns;
   double smooth = 0;
   /// The model's vertex_faces: area_energy in parallel (null: sequential).
   const VertexFaces* incidence = nullptr;
@@ -92,15 +96,15 @@ struct ConeObjective {
         green->rows() != static_cast<Eigen::Index>(S.size())) {
       return false;
     }
-    for (const ConeColumn& c : columns) {
-      if (c.faces.size() != t.num_faces) return false;
+    for (const SharedColumn& c : columns) {
+      if (c->faces.size() != t.num_faces) return false;
     }
     return true;
   }
   Eigen::VectorXd solve_u(const Eigen::VectorXd& k) const {
     if (has_columns()) {
       Eigen::VectorXd u = u0;
-      for (std::size_t i = 0; i < S.size(); ++i) u += k[static_cast<int>(i)] * columns[i].g;
+      for (std::size_t i = 0; i < S.size(); ++i) u += k[static_cast<int>(i)] * columns[i]->g;
       return u;
     }
     Eigen::VectorXd rhs = rhs0;
@@ -120,7 +124,7 @@ struct ConeObjective {
     const int m = static_cast<int>(S.size());
     Eigen::VectorXd g(m);
     if (has_columns()) {
-      for (int i = 0; i < m; ++i) g[i] = columns[i].g.dot(dfdu) + 2 * smooth * u[S[i]];
+      for (int i = 0; i < m; ++i) g[i] = columns[i]->g.dot(dfdu) + 2 * smooth * u[S[i]];
     } else {
       const Eigen::VectorXd all = cholesky.solve(dfdu);
       for (int i = 0; i < m; ++i) g[i] = all[S[i]] + 2 * smooth * u[S[i]];

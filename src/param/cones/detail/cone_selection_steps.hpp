@@ -28,8 +28,9 @@ struct ConeModelData {
   int gauge = -1;          ///< closed surfaces: the vertex held at u = 0
   std::vector<char> held;  ///< boundary vertices and the gauge, held at u = 0
   Eigen::VectorXd curvature, area, angle_sum, largest_corner;
-  Eigen::VectorXd face_area;  ///< each face's share of the 3D area
-  VertexFaces vertex_faces;   ///< of the topology (area_energy in parallel)
+  Eigen::VectorXd face_area;                 ///< each face's share of the 3D area
+  VertexFaces vertex_faces;                  ///< of the topology (area_energy in parallel)
+  std::vector<std::vector<int>> neighbours;  ///< vertex_neighbours of the topology
   CornerAngles angles;
   Eigen::SparseMatrix<double> A;  ///< L plus the penalty on the held vertices
   SparseCholesky cholesky;
@@ -64,7 +65,6 @@ struct ConeSelector {
   double total = 0;     ///< 2 pi chi: what the curvatures sum to on a closed surface
   int max_cones = 0;    ///< the cap (options.max_cones, else #V: none)
   int wanted = -1;      ///< count mode: the number of cones; -1 automatic
-  std::vector<std::vector<int>> neighbours;
   /// A cone of curvature k makes u behave like -(k / 2 pi) log r next to it: the cone itself,
   /// not distortion more cones could remove. Vertices within `separation` rings of a cone are
   /// left out of the measure and of the candidates (else cones pile up next to each other).
@@ -84,7 +84,7 @@ struct ConeSelector {
   /// The cones' columns of A^-1, kept while they fit in kColumnValues doubles (the objective's
   /// iterations then take no solve, and M comes from dot products); empty otherwise. Their means
   /// over the faces too while those fit as well (the iterations then work on the faces alone).
-  std::vector<ConeColumn> columns;
+  std::vector<SharedColumn> columns;
   Eigen::VectorXd u0_faces;  ///< u0's mean over each face
   double u0_rhs0 = 0;        ///< u0 . rhs0
   Eigen::MatrixXd hessian;   ///< the objective's quasi-Newton Hessian at the previous fit
