@@ -17,7 +17,6 @@
 #include <dlfcn.h>
 #include <link.h>
 
-#include <mutex>
 #include <string>
 #include <vector>
 #define RICCI_PIN_BLAS_THREADS 1

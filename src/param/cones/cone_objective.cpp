@@ -273,7 +273,7 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
   const int m = static_cast<int>(objective.S.size());
   // u itself (and dF/du at every vertex) only at the minimiser.
   auto finish = [&] {
-    const Eigen::VectorXd u = objective.solve_u(k);
+    Eigen::VectorXd u = objective.solve_u(k);
     if (gradient_all) {
       Eigen::VectorXd dfdu;
       area_energy(objective.t, objective.face_area, u, &dfdu, objective.incidence);
@@ -282,8 +282,7 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     return u;
   };
   if (m == 0) {
-    const Eigen::VectorXd u = objective.solve_u(k);
-    value = objective.value(u, k);
+    value = objective.value(objective.solve_u(k), k);
     return finish();
   }
   ObjectiveValue at = objective.evaluate(k);
