@@ -55,14 +55,6 @@ VertexFaces vertex_faces(const Topology& t) {
   return incidence;
 }
 
-Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x) {
-  Eigen::VectorXd means(t.num_faces);
-  for (int f = 0; f < t.num_faces; ++f) {
-    means[f] = (x[t.triangles(f, 0)] + x[t.triangles(f, 1)] + x[t.triangles(f, 2)]) / 3;
-  }
-  return means;
-}
-
 namespace {
 
 /// area_energy's chunks of faces start at multiples of this: Eigen's vectorised exp then takes
@@ -90,6 +82,16 @@ void for_face_blocks(int n, bool in_parallel, Body&& body) {
 
 }  // namespace
 
+Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x, bool in_parallel) {
+  Eigen::VectorXd means(t.num_faces);
+  for_face_blocks(t.num_faces, in_parallel, [&](int begin, int end) {
+    for (int f = begin; f < end; ++f) {
+      means[f] = (x[t.triangles(f, 0)] + x[t.triangles(f, 1)] + x[t.triangles(f, 2)]) / 3;
+    }
+  });
+  return means;
+}
+
 /// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
 ///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
 /// E = sum_f a_f (e^{2 u_f} / Z - 1)^2 with Z = sum_f a_f e^{2 u_f}, u_f the mean of u over the
@@ -104,12 +106,7 @@ double area_energy(const Topology& t, const Eigen::VectorXd& face_area, const Ei
                    Eigen::VectorXd* gradient, const VertexFaces* incidence) {
   const int nf = t.num_faces;
   const bool in_parallel = incidence != nullptr;
-  Eigen::ArrayXd uf(nf);
-  for_face_blocks(nf, in_parallel, [&](int begin, int end) {
-    for (int f = begin; f < end; ++f) {
-      uf[f] = (u[t.triangles(f, 0)] + u[t.triangles(f, 1)] + u[t.triangles(f, 2)]) / 3;
-    }
-  });
+  Eigen::ArrayXd uf = face_means(t, u, in_parallel).array();
   const double top = uf.maxCoeff();  // e^{4 (u - top)} cannot overflow
   Eigen::ArrayXd e2(nf), e4(nf);
   for_face_blocks(nf, in_parallel, [&](int begin, int end) {

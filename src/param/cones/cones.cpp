@@ -339,10 +339,10 @@ Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorX
 
 namespace {
 
-double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Eigen::VectorXd& u,
+double log_scale_spread(const Topology& t, const std::vector<std::vector<int>>& neighbours,
+                        const Eigen::VectorXd& area, const Eigen::VectorXd& u,
                         const std::vector<int>& cones) {
   const int nv = t.num_vertices;
-  std::vector<std::vector<int>> neighbours = vertex_neighbours(t);
   std::vector<int> ring(nv, kFarFromCones);
   for (int c : cones) grow_rings_within(neighbours, c, kSeparationRings, area, kRingArea, ring);
   double mean = 0, weight = 0;
@@ -364,12 +364,13 @@ double log_scale_spread(const Topology& t, const Eigen::VectorXd& area, const Ei
 
 double log_scale_spread(const Mesh& mesh, const Topology& t, const Eigen::VectorXd& u,
                         const std::vector<int>& cones) {
-  return log_scale_spread(t, vertex_areas(t, face_areas(mesh, t)), u, cones);
+  return log_scale_spread(t, vertex_neighbours(t), vertex_areas(t, face_areas(mesh, t)), u, cones);
 }
 
 double log_scale_spread(const ConeModel& model, const Eigen::VectorXd& u,
                         const std::vector<int>& cones) {
-  return log_scale_spread(*model.data().topology, model.data().area, u, cones);
+  const ConeModelData& data = model.data();
+  return log_scale_spread(*data.topology, data.neighbours, data.area, u, cones);
 }
 
 std::vector<Cone> quantize_cones(const std::vector<Cone>& cones, double total) {

@@ -22,8 +22,9 @@ struct VertexFaces {
 };
 VertexFaces vertex_faces(const Topology& t);
 
-/// x's mean over the corners of each face ((x_a + x_b + x_c) / 3, as area_energy takes u_f).
-Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x);
+/// x's mean over the corners of each face ((x_a + x_b + x_c) / 3: area_energy's u_f), in
+/// parallel when asked (the same values either way).
+Eigen::VectorXd face_means(const Topology& t, const Eigen::VectorXd& x, bool in_parallel = false);
 
 /// The area distortion of the tutorial's eq. 9 as the linearised model sees it, in log form:
 ///     F(u) = log sum_f a_f e^{4 u_f} - 2 log sum_f a_f e^{2 u_f}  =  log(1 + E),
