@@ -183,13 +183,30 @@ void refine_few_cones(ParamRun& run) {
   // from two threads at once.
   CurvatureRefinementOptions measure_only;
   measure_only.max_steps = 0;
+  // Each flow starts where the cone model's linearised flow puts its cones, preconditioned by
+  // the model's factorisation (as the pipeline's flow, start_where_linearised), unless the
+  // caller's options bring their own.
+  const ConeModel& model = run.the_cone_model();
+  const auto flow_from_model = [&](const std::vector<Cone>& cones) {
+    FlowOptions flow = options.flow;
+    if (!flow.start_preconditioner && flow.start_u.size() == 0) {
+      flow.start_u =
+          problem.structure.structure.initial_u + linearised_log_factors(model, cones);
+      flow.start_preconditioner = [&model](const Eigen::VectorXd& r) {
+        return linearised_inverse(model, r);
+      };
+    }
+    return flow;
+  };
+  const FlowOptions level_flow = flow_from_model(level_cones);
+  const FlowOptions selected_flow = flow_from_model(run.cones);
   const auto measure_level = [&] {
-    return refine_cone_curvatures(problem, level_cones, options.flow, measure_only);
+    return refine_cone_curvatures(problem, level_cones, level_flow, measure_only);
   };
   std::future<CurvatureRefinement> placed_beside;
   if (!options.flow.start_preconditioner) placed_beside = parallel::run_beside(measure_level);
   const CurvatureRefinement selected =
-      refine_cone_curvatures(problem, run.cones, options.flow, measure_only);
+      refine_cone_curvatures(problem, run.cones, selected_flow, measure_only);
   const CurvatureRefinement placed = placed_beside.valid() ? placed_beside.get() : measure_level();
   const bool take_level =
       placed.converged && (!selected.converged || placed.area_energy < selected.area_energy);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "numerics/detail/conjugate_gradients.hpp"
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/metric/background.hpp"
@@ -222,27 +223,11 @@ bool NewtonSystem::preconditioned_cg(const Eigen::VectorXd& b, double relative_t
     }
     return z;
   };
-  x.setZero(b.size());
-  Eigen::VectorXd r = b;
-  Eigen::VectorXd z = precondition(r);
-  Eigen::VectorXd p = z;
-  double rz = r.dot(z);
-  const double goal = relative_tolerance * b.norm();
-  for (int k = 1; k <= max_iterations; ++k) {
-    const Eigen::VectorXd Hp = H_ * p;
-    const double curvature_along_p = p.dot(Hp);
-    if (!(curvature_along_p > 0)) return false;
-    const double alpha = rz / curvature_along_p;
-    x += alpha * p;
-    r -= alpha * Hp;
-    ++cg_iterations_;
-    if (r.norm() <= goal) return true;
-    z = precondition(r);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
-  return false;
+  const auto apply = [&](const Eigen::VectorXd& p) -> Eigen::VectorXd { return H_ * p; };
+  const numerics_detail::ConjugateGradients cg = numerics_detail::conjugate_gradients(
+      apply, precondition, b, relative_tolerance, max_iterations, x);
+  cg_iterations_ += cg.iterations;
+  return cg.converged;
 }
 
 bool NewtonSystem::solve_reusing_factor(const Eigen::VectorXd& rhs, int max_iterations,

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "numerics/detail/conjugate_gradients.hpp"
 #include "param/cones/detail/cone_objective.hpp"
 #include "param/cones/detail/linear_flow.hpp"
 #include "ricci/errors.hpp"
@@ -25,6 +26,14 @@ constexpr double kCurvatureCondition = 1e-12;
 /// A cone within this (radians) of its lowest curvature counts as at it.
 constexpr double kAtLowest = 1e-9;
 
+/// Conjugate-gradient iterations the gradient's solve at a new flat metric may take,
+/// preconditioned by the factorisation of H at an earlier one, before H there is factorised:
+/// between the small steps of the refinement they take 3-10 (fertility, 8 cones), and a
+/// factorisation with its analysis costs about 30 of them.
+constexpr int kGradientIterations = 30;
+/// Their relative residual: far below what moves a quasi-Newton step on curvatures of order 1.
+constexpr double kGradientTolerance = 1e-10;
+
 /// One flow to the flat metric with the cones, and its area distortion.
 struct FlatPoint {
   bool converged = false;
@@ -33,18 +42,31 @@ struct FlatPoint {
   Eigen::VectorXd dfdu;      ///< d log(1 + E) / du
 };
 
+/// The flows of the refinement and the solves with the flow's Hessian H at their flat metrics.
+/// One factorisation serves several points: H changes little between the steps' flat metrics,
+/// so the factorisation at an earlier one preconditions conjugate gradients at the next (and
+/// the next flow's first Newton steps), and H is factorised afresh only when they stall.
 class Refiner {
  public:
   Refiner(const FlowProblem& problem, const FlowOptions& flow)
       : problem_(problem),
         flow_(flow),
-        face_area_(cone_steps::face_areas(*problem.mesh, problem.topology)) {}
+        face_area_(cone_steps::face_areas(*problem.mesh, problem.topology)) {
+    // The gauge of a closed surface: the vertex the flow holds (its first vertex in the mesh),
+    // so that the factorisation preconditions the flow's own system. (The gradient does not
+    // depend on it: dE/du sums to 0, and the curvatures' gradient is projected on sum 0.)
+    const Topology& t = problem.topology;
+    while (gauge_ < t.num_vertices && t.vertex_component[gauge_] < 0) ++gauge_;
+  }
 
   FlatPoint flatten(const std::vector<Cone>& cones, Eigen::VectorXd start) {
     FlatPoint p;
     FlowOptions o = flow_;
     o.start_u = std::move(start);
     o.progress = {};
+    if (factored_) {
+      o.start_preconditioner = [this](const Eigen::VectorXd& r) { return predict(r); };
+    }
     ++flows_;
     try {
       p.flow = ricci_flow(
@@ -62,45 +84,88 @@ class Refiner {
     return p;
   }
 
-  /// Factorises H at the flat metric p (dK-bar/du there, on its intrinsic triangulation), the
-  /// gauge (closed) or the boundary held at 0: solve() then gives H^-1 b there.
-  void factorise_at(const FlatPoint& p) {
+  /// Assembles H at the flat metric p (dK-bar/du there, on its intrinsic triangulation), the
+  /// gauge (closed) or the boundary held at 0 by a penalty: solve_here() then gives H^-1 b.
+  void move_to(const FlatPoint& p) {
     const Topology& t = p.flow.intrinsic.topology();
     CornerAngles angles;
     corner_angles(t, p.flow.lengths, angles);
     Eigen::VectorXd hw, ew;
     halfedge_weights(t, p.flow.intrinsic.structure(), p.flow.u, p.flow.lengths, angles, hw);
     edge_weights(t, hw, ew);
-    Eigen::SparseMatrix<double> H = curvature_hessian(t, ew);
-    const double penalty = kPinPenalty * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff());
+    H_ = curvature_hessian(t, ew);
+    const double penalty = kPinPenalty * std::max(1.0, H_.diagonal().cwiseAbs().maxCoeff());
     const bool closed = t.num_boundary_loops() == 0;
     pinned_.assign(t.num_vertices, 0);
     for (int v = 0; v < t.num_vertices; ++v) {
       if ((closed && v == gauge_) || (!closed && t.is_boundary_vertex[v])) {
-        H.coeffRef(v, v) += penalty;
+        H_.coeffRef(v, v) += penalty;
         pinned_[v] = 1;
       }
     }
-    // (Flips between flat metrics change the pattern: it is analysed for each.)
-    cholesky_.analyze(H);
-    cholesky_.factorize(H);
   }
-  Eigen::VectorXd solve(Eigen::VectorXd b) const {
-    for (std::size_t v = 0; v < pinned_.size(); ++v) {
-      if (pinned_[v]) b[static_cast<Eigen::Index>(v)] = 0;
+
+  /// H^-1 b at the point of the last move_to: conjugate gradients preconditioned by the last
+  /// factorisation, or (when they stall, or there is none) a factorisation of H here.
+  Eigen::VectorXd solve_here(Eigen::VectorXd b) {
+    hold(b);
+    if (factored_) {
+      Eigen::VectorXd x;
+      const auto apply = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return H_ * d; };
+      const auto precondition = [&](const Eigen::VectorXd& r) { return cholesky_.solve(r); };
+      if (numerics_detail::conjugate_gradients(apply, precondition, b, kGradientTolerance,
+                                               kGradientIterations, x)
+              .converged) {
+        return x;
+      }
     }
+    factorise_here();
     return cholesky_.solve(b);
   }
 
-  void set_gauge(int v) { gauge_ = v; }
+  /// The last factorisation's solve (H^-1 b at the point where it was made, or near it): where
+  /// the next flat metric lies to first order, and the next flow's preconditioner.
+  Eigen::VectorXd predict(Eigen::VectorXd b) const {
+    hold(b);
+    return cholesky_.solve(b);
+  }
+
   int flows() const { return flows_; }
 
  private:
+  void hold(Eigen::VectorXd& b) const {
+    for (std::size_t v = 0; v < pinned_.size(); ++v) {
+      if (pinned_[v]) b[static_cast<Eigen::Index>(v)] = 0;
+    }
+  }
+
+  /// Factorises H; its pattern is analysed when flips since the last analysis changed it.
+  void factorise_here() {
+    const auto* outer = H_.outerIndexPtr();
+    const auto* inner = H_.innerIndexPtr();
+    const bool same_pattern =
+        cholesky_.analyzed() &&
+        std::equal(outer, outer + H_.outerSize() + 1, analysed_outer_.begin(),
+                   analysed_outer_.end()) &&
+        std::equal(inner, inner + H_.nonZeros(), analysed_inner_.begin(), analysed_inner_.end());
+    if (!same_pattern) {
+      cholesky_.analyze(H_);
+      analysed_outer_.assign(outer, outer + H_.outerSize() + 1);
+      analysed_inner_.assign(inner, inner + H_.nonZeros());
+    }
+    factored_ = false;
+    cholesky_.factorize(H_);
+    factored_ = true;
+  }
+
   const FlowProblem& problem_;
   const FlowOptions& flow_;
   Eigen::VectorXd face_area_;
+  Eigen::SparseMatrix<double> H_;
   SparseCholesky cholesky_;
+  std::vector<int> analysed_outer_, analysed_inner_;
   std::vector<char> pinned_;
+  bool factored_ = false;  ///< cholesky_ holds a factorisation (of H at this or an earlier point)
   int gauge_ = 0;
   int flows_ = 0;
 };
@@ -114,14 +179,6 @@ CurvatureRefinement refine_cone_curvatures(const FlowProblem& problem,
   const bool closed = t.num_boundary_loops() == 0;
   const int m = static_cast<int>(cones.size());
   Refiner refiner(problem, flow);
-  {
-    // The gauge: a vertex that is no cone (its u is pinned in the Hessian's solves).
-    std::vector<char> is_cone(t.num_vertices, 0);
-    for (const Cone& c : cones) is_cone[c.vertex] = 1;
-    int gauge = 0;
-    while (gauge < t.num_vertices && is_cone[gauge]) ++gauge;
-    refiner.set_gauge(gauge);
-  }
   CurvatureRefinement result;
   result.cones = cones;
   FlatPoint here = refiner.flatten(cones, flow.start_u);
@@ -146,8 +203,8 @@ CurvatureRefinement refine_cone_curvatures(const FlowProblem& problem,
     return x;
   };
   for (int iteration = 0; iteration < options.max_steps; ++iteration) {
-    refiner.factorise_at(here);
-    const Eigen::VectorXd z = refiner.solve(here.dfdu);
+    refiner.move_to(here);
+    const Eigen::VectorXd z = refiner.solve_here(here.dfdu);
     Eigen::VectorXd g(m);
     for (int i = 0; i < m; ++i) g[i] = z[result.cones[i].vertex];
     g = project(g);
@@ -226,7 +283,7 @@ CurvatureRefinement refine_cone_curvatures(const FlowProblem& problem,
       }
       if (!allowed) continue;
       // Started where the Hessian here predicts the new flat metric.
-      FlatPoint next = refiner.flatten(trial, here.flow.u + refiner.solve(change));
+      FlatPoint next = refiner.flatten(trial, here.flow.u + refiner.predict(change));
       if (next.converged && next.energy < here.energy) {
         const double gain = here.energy - next.energy;
         s_before = alpha * direction;
