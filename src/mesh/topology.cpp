@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "numerics/detail/bucket_sort.hpp"
 #include "mesh/detail/edge_name.hpp"
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
@@ -80,21 +81,6 @@ HalfedgeBuckets bucket_halfedges(const Triangles& triangles, int num_vertices) {
   return b;
 }
 
-/// Sorts one bucket's entries: by std::sort when large, else by insertion sort (buckets hold a
-/// handful of halfedges, about the valence).
-void sort_bucket(std::uint64_t* first, std::uint64_t* last) {
-  if (last - first > 16) {
-    std::sort(first, last);
-    return;
-  }
-  for (std::uint64_t* i = first + 1; i < last; ++i) {
-    const std::uint64_t x = *i;
-    std::uint64_t* j = i;
-    for (; j > first && *(j - 1) > x; --j) *j = *(j - 1);
-    *j = x;
-  }
-}
-
 /// Throws TopologyError when the halfedges [first, last) joining one pair of vertices do not
 /// make a manifold, consistently oriented edge: more than two faces, or two faces traversing it
 /// in the same direction.
@@ -130,7 +116,7 @@ std::vector<std::pair<int, int>> pair_halfedges(Topology& t) {
   for (int v = 0; v < t.num_vertices; ++v) {
     std::uint64_t* first = buckets.entries.data() + buckets.start[v];
     std::uint64_t* last = buckets.entries.data() + buckets.start[v + 1];
-    sort_bucket(first, last);
+    numerics_detail::sort_small(first, last);
     for (std::uint64_t* i = first; i < last;) {
       std::uint64_t* j = i + 1;
       while (j < last && (*j >> 32) == (*i >> 32)) ++j;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "numerics/detail/bucket_sort.hpp"
 #include "mesh/detail/corner_fans.hpp"
 #include "mesh/detail/edge_name.hpp"
 #include "mesh/detail/face_keys.hpp"
@@ -186,7 +187,7 @@ void check_duplicate_faces(const Triangles& T, const std::vector<char>& usable,
 /// Edges: sort the halfedges of usable faces on their undirected edge key; edges with more than
 /// two faces are reported (by their first face). #H: the other halfedge of each two-faced edge,
 /// -1 elsewhere.
-std::vector<int> check_edges(const Triangles& T, const std::vector<char>& usable,
+std::vector<int> check_edges(const Triangles& T, const std::vector<char>& usable, int nv,
                              DefectCollector& out) {
   const FaceHalfedges halfedges{T};
   const int nh = 3 * static_cast<int>(T.rows());
@@ -198,7 +199,10 @@ std::vector<int> check_edges(const Triangles& T, const std::vector<char>& usable
     const auto b = static_cast<std::uint64_t>(halfedges.head(h));
     keyed.emplace_back((std::min(a, b) << 32) | std::max(a, b), h);
   }
-  std::sort(keyed.begin(), keyed.end());
+  // (Usable faces name vertices in [0, nv): the smaller end leads the key.)
+  numerics_detail::bucket_sort(keyed, nv, [](const std::pair<std::uint64_t, int>& x) {
+    return static_cast<int>(x.first >> 32);
+  });
   std::vector<int> twin(nh, -1);
   std::vector<std::pair<int, std::size_t>> non_manifold;  // (first face, start in keyed)
   for (std::size_t i = 0; i < keyed.size();) {
@@ -379,7 +383,7 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
   const std::vector<char> finite = check_coordinates(P, out);
   const FaceUse use = check_indices(T, mesh.num_vertices(), out);
   check_duplicate_faces(T, use.usable, out);
-  const std::vector<int> twin = check_edges(T, use.usable, out);
+  const std::vector<int> twin = check_edges(T, use.usable, mesh.num_vertices(), out);
   check_fans(T, twin, use.usable, mesh.num_vertices(), out);
   check_orientation(T, twin, use.usable, out);
   check_zero_area(P, T, use.usable, finite, options.zero_area_tolerance, out);

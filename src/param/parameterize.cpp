@@ -18,6 +18,7 @@
 
 #include <Eigen/Geometry>
 
+#include "numerics/detail/bucket_sort.hpp"
 #include "param/atlas/detail/charts.hpp"
 #include "param/atlas/detail/unfolding.hpp"
 #include "param/detail/one_component.hpp"
@@ -108,7 +109,7 @@ int vertices_off_their_angle(const ParamResult& p, SeamMode seams) {
       edges.push_back({std::min(u, v), std::max(u, v), f});
     }
   }
-  std::sort(edges.begin(), edges.end());
+  numerics_detail::bucket_sort(edges, nv, [](const std::array<int, 3>& e) { return e[0]; });
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;

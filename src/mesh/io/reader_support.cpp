@@ -5,7 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <numeric>
 
@@ -358,27 +360,32 @@ std::string duplicate_position_warning(const std::string& path, const RawMesh& r
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
     for (int k = 0; k < 3; ++k) referenced[mesh.triangles(f, k)] = 1;
   }
-  std::vector<int> order;
-  order.reserve(nv);
-  for (int v = 0; v < nv; ++v) {
-    if (referenced[v] && mesh.positions.row(v).allFinite()) order.push_back(v);
-  }
+  // Positions in a hash table (open addressing, linear probing), vertices in increasing order:
+  // each vertex whose position an earlier one holds counts, the first such is the example.
+  // (-0 and 0 are one position, as they compare equal.)
   const auto& P = mesh.positions;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    for (int k = 0; k < 3; ++k) {
-      if (P(a, k) != P(b, k)) return P(a, k) < P(b, k);
-    }
-    return a < b;
-  });
+  std::size_t size = 16;
+  while (size < 2 * static_cast<std::size_t>(nv)) size *= 2;
+  std::vector<int> table(size, -1);
+  const auto bits = [](double x) {
+    const double zeroed = x + 0.0;  // -0 -> 0
+    std::uint64_t b;
+    std::memcpy(&b, &zeroed, sizeof b);
+    return b;
+  };
   int count = 0, example = -1, example_of = -1;
-  for (std::size_t i = 1, first = 0; i < order.size(); ++i) {
-    if (P.row(order[i]) != P.row(order[first])) {
-      first = i;
-      continue;
-    }
-    if (count++ == 0 || order[i] < example) {
-      example = order[i];
-      example_of = order[first];
+  for (int v = 0; v < nv; ++v) {
+    if (!referenced[v] || !P.row(v).allFinite()) continue;
+    std::uint64_t h = bits(P(v, 0)) * 0x9E3779B97F4A7C15ull;
+    h = (h ^ (h >> 29) ^ bits(P(v, 1))) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 31) ^ bits(P(v, 2))) * 0x94D049BB133111EBull;
+    std::size_t slot = (h ^ (h >> 32)) & (size - 1);
+    while (table[slot] >= 0 && P.row(table[slot]) != P.row(v)) slot = (slot + 1) & (size - 1);
+    if (table[slot] < 0) {
+      table[slot] = v;
+    } else if (count++ == 0) {
+      example = v;
+      example_of = table[slot];
     }
   }
   if (count == 0) return "";
