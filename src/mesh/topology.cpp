@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "numerics/detail/bucket_sort.hpp"
 #include "mesh/detail/edge_name.hpp"
+#include "numerics/detail/bucket_sort.hpp"
 #include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/build_counts.hpp"

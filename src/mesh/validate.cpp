@@ -12,12 +12,12 @@
 
 #include <Eigen/Geometry>
 
-#include "numerics/detail/bucket_sort.hpp"
 #include "mesh/detail/corner_fans.hpp"
 #include "mesh/detail/edge_name.hpp"
 #include "mesh/detail/face_keys.hpp"
 #include "mesh/detail/orientation.hpp"
 #include "mesh/detail/zero_area.hpp"
+#include "numerics/detail/bucket_sort.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/disjoint_sets.hpp"
 

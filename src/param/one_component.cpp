@@ -190,8 +190,7 @@ void refine_few_cones(ParamRun& run) {
   const auto flow_from_model = [&](const std::vector<Cone>& cones) {
     FlowOptions flow = options.flow;
     if (!flow.start_preconditioner && flow.start_u.size() == 0) {
-      flow.start_u =
-          problem.structure.structure.initial_u + linearised_log_factors(model, cones);
+      flow.start_u = problem.structure.structure.initial_u + linearised_log_factors(model, cones);
       flow.start_preconditioner = [&model](const Eigen::VectorXd& r) {
         return linearised_inverse(model, r);
       };

@@ -31,7 +31,8 @@ std::vector<std::array<int, 4>> sorted_face_keys(const Triangles& triangles,
     keyed.push_back(key);
   }
   if (in_range) {
-    numerics_detail::bucket_sort(keyed, buckets, [](const std::array<int, 4>& key) { return key[0]; });
+    numerics_detail::bucket_sort(keyed, buckets,
+                                 [](const std::array<int, 4>& key) { return key[0]; });
   } else {  // (a negative index: no counting sort on it)
     std::sort(keyed.begin(), keyed.end());
   }

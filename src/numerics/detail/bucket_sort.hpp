@@ -37,7 +37,8 @@ void bucket_sort(std::vector<T>& items, int buckets, const Bucket& bucket) {
   std::vector<T> sorted(items.size());
   std::vector<int> fill(start.begin(), start.end() - 1);
   for (T& x : items) sorted[fill[bucket(x)]++] = std::move(x);
-  for (int b = 0; b < buckets; ++b) sort_small(sorted.begin() + start[b], sorted.begin() + start[b + 1]);
+  for (int b = 0; b < buckets; ++b)
+    sort_small(sorted.begin() + start[b], sorted.begin() + start[b + 1]);
   items = std::move(sorted);
 }
 
