@@ -14,6 +14,7 @@ namespace ricci::numerics_detail {
 /// handful of keys).
 template <class Iterator>
 void sort_small(Iterator first, Iterator last) {
+  if (last - first < 2) return;  // (first + 1 would step past an empty range's end)
   if (last - first > 16) {
     std::sort(first, last);
     return;
