@@ -151,6 +151,21 @@ void quantize(const ParamRun& run, std::vector<Cone>& chosen) {
   chosen = quantize_cones(chosen, total);
 }
 
+/// Starts a flow to the flat metric with `cones` where the cone model's linearised flow puts
+/// them (or at `flat`, that metric when a stage has flowed to it already), its first Newton
+/// steps preconditioned by the model's factorisation (which must outlive the flow): that first
+/// step and its factorisation are saved.
+void start_at_model(const ConeModel& model, const FlowProblem& problem,
+                    const std::vector<Cone>& cones, FlowOptions& flow,
+                    const Eigen::VectorXd* flat = nullptr) {
+  flow.start_u = flat ? *flat
+                      : Eigen::VectorXd(problem.structure.structure.initial_u +
+                                        linearised_log_factors(model, cones));
+  flow.start_preconditioner = [model = &model](const Eigen::VectorXd& r) {
+    return linearised_inverse(*model, r);
+  };
+}
+
 /// Steps of the few-cone refinement at most: most of the gain comes in the first few (eight 3,
 /// 3holes 7, fertility 5; fertility with 8 cones took 16 steps, 1 s, from 0.72 to 0.50).
 constexpr int kRefinementSteps = 8;
@@ -190,10 +205,7 @@ void refine_few_cones(ParamRun& run) {
   const auto flow_from_model = [&](const std::vector<Cone>& cones) {
     FlowOptions flow = options.flow;
     if (!flow.start_preconditioner && flow.start_u.size() == 0) {
-      flow.start_u = problem.structure.structure.initial_u + linearised_log_factors(model, cones);
-      flow.start_preconditioner = [&model](const Eigen::VectorXd& r) {
-        return linearised_inverse(model, r);
-      };
+      start_at_model(model, problem, cones, flow);
     }
     return flow;
   };
@@ -436,18 +448,11 @@ void start_where_linearised(ParamRun& run, FlowStage& stage) {
       (stage.problem->topology.num_boundary_loops() > 0 && target.boundary != BoundaryMode::Free)) {
     return;
   }
-  if (run.start_u.size() == stage.problem->topology.num_vertices &&
-      same_cones(target.cones, run.cones)) {
-    flow.start_u = run.start_u;
-  } else {
-    flow.start_u = stage.problem->structure.structure.initial_u +
-                   linearised_log_factors(*run.cone_model, target.cones);
-  }
-  // The model's factorisation preconditions the flow's first Newton steps (run keeps the model
-  // through the flow).
-  flow.start_preconditioner = [model = &*run.cone_model](const Eigen::VectorXd& r) {
-    return linearised_inverse(*model, r);
-  };
+  const bool flowed = run.start_u.size() == stage.problem->topology.num_vertices &&
+                      same_cones(target.cones, run.cones);
+  // (run keeps the model through the flow.)
+  start_at_model(*run.cone_model, *stage.problem, target.cones, flow,
+                 flowed ? &run.start_u : nullptr);
 }
 
 /// Stage 3: the Ricci flow to the flat metric with the run's cones, with its fallbacks: one

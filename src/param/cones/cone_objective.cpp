@@ -279,8 +279,9 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     return u;
   };
   if (m == 0) {
-    value = objective.value(objective.solve_u(k), k);
-    return finish();
+    Eigen::VectorXd u = finish();
+    value = objective.value(u, k);
+    return u;
   }
   ObjectiveValue at = objective.evaluate(k);
   value = at.value;
