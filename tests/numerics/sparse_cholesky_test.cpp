@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iterator>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -203,6 +204,44 @@ TEST_F(OpenBlasThreads, ReleasedThreadsStopAndComeBackOnDemand) {
     EXPECT_GE(thread_count(), threads) << "OpenBLAS started its worker again";
     EXPECT_EQ(get(), 2);
   }
+}
+
+// CHOLMOD's supernodal factorisation opens OpenMP regions of a thread count fixed when it was
+// built (four in Debian's); on two cores they cost more than the factorisation. SparseCholesky
+// runs them on the calling thread: a thread that factorises starts no OpenMP team of its own, and
+// its OpenMP setting is as it was afterwards.
+TEST(SparseCholesky, CholmodLoopsRunOnTheCallingThread) {
+  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+  using GetLevels = int (*)();
+  using SetLevels = void (*)(int);
+  const auto get_levels =
+      reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  const auto set_levels =
+      reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  if (get_levels == nullptr || set_levels == nullptr) GTEST_SKIP() << "no OpenMP runtime loaded";
+  // 20k unknowns: supernodes far above the 1024 values from which CHOLMOD's loops go parallel.
+  const Eigen::SparseMatrix<double> A = torus_laplacian(200);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
+  SparseCholesky reference;
+  reference.factorize(A);  // here: whatever the BLAS starts, it has started
+  const Eigen::VectorXd x = reference.solve(b);
+  // A new thread has no OpenMP team yet; one started by CHOLMOD would stay (idle) until it ends.
+  long before = 0, after = 0;
+  int levels_after = -1;
+  bool same_bits = false;
+  std::thread fresh([&] {
+    set_levels(3);
+    before = thread_count();
+    SparseCholesky cholesky;
+    cholesky.factorize(A);
+    same_bits = (cholesky.solve(b).array() == x.array()).all();
+    after = thread_count();
+    levels_after = get_levels();
+  });
+  fresh.join();
+  EXPECT_EQ(after, before) << "CHOLMOD started OpenMP threads";
+  EXPECT_EQ(levels_after, 3) << "the caller's max-active-levels restored";
+  EXPECT_TRUE(same_bits);
 }
 
 }  // namespace
