@@ -5,6 +5,7 @@
 #ifdef RICCI_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 
+#include <memory>
 #include <mutex>
 #include <optional>
 
@@ -231,6 +232,10 @@ struct SparseCholesky::Impl {
   /// factorisation after an analysis), and whether it was looked for.
   std::optional<supernodal::Split> split;
   bool split_checked = false;
+  /// The factor's values in single precision for solve_approximately, made at its first call
+  /// after each factorisation (solves may run on several threads at once).
+  mutable std::mutex single_mutex;
+  mutable std::shared_ptr<const std::vector<float>> single;
 #endif
 };
 
@@ -325,6 +330,10 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
       [[maybe_unused]] const SerialOpenMp serial_loops;
       impl_->cholmod.factorize(A);
     }
+    {
+      const std::lock_guard<std::mutex> lock(impl_->single_mutex);
+      impl_->single.reset();
+    }
     if (impl_->cholmod.info() != Eigen::Success) {
       throw SolverError(
           "SparseCholesky::factorize: the matrix is not positive definite "
@@ -370,6 +379,27 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
   }
 #endif
   return solve_dense(*impl_, b);
+}
+
+Eigen::VectorXd SparseCholesky::solve_approximately(const Eigen::VectorXd& b) const {
+#ifdef RICCI_HAVE_CHOLMOD
+  if (impl_->use_cholmod && impl_->split) {
+    const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+    if (factor && b.size() == factor->n) {
+      std::shared_ptr<const std::vector<float>> single;
+      {
+        const std::lock_guard<std::mutex> lock(impl_->single_mutex);
+        if (!impl_->single) {
+          impl_->single =
+              std::make_shared<const std::vector<float>>(supernodal::single_values(*factor));
+        }
+        single = impl_->single;
+      }
+      return supernodal::solve_single(*factor, *single, *impl_->split, b);
+    }
+  }
+#endif
+  return solve(b);
 }
 
 Eigen::MatrixXd SparseCholesky::solve_columns(const Eigen::MatrixXd& B) const {

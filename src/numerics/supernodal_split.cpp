@@ -1,6 +1,7 @@
 #include "numerics/detail/supernodal_split.hpp"
 
 #include <algorithm>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -16,28 +17,38 @@ constexpr double kDominantShare = 0.6;
 /// Each group must hold at least this share of the work, else the split is not worth a thread.
 constexpr double kSmallestGroupShare = 0.25;
 
+template <class Scalar>
 struct Block {
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
   int first_column, columns, rows_below;
   const int* below;  ///< row indices under the supernode's own columns
-  Eigen::Map<const Eigen::MatrixXd> values;
+  Eigen::Map<const Matrix> values;
 };
 
-Block block_of(const Factor& f, int s) {
+/// Supernode s of the factor's structure with the values at `values` (the factor's own, or a
+/// copy of them in another precision).
+template <class Scalar>
+Block<Scalar> block_of(const Factor& f, const Scalar* values, int s) {
   const int first_column = f.super[s], columns = f.super[s + 1] - first_column;
   const int rows = f.pi[s + 1] - f.pi[s];
   return {first_column, columns, rows - columns, f.s_index + f.pi[s] + columns,
-          Eigen::Map<const Eigen::MatrixXd>(f.values + f.px[s], rows, columns)};
+          Eigen::Map<const typename Block<Scalar>::Matrix>(values + f.px[s], rows, columns)};
 }
+
+template <class Scalar>
+using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
 
 /// Forward substitution through supernode s: its unknowns, then its updates of the rows below
 /// (into `elsewhere` for the top columns when it is given, into x otherwise).
-void forward(const Factor& f, int s, double* x, double* elsewhere, const std::vector<char>* top,
-             Eigen::VectorXd& work) {
-  const Block b = block_of(f, s);
-  Eigen::Map<Eigen::VectorXd> y(x + b.first_column, b.columns);
-  b.values.topRows(b.columns).triangularView<Eigen::Lower>().solveInPlace(y);
+template <class Scalar>
+void forward(const Factor& f, const Scalar* values, int s, Scalar* x,
+             std::type_identity_t<Scalar>* elsewhere, const std::vector<char>* top,
+             Vector<Scalar>& work) {
+  const Block<Scalar> b = block_of(f, values, s);
+  Eigen::Map<Vector<Scalar>> y(x + b.first_column, b.columns);
+  b.values.topRows(b.columns).template triangularView<Eigen::Lower>().solveInPlace(y);
   if (b.rows_below == 0) return;
-  Eigen::Map<Eigen::VectorXd> t(work.data(), b.rows_below);
+  Eigen::Map<Vector<Scalar>> t(work.data(), b.rows_below);
   t.noalias() = b.values.bottomRows(b.rows_below) * y;
   for (int j = 0; j < b.rows_below; ++j) {
     const int row = b.below[j];
@@ -50,15 +61,57 @@ void forward(const Factor& f, int s, double* x, double* elsewhere, const std::ve
 }
 
 /// Backward substitution through supernode s (the rows below it already solved).
-void backward(const Factor& f, int s, double* x, Eigen::VectorXd& work) {
-  const Block b = block_of(f, s);
-  Eigen::Map<Eigen::VectorXd> y(x + b.first_column, b.columns);
+template <class Scalar>
+void backward(const Factor& f, const Scalar* values, int s, Scalar* x, Vector<Scalar>& work) {
+  const Block<Scalar> b = block_of(f, values, s);
+  Eigen::Map<Vector<Scalar>> y(x + b.first_column, b.columns);
   if (b.rows_below > 0) {
-    Eigen::Map<Eigen::VectorXd> g(work.data(), b.rows_below);
+    Eigen::Map<Vector<Scalar>> g(work.data(), b.rows_below);
     for (int j = 0; j < b.rows_below; ++j) g[j] = x[b.below[j]];
     y.noalias() -= b.values.bottomRows(b.rows_below).transpose() * g;
   }
-  b.values.topRows(b.columns).transpose().triangularView<Eigen::Upper>().solveInPlace(y);
+  b.values.topRows(b.columns).transpose().template triangularView<Eigen::Upper>().solveInPlace(y);
+}
+
+/// solve and solve_single: the substitutions in Scalar with the values at `values`.
+template <class Scalar>
+Eigen::VectorXd solve_in(const Factor& f, const Scalar* values, const Split& split,
+                         const Eigen::VectorXd& b) {
+  Vector<Scalar> x(f.n);
+  for (int k = 0; k < f.n; ++k) x[k] = static_cast<Scalar>(b[f.perm[k]]);
+  // The second group's updates of the top columns, added after the first group's.
+  Vector<Scalar> elsewhere = Vector<Scalar>::Zero(f.n);
+  Vector<Scalar> work_first(split.widest_below), work_second(split.widest_below);
+  {
+    auto second = parallel::run_beside([&] {
+      for (int s : split.second) {
+        forward(f, values, s, x.data(), elsewhere.data(), &split.top_column, work_second);
+      }
+    });
+    for (int s : split.first) forward(f, values, s, x.data(), nullptr, nullptr, work_first);
+    second.get();
+  }
+  for (int s : split.top) {
+    for (int k = f.super[s]; k < f.super[s + 1]; ++k) x[k] += elsewhere[k];
+  }
+  for (int s : split.top) forward(f, values, s, x.data(), nullptr, nullptr, work_first);
+  for (auto s = split.top.rbegin(); s != split.top.rend(); ++s) {
+    backward(f, values, *s, x.data(), work_first);
+  }
+  {
+    auto second = parallel::run_beside([&] {
+      for (auto s = split.second.rbegin(); s != split.second.rend(); ++s) {
+        backward(f, values, *s, x.data(), work_second);
+      }
+    });
+    for (auto s = split.first.rbegin(); s != split.first.rend(); ++s) {
+      backward(f, values, *s, x.data(), work_first);
+    }
+    second.get();
+  }
+  Eigen::VectorXd out(f.n);
+  for (int k = 0; k < f.n; ++k) out[f.perm[k]] = static_cast<double>(x[k]);
+  return out;
 }
 
 }  // namespace
@@ -77,7 +130,7 @@ std::optional<Split> split_factor(const Factor& f, double min_values) {
   std::vector<int> frontier;
   Split split;
   for (int s = 0; s < f.num_super; ++s) {
-    const Block b = block_of(f, s);
+    const Block<double> b = block_of(f, f.values, s);
     own[s] = subtree[s] = static_cast<double>(b.values.size());
     first[s] = s;
     split.widest_below = std::max(split.widest_below, b.rows_below);
@@ -135,39 +188,19 @@ std::optional<Split> split_factor(const Factor& f, double min_values) {
 }
 
 Eigen::VectorXd solve(const Factor& f, const Split& split, const Eigen::VectorXd& b) {
-  Eigen::VectorXd x(f.n);
-  for (int k = 0; k < f.n; ++k) x[k] = b[f.perm[k]];
-  // The second group's updates of the top columns, added after the first group's.
-  Eigen::VectorXd elsewhere = Eigen::VectorXd::Zero(f.n);
-  Eigen::VectorXd work_first(split.widest_below), work_second(split.widest_below);
-  {
-    auto second = parallel::run_beside([&] {
-      for (int s : split.second)
-        forward(f, s, x.data(), elsewhere.data(), &split.top_column, work_second);
-    });
-    for (int s : split.first) forward(f, s, x.data(), nullptr, nullptr, work_first);
-    second.get();
-  }
-  for (int s : split.top) {
-    for (int k = f.super[s]; k < f.super[s + 1]; ++k) x[k] += elsewhere[k];
-  }
-  for (int s : split.top) forward(f, s, x.data(), nullptr, nullptr, work_first);
-  for (auto s = split.top.rbegin(); s != split.top.rend(); ++s)
-    backward(f, *s, x.data(), work_first);
-  {
-    auto second = parallel::run_beside([&] {
-      for (auto s = split.second.rbegin(); s != split.second.rend(); ++s) {
-        backward(f, *s, x.data(), work_second);
-      }
-    });
-    for (auto s = split.first.rbegin(); s != split.first.rend(); ++s) {
-      backward(f, *s, x.data(), work_first);
-    }
-    second.get();
-  }
-  Eigen::VectorXd out(f.n);
-  for (int k = 0; k < f.n; ++k) out[f.perm[k]] = x[k];
-  return out;
+  return solve_in(f, f.values, split, b);
+}
+
+std::vector<float> single_values(const Factor& f) {
+  const int count = f.px[f.num_super];
+  std::vector<float> single(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) single[i] = static_cast<float>(f.values[i]);
+  return single;
+}
+
+Eigen::VectorXd solve_single(const Factor& f, const std::vector<float>& single, const Split& split,
+                             const Eigen::VectorXd& b) {
+  return solve_in(f, single.data(), split, b);
 }
 
 }  // namespace ricci::supernodal

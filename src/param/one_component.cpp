@@ -162,7 +162,7 @@ void start_at_model(const ConeModel& model, const FlowProblem& problem,
                       : Eigen::VectorXd(problem.structure.structure.initial_u +
                                         linearised_log_factors(model, cones));
   flow.start_preconditioner = [model = &model](const Eigen::VectorXd& r) {
-    return linearised_inverse(*model, r);
+    return linearised_inverse(*model, r, /*approximately=*/true);
   };
 }
 

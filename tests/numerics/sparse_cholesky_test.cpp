@@ -160,6 +160,42 @@ TEST(SparseCholesky, LargeFactorsSolveOnTwoThreadsWithTheSameBits) {
   EXPECT_LT((cholesky.solve(b) - 0.5 * cholmod).norm(), 1e-12 * cholmod.norm());
 }
 
+// solve_approximately: a large factor solves in single precision (near solve(), not equal to
+// it, the same bits on one thread or two, refreshed by a refactorisation); a small one solves
+// exactly as solve() does.
+TEST(SparseCholesky, ApproximateSolvesAreSinglePrecisionOnLargeFactors) {
+  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+  const Eigen::SparseMatrix<double> small_matrix = torus_laplacian(20);
+  SparseCholesky small;
+  small.factorize(small_matrix);
+  const Eigen::VectorXd small_b = Eigen::VectorXd::LinSpaced(small_matrix.rows(), -1.0, 1.0);
+  EXPECT_TRUE((small.solve_approximately(small_b).array() == small.solve(small_b).array()).all());
+
+  const Eigen::SparseMatrix<double> A = torus_laplacian(400);
+  SparseCholesky cholesky;
+  cholesky.factorize(A);
+  ASSERT_TRUE(cholesky.solves_on_two_threads());
+  Eigen::VectorXd b(A.rows());
+  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = std::sin(0.01 * static_cast<double>(i));
+  const Eigen::VectorXd exact = cholesky.solve(b);
+  Eigen::VectorXd first;
+  for (const char* threads : {"1", "2"}) {
+    const testing::ScopedThreads scoped(threads);
+    const Eigen::VectorXd x = cholesky.solve_approximately(b);
+    const double error = (x - exact).norm() / exact.norm();
+    EXPECT_LT(error, 1e-4) << threads;   // single precision, conditioning about 1e4
+    EXPECT_GT(error, 1e-13) << threads;  // not the double-precision solve
+    if (first.size() == 0) {
+      first = x;
+    } else {
+      EXPECT_TRUE((x.array() == first.array()).all()) << threads;
+    }
+  }
+  const Eigen::SparseMatrix<double> twice = 2 * A;
+  cholesky.factorize(twice);
+  EXPECT_LT((cholesky.solve_approximately(b) - 0.5 * exact).norm(), 1e-4 * exact.norm());
+}
+
 /// The number of threads of this process (Linux: the entries of /proc/self/task).
 long thread_count() {
   const std::filesystem::directory_iterator tasks("/proc/self/task");

@@ -324,13 +324,15 @@ Eigen::VectorXd linearised_log_factors(const ConeModel& handle, const std::vecto
   return linearised_inverse(handle, rhs);
 }
 
-Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorXd& r) {
+Eigen::VectorXd linearised_inverse(const ConeModel& handle, const Eigen::VectorXd& r,
+                                   bool approximately) {
   const ConeModelData& model = handle.data();
   if (r.size() != model.nv) {
     throw InvalidInput("linearised_inverse: " + std::to_string(r.size()) +
                        " values for a model of " + std::to_string(model.nv) + " vertices");
   }
-  Eigen::VectorXd z = model.cholesky.solve(r);
+  Eigen::VectorXd z =
+      approximately ? model.cholesky.solve_approximately(r) : model.cholesky.solve(r);
   for (int v = 0; v < model.nv; ++v) {
     if (model.held[v]) z[v] = 0;  // (the penalty holds them at about 1e-10 of their neighbours)
   }

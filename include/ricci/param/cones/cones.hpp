@@ -145,8 +145,11 @@ Eigen::VectorXd linearised_log_factors(const ConeModel& model, const std::vector
 /// pinned by a penalty, solved with its factorisation; held entries of the result are 0. Near
 /// the flat metric's Hessian away from strong cones, so it preconditions the flow's first Newton
 /// steps (FlowOptions::start_preconditioner) in place of a factorisation of their own.
+/// approximately: to about single precision (SparseCholesky::solve_approximately), which is all
+/// a preconditioner needs, and faster on large meshes.
 /// \throw InvalidInput when r does not have #V entries
-Eigen::VectorXd linearised_inverse(const ConeModel& model, const Eigen::VectorXd& r);
+Eigen::VectorXd linearised_inverse(const ConeModel& model, const Eigen::VectorXd& r,
+                                   bool approximately = false);
 
 /// The same on a mesh: builds its problem (options.structure) and model, then selects.
 /// \pre the mesh is a single connected component that passed validate_mesh
