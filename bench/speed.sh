@@ -9,8 +9,12 @@
 #
 #   RICCI_BFF=/path/to/bff-command-line bench/speed.sh [BUILD_DIR] [OUT_DIR]
 #   RICCI_SPEED_MESHES="spot kitten" ...    only these meshes;  RICCI_SPEED_DISK=0: no disk
+#   RICCI_SPEED_FREE=0                       no `--seams free` column
 #
-# Prints a markdown table (mesh, N, ricci s, BFF s, ratio) and the median ratio.
+# Prints a markdown table (mesh, N, ricci s, BFF s, ratio) and the median ratio. On a surface of
+# genus >= 1 (the shared MANIFEST.tsv's genus column) BFF's output is a map with free seams, not a
+# flat metric with N cones (docs/cones.md): those rows also time `--seams free`, the map of BFF's
+# own kind (free s, free ratio = free s / BFF s), with a median of their own.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 # shellcheck source=bench/lib.sh
@@ -52,20 +56,36 @@ PY
   esac
 }
 
-echo "| mesh | cones | ricci s | BFF s | ratio |"
-echo "|---|---|---|---|---|"
+echo "| mesh | cones | ricci s | BFF s | ratio | free s | free ratio |"
+echo "|---|---|---|---|---|---|---|"
 ratios=()
+free_ratios=()
+manifest=$shared/MANIFEST.tsv
+genus_of() {  # mesh name -> its genus in the manifest (empty when unknown)
+  [ -f "$manifest" ] || return 0
+  awk -F'\t' -v n="$1" 'NR == 1 {for (i = 1; i <= NF; ++i) if ($i == "genus") g = i; next}
+    {f = $1; sub(/\.[^.]*$/, "", f)} f == n && g {print $g}' "$manifest"
+}
 row() {  # name file n
-  local name=$1 file=$2 n=$3 r b obj
+  local name=$1 file=$2 n=$3 r b obj f="-" free_ratio="-" genus
   r=$(timed "$runs" "$ricci" param "$file" --cones "$n" --texture none -o "$out/$name-$n.obj")
+  genus=$(genus_of "$name")
+  if [ "${RICCI_SPEED_FREE:-1}" != 0 ] && [[ "$genus" =~ ^[0-9]+$ ]] && [ "$genus" -ge 1 ]; then
+    f=$(timed "$runs" "$ricci" param "$file" --cones "$n" --seams free --texture none \
+      -o "$out/$name-$n-free.obj")
+  fi
   if [ -n "$bff" ]; then
     obj=$(obj_of "$file")
     b=$(timed "$runs" "$bff" "$obj" "$out/$name-$n-bff.obj" "--nCones=$n")
     ratio=$(echo "scale=3; $r / $b" | bc)
     ratios+=("$ratio")
-    echo "| $name | $n | $r | $b | $ratio |"
+    if [ "$f" != "-" ]; then
+      free_ratio=$(echo "scale=3; $f / $b" | bc)
+      free_ratios+=("$free_ratio")
+    fi
+    echo "| $name | $n | $r | $b | $ratio | $f | $free_ratio |"
   else
-    echo "| $name | $n | $r | - | - |"
+    echo "| $name | $n | $r | - | - | $f | - |"
   fi
 }
 if [ -f "$reference" ] && [ -d "$shared" ]; then
@@ -88,4 +108,7 @@ if [ "${RICCI_SPEED_DISK:-1}" != 0 ]; then
 fi
 if [ ${#ratios[@]} -gt 0 ]; then
   printf '%s\n' "${ratios[@]}" | sort -n | awk '{a[NR]=$1} END {printf "\nmedian ratio %.2f over %d rows; rows at most 0.5: %d\n", a[int((NR+1)/2)], NR, c} $1 <= 0.5 {c++}'
+fi
+if [ ${#free_ratios[@]} -gt 0 ]; then
+  printf '%s\n' "${free_ratios[@]}" | sort -n | awk '{a[NR]=$1} END {printf "--seams free on genus >= 1: median ratio %.2f over %d rows; rows at most 0.5: %d\n", a[int((NR+1)/2)], NR, c} $1 <= 0.5 {c++}'
 fi

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -273,6 +274,12 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   FreeSeamCones result;
   CutGraphOptions cutting = cut_options;
   cutting.cones.clear();
+  struct FirstRound {
+    CutGraph cut;
+    FreeSeamTarget seams;
+    Eigen::VectorXd multiplier;
+  };
+  std::optional<FirstRound> first_round;
   if (cutting.root_vertex < 0 && t.components.at(0).genus > 0) {
     // One root for every round: the homology generators all pass through it, and a root that
     // moved with the cones (cut_graph's default) would change the cut's loops from round to
@@ -288,10 +295,16 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
     double best = INFINITY;
     for (const int root : {lowest, highest}) {
       cutting.root_vertex = root;
-      const CutGraph cut = cut_graph(t, problem.input_lengths, cutting);
-      const double e =
-          system.solve(free_vertices(t, cut, prescribed), prescribed, nullptr).linear_area_energy;
-      if (e < best) best = e, result.root = root;
+      CutGraph cut = cut_graph(t, problem.input_lengths, cutting);
+      Eigen::VectorXd root_multiplier;
+      FreeSeamTarget seams =
+          system.solve(free_vertices(t, cut, prescribed), prescribed, &root_multiplier);
+      if (seams.linear_area_energy < best) {
+        best = seams.linear_area_energy;
+        result.root = root;
+        // The first round's cut and solve (no cones yet, this root): kept, not made again.
+        first_round = FirstRound{std::move(cut), std::move(seams), std::move(root_multiplier)};
+      }
     }
     cutting.root_vertex = result.root;
   }
@@ -318,8 +331,16 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   std::vector<int> rings(t.num_vertices);
   const std::vector<std::vector<int>> neighbours = cone_steps::vertex_neighbours(t);
   for (;;) {
-    result.cut = cut_graph(t, problem.input_lengths, cutting);
-    result.seams = system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
+    if (first_round && cutting.cones.empty()) {
+      result.cut = std::move(first_round->cut);
+      result.seams = std::move(first_round->seams);
+      multiplier = std::move(first_round->multiplier);
+      first_round.reset();
+    } else {
+      result.cut = cut_graph(t, problem.input_lengths, cutting);
+      result.seams =
+          system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
+    }
     const int have = static_cast<int>(cutting.cones.size());
     if (count > 0) {
       if (have >= count) break;
