@@ -9,11 +9,14 @@
 #include <utility>
 
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
+#include "param/cones/detail/linear_flow.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/flow/flow_problem.hpp"
 #include "ricci/mesh/generate.hpp"
 #include "ricci/param/cones/free_seams.hpp"
+#include "ricci/param/cut/cut_graph.hpp"
 #include "ricci/param/parameterize.hpp"
 
 namespace ricci {
@@ -164,6 +167,59 @@ TEST(FreeSeams, ASphereStartsFromItsMostCurvedVertex) {
   double total = 0;
   for (Eigen::Index v = 0; v < r.flow.curvature.size(); ++v) total += r.flow.curvature[v];
   EXPECT_NEAR(total, 4 * std::numbers::pi, 1e-8);
+}
+
+// The seams' curvature is the constrained minimiser of the linearised problem: u minimises
+// 4 u^T M u + s/#F u^T L u with (K + L u)_v = K-bar_v off the cut, as a dense solve of the
+// exact constraints (its KKT system, no penalty) gives it.
+TEST(FreeSeams, TargetIsTheConstrainedMinimiser) {
+  const Mesh mesh = make_closed_surface(2, 6);
+  const FlowProblem problem = make_flow_problem(mesh);
+  const Topology& t = problem.topology;
+  const Target prescribed = flat_target(t, {});
+  CutGraphOptions cutting;
+  cutting.cones = {3, 40};
+  const CutGraph cut = cut_graph(t, problem.input_lengths, cutting);
+  FreeSeamOptions options;
+  const FreeSeamTarget target = free_seam_target(problem, cut, prescribed, options);
+  const cone_steps::LinearFlow linear = cone_steps::linearise_flow(problem, "test");
+  const int nv = t.num_vertices;
+  ASSERT_EQ(static_cast<int>(target.free.size()), nv);
+  std::vector<int> rows;
+  for (int v = 0; v < nv; ++v) {
+    if (!target.free[v]) rows.push_back(v);
+  }
+  ASSERT_GT(target.free_vertices, 0);
+  ASSERT_EQ(static_cast<int>(rows.size()) + target.free_vertices, nv);
+  // [4M + sL, C^T; C, 0] [u; lambda] = [0; K-bar - K] with u's mean fixed by one more row.
+  const int n = nv + static_cast<int>(rows.size()) + 1;
+  const Eigen::MatrixXd L = Eigen::MatrixXd(linear.L);
+  const double smooth = options.smoothness / t.num_faces;
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  kkt.topLeftCorner(nv, nv) = smooth * L;
+  kkt.topLeftCorner(nv, nv).diagonal() += 4 * linear.area;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int r = nv + static_cast<int>(i);
+    kkt.row(r).head(nv) = L.row(rows[i]);
+    kkt.col(r).head(nv) = L.row(rows[i]).transpose();
+    rhs[r] = prescribed.curvature[rows[i]] - linear.curvature[rows[i]];
+  }
+  kkt.row(n - 1).head(nv) = linear.area.transpose();
+  kkt.col(n - 1).head(nv) = linear.area;
+  const Eigen::VectorXd x = kkt.fullPivLu().solve(rhs);
+  const Eigen::VectorXd u = x.head(nv);
+  ASSERT_GT(u.cwiseAbs().maxCoeff(), 1e-2);  // the seams do carry curvature
+  EXPECT_LT((target.linear_u - u).cwiseAbs().maxCoeff(), 1e-6 * u.cwiseAbs().maxCoeff());
+  // The target: K-bar where prescribed, K + L u on the cut.
+  const Eigen::VectorXd curvature = linear.curvature + linear.L * u;
+  for (int v = 0; v < nv; ++v) {
+    if (!target.free[v]) {
+      EXPECT_EQ(target.target.curvature[v], prescribed.curvature[v]) << "vertex " << v;
+    } else {
+      EXPECT_NEAR(target.target.curvature[v], curvature[v], 1e-6) << "vertex " << v;
+    }
+  }
 }
 
 TEST(FreeSeams, TargetRefusesACutOfAnotherMesh) {

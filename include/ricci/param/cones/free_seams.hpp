@@ -16,7 +16,9 @@
 /// mean 0), the second the Dirichlet energy that stands for the angle distortion, weighted as in
 /// select_cones. A free vertex's curvature is then K_v + (L u)_v, and the flow realises these
 /// curvatures exactly (a target per vertex). The minimiser solves one sparse symmetric
-/// quasi-definite system [4M + sL, C^T; C, -delta I], C the prescribed rows of L.
+/// quasi-definite system [4M + sL, C^T; C, -delta I], C the prescribed rows of L, in its
+/// positive definite form (4M + sL + C^T C / delta) u = C^T b / delta (CHOLMOD's supernodal
+/// factorisation).
 
 #include <vector>
 
