@@ -43,14 +43,6 @@ using SetThreads = void (*)(int);
 using GetThreads = int (*)();
 using StopThreads = int (*)();
 
-struct OpenBlasThreadControl {
-  SetThreads set = nullptr;
-  GetThreads get = nullptr;
-  // blas_thread_shutdown_: not in OpenBLAS's documented API, but exported by every 0.3 release
-  // (its fork handler calls it); optional, so a BLAS without it only misses the saving.
-  StopThreads stop = nullptr;
-};
-
 void* find_loaded_symbol(const char* name) {
   if (void* symbol = dlsym(RTLD_DEFAULT, name)) return symbol;
   // Not in the global scope: ricci was loaded with RTLD_LOCAL (a Python extension module), and
@@ -75,13 +67,36 @@ void* find_loaded_symbol(const char* name) {
   return nullptr;
 }
 
+/// A setting's setter and getter where the process loaded them: both, or neither.
+template <class Set, class Get>
+struct LoadedControl {
+  Set set = nullptr;
+  Get get = nullptr;
+};
+
+template <class Set, class Get>
+LoadedControl<Set, Get> find_control(const char* set_name, const char* get_name) {
+  LoadedControl<Set, Get> c;
+  c.set = reinterpret_cast<Set>(find_loaded_symbol(set_name));
+  c.get = reinterpret_cast<Get>(find_loaded_symbol(get_name));
+  if (c.set == nullptr || c.get == nullptr) return {};
+  return c;
+}
+
+struct OpenBlasThreadControl : LoadedControl<SetThreads, GetThreads> {
+  // blas_thread_shutdown_: not in OpenBLAS's documented API, but exported by every 0.3 release
+  // (its fork handler calls it); optional, so a BLAS without it only misses the saving.
+  StopThreads stop = nullptr;
+};
+
 const OpenBlasThreadControl& openblas_thread_control() {
   static const OpenBlasThreadControl control = [] {
     OpenBlasThreadControl c;
-    c.set = reinterpret_cast<SetThreads>(find_loaded_symbol("openblas_set_num_threads"));
-    c.get = reinterpret_cast<GetThreads>(find_loaded_symbol("openblas_get_num_threads"));
-    if (c.set == nullptr || c.get == nullptr) return OpenBlasThreadControl{};
-    c.stop = reinterpret_cast<StopThreads>(find_loaded_symbol("blas_thread_shutdown_"));
+    static_cast<LoadedControl<SetThreads, GetThreads>&>(c) = find_control<SetThreads, GetThreads>(
+        "openblas_set_num_threads", "openblas_get_num_threads");
+    if (c.set != nullptr) {
+      c.stop = reinterpret_cast<StopThreads>(find_loaded_symbol("blas_thread_shutdown_"));
+    }
     return c;
   }();
   return control;
@@ -141,19 +156,11 @@ class SingleThreadedBlas {
 using SetMaxActiveLevels = void (*)(int);
 using GetMaxActiveLevels = int (*)();
 
-struct OpenMpLevelsControl {
-  SetMaxActiveLevels set = nullptr;
-  GetMaxActiveLevels get = nullptr;
-};
+using OpenMpLevelsControl = LoadedControl<SetMaxActiveLevels, GetMaxActiveLevels>;
 
 const OpenMpLevelsControl& openmp_levels_control() {
-  static const OpenMpLevelsControl control = [] {
-    OpenMpLevelsControl c;
-    c.set = reinterpret_cast<SetMaxActiveLevels>(find_loaded_symbol("omp_set_max_active_levels"));
-    c.get = reinterpret_cast<GetMaxActiveLevels>(find_loaded_symbol("omp_get_max_active_levels"));
-    if (c.set == nullptr || c.get == nullptr) return OpenMpLevelsControl{};
-    return c;
-  }();
+  static const OpenMpLevelsControl control = find_control<SetMaxActiveLevels, GetMaxActiveLevels>(
+      "omp_set_max_active_levels", "omp_get_max_active_levels");
   return control;
 }
 

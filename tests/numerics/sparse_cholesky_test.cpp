@@ -37,6 +37,30 @@ Eigen::SparseMatrix<double> torus_laplacian(int a) {
   return L.topLeftCorner(n - 1, n - 1);
 }
 
+/// b[i] = sin(0.01 i): a smooth right-hand side of n values.
+Eigen::VectorXd sine_rhs(Eigen::Index n) {
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) b[i] = std::sin(0.01 * static_cast<double>(i));
+  return b;
+}
+
+/// solve() on one thread and on two (RICCI_NUM_THREADS), check(x, threads) on each: the same
+/// bits both times.
+template <class Solve, class Check>
+void same_bits_on_one_and_two_threads(Solve&& solve, Check&& check) {
+  Eigen::VectorXd first;
+  for (const char* threads : {"1", "2"}) {
+    const testing::ScopedThreads scoped(threads);
+    const Eigen::VectorXd x = solve();
+    check(x, threads);
+    if (first.size() == 0) {
+      first = x;
+    } else {
+      EXPECT_TRUE((x.array() == first.array()).all()) << threads;
+    }
+  }
+}
+
 TEST(SparseCholesky, SolvesBothBackends) {
   const Eigen::SparseMatrix<double> A = torus_laplacian(20);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
@@ -137,21 +161,14 @@ TEST(SparseCholesky, LargeFactorsSolveOnTwoThreadsWithTheSameBits) {
   SparseCholesky cholesky;
   cholesky.factorize(A);
   ASSERT_TRUE(cholesky.solves_on_two_threads());
-  Eigen::VectorXd b(A.rows());
-  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = std::sin(0.01 * static_cast<double>(i));
+  const Eigen::VectorXd b = sine_rhs(A.rows());
   const Eigen::VectorXd cholmod = cholesky.solve_columns(b);  // CHOLMOD's solve
-  Eigen::VectorXd first;
-  for (const char* threads : {"1", "2"}) {
-    const testing::ScopedThreads scoped(threads);
-    const Eigen::VectorXd x = cholesky.solve(b);
-    EXPECT_LT((x - cholmod).norm(), 1e-12 * cholmod.norm()) << threads;
-    EXPECT_LT((A * x - b).norm(), 1e-9 * b.norm()) << threads;
-    if (first.size() == 0) {
-      first = x;
-    } else {
-      EXPECT_TRUE((x.array() == first.array()).all()) << threads;
-    }
-  }
+  same_bits_on_one_and_two_threads([&] { return cholesky.solve(b); },
+                                   [&](const Eigen::VectorXd& x, const char* threads) {
+                                     EXPECT_LT((x - cholmod).norm(), 1e-12 * cholmod.norm())
+                                         << threads;
+                                     EXPECT_LT((A * x - b).norm(), 1e-9 * b.norm()) << threads;
+                                   });
   // A refactorisation (same pattern, other values) keeps the split and solves with the new
   // values.
   const Eigen::SparseMatrix<double> twice = 2 * A;
@@ -175,22 +192,15 @@ TEST(SparseCholesky, ApproximateSolvesAreSinglePrecisionOnLargeFactors) {
   SparseCholesky cholesky;
   cholesky.factorize(A);
   ASSERT_TRUE(cholesky.solves_on_two_threads());
-  Eigen::VectorXd b(A.rows());
-  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = std::sin(0.01 * static_cast<double>(i));
+  const Eigen::VectorXd b = sine_rhs(A.rows());
   const Eigen::VectorXd exact = cholesky.solve(b);
-  Eigen::VectorXd first;
-  for (const char* threads : {"1", "2"}) {
-    const testing::ScopedThreads scoped(threads);
-    const Eigen::VectorXd x = cholesky.solve_approximately(b);
-    const double error = (x - exact).norm() / exact.norm();
-    EXPECT_LT(error, 1e-4) << threads;   // single precision, conditioning about 1e4
-    EXPECT_GT(error, 1e-13) << threads;  // not the double-precision solve
-    if (first.size() == 0) {
-      first = x;
-    } else {
-      EXPECT_TRUE((x.array() == first.array()).all()) << threads;
-    }
-  }
+  same_bits_on_one_and_two_threads(
+      [&] { return cholesky.solve_approximately(b); },
+      [&](const Eigen::VectorXd& x, const char* threads) {
+        const double error = (x - exact).norm() / exact.norm();
+        EXPECT_LT(error, 1e-4) << threads;   // single precision, conditioning about 1e4
+        EXPECT_GT(error, 1e-13) << threads;  // not the double-precision solve
+      });
   const Eigen::SparseMatrix<double> twice = 2 * A;
   cholesky.factorize(twice);
   EXPECT_LT((cholesky.solve_approximately(b) - 0.5 * exact).norm(), 1e-4 * exact.norm());
