@@ -24,12 +24,16 @@ mark_as_advanced(RICCI_INSTALL_CMAKEDIR)
 set_target_properties(ricci_lib PROPERTIES EXPORT_NAME ricci)
 target_compile_features(ricci_lib INTERFACE cxx_std_20)
 
+# Where CHOLMOD is loaded on demand (RICCI_CHOLMOD_ON_DEMAND, every platform with dlopen) consumers
+# link nothing of it. Otherwise:
 # ricci_lib is static and links CHOLMOD privately, so its consumers must link CHOLMOD too: CMake
 # records the build machine's path in INTERFACE_LINK_LIBRARIES (plain, as it is a path and not a
 # target; $<LINK_ONLY:...> for a target). In the installed package that entry is replaced by
 # ricci::cholmod, a target which ricciConfig.cmake defines after finding libcholmod again on the
 # machine that uses the package. The build tree keeps the entry as it was.
-if(RICCI_HAVE_CHOLMOD)
+set(RICCI_CONFIG_LINKS_CHOLMOD OFF)
+if(RICCI_HAVE_CHOLMOD AND NOT RICCI_CHOLMOD_ON_DEMAND)
+  set(RICCI_CONFIG_LINKS_CHOLMOD ON)
   get_target_property(_ricci_interface_libs ricci_lib INTERFACE_LINK_LIBRARIES)
   set(_ricci_cholmod_index -1)
   foreach(_ricci_entry "${CHOLMOD_LIBRARY}" "$<LINK_ONLY:${CHOLMOD_LIBRARY}>")

@@ -3,12 +3,12 @@
 #include <Eigen/SparseCholesky>
 
 #ifdef RICCI_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
 
+#include "numerics/detail/cholmod_library.hpp"
 #include "numerics/detail/supernodal_split.hpp"
 #endif
 
@@ -195,13 +195,60 @@ class SerialOpenMp {};
 #ifdef RICCI_HAVE_CHOLMOD
 namespace {
 
-/// Eigen's wrapper, with its factor in view (for the solves on two threads).
-class CholmodLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> {
+/// CHOLMOD's supernodal L L^T of a matrix's lower triangle, through the entry points loaded by
+/// cholmod_library.hpp (the settings Eigen's CholmodSupernodalLLT uses, so the factor is the one
+/// it made: final_asis, supernodal).
+class CholmodFactorisation {
  public:
+  explicit CholmodFactorisation(const cholmod_detail::Library& library) : lib_(&library) {
+    lib_->start(&common_);
+    common_.final_asis = 1;
+    common_.supernodal = CHOLMOD_SUPERNODAL;
+    common_.print = 0;  // the library never prints: CHOLMOD's status is read here
+  }
+  ~CholmodFactorisation() {
+    if (factor_ != nullptr) lib_->free_factor(&factor_, &common_);
+    lib_->finish(&common_);
+  }
+  CholmodFactorisation(const CholmodFactorisation&) = delete;
+  CholmodFactorisation& operator=(const CholmodFactorisation&) = delete;
+
+  bool analyze(const Eigen::SparseMatrix<double>& A) {
+    if (factor_ != nullptr) lib_->free_factor(&factor_, &common_);
+    cholmod_sparse view = lower_view(A);
+    factor_ = lib_->analyze(&view, &common_);
+    return factor_ != nullptr;
+  }
+  /// False when A is not positive definite (or CHOLMOD failed).
+  bool factorize(const Eigen::SparseMatrix<double>& A) {
+    cholmod_sparse view = lower_view(A);
+    double beta[2] = {0, 0};
+    const int ok = lib_->factorize_p(&view, beta, nullptr, 0, factor_, &common_);
+    return ok != 0 && factor_->minor == factor_->n;
+  }
+  /// A X = B (column-major B); throws SolverError when CHOLMOD fails.
+  Eigen::MatrixXd solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
+    cholmod_dense b;
+    b.nrow = static_cast<std::size_t>(B.rows());
+    b.ncol = static_cast<std::size_t>(B.cols());
+    b.nzmax = b.nrow * b.ncol;
+    b.d = static_cast<std::size_t>(B.outerStride());
+    b.x = const_cast<double*>(B.data());  // read only: CHOLMOD_A solves into a new matrix
+    b.z = nullptr;
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* x = lib_->solve(CHOLMOD_A, factor_, &b, &common_);
+    if (x == nullptr) throw SolverError("SparseCholesky: CHOLMOD's solve failed");
+    Eigen::MatrixXd out =
+        Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), B.rows(), B.cols());
+    lib_->free_dense(&x, &common_);
+    return out;
+  }
+
   /// The factor as supernodal::solve reads it, or none when CHOLMOD did not leave a supernodal
   /// L L^T with int indices.
   std::optional<supernodal::Factor> factor() const {
-    const cholmod_factor* L = m_cholmodFactor;
+    const cholmod_factor* L = factor_;
     if (L == nullptr || !L->is_super || !L->is_ll || L->xtype != CHOLMOD_REAL ||
         L->itype != CHOLMOD_INT || L->dtype != CHOLMOD_DOUBLE || L->x == nullptr) {
       return std::nullopt;
@@ -217,6 +264,32 @@ class CholmodLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double
     f.values = static_cast<const double*>(L->x);
     return f;
   }
+
+ private:
+  /// A's lower triangle as CHOLMOD reads it (stype -1), borrowed.
+  static cholmod_sparse lower_view(const Eigen::SparseMatrix<double>& A) {
+    cholmod_sparse v;
+    v.nrow = static_cast<std::size_t>(A.rows());
+    v.ncol = static_cast<std::size_t>(A.cols());
+    v.nzmax = static_cast<std::size_t>(A.nonZeros());
+    v.p = const_cast<int*>(A.outerIndexPtr());
+    v.i = const_cast<int*>(A.innerIndexPtr());
+    v.nz = A.isCompressed() ? nullptr : const_cast<int*>(A.innerNonZeroPtr());
+    v.x = const_cast<double*>(A.valuePtr());
+    v.z = nullptr;
+    v.stype = -1;
+    v.itype = CHOLMOD_INT;
+    v.xtype = CHOLMOD_REAL;
+    v.dtype = CHOLMOD_DOUBLE;
+    v.sorted = 1;
+    v.packed = A.isCompressed() ? 1 : 0;
+    return v;
+  }
+
+  const cholmod_detail::Library* lib_;
+  // CHOLMOD's solves write into the common workspace: callers hold Impl::solve_mutex.
+  mutable cholmod_common common_{};
+  cholmod_factor* factor_ = nullptr;
 };
 
 /// Factors of at least this many values solve on two threads (supernodal_split.hpp: below it a
@@ -227,11 +300,14 @@ constexpr double kSplitSolveValues = 2e6;
 #endif
 
 struct SparseCholesky::Impl {
+  CholeskyBackend requested = CholeskyBackend::Automatic;
+  /// The backend of the current analysis (decided by analyze()).
   bool use_cholmod = false;
   bool analyzed = false;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> eigen;
 #ifdef RICCI_HAVE_CHOLMOD
-  CholmodLLT cholmod;
+  /// Made at the first analysis that takes CHOLMOD (which loads it).
+  std::unique_ptr<CholmodFactorisation> cholmod;
   /// CHOLMOD's solves write into its common workspace: one at a time (the split solve reads the
   /// factor only and needs none).
   mutable std::mutex solve_mutex;
@@ -246,20 +322,47 @@ struct SparseCholesky::Impl {
 #endif
 };
 
-SparseCholesky::SparseCholesky(bool use_cholmod) : impl_(std::make_unique<Impl>()) {
-  impl_->use_cholmod = use_cholmod && cholmod_available();
+namespace {
+
 #ifdef RICCI_HAVE_CHOLMOD
-  // The library never prints: CHOLMOD reports through info(), not on stderr.
-  impl_->cholmod.cholmod().print = 0;
-#endif
+/// Whether release_blas_threads() was asked for before CHOLMOD (and its OpenBLAS) was loaded:
+/// then it runs right after the load, since OpenBLAS starts its threads as it loads.
+std::atomic<bool> g_release_blas_threads_on_load{false};
+
+/// CHOLMOD's functions, loading the library at the first call (and releasing OpenBLAS's threads
+/// then when the command line asked for it); nullptr when it cannot be loaded.
+const cholmod_detail::Library* cholmod_functions() {
+  const bool was_loaded = cholmod_detail::loaded();
+  const cholmod_detail::Library* library = cholmod_detail::library();
+  if (library != nullptr && !was_loaded && g_release_blas_threads_on_load.exchange(false)) {
+    SparseCholesky::release_blas_threads();
+  }
+  return library;
 }
+#endif
+
+}  // namespace
+
+SparseCholesky::SparseCholesky(CholeskyBackend backend) : impl_(std::make_unique<Impl>()) {
+  impl_->requested = backend;
+}
+SparseCholesky::SparseCholesky(bool use_cholmod)
+    : SparseCholesky(use_cholmod ? CholeskyBackend::Automatic : CholeskyBackend::Eigen) {}
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
 bool SparseCholesky::cholmod_available() {
 #ifdef RICCI_HAVE_CHOLMOD
-  return true;
+  return cholmod_functions() != nullptr;
+#else
+  return false;
+#endif
+}
+
+bool SparseCholesky::cholmod_loaded() {
+#ifdef RICCI_HAVE_CHOLMOD
+  return cholmod_detail::loaded();
 #else
   return false;
 #endif
@@ -267,7 +370,7 @@ bool SparseCholesky::cholmod_available() {
 
 bool SparseCholesky::blas_threads_pinned() {
 #ifdef RICCI_PIN_BLAS_THREADS
-  return openblas_thread_control().set != nullptr;
+  return cholmod_detail::loaded() && openblas_thread_control().set != nullptr;
 #else
   return false;
 #endif
@@ -275,6 +378,11 @@ bool SparseCholesky::blas_threads_pinned() {
 
 bool SparseCholesky::release_blas_threads() {
 #ifdef RICCI_PIN_BLAS_THREADS
+  if (!cholmod_detail::loaded()) {
+    // Nothing loaded yet: OpenBLAS's threads start when CHOLMOD loads; stop them then.
+    g_release_blas_threads_on_load.store(true);
+    return false;
+  }
   const OpenBlasThreadControl& blas = openblas_thread_control();
   if (blas.set == nullptr) return false;
   // One thread first: stopped workers are started again by openblas_set_num_threads with more
@@ -306,17 +414,25 @@ bool SparseCholesky::solves_on_two_threads() const {
 }
 
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
+  impl_->analyzed = false;
 #ifdef RICCI_HAVE_CHOLMOD
+  const CholeskyBackend wanted = impl_->requested;
+  const bool large = A.rows() >= kCholmodMinRows;
+  const cholmod_detail::Library* library =
+      wanted == CholeskyBackend::Cholmod || (wanted == CholeskyBackend::Automatic && large)
+          ? cholmod_functions()
+          : nullptr;
+  impl_->use_cholmod = library != nullptr;
   if (impl_->use_cholmod) {
+    if (!impl_->cholmod) impl_->cholmod = std::make_unique<CholmodFactorisation>(*library);
+    bool ok = false;
     {
       [[maybe_unused]] const SerialOpenMp serial_loops;
-      impl_->cholmod.analyzePattern(A);
+      ok = impl_->cholmod->analyze(A);
     }
     impl_->split.reset();
     impl_->split_checked = false;
-    if (impl_->cholmod.info() != Eigen::Success) {
-      throw SolverError("SparseCholesky::analyze: CHOLMOD's symbolic analysis failed");
-    }
+    if (!ok) throw SolverError("SparseCholesky::analyze: CHOLMOD's symbolic analysis failed");
     impl_->analyzed = true;
     return;
   }
@@ -332,22 +448,23 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   if (!impl_->analyzed) analyze(A);
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
+    bool ok = false;
     {
       [[maybe_unused]] const SingleThreadedBlas one_thread;
       [[maybe_unused]] const SerialOpenMp serial_loops;
-      impl_->cholmod.factorize(A);
+      ok = impl_->cholmod->factorize(A);
     }
     {
       const std::lock_guard<std::mutex> lock(impl_->single_mutex);
       impl_->single.reset();
     }
-    if (impl_->cholmod.info() != Eigen::Success) {
+    if (!ok) {
       throw SolverError(
           "SparseCholesky::factorize: the matrix is not positive definite "
           "(CHOLMOD's numeric factorisation failed)");
     }
     if (!impl_->split_checked) {
-      const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+      const std::optional<supernodal::Factor> factor = impl_->cholmod->factor();
       if (factor) impl_->split = supernodal::split_factor(*factor, kSplitSolveValues);
       impl_->split_checked = true;
     }
@@ -370,7 +487,7 @@ Dense solve_dense(const Impl& impl, const Dense& b) {
     const std::lock_guard<std::mutex> one_solve(impl.solve_mutex);
     [[maybe_unused]] const SingleThreadedBlas one_thread;
     [[maybe_unused]] const SerialOpenMp serial_loops;
-    return impl.cholmod.solve(b);
+    return impl.cholmod->solve(b);
   }
 #endif
   return impl.eigen.solve(b);
@@ -381,7 +498,7 @@ Dense solve_dense(const Impl& impl, const Dense& b) {
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod && impl_->split) {
-    const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+    const std::optional<supernodal::Factor> factor = impl_->cholmod->factor();
     if (factor && b.size() == factor->n) return supernodal::solve(*factor, *impl_->split, b);
   }
 #endif
@@ -391,7 +508,7 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
 Eigen::VectorXd SparseCholesky::solve_approximately(const Eigen::VectorXd& b) const {
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod && impl_->split) {
-    const std::optional<supernodal::Factor> factor = impl_->cholmod.factor();
+    const std::optional<supernodal::Factor> factor = impl_->cholmod->factor();
     if (factor && b.size() == factor->n) {
       std::shared_ptr<const std::vector<float>> single;
       {

@@ -1,8 +1,10 @@
 #include "ricci/numerics/sparse_cholesky.hpp"
 
 #include <dlfcn.h>
+#include <link.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <thread>
@@ -64,8 +66,8 @@ void same_bits_on_one_and_two_threads(Solve&& solve, Check&& check) {
 TEST(SparseCholesky, SolvesBothBackends) {
   const Eigen::SparseMatrix<double> A = torus_laplacian(20);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
-  for (bool use_cholmod : {true, false}) {
-    SparseCholesky cholesky(use_cholmod);
+  for (const CholeskyBackend backend : {CholeskyBackend::Cholmod, CholeskyBackend::Eigen}) {
+    SparseCholesky cholesky(backend);
     EXPECT_FALSE(cholesky.analyzed());
     cholesky.factorize(A);  // analyses first
     EXPECT_TRUE(cholesky.analyzed());
@@ -78,8 +80,8 @@ TEST(SparseCholesky, SolvesBothBackends) {
 TEST(SparseCholesky, RefusesAnIndefiniteMatrix) {
   Eigen::SparseMatrix<double> A = torus_laplacian(10);
   A.coeffRef(3, 3) = -1.0;
-  for (bool use_cholmod : {true, false}) {
-    SparseCholesky cholesky(use_cholmod);
+  for (const CholeskyBackend backend : {CholeskyBackend::Cholmod, CholeskyBackend::Eigen}) {
+    SparseCholesky cholesky(backend);
     EXPECT_THROW(cholesky.factorize(A), SolverError) << cholesky.backend();
   }
 }
@@ -117,8 +119,9 @@ TEST_F(OpenBlasThreads, CholmodIsBitIdenticalAcrossThreadCounts) {
   std::vector<Eigen::VectorXd> solutions;
   for (int threads : {1, 2, 4}) {
     set(threads);
-    SparseCholesky cholesky;
+    SparseCholesky cholesky(CholeskyBackend::Cholmod);
     cholesky.factorize(A);
+    ASSERT_STREQ(cholesky.backend(), "cholmod-supernodal");
     solutions.push_back(cholesky.solve(b));
     EXPECT_EQ(get(), threads) << "the caller's BLAS thread count is restored";
   }
@@ -135,8 +138,8 @@ TEST(SparseCholesky, SolvesColumnsAtOnce) {
   const Eigen::SparseMatrix<double> A = torus_laplacian(30);
   Eigen::MatrixXd B(A.rows(), 5);
   for (int j = 0; j < 5; ++j) B.col(j) = Eigen::VectorXd::LinSpaced(A.rows(), -1.0 - j, 2.0 * j);
-  for (const bool use_cholmod : {true, false}) {
-    SparseCholesky cholesky(use_cholmod);
+  for (const CholeskyBackend backend : {CholeskyBackend::Cholmod, CholeskyBackend::Eigen}) {
+    SparseCholesky cholesky(backend);
     cholesky.factorize(A);
     const Eigen::MatrixXd X = cholesky.solve_columns(B);
     ASSERT_EQ(X.rows(), A.rows());
@@ -154,7 +157,7 @@ TEST(SparseCholesky, SolvesColumnsAtOnce) {
 // one keeps CHOLMOD's solve.
 TEST(SparseCholesky, LargeFactorsSolveOnTwoThreadsWithTheSameBits) {
   if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
-  SparseCholesky small;
+  SparseCholesky small(CholeskyBackend::Cholmod);
   small.factorize(torus_laplacian(20));
   EXPECT_FALSE(small.solves_on_two_threads());
   const Eigen::SparseMatrix<double> A = torus_laplacian(400);
@@ -183,7 +186,7 @@ TEST(SparseCholesky, LargeFactorsSolveOnTwoThreadsWithTheSameBits) {
 TEST(SparseCholesky, ApproximateSolvesAreSinglePrecisionOnLargeFactors) {
   if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
   const Eigen::SparseMatrix<double> small_matrix = torus_laplacian(20);
-  SparseCholesky small;
+  SparseCholesky small(CholeskyBackend::Cholmod);
   small.factorize(small_matrix);
   const Eigen::VectorXd small_b = Eigen::VectorXd::LinSpaced(small_matrix.rows(), -1.0, 1.0);
   EXPECT_TRUE((small.solve_approximately(small_b).array() == small.solve(small_b).array()).all());
@@ -220,7 +223,7 @@ TEST_F(OpenBlasThreads, ReleasedThreadsStopAndComeBackOnDemand) {
 
   const Eigen::SparseMatrix<double> A = torus_laplacian(40);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
-  SparseCholesky before;
+  SparseCholesky before(CholeskyBackend::Cholmod);
   before.factorize(A);
   const Eigen::VectorXd x = before.solve(b);
 
@@ -230,7 +233,7 @@ TEST_F(OpenBlasThreads, ReleasedThreadsStopAndComeBackOnDemand) {
   EXPECT_EQ(get(), 1);
   EXPECT_FALSE(SparseCholesky::release_blas_threads()) << "nothing left to stop";
 
-  SparseCholesky after;
+  SparseCholesky after(CholeskyBackend::Cholmod);
   after.factorize(A);
   EXPECT_TRUE((after.solve(b).array() == x.array()).all());
 
@@ -268,7 +271,7 @@ TEST(SparseCholesky, CholmodLoopsRunOnTheCallingThread) {
   // 20k unknowns: supernodes far above the 1024 values from which CHOLMOD's loops go parallel.
   const Eigen::SparseMatrix<double> A = torus_laplacian(200);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 1.0);
-  SparseCholesky reference;
+  SparseCholesky reference(CholeskyBackend::Cholmod);
   reference.factorize(A);  // here: whatever the BLAS starts, it has started
   const Eigen::VectorXd x = reference.solve(b);
   // A new thread has no OpenMP team yet; one started by CHOLMOD would stay (idle) until it ends.
@@ -278,7 +281,7 @@ TEST(SparseCholesky, CholmodLoopsRunOnTheCallingThread) {
   std::thread fresh([&] {
     set_levels(3);
     before = thread_count();
-    SparseCholesky cholesky;
+    SparseCholesky cholesky(CholeskyBackend::Cholmod);
     cholesky.factorize(A);
     same_bits = (cholesky.solve(b).array() == x.array()).all();
     after = thread_count();
@@ -288,6 +291,68 @@ TEST(SparseCholesky, CholmodLoopsRunOnTheCallingThread) {
   EXPECT_EQ(after, before) << "CHOLMOD started OpenMP threads";
   EXPECT_EQ(levels_after, 3) << "the caller's max-active-levels restored";
   EXPECT_TRUE(same_bits);
+}
+
+// Automatic: Eigen's solver below kCholmodMinRows rows (as fast there, and nothing to load),
+// CHOLMOD from there where it can be loaded; each analysis chooses again.
+TEST(SparseCholesky, AutomaticTakesCholmodForLargeMatricesOnly) {
+  const Eigen::SparseMatrix<double> small_matrix = torus_laplacian(20);
+  const Eigen::SparseMatrix<double> large = torus_laplacian(142);  // 142 x 71 = 10082 rows
+  ASSERT_LT(small_matrix.rows(), SparseCholesky::kCholmodMinRows);
+  ASSERT_GE(large.rows(), SparseCholesky::kCholmodMinRows);
+  const char* large_backend =
+      SparseCholesky::cholmod_available() ? "cholmod-supernodal" : "eigen-simplicial-ldlt";
+  SparseCholesky cholesky;
+  for (const Eigen::SparseMatrix<double>* A : {&small_matrix, &large, &small_matrix}) {
+    cholesky.analyze(*A);
+    cholesky.factorize(*A);
+    EXPECT_STREQ(cholesky.backend(), A == &large ? large_backend : "eigen-simplicial-ldlt");
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A->rows(), -1.0, 1.0);
+    EXPECT_LT((*A * cholesky.solve(b) - b).cwiseAbs().maxCoeff(), 1e-10) << cholesky.backend();
+  }
+}
+
+/// Whether an object whose path contains `name` is loaded in this process.
+bool loaded_in_process(const char* name) {
+  struct Search {
+    const char* name;
+    bool found = false;
+  } search{name};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* data) {
+        auto* s = static_cast<Search*>(data);
+        if (info->dlpi_name != nullptr && std::strstr(info->dlpi_name, s->name) != nullptr) {
+          s->found = true;
+        }
+        return 0;
+      },
+      &search);
+  return search.found;
+}
+
+// CHOLMOD and its BLAS load with the first matrix that needs them, not with the program: small
+// matrices leave them unloaded, and the command line's request to stop OpenBLAS's threads, made
+// before, is carried out as they load (OpenBLAS starts its threads as it loads). ctest runs each
+// test in a process of its own; in a process where an earlier test loaded CHOLMOD it is skipped.
+TEST(SparseCholesky, CholmodLoadsWithTheFirstMatrixThatNeedsIt) {
+  if (SparseCholesky::cholmod_loaded()) GTEST_SKIP() << "an earlier test loaded CHOLMOD";
+  EXPECT_FALSE(loaded_in_process("libcholmod"));
+  EXPECT_FALSE(SparseCholesky::release_blas_threads()) << "nothing to stop before the load";
+  SparseCholesky small;
+  small.factorize(torus_laplacian(20));
+  EXPECT_FALSE(SparseCholesky::cholmod_loaded());
+  EXPECT_FALSE(loaded_in_process("libcholmod"));
+
+  SparseCholesky large;
+  large.factorize(torus_laplacian(142));
+  if (!SparseCholesky::cholmod_loaded()) GTEST_SKIP() << "CHOLMOD cannot be loaded here";
+  EXPECT_TRUE(loaded_in_process("libcholmod"));
+  EXPECT_STREQ(large.backend(), "cholmod-supernodal");
+  using GetThreads = int (*)();
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  if (get != nullptr) {
+    EXPECT_EQ(get(), 1) << "OpenBLAS's threads released as it loaded";
+  }
 }
 
 }  // namespace

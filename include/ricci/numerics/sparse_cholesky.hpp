@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Sparse Cholesky for symmetric positive definite systems: CHOLMOD's supernodal factorisation
-/// when ricci was built with it, Eigen's SimplicialLDLT otherwise. The symbolic analysis (fill-
+/// for large matrices when ricci was built with it (the library is loaded at the first such
+/// matrix, not with the program), Eigen's SimplicialLDLT otherwise. The symbolic analysis (fill-
 /// reducing ordering, elimination tree) is separate from the numeric factorisation so that a
 /// solver can analyse once and refactorise as long as the sparsity pattern holds.
 ///
@@ -16,11 +17,25 @@
 
 namespace ricci {
 
+/// Which factorisation SparseCholesky runs.
+enum class CholeskyBackend {
+  /// CHOLMOD for a matrix of at least SparseCholesky::kCholmodMinRows rows, Eigen's below: up to
+  /// about 30k rows (mesh Laplacians) the two factorise and solve at the same speed, and loading
+  /// CHOLMOD with its BLAS costs 3-5 ms, more than a small mesh's whole flow.
+  Automatic,
+  Cholmod,  ///< CHOLMOD whatever the size (Eigen's solver when CHOLMOD cannot be loaded)
+  Eigen,    ///< Eigen's SimplicialLDLT
+};
+
 /// Factorises and solves A x = b for symmetric positive definite A (both triangles stored).
 class SparseCholesky {
  public:
-  /// \param use_cholmod take CHOLMOD when available (false forces Eigen's solver)
-  explicit SparseCholesky(bool use_cholmod = true);
+  /// Automatic takes CHOLMOD from this many rows on.
+  static constexpr int kCholmodMinRows = 10000;
+
+  explicit SparseCholesky(CholeskyBackend backend = CholeskyBackend::Automatic);
+  /// \param use_cholmod Automatic when true, Eigen's solver when false
+  explicit SparseCholesky(bool use_cholmod);
   ~SparseCholesky();
   SparseCholesky(SparseCholesky&&) noexcept;
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
@@ -48,12 +63,15 @@ class SparseCholesky {
   /// elimination tree splits in two (src/numerics/detail/supernodal_split.hpp); the same bits
   /// on one thread or two either way.
   bool solves_on_two_threads() const;
-  /// "cholmod-supernodal" or "eigen-simplicial-ldlt".
+  /// "cholmod-supernodal" or "eigen-simplicial-ldlt": the backend of the last analysis.
   const char* backend() const;
-  /// Whether CHOLMOD was compiled in.
+  /// Whether CHOLMOD was compiled in and can be loaded (loads it).
   static bool cholmod_available();
+  /// Whether CHOLMOD has been loaded into the process (does not load it).
+  static bool cholmod_loaded();
   /// Whether the BLAS under CHOLMOD is OpenBLAS and is held at one thread while CHOLMOD factorises
-  /// and solves (false with another BLAS, whose thread count is left alone, or without CHOLMOD).
+  /// and solves (false with another BLAS, whose thread count is left alone, or without CHOLMOD,
+  /// or before CHOLMOD was loaded).
   static bool blas_threads_pinned();
   /// For a process that calls the BLAS only through this class (the command line): sets
   /// OpenBLAS to one thread for good and stops its worker threads (true when there were OpenBLAS
@@ -61,6 +79,7 @@ class SparseCholesky {
   /// about 2^28 cycles (0.1 s) before it sleeps; since the calls here run on one thread (above),
   /// they never get work, and on a 2-core machine the spinning one competes with ricci's own
   /// threads for the whole of a small run. Later openblas_set_num_threads calls start them again.
+  /// Before CHOLMOD is loaded it returns false and does this right after the load.
   static bool release_blas_threads();
 
  private:

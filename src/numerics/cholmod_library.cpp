@@ -1,0 +1,69 @@
+#include "numerics/detail/cholmod_library.hpp"
+
+#include <atomic>
+#include <mutex>
+
+#ifndef RICCI_CHOLMOD_LINKED
+#include <dlfcn.h>
+#endif
+
+namespace ricci::cholmod_detail {
+
+namespace {
+
+std::atomic<bool> g_loaded{false};
+
+#ifdef RICCI_CHOLMOD_LINKED
+Library load_library() {
+  return {&cholmod_start, &cholmod_finish,      &cholmod_analyze,   &cholmod_factorize_p,
+          &cholmod_solve, &cholmod_free_factor, &cholmod_free_dense};
+}
+#else
+template <class Function>
+bool find(void* handle, const char* name, Function& function) {
+  function = reinterpret_cast<Function>(dlsym(handle, name));
+  return function != nullptr;
+}
+
+Library load_library() {
+  // RTLD_GLOBAL: OpenBLAS's and OpenMP's controls (sparse_cholesky.cpp) and whoever else in the
+  // process asks for them find them by name. RTLD_DEEPBIND (above) is left out under the
+  // sanitizers, whose runtime must interpose malloc for every library.
+  int flags = RTLD_NOW | RTLD_GLOBAL;
+#if defined(RTLD_DEEPBIND) && !defined(RICCI_CHOLMOD_NO_DEEPBIND)
+  flags |= RTLD_DEEPBIND;
+#endif
+  // The soname first (the library the system has now), then the file CMake found at build time.
+  void* handle = dlopen(RICCI_CHOLMOD_SONAME, flags);
+  if (handle == nullptr) handle = dlopen(RICCI_CHOLMOD_PATH, flags);
+  if (handle == nullptr) return {};
+  Library l;
+  const bool all = find(handle, "cholmod_start", l.start) &&
+                   find(handle, "cholmod_finish", l.finish) &&
+                   find(handle, "cholmod_analyze", l.analyze) &&
+                   find(handle, "cholmod_factorize_p", l.factorize_p) &&
+                   find(handle, "cholmod_solve", l.solve) &&
+                   find(handle, "cholmod_free_factor", l.free_factor) &&
+                   find(handle, "cholmod_free_dense", l.free_dense);
+  // Kept loaded for the process's lifetime either way (factors may outlive any owner here).
+  return all ? l : Library{};
+}
+#endif
+
+}  // namespace
+
+const Library* library() {
+  static std::once_flag once;
+  static Library functions;
+  std::call_once(once, [] {
+    functions = load_library();
+    g_loaded.store(functions.start != nullptr, std::memory_order_release);
+  });
+  return functions.start != nullptr ? &functions : nullptr;
+}
+
+bool loaded() {
+  return g_loaded.load(std::memory_order_acquire);
+}
+
+}  // namespace ricci::cholmod_detail
