@@ -8,7 +8,8 @@ Offline on purpose: there is no pyproject.toml, so pip (23.0, Debian 12) builds 
 setuptools and wheel it already has instead of downloading them into an isolated build
 environment. build_ext configures CMake (Release; no tests, benchmarks or fuzzers), builds the
 targets ``_ricci`` (the extension) and ``ricci`` (the command line, which ``ricci.batch`` runs),
-and puts into the package: python/ricci/*.py, ``_ricci*.so`` and ``bin/ricci``.
+and puts into the package: python/ricci/*.py, ``_ricci*.so``, ``bin/ricci`` and, when MPI was
+found, ``bin/ricci-mpi.so`` (the module `ricci batch` loads under mpirun).
 
 Environment:
   RICCI_CMAKE_BUILD_DIR   a CMake build folder to use and keep (default: a temporary one,
@@ -129,6 +130,7 @@ class CMakeBuild(build_ext):
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
         subprocess.check_call([cmake, "--build", build_dir, "--config", "Release",
                                "--target", "_ricci", "ricci", "--parallel", jobs])
+        # (ricci depends on its MPI module, ricci_mpi, when MPI is found: built with it.)
 
         # The extension: CMake puts it inside <build>/python/ricci for every configuration.
         suffix = sysconfig.get_config_var("EXT_SUFFIX")
@@ -152,10 +154,18 @@ class CMakeBuild(build_ext):
         os.makedirs(bin_dir, exist_ok=True)
         shutil.copyfile(program, os.path.join(bin_dir, "ricci"))
         os.chmod(os.path.join(bin_dir, "ricci"), 0o755)
+        # `ricci batch` under mpirun loads its MPI module from beside the program (built when
+        # CMake found MPI).
+        mpi_module = os.path.join(os.path.dirname(program), "ricci-mpi.so")
+        if os.path.isfile(mpi_module):
+            shutil.copyfile(mpi_module, os.path.join(bin_dir, "ricci-mpi.so"))
 
     def get_outputs(self):
-        return super().get_outputs() + [
-            os.path.join(os.path.dirname(self.get_ext_fullpath("ricci._ricci")), "bin", "ricci")]
+        bin_dir = os.path.join(os.path.dirname(self.get_ext_fullpath("ricci._ricci")), "bin")
+        outputs = [os.path.join(bin_dir, "ricci")]
+        if os.path.isfile(os.path.join(bin_dir, "ricci-mpi.so")):
+            outputs.append(os.path.join(bin_dir, "ricci-mpi.so"))
+        return super().get_outputs() + outputs
 
 
 setup(

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -11,7 +12,9 @@
 #include "ricci/errors.hpp"
 
 #ifdef RICCI_HAVE_MPI
-#include <mpi.h>
+#include <dlfcn.h>
+
+#include "mpi_transport.hpp"
 #endif
 
 namespace ricci::cli {
@@ -44,32 +47,70 @@ BatchJob job_from_json(const std::string& text) {
   return job;
 }
 
-void send_text(const std::string& text, int rank, int tag) {
-  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, rank, tag, MPI_COMM_WORLD);
+/// The MPI module's functions (mpi_transport.hpp), loaded by MpiSession's constructor.
+const RicciMpiTransport* g_mpi = nullptr;
+
+/// Loads ricci-mpi.so from beside the program (the build tree, a pip package's bin/), else from
+/// its install folder (RICCI_MPI_MODULE_FROM_BIN, relative to the program's).
+/// \throw InvalidInput naming what is missing
+const RicciMpiTransport* load_mpi_transport() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::canonical("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) {
+    candidates.push_back(self.parent_path() / "ricci-mpi.so");
+    candidates.push_back(self.parent_path() / RICCI_MPI_MODULE_FROM_BIN / "ricci-mpi.so");
+  }
+  std::string why = ec ? "/proc/self/exe cannot be read" : "not found";
+  for (const fs::path& candidate : candidates) {
+    if (!fs::exists(candidate, ec)) continue;
+    // RTLD_LOCAL: Open MPI's own plugins are loaded by Open MPI itself, with its libraries.
+    void* handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      const char* error = dlerror();
+      why = error != nullptr ? error : "dlopen failed";
+      continue;
+    }
+    const auto entry =
+        reinterpret_cast<RicciMpiTransportEntry>(dlsym(handle, "ricci_mpi_transport"));
+    const RicciMpiTransport* transport = entry != nullptr ? entry() : nullptr;
+    if (transport != nullptr && transport->version == kRicciMpiTransportVersion) return transport;
+    why = candidate.string() + " is not this ricci's MPI module";
+  }
+  throw InvalidInput(
+      "ricci batch: started by an MPI launcher, but the MPI module ricci-mpi.so could not be "
+      "loaded (" +
+      why + "); it is installed beside the program or in " + RICCI_MPI_MODULE_FROM_BIN +
+      " from it. Run without mpirun for local workers");
 }
 
+void send_text(const std::string& text, int rank, int tag) {
+  g_mpi->send(text.data(), static_cast<int>(text.size()), rank, tag);
+}
+
+/// A message that has arrived (probed, not yet received).
+struct Probed {
+  int source = 0, tag = 0, size = 0;
+};
+
 /// Waits for a message without spinning a core (Open MPI's blocking calls poll at full speed,
-/// which would take a core from the meshes on a small machine).
-MPI_Status wait_for_message(int source, int tag) {
-  MPI_Status status;
-  int flag = 0;
+/// which would take a core from the meshes on a small machine). source, tag: -1 for any.
+Probed wait_for_message(int source, int tag) {
+  Probed p;
   for (;;) {
     // Open MPI 4.1 reports an arrived message on the second probe after its arrival (measured:
     // always 2 calls), so probe twice before each sleep: 2 ms less latency per message.
     for (int probe = 0; probe < 2; ++probe) {
-      MPI_Iprobe(source, tag, MPI_COMM_WORLD, &flag, &status);
-      if (flag) return status;
+      if (g_mpi->probe(source, tag, &p.source, &p.tag, &p.size)) return p;
     }
     ::usleep(1000);
   }
 }
 
-std::string receive_text(const MPI_Status& probed) {
-  int count = 0;
-  MPI_Get_count(&probed, MPI_CHAR, &count);
-  std::string text(static_cast<std::size_t>(count), '\0');
-  MPI_Recv(text.data(), count, MPI_CHAR, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
-           MPI_STATUS_IGNORE);
+std::string receive_text(const Probed& probed) {
+  std::string text(static_cast<std::size_t>(probed.size), '\0');
+  g_mpi->receive(text.data(), probed.size, probed.source, probed.tag);
   return text;
 }
 
@@ -88,9 +129,9 @@ class MpiWorkers final : public BatchWorkers {
     send_text(job_to_json(job), rank, kTask);
   }
   MeshRecord wait() override {
-    const MPI_Status status = wait_for_message(MPI_ANY_SOURCE, kResult);
-    const std::string line = receive_text(status);
-    idle_.push_back(status.MPI_SOURCE);
+    const Probed message = wait_for_message(-1, kResult);
+    const std::string line = receive_text(message);
+    idle_.push_back(message.source);
     return parse_mesh_record(line);
   }
 
@@ -105,11 +146,11 @@ class MpiWorkers final : public BatchWorkers {
 MpiSession::MpiSession() {
 #ifdef RICCI_HAVE_MPI
   if (!launched_by_mpi()) return;
-  MPI_Init(nullptr, nullptr);
+  if (g_mpi == nullptr) g_mpi = load_mpi_transport();
+  g_mpi->init();
   initialised_ = true;
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+  const int rank = g_mpi->rank();
+  ranks_ = g_mpi->size();
   if (ranks_ > 1) role_ = rank == 0 ? MpiRole::Scheduler : MpiRole::Worker;
 #else
   if (launched_by_mpi() && std::getenv("RICCI_BATCH_QUIET_MPI") == nullptr) {
@@ -125,7 +166,7 @@ MpiSession::~MpiSession() {
 #ifdef RICCI_HAVE_MPI
   if (!initialised_) return;
   if (role_ == MpiRole::Scheduler) stop_workers();
-  MPI_Finalize();
+  g_mpi->finalize();
 #endif
 }
 
@@ -133,7 +174,7 @@ void MpiSession::stop_workers() {
 #ifdef RICCI_HAVE_MPI
   if (workers_stopped_) return;
   workers_stopped_ = true;
-  for (int r = 1; r < ranks_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kStop, MPI_COMM_WORLD);
+  for (int r = 1; r < ranks_; ++r) g_mpi->send(nullptr, 0, r, kStop);
 #endif
 }
 
@@ -151,8 +192,7 @@ BatchResult MpiSession::schedule(const std::vector<BatchJob>& jobs, const std::s
 
 int MpiSession::work(const BatchOptions& options) {
 #ifdef RICCI_HAVE_MPI
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const int rank = g_mpi->rank();
   char host[256] = {};
   ::gethostname(host, sizeof host - 1);
   const std::string label = "rank " + std::to_string(rank) + " on " + host;
@@ -173,9 +213,9 @@ int MpiSession::work(const BatchOptions& options) {
     mine.threads_per_job = std::max(1, std::atoi(cpus));
   }
   for (;;) {
-    const MPI_Status status = wait_for_message(0, MPI_ANY_TAG);
-    const std::string text = receive_text(status);
-    if (status.MPI_TAG == kStop) break;
+    const Probed message = wait_for_message(0, -1);
+    const std::string text = receive_text(message);
+    if (message.tag == kStop) break;
     // The scheduler wrote the task: one that does not parse is a bug, not a mesh's failure.
     const BatchJob job = job_from_json(text);
     send_text(to_json_line(run_batch_mesh(job, mine, label)), 0, kResult);
