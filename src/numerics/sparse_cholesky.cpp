@@ -417,7 +417,9 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
   impl_->analyzed = false;
 #ifdef RICCI_HAVE_CHOLMOD
   const CholeskyBackend wanted = impl_->requested;
-  const bool large = A.rows() >= kCholmodMinRows;
+  const bool large =
+      A.rows() >= kCholmodMinRows ||
+      (A.rows() >= kCholmodDenseMinRows && A.nonZeros() > kCholmodDenseRowNonzeros * A.rows());
   const cholmod_detail::Library* library =
       wanted == CholeskyBackend::Cholmod || (wanted == CholeskyBackend::Automatic && large)
           ? cholmod_functions()

@@ -293,8 +293,9 @@ TEST(SparseCholesky, CholmodLoopsRunOnTheCallingThread) {
   EXPECT_TRUE(same_bits);
 }
 
-// Automatic: Eigen's solver below kCholmodMinRows rows (as fast there, and nothing to load),
-// CHOLMOD from there where it can be loaded; each analysis chooses again.
+// Automatic: Eigen's solver below kCholmodMinRows rows (as fast there, and nothing to load)
+// unless the rows are dense, CHOLMOD otherwise where it can be loaded; each analysis chooses
+// again.
 TEST(SparseCholesky, AutomaticTakesCholmodForLargeMatricesOnly) {
   const Eigen::SparseMatrix<double> small_matrix = torus_laplacian(20);
   const Eigen::SparseMatrix<double> large = torus_laplacian(142);  // 142 x 71 = 10082 rows
@@ -302,13 +303,23 @@ TEST(SparseCholesky, AutomaticTakesCholmodForLargeMatricesOnly) {
   ASSERT_GE(large.rows(), SparseCholesky::kCholmodMinRows);
   const char* large_backend =
       SparseCholesky::cholmod_available() ? "cholmod-supernodal" : "eigen-simplicial-ldlt";
+  // The squared Laplacian of a 4050-row grid: 19 nonzeros a row.
+  const Eigen::SparseMatrix<double> base = torus_laplacian(90);
+  const Eigen::SparseMatrix<double> dense = (base * base).pruned();
+  ASSERT_LT(dense.rows(), SparseCholesky::kCholmodMinRows);
+  ASSERT_GT(dense.nonZeros(), SparseCholesky::kCholmodDenseRowNonzeros * dense.rows());
   SparseCholesky cholesky;
-  for (const Eigen::SparseMatrix<double>* A : {&small_matrix, &large, &small_matrix}) {
+  for (const Eigen::SparseMatrix<double>* A : {&small_matrix, &large, &base, &dense}) {
     cholesky.analyze(*A);
     cholesky.factorize(*A);
-    EXPECT_STREQ(cholesky.backend(), A == &large ? large_backend : "eigen-simplicial-ldlt");
+    const bool cholmod_wanted = A == &large || A == &dense;
+    EXPECT_STREQ(cholesky.backend(), cholmod_wanted ? large_backend : "eigen-simplicial-ldlt");
     const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A->rows(), -1.0, 1.0);
-    EXPECT_LT((*A * cholesky.solve(b) - b).cwiseAbs().maxCoeff(), 1e-10) << cholesky.backend();
+    const Eigen::VectorXd x = cholesky.solve(b);
+    // Backward stable: the residual at round-off of |A| |x| (the squared Laplacian's condition
+    // number is about 1e7).
+    const double scale = (A->cwiseAbs() * x.cwiseAbs()).maxCoeff();
+    EXPECT_LT((*A * x - b).cwiseAbs().maxCoeff(), 1e-13 * scale) << cholesky.backend();
   }
 }
 

@@ -19,9 +19,13 @@ namespace ricci {
 
 /// Which factorisation SparseCholesky runs.
 enum class CholeskyBackend {
-  /// CHOLMOD for a matrix of at least SparseCholesky::kCholmodMinRows rows, Eigen's below: up to
-  /// about 30k rows (mesh Laplacians) the two factorise and solve at the same speed, and loading
-  /// CHOLMOD with its BLAS costs 3-5 ms, more than a small mesh's whole flow.
+  /// CHOLMOD for a matrix of at least SparseCholesky::kCholmodMinRows rows, or of at least
+  /// kCholmodDenseMinRows rows with more than kCholmodDenseRowNonzeros nonzeros a row; Eigen's
+  /// otherwise. Mesh Laplacians (about 7 nonzeros a row) of 3k-30k rows factorise within 20 %
+  /// with either, and loading CHOLMOD with its BLAS costs 3-5 ms, more than a small mesh's whole
+  /// flow; denser patterns (the squared Laplacians of free seams, 19 a row) fill in more, and
+  /// there CHOLMOD's supernodes are 2-5 times faster from 3k rows on (punctured torus: 8.7
+  /// against 43 ms).
   Automatic,
   Cholmod,  ///< CHOLMOD whatever the size (Eigen's solver when CHOLMOD cannot be loaded)
   Eigen,    ///< Eigen's SimplicialLDLT
@@ -30,8 +34,11 @@ enum class CholeskyBackend {
 /// Factorises and solves A x = b for symmetric positive definite A (both triangles stored).
 class SparseCholesky {
  public:
-  /// Automatic takes CHOLMOD from this many rows on.
+  /// Automatic takes CHOLMOD from this many rows on,
   static constexpr int kCholmodMinRows = 10000;
+  /// and from this many rows on when a row holds more than kCholmodDenseRowNonzeros on average.
+  static constexpr int kCholmodDenseMinRows = 1000;
+  static constexpr int kCholmodDenseRowNonzeros = 10;
 
   explicit SparseCholesky(CholeskyBackend backend = CholeskyBackend::Automatic);
   /// \param use_cholmod Automatic when true, Eigen's solver when false
