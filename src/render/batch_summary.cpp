@@ -55,31 +55,31 @@ std::string decade_label(int e) {
 
 /// Axis label rotated to read upwards, centred on (x, y).
 void draw_vertical_text(cairo_t* cr, const std::string& text, double x, double y, double size) {
-  cairo_save(cr);
-  cairo_translate(cr, x, y);
-  cairo_rotate(cr, -std::numbers::pi / 2);
+  render_detail::cairo_api().save(cr);
+  render_detail::cairo_api().translate(cr, x, y);
+  render_detail::cairo_api().rotate(cr, -std::numbers::pi / 2);
   draw_text(cr, text, 0, 0, size, 0.5, 0);
-  cairo_restore(cr);
+  render_detail::cairo_api().restore(cr);
 }
 
 /// Adds a line across the frame at x (frame units) to the path.
 void add_vertical_line(cairo_t* cr, const HistogramFrame& f, double x) {
-  cairo_move_to(cr, f.px(x), f.top);
-  cairo_line_to(cr, f.px(x), f.bottom);
+  render_detail::cairo_api().move_to(cr, f.px(x), f.top);
+  render_detail::cairo_api().line_to(cr, f.px(x), f.bottom);
 }
 
 /// A light grid line across the frame at x (frame units).
 void draw_grid_line(cairo_t* cr, const HistogramFrame& f, double x) {
   set_colour(cr, kGrid);
   add_vertical_line(cr, f, x);
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
 }
 
 void draw_box(cairo_t* cr, const HistogramFrame& f) {
   set_colour(cr, {0.2, 0.2, 0.2});
-  cairo_set_line_width(cr, 1.2);
-  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
-  cairo_stroke(cr);
+  render_detail::cairo_api().set_line_width(cr, 1.2);
+  render_detail::cairo_api().rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  render_detail::cairo_api().stroke(cr);
 }
 
 /// Counts per bin, `bins` equal bins over [lo, hi]; values outside fall in the end bins.
@@ -100,12 +100,12 @@ void draw_histogram(cairo_t* cr, HistogramFrame& f, const std::vector<int>& coun
   const double step = std::max(1.0, nice_step(most, 5));
   f.y_hi = std::ceil(most / step) * step;
   if (f.y_hi < most * 1.05) f.y_hi += step;  // room above the tallest bar
-  cairo_set_line_width(cr, 1.0);
+  render_detail::cairo_api().set_line_width(cr, 1.0);
   for (double y = 0; y <= f.y_hi + kTickSlack; y += step) {
     set_colour(cr, kGrid);
-    cairo_move_to(cr, f.left, f.py(y));
-    cairo_line_to(cr, f.right, f.py(y));
-    cairo_stroke(cr);
+    render_detail::cairo_api().move_to(cr, f.left, f.py(y));
+    render_detail::cairo_api().line_to(cr, f.right, f.py(y));
+    render_detail::cairo_api().stroke(cr);
     set_colour(cr, kInk);
     draw_text(cr, format_number(y, 0), f.left - 6, f.py(y), font, 1, 0.5);
   }
@@ -114,11 +114,11 @@ void draw_histogram(cairo_t* cr, HistogramFrame& f, const std::vector<int>& coun
     if (counts[i] == 0) continue;
     const double x0 = f.px(f.x_lo + static_cast<double>(i) * bin_width);
     const double x1 = f.px(f.x_lo + static_cast<double>(i + 1) * bin_width);
-    cairo_rectangle(cr, x0 + 0.5, f.py(counts[i]), std::max(1.0, x1 - x0 - 1),
-                    f.bottom - f.py(counts[i]));
+    render_detail::cairo_api().rectangle(cr, x0 + 0.5, f.py(counts[i]), std::max(1.0, x1 - x0 - 1),
+                                         f.bottom - f.py(counts[i]));
   }
   set_colour(cr, colour);
-  cairo_fill(cr);
+  render_detail::cairo_api().fill(cr);
   set_colour(cr, kInk);
   draw_vertical_text(cr, "meshes", f.left - 3.4 * font, 0.5 * (f.top + f.bottom), font);
 }
@@ -128,12 +128,12 @@ void draw_marker(cairo_t* cr, const HistogramFrame& f, double x, const std::stri
                  double font) {
   if (!std::isfinite(x) || x < f.x_lo || x > f.x_hi) return;
   const double dash[] = {5.0, 4.0};
-  cairo_set_dash(cr, dash, 2, 0);
+  render_detail::cairo_api().set_dash(cr, dash, 2, 0);
   set_colour(cr, {0.3, 0.3, 0.3});
-  cairo_set_line_width(cr, 1.2);
+  render_detail::cairo_api().set_line_width(cr, 1.2);
   add_vertical_line(cr, f, x);
-  cairo_stroke(cr);
-  cairo_set_dash(cr, nullptr, 0, 0);
+  render_detail::cairo_api().stroke(cr);
+  render_detail::cairo_api().set_dash(cr, nullptr, 0, 0);
   draw_text(cr, label, f.px(x) + 3, f.top + 3, 0.8 * font, 0, 0);
 }
 
@@ -154,15 +154,16 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
   if (rows.empty()) rows.emplace_back("ok", 0);  // a summary without counts
   draw_panel_title(cr, "meshes by outcome (" + std::to_string(s.total) + ")", x0, x1, top, font);
 
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, font);
+  render_detail::cairo_api().select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+                                              CAIRO_FONT_WEIGHT_NORMAL);
+  render_detail::cairo_api().set_font_size(cr, font);
   double name_width = 0, count_width = 0;
   int most = 1;
   for (const auto& [name, count] : rows) {
     cairo_text_extents_t e;
-    cairo_text_extents(cr, name.c_str(), &e);
+    render_detail::cairo_api().text_extents(cr, name.c_str(), &e);
     name_width = std::max(name_width, e.width);
-    cairo_text_extents(cr, std::to_string(count).c_str(), &e);
+    render_detail::cairo_api().text_extents(cr, std::to_string(count).c_str(), &e);
     count_width = std::max(count_width, e.width);
     most = std::max(most, count);
   }
@@ -179,17 +180,17 @@ void draw_outcomes(cairo_t* cr, const BatchSummary& s, double x0, double x1, dou
     const auto& [name, count] = rows[i];
     const double yc = f.top + (static_cast<double>(i) + 0.5) * row;
     set_colour(cr, name == "ok" ? kOkColour : kFailedColour);
-    cairo_rectangle(cr, f.left, yc - 0.5 * bar, f.px(count) - f.left, bar);
-    cairo_fill(cr);
+    render_detail::cairo_api().rectangle(cr, f.left, yc - 0.5 * bar, f.px(count) - f.left, bar);
+    render_detail::cairo_api().fill(cr);
     set_colour(cr, kInk);
     draw_text(cr, name, f.left - 0.6 * font, yc, font, 1, 0.5);
     draw_text(cr, std::to_string(count), f.px(count) + 0.5 * font, yc, font, 0, 0.5);
   }
   set_colour(cr, {0.2, 0.2, 0.2});
-  cairo_set_line_width(cr, 1.2);
-  cairo_move_to(cr, f.left, f.top);
-  cairo_line_to(cr, f.left, f.bottom);
-  cairo_stroke(cr);
+  render_detail::cairo_api().set_line_width(cr, 1.2);
+  render_detail::cairo_api().move_to(cr, f.left, f.top);
+  render_detail::cairo_api().line_to(cr, f.left, f.bottom);
+  render_detail::cairo_api().stroke(cr);
 }
 
 /// Panels (b) and (c) start alike: the title, then the plot rectangle under it, which this
@@ -237,14 +238,14 @@ void draw_seconds(cairo_t* cr, const BatchSummary& s, double x0, double x1, doub
   const int per_decade = std::clamp(30 / decades, 1, 10);
 
   // Decade lines and labels, and light lines at 2..9 times each decade when there is room.
-  cairo_set_line_width(cr, 1.0);
+  render_detail::cairo_api().set_line_width(cr, 1.0);
   const int label_every = (decades + 7) / 8;
   for (int e = decade_lo; e <= decade_hi; ++e) {
     draw_grid_line(cr, f, e);
     if (decades <= 6 && e < decade_hi) {
       set_colour(cr, {0.94, 0.94, 0.94});
       for (int m = 2; m <= 9; ++m) add_vertical_line(cr, f, e + std::log10(m));
-      cairo_stroke(cr);
+      render_detail::cairo_api().stroke(cr);
     }
     if ((e - decade_lo) % label_every == 0) {
       set_colour(cr, kInk);
@@ -287,7 +288,7 @@ void draw_angle_distortion(cairo_t* cr, const BatchSummary& s, double x0, double
   if (f.x_hi < most) f.x_hi += step;
   const int digits = std::max(0, -static_cast<int>(std::floor(std::log10(step))));
 
-  cairo_set_line_width(cr, 1.0);
+  render_detail::cairo_api().set_line_width(cr, 1.0);
   const auto ticks = std::lround((f.x_hi - f.x_lo) / step);
   for (long k = 0; k <= ticks; ++k) {
     const double x = f.x_lo + static_cast<double>(k) * step;
@@ -311,7 +312,7 @@ void draw_summary(cairo_t* cr, const BatchSummary& s, const BatchSummaryPictureO
   const double panel = w / 3;
   const double font = std::clamp(std::min(panel, h) / 34.0, 9.0, 18.0);
   set_colour(cr, {1, 1, 1});
-  cairo_paint(cr);
+  render_detail::cairo_api().paint(cr);
   double top = 0.6 * font;
   if (!options.title.empty()) {
     set_colour(cr, kInk);

@@ -1,7 +1,5 @@
 #include "cairo_support.hpp"
 
-#include <cairo-svg.h>
-
 #include <cmath>
 
 #include "ricci/errors.hpp"
@@ -11,7 +9,7 @@ namespace {
 
 void check_status(cairo_status_t status, const char* what) {
   if (status != CAIRO_STATUS_SUCCESS) {
-    throw Error(std::string(what) + ": Cairo failed: " + cairo_status_to_string(status));
+    throw Error(std::string(what) + ": Cairo failed: " + cairo_api().status_to_string(status));
   }
 }
 
@@ -32,53 +30,53 @@ void check_picture_size(const char* function, int width, int height, int smalles
 }
 
 SurfaceHandle surface_on(Image& image) {
-  const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, image.width);
+  const int stride = cairo_api().format_stride_for_width(CAIRO_FORMAT_ARGB32, image.width);
   if (stride != 4 * image.width) throw Error("surface_on: unexpected ARGB32 stride");
-  SurfaceHandle surface(
-      cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(image.pixels.data()),
-                                          CAIRO_FORMAT_ARGB32, image.width, image.height, stride));
-  check_status(cairo_surface_status(surface.get()), "surface_on");
+  SurfaceHandle surface(cairo_api().image_surface_create_for_data(
+      reinterpret_cast<unsigned char*>(image.pixels.data()), CAIRO_FORMAT_ARGB32, image.width,
+      image.height, stride));
+  check_status(cairo_api().surface_status(surface.get()), "surface_on");
   return surface;
 }
 
 void draw_on_image(Image& image, const std::function<void(cairo_t*)>& draw) {
   const SurfaceHandle surface = surface_on(image);
   {
-    const ContextHandle cr(cairo_create(surface.get()));
-    check_status(cairo_status(cr.get()), "draw_on_image");
+    const ContextHandle cr(cairo_api().create(surface.get()));
+    check_status(cairo_api().status(cr.get()), "draw_on_image");
     draw(cr.get());
-    check_status(cairo_status(cr.get()), "draw_on_image");
+    check_status(cairo_api().status(cr.get()), "draw_on_image");
   }
-  cairo_surface_flush(surface.get());
+  cairo_api().surface_flush(surface.get());
 }
 
 std::string draw_svg(int width, int height, const std::function<void(cairo_t*)>& draw) {
   std::string svg;
   {
     const SurfaceHandle surface(
-        cairo_svg_surface_create_for_stream(&append_to_string, &svg, width, height));
-    check_status(cairo_surface_status(surface.get()), "draw_svg");
-    cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PX);
+        cairo_api().svg_surface_create_for_stream(&append_to_string, &svg, width, height));
+    check_status(cairo_api().surface_status(surface.get()), "draw_svg");
+    cairo_api().svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PX);
     {
-      const ContextHandle cr(cairo_create(surface.get()));
+      const ContextHandle cr(cairo_api().create(surface.get()));
       draw(cr.get());
-      check_status(cairo_status(cr.get()), "draw_svg");
+      check_status(cairo_api().status(cr.get()), "draw_svg");
     }
-    cairo_surface_finish(surface.get());
-    check_status(cairo_surface_status(surface.get()), "draw_svg");
+    cairo_api().surface_finish(surface.get());
+    check_status(cairo_api().surface_status(surface.get()), "draw_svg");
   }
   return svg;
 }
 
 void draw_text(cairo_t* cr, const std::string& text, double x, double y, double size, double ax,
                double ay) {
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
+  cairo_api().select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_api().set_font_size(cr, size);
   cairo_text_extents_t e;
-  cairo_text_extents(cr, text.c_str(), &e);
-  cairo_move_to(cr, x - e.x_bearing - ax * e.width, y - e.y_bearing - ay * e.height);
-  cairo_show_text(cr, text.c_str());
-  cairo_new_path(cr);
+  cairo_api().text_extents(cr, text.c_str(), &e);
+  cairo_api().move_to(cr, x - e.x_bearing - ax * e.width, y - e.y_bearing - ay * e.height);
+  cairo_api().show_text(cr, text.c_str());
+  cairo_api().new_path(cr);
 }
 
 double nice_step(double span, int count) {

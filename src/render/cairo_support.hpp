@@ -3,7 +3,7 @@
 /// Private to the picture writers: owning handles for Cairo objects, drawing one function onto a
 /// raster image or into SVG text, and the small drawing helpers the plots share.
 
-#include <cairo.h>
+#include "render/detail/cairo_library.hpp"
 
 #include <functional>
 #include <memory>
@@ -14,10 +14,10 @@
 namespace ricci::render_detail {
 
 struct SurfaceDeleter {
-  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
+  void operator()(cairo_surface_t* surface) const { cairo_api().surface_destroy(surface); }
 };
 struct ContextDeleter {
-  void operator()(cairo_t* cr) const { cairo_destroy(cr); }
+  void operator()(cairo_t* cr) const { cairo_api().destroy(cr); }
 };
 using SurfaceHandle = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
 using ContextHandle = std::unique_ptr<cairo_t, ContextDeleter>;
@@ -37,7 +37,7 @@ void draw_on_image(Image& image, const std::function<void(cairo_t*)>& draw);
 std::string draw_svg(int width, int height, const std::function<void(cairo_t*)>& draw);
 
 inline void set_colour(cairo_t* cr, const Rgb& c, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha);
+  cairo_api().set_source_rgba(cr, c.r, c.g, c.b, alpha);
 }
 
 /// Text in the sans-serif face at the current point, aligned: ax, ay in [0, 1] pick which point

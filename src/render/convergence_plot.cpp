@@ -42,10 +42,11 @@ bool plottable(double e) {
 void draw_power_of_ten(cairo_t* cr, int exponent, double x, double y, double size) {
   const std::string power =
       exponent < 0 ? "\xE2\x88\x92" + std::to_string(-exponent) : std::to_string(exponent);
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, 0.7 * size);
+  render_detail::cairo_api().select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+                                              CAIRO_FONT_WEIGHT_NORMAL);
+  render_detail::cairo_api().set_font_size(cr, 0.7 * size);
   cairo_text_extents_t small;
-  cairo_text_extents(cr, power.c_str(), &small);
+  render_detail::cairo_api().text_extents(cr, power.c_str(), &small);
   const double power_x = x - small.x_advance;
   draw_text(cr, "10", power_x - 1, y, size, 1, 0.5);
   draw_text(cr, power, power_x, y - 0.45 * size, 0.7 * size, 0, 0.5);
@@ -100,23 +101,23 @@ Frame fit_frame(const std::vector<ConvergenceCurve>& curves, const ConvergencePl
 /// The error axis: a line per decade, light lines at its multiples 2..9 when there are few
 /// decades, and powers of ten as labels (at most twelve of them).
 void draw_error_grid(cairo_t* cr, const Frame& frame, double font) {
-  cairo_set_line_width(cr, 1.0);
+  render_detail::cairo_api().set_line_width(cr, 1.0);
   const int decades = frame.decade_hi - frame.decade_lo;
   const int label_every = (decades + 11) / 12;
   for (int e = frame.decade_lo; e <= frame.decade_hi; ++e) {
     const double y = frame.py(std::pow(10.0, e));
     set_colour(cr, {0.82, 0.82, 0.82});
-    cairo_move_to(cr, frame.left, y);
-    cairo_line_to(cr, frame.right, y);
-    cairo_stroke(cr);
+    render_detail::cairo_api().move_to(cr, frame.left, y);
+    render_detail::cairo_api().line_to(cr, frame.right, y);
+    render_detail::cairo_api().stroke(cr);
     if (decades <= 6 && e < frame.decade_hi) {
       set_colour(cr, {0.93, 0.93, 0.93});
       for (int m = 2; m <= 9; ++m) {
         const double ym = frame.py(m * std::pow(10.0, e));
-        cairo_move_to(cr, frame.left, ym);
-        cairo_line_to(cr, frame.right, ym);
+        render_detail::cairo_api().move_to(cr, frame.left, ym);
+        render_detail::cairo_api().line_to(cr, frame.right, ym);
       }
-      cairo_stroke(cr);
+      render_detail::cairo_api().stroke(cr);
     }
     if ((e - frame.decade_lo) % label_every == 0) {
       set_colour(cr, {0.1, 0.1, 0.1});
@@ -130,9 +131,9 @@ void draw_iteration_tick(cairo_t* cr, const Frame& frame, double iteration,
                          const std::string& label, double font) {
   const double x = frame.px(iteration);
   set_colour(cr, {0.88, 0.88, 0.88});
-  cairo_move_to(cr, x, frame.top);
-  cairo_line_to(cr, x, frame.bottom);
-  cairo_stroke(cr);
+  render_detail::cairo_api().move_to(cr, x, frame.top);
+  render_detail::cairo_api().line_to(cr, x, frame.bottom);
+  render_detail::cairo_api().stroke(cr);
   set_colour(cr, {0.1, 0.1, 0.1});
   draw_text(cr, label, x, frame.bottom + 6, font, 0.5, 0);
 }
@@ -146,11 +147,11 @@ void draw_iteration_grid(cairo_t* cr, const Frame& frame, double font) {
     set_colour(cr, {0.95, 0.95, 0.95});
     for (double p = 1; p <= end; p *= 10) {
       for (int m = 2; m <= 9 && m * p <= end; ++m) {
-        cairo_move_to(cr, frame.px(m * p - 1), frame.top);
-        cairo_line_to(cr, frame.px(m * p - 1), frame.bottom);
+        render_detail::cairo_api().move_to(cr, frame.px(m * p - 1), frame.top);
+        render_detail::cairo_api().line_to(cr, frame.px(m * p - 1), frame.bottom);
       }
     }
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
     for (int e = 0; std::pow(10.0, e) <= end; ++e) {
       draw_iteration_tick(
           cr, frame, std::pow(10.0, e) - 1,
@@ -170,21 +171,22 @@ void draw_iteration_grid(cairo_t* cr, const Frame& frame, double font) {
 /// The tolerance (dashed) and the curves, clipped to the plot rectangle.
 void draw_curves(cairo_t* cr, const Frame& frame, const std::vector<ConvergenceCurve>& curves,
                  const ConvergencePlotOptions& options, double font) {
-  cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
-  cairo_save(cr);
-  cairo_clip(cr);
+  render_detail::cairo_api().rectangle(cr, frame.left, frame.top, frame.right - frame.left,
+                                       frame.bottom - frame.top);
+  render_detail::cairo_api().save(cr);
+  render_detail::cairo_api().clip(cr);
   if (plottable(options.tolerance)) {
     const double dash[] = {6.0, 4.0};
-    cairo_set_dash(cr, dash, 2, 0);
+    render_detail::cairo_api().set_dash(cr, dash, 2, 0);
     set_colour(cr, {0.45, 0.45, 0.45});
-    cairo_move_to(cr, frame.left, frame.py(options.tolerance));
-    cairo_line_to(cr, frame.right, frame.py(options.tolerance));
-    cairo_stroke(cr);
-    cairo_set_dash(cr, nullptr, 0, 0);
+    render_detail::cairo_api().move_to(cr, frame.left, frame.py(options.tolerance));
+    render_detail::cairo_api().line_to(cr, frame.right, frame.py(options.tolerance));
+    render_detail::cairo_api().stroke(cr);
+    render_detail::cairo_api().set_dash(cr, nullptr, 0, 0);
     draw_text(cr, "tolerance", frame.right - 6, frame.py(options.tolerance) - 4, 0.85 * font, 1, 1);
   }
-  cairo_set_line_width(cr, 2.0);
-  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  render_detail::cairo_api().set_line_width(cr, 2.0);
+  render_detail::cairo_api().set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (const ConvergenceCurve& c : curves) {
     bool open = false;
     for (std::size_t i = 0; i < c.max_error.size(); ++i) {
@@ -194,25 +196,25 @@ void draw_curves(cairo_t* cr, const Frame& frame, const std::vector<ConvergenceC
       }
       const double x = frame.px(static_cast<double>(i)), y = frame.py(c.max_error[i]);
       if (open) {
-        cairo_line_to(cr, x, y);
+        render_detail::cairo_api().line_to(cr, x, y);
       } else {
-        cairo_move_to(cr, x, y);
+        render_detail::cairo_api().move_to(cr, x, y);
       }
       open = true;
     }
     set_colour(cr, c.colour);
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
     if (c.markers) {
       for (std::size_t i = 0; i < c.max_error.size(); ++i) {
         if (!plottable(c.max_error[i])) continue;
-        cairo_new_sub_path(cr);
-        cairo_arc(cr, frame.px(static_cast<double>(i)), frame.py(c.max_error[i]), 3.5, 0,
-                  2 * std::numbers::pi);
+        render_detail::cairo_api().new_sub_path(cr);
+        render_detail::cairo_api().arc(cr, frame.px(static_cast<double>(i)),
+                                       frame.py(c.max_error[i]), 3.5, 0, 2 * std::numbers::pi);
       }
-      cairo_fill(cr);
+      render_detail::cairo_api().fill(cr);
     }
   }
-  cairo_restore(cr);
+  render_detail::cairo_api().restore(cr);
 }
 
 /// The legend (curves with a label), in the plot's top right corner.
@@ -223,13 +225,13 @@ void draw_legend(cairo_t* cr, const Frame& frame, const std::vector<ConvergenceC
     if (c.label.empty()) continue;
     const double lx = frame.right - 11 * font;
     set_colour(cr, c.colour);
-    cairo_set_line_width(cr, 2.0);
-    cairo_move_to(cr, lx, ly);
-    cairo_line_to(cr, lx + 2 * font, ly);
-    cairo_stroke(cr);
+    render_detail::cairo_api().set_line_width(cr, 2.0);
+    render_detail::cairo_api().move_to(cr, lx, ly);
+    render_detail::cairo_api().line_to(cr, lx + 2 * font, ly);
+    render_detail::cairo_api().stroke(cr);
     if (c.markers) {
-      cairo_arc(cr, lx + font, ly, 3.5, 0, 2 * std::numbers::pi);
-      cairo_fill(cr);
+      render_detail::cairo_api().arc(cr, lx + font, ly, 3.5, 0, 2 * std::numbers::pi);
+      render_detail::cairo_api().fill(cr);
     }
     set_colour(cr, {0.1, 0.1, 0.1});
     draw_text(cr, c.label, lx + 2.5 * font, ly, font, 0, 0.5);
@@ -242,26 +244,27 @@ void draw_plot(cairo_t* cr, const std::vector<ConvergenceCurve>& curves,
   const double w = options.width, h = options.height;
   const double font = std::clamp(std::min(w, h) / 40.0, 9.0, 18.0);
   set_colour(cr, {1, 1, 1});
-  cairo_paint(cr);
+  render_detail::cairo_api().paint(cr);
   const Frame frame = fit_frame(curves, options, font);
   draw_error_grid(cr, frame, font);
   draw_iteration_grid(cr, frame, font);
   draw_curves(cr, frame, curves, options, font);
 
   set_colour(cr, {0.2, 0.2, 0.2});
-  cairo_set_line_width(cr, 1.2);
-  cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
-  cairo_stroke(cr);
+  render_detail::cairo_api().set_line_width(cr, 1.2);
+  render_detail::cairo_api().rectangle(cr, frame.left, frame.top, frame.right - frame.left,
+                                       frame.bottom - frame.top);
+  render_detail::cairo_api().stroke(cr);
   draw_legend(cr, frame, curves, font);
 
   set_colour(cr, {0.1, 0.1, 0.1});
   draw_text(cr, frame.log_x ? options.x_label + " + 1" : options.x_label,
             0.5 * (frame.left + frame.right), h - 0.6 * font, font, 0.5, 1);
-  cairo_save(cr);
-  cairo_translate(cr, 1.0 * font, 0.5 * (frame.top + frame.bottom));
-  cairo_rotate(cr, -std::numbers::pi / 2);
+  render_detail::cairo_api().save(cr);
+  render_detail::cairo_api().translate(cr, 1.0 * font, 0.5 * (frame.top + frame.bottom));
+  render_detail::cairo_api().rotate(cr, -std::numbers::pi / 2);
   draw_text(cr, options.y_label, 0, 0, font, 0.5, 0);
-  cairo_restore(cr);
+  render_detail::cairo_api().restore(cr);
   if (!options.title.empty()) {
     draw_text(cr, options.title, 0.5 * w, 0.8 * font, 1.15 * font, 0.5, 0);
   }

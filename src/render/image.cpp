@@ -68,29 +68,31 @@ std::string encode_png(const Image& image) {
   const render_detail::SurfaceHandle surface = render_detail::surface_on(copy);
   std::ostringstream out;
   const cairo_status_t status =
-      cairo_surface_write_to_png_stream(surface.get(), &write_to_stream, &out);
+      render_detail::cairo_api().surface_write_to_png_stream(surface.get(), &write_to_stream, &out);
   if (status != CAIRO_STATUS_SUCCESS) {
     throw IoError(std::string("encode_png: PNG encoding failed: ") +
-                  cairo_status_to_string(status));
+                  render_detail::cairo_api().status_to_string(status));
   }
   return out.str();
 }
 
 Image read_png(const std::string& path) {
-  const render_detail::SurfaceHandle surface(cairo_image_surface_create_from_png(path.c_str()));
-  const cairo_status_t status = cairo_surface_status(surface.get());
+  const render_detail::SurfaceHandle surface(
+      render_detail::cairo_api().image_surface_create_from_png(path.c_str()));
+  const cairo_status_t status = render_detail::cairo_api().surface_status(surface.get());
   if (status != CAIRO_STATUS_SUCCESS) {
-    throw IoError(path + ": cannot read PNG: " + cairo_status_to_string(status));
+    throw IoError(path +
+                  ": cannot read PNG: " + render_detail::cairo_api().status_to_string(status));
   }
-  cairo_surface_flush(surface.get());
-  const cairo_format_t format = cairo_image_surface_get_format(surface.get());
+  render_detail::cairo_api().surface_flush(surface.get());
+  const cairo_format_t format = render_detail::cairo_api().image_surface_get_format(surface.get());
   Image image;
-  image.width = cairo_image_surface_get_width(surface.get());
-  image.height = cairo_image_surface_get_height(surface.get());
+  image.width = render_detail::cairo_api().image_surface_get_width(surface.get());
+  image.height = render_detail::cairo_api().image_surface_get_height(surface.get());
   image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
   if (format == CAIRO_FORMAT_ARGB32 || format == CAIRO_FORMAT_RGB24) {
-    const unsigned char* data = cairo_image_surface_get_data(surface.get());
-    const int stride = cairo_image_surface_get_stride(surface.get());
+    const unsigned char* data = render_detail::cairo_api().image_surface_get_data(surface.get());
+    const int stride = render_detail::cairo_api().image_surface_get_stride(surface.get());
     for (int y = 0; y < image.height; ++y) {
       const auto* row =
           reinterpret_cast<const std::uint32_t*>(data + static_cast<long>(y) * stride);
@@ -104,8 +106,8 @@ Image read_png(const std::string& path) {
     // Grey or 1-bit PNGs: let Cairo convert by painting onto an ARGB32 surface.
     image.pixels.assign(image.pixels.size(), 0);
     render_detail::draw_on_image(image, [&](cairo_t* cr) {
-      cairo_set_source_surface(cr, surface.get(), 0, 0);
-      cairo_paint(cr);
+      render_detail::cairo_api().set_source_surface(cr, surface.get(), 0, 0);
+      render_detail::cairo_api().paint(cr);
     });
   }
   return image;

@@ -347,9 +347,9 @@ void add_visible_edge(cairo_t* cr, const Mesh& mesh, const Camera& camera, const
     const Eigen::Vector2d q = (1 - t) * qa + t * qb;
     if (test.visible(q, (1 - t) * za + t * zb)) {
       if (open) {
-        cairo_line_to(cr, q.x(), q.y());
+        render_detail::cairo_api().line_to(cr, q.x(), q.y());
       } else {
-        cairo_move_to(cr, q.x(), q.y());
+        render_detail::cairo_api().move_to(cr, q.x(), q.y());
         open = true;
       }
     } else {
@@ -363,7 +363,7 @@ int draw_edges(cairo_t* cr, const Mesh& mesh, const Camera& camera, const DepthT
                const RenderOptions& options) {
   const std::int64_t nv = mesh.num_vertices();
   render_detail::set_colour(cr, options.edge_colour);
-  cairo_set_line_width(cr, options.edge_width);
+  render_detail::cairo_api().set_line_width(cr, options.edge_width);
   std::unordered_set<std::int64_t> drawn;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -372,7 +372,7 @@ int draw_edges(cairo_t* cr, const Mesh& mesh, const Camera& camera, const DepthT
       add_visible_edge(cr, mesh, camera, test, a, b);
     }
   }
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
   return static_cast<int>(drawn.size());
 }
 
@@ -381,7 +381,7 @@ void draw_seams(cairo_t* cr, const Mesh& mesh, const Camera& camera, const Depth
                 const RenderOptions& options, const std::vector<int>& seam_halfedges) {
   const std::int64_t nv = mesh.num_vertices();
   render_detail::set_colour(cr, options.seam_colour);
-  cairo_set_line_width(cr, options.seam_width);
+  render_detail::cairo_api().set_line_width(cr, options.seam_width);
   std::unordered_set<std::int64_t> drawn;
   for (int h : seam_halfedges) {
     const int a = mesh.triangles(h / 3, (h % 3 + 1) % 3);
@@ -389,7 +389,7 @@ void draw_seams(cairo_t* cr, const Mesh& mesh, const Camera& camera, const Depth
     if (!drawn.insert(std::min(a, b) * nv + std::max(a, b)).second) continue;
     add_visible_edge(cr, mesh, camera, test, a, b);
   }
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
 }
 
 /// Dots on the visible cones; the number of them.
@@ -404,14 +404,14 @@ int mark_cones(cairo_t* cr, const Mesh& mesh, const Camera& camera, const DepthT
     const Eigen::Vector2d q = camera.project(p);
     if (!test.visible(q, camera.depth(p))) continue;
     ++visible_cones;
-    cairo_new_sub_path(cr);
-    cairo_arc(cr, q.x(), q.y(), radius, 0, 2 * std::numbers::pi);
+    render_detail::cairo_api().new_sub_path(cr);
+    render_detail::cairo_api().arc(cr, q.x(), q.y(), radius, 0, 2 * std::numbers::pi);
   }
   render_detail::set_colour(cr, options.cone_colour);
-  cairo_fill_preserve(cr);
-  cairo_set_line_width(cr, std::max(1.0, radius / 4));
+  render_detail::cairo_api().fill_preserve(cr);
+  render_detail::cairo_api().set_line_width(cr, std::max(1.0, radius / 4));
   render_detail::set_colour(cr, {0.15, 0, 0});
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
   return visible_cones;
 }
 
@@ -552,8 +552,8 @@ RenderResult render_textured_mesh(const Mesh& mesh, const Triangles& uv_triangle
                            (options.mark_cones && !chart.cones.empty());
   if (!any_overlay) return result;
   render_detail::draw_on_image(result.image, [&](cairo_t* cr) {
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    render_detail::cairo_api().set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    render_detail::cairo_api().set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     if (options.draw_edges) result.edges = draw_edges(cr, mesh, camera, test, options);
     if (options.draw_seams) draw_seams(cr, mesh, camera, test, options, chart.seam_halfedges);
     if (options.mark_cones) {

@@ -235,33 +235,34 @@ void trace_loops(cairo_t* cr, const std::vector<std::vector<Eigen::Vector2d>>& l
   for (const auto& loop : loops) {
     for (std::size_t k = 0; k < loop.size(); ++k) {
       if (k == 0) {
-        cairo_move_to(cr, loop[k].x(), loop[k].y());
+        render_detail::cairo_api().move_to(cr, loop[k].x(), loop[k].y());
       } else {
-        cairo_line_to(cr, loop[k].x(), loop[k].y());
+        render_detail::cairo_api().line_to(cr, loop[k].x(), loop[k].y());
       }
     }
-    cairo_close_path(cr);
+    render_detail::cairo_api().close_path(cr);
   }
 }
 
 void draw(cairo_t* cr, const TilingDrawing& d, const DiskPoints& positions,
           const Triangles& triangles, const TilingOptions& options) {
   set_colour(cr, options.background);
-  cairo_paint(cr);
-  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-  cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
-  cairo_arc(cr, d.centre, d.centre, d.radius, 0, 2 * std::numbers::pi);
+  render_detail::cairo_api().paint(cr);
+  render_detail::cairo_api().set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  render_detail::cairo_api().set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+  render_detail::cairo_api().arc(cr, d.centre, d.centre, d.radius, 0, 2 * std::numbers::pi);
   set_colour(cr, options.disk_colour);
-  cairo_fill(cr);
+  render_detail::cairo_api().fill(cr);
 
   for (const Tile& tile : d.tiles) {
     trace_loops(cr, tile.loops);
     const int index = options.colour_by_last_generator ? tile.last : tile.length - 1;
     set_colour(cr, kPalette[index % kPaletteSize]);
-    cairo_fill_preserve(cr);
-    cairo_set_line_width(cr, std::min(options.outline_width, 0.05 * tile.diameter));
+    render_detail::cairo_api().fill_preserve(cr);
+    render_detail::cairo_api().set_line_width(
+        cr, std::min(options.outline_width, 0.05 * tile.diameter));
     set_colour(cr, {0.2, 0.2, 0.25});
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
   }
 
   // The domain: filled and outlined, then its mesh edges.
@@ -274,10 +275,10 @@ void draw(cairo_t* cr, const TilingDrawing& d, const DiskPoints& positions,
   }
   trace_loops(cr, domain);
   set_colour(cr, options.domain_colour);
-  cairo_fill_preserve(cr);
-  cairo_set_line_width(cr, 2 * options.outline_width);
+  render_detail::cairo_api().fill_preserve(cr);
+  render_detail::cairo_api().set_line_width(cr, 2 * options.outline_width);
   set_colour(cr, {0.1, 0.05, 0.0});
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
   if (options.draw_mesh_edges && options.edge_width > 0) {
     for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
       for (int k = 0; k < 3; ++k) {
@@ -285,19 +286,19 @@ void draw(cairo_t* cr, const TilingDrawing& d, const DiskPoints& positions,
         if (u > v) continue;  // interior edges once (boundary edges u > v are outlined anyway)
         const Eigen::Vector2d a = d.to_pixel({positions(u, 0), positions(u, 1)});
         const Eigen::Vector2d b = d.to_pixel({positions(v, 0), positions(v, 1)});
-        cairo_move_to(cr, a.x(), a.y());
-        cairo_line_to(cr, b.x(), b.y());
+        render_detail::cairo_api().move_to(cr, a.x(), a.y());
+        render_detail::cairo_api().line_to(cr, b.x(), b.y());
       }
     }
-    cairo_set_line_width(cr, options.edge_width);
+    render_detail::cairo_api().set_line_width(cr, options.edge_width);
     set_colour(cr, {0.3, 0.15, 0.05}, 0.35);
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
   }
 
-  cairo_arc(cr, d.centre, d.centre, d.radius, 0, 2 * std::numbers::pi);
-  cairo_set_line_width(cr, 1.5);
+  render_detail::cairo_api().arc(cr, d.centre, d.centre, d.radius, 0, 2 * std::numbers::pi);
+  render_detail::cairo_api().set_line_width(cr, 1.5);
   set_colour(cr, {0.1, 0.1, 0.1});
-  cairo_stroke(cr);
+  render_detail::cairo_api().stroke(cr);
 }
 
 }  // namespace

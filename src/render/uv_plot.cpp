@@ -115,42 +115,42 @@ void draw_layout(cairo_t* cr, const LayoutDrawing& d, const Mesh& mesh,
                  const Triangles& uv_triangles, const UV& uv, const UvPlotOptions& options,
                  bool edges) {
   set_colour(cr, kWhite);
-  cairo_paint(cr);
-  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-  cairo_set_line_width(cr, options.edge_width);
+  render_detail::cairo_api().paint(cr);
+  render_detail::cairo_api().set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  render_detail::cairo_api().set_line_width(cr, options.edge_width);
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector2d p = d.to_pixel(uv.row(uv_triangles(f, c)));
       if (c == 0) {
-        cairo_move_to(cr, p.x(), p.y());
+        render_detail::cairo_api().move_to(cr, p.x(), p.y());
       } else {
-        cairo_line_to(cr, p.x(), p.y());
+        render_detail::cairo_api().line_to(cr, p.x(), p.y());
       }
     }
-    cairo_close_path(cr);
+    render_detail::cairo_api().close_path(cr);
     const double x = d.log_area[f];
     const double t = d.range > 0 ? (std::isfinite(x) ? x / d.range : -1.0) : 0.0;
     set_colour(cr, d.flipped[f] ? options.flipped_colour : diverging_colour(t));
     if (edges) {
-      cairo_fill_preserve(cr);
+      render_detail::cairo_api().fill_preserve(cr);
       set_colour(cr, {0.25, 0.25, 0.25}, 0.6);
-      cairo_stroke(cr);
+      render_detail::cairo_api().stroke(cr);
     } else {
-      cairo_fill(cr);
+      render_detail::cairo_api().fill(cr);
     }
   }
   if (!d.chart.seam_halfedges.empty()) {
-    cairo_set_line_width(cr, options.seam_width);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    render_detail::cairo_api().set_line_width(cr, options.seam_width);
+    render_detail::cairo_api().set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     for (int h : d.chart.seam_halfedges) {
       const int f = h / 3, k = h % 3;
       const Eigen::Vector2d a = d.to_pixel(uv.row(uv_triangles(f, (k + 1) % 3)));
       const Eigen::Vector2d b = d.to_pixel(uv.row(uv_triangles(f, (k + 2) % 3)));
-      cairo_move_to(cr, a.x(), a.y());
-      cairo_line_to(cr, b.x(), b.y());
+      render_detail::cairo_api().move_to(cr, a.x(), a.y());
+      render_detail::cairo_api().line_to(cr, b.x(), b.y());
     }
     set_colour(cr, {0.05, 0.05, 0.05});
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
   }
   if (options.mark_cones && !d.chart.cones.empty()) {
     const std::set<int> cones(d.chart.cones.begin(), d.chart.cones.end());
@@ -163,31 +163,32 @@ void draw_layout(cairo_t* cr, const LayoutDrawing& d, const Mesh& mesh,
     const double radius = std::max(3.0, std::min(options.width, options.height) / 200.0);
     for (int t : copies) {
       const Eigen::Vector2d p = d.to_pixel(uv.row(t));
-      cairo_new_sub_path(cr);
-      cairo_arc(cr, p.x(), p.y(), radius, 0, 2 * std::numbers::pi);
+      render_detail::cairo_api().new_sub_path(cr);
+      render_detail::cairo_api().arc(cr, p.x(), p.y(), radius, 0, 2 * std::numbers::pi);
     }
     set_colour(cr, {0.9, 0.05, 0.05});
-    cairo_fill_preserve(cr);
-    cairo_set_line_width(cr, 1.0);
+    render_detail::cairo_api().fill_preserve(cr);
+    render_detail::cairo_api().set_line_width(cr, 1.0);
     set_colour(cr, {0.15, 0, 0});
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
   }
   if (options.colour_bar) {
     const double w = options.width, h = options.height;
     const double bar_w = std::min(0.6 * w, 480.0), bar_h = std::max(10.0, 0.2 * d.bar_height);
     const double x0 = 0.5 * (w - bar_w), y0 = h - d.bar_height + 0.15 * d.bar_height;
     const double font = std::clamp(0.22 * d.bar_height, 9.0, 16.0);
-    cairo_pattern_t* gradient = cairo_pattern_create_linear(x0, 0, x0 + bar_w, 0);
-    cairo_pattern_add_color_stop_rgb(gradient, 0.0, kBlue.r, kBlue.g, kBlue.b);
-    cairo_pattern_add_color_stop_rgb(gradient, 0.5, 1, 1, 1);
-    cairo_pattern_add_color_stop_rgb(gradient, 1.0, kRed.r, kRed.g, kRed.b);
-    cairo_rectangle(cr, x0, y0, bar_w, bar_h);
-    cairo_set_source(cr, gradient);
-    cairo_fill_preserve(cr);
-    cairo_pattern_destroy(gradient);
-    cairo_set_line_width(cr, 1.0);
+    cairo_pattern_t* gradient =
+        render_detail::cairo_api().pattern_create_linear(x0, 0, x0 + bar_w, 0);
+    render_detail::cairo_api().pattern_add_color_stop_rgb(gradient, 0.0, kBlue.r, kBlue.g, kBlue.b);
+    render_detail::cairo_api().pattern_add_color_stop_rgb(gradient, 0.5, 1, 1, 1);
+    render_detail::cairo_api().pattern_add_color_stop_rgb(gradient, 1.0, kRed.r, kRed.g, kRed.b);
+    render_detail::cairo_api().rectangle(cr, x0, y0, bar_w, bar_h);
+    render_detail::cairo_api().set_source(cr, gradient);
+    render_detail::cairo_api().fill_preserve(cr);
+    render_detail::cairo_api().pattern_destroy(gradient);
+    render_detail::cairo_api().set_line_width(cr, 1.0);
     set_colour(cr, {0.3, 0.3, 0.3});
-    cairo_stroke(cr);
+    render_detail::cairo_api().stroke(cr);
     set_colour(cr, {0.1, 0.1, 0.1});
     const double ty = y0 + bar_h + 4;
     const std::string r = format_number(d.range);
