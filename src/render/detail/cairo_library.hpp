@@ -69,6 +69,8 @@ namespace ricci::render_detail {
 
 /// Cairo's functions, by their names without the cairo_ prefix.
 struct CairoLibrary {
+// A member's name cannot be parenthesised.
+// NOLINTNEXTLINE(bugprone-macro-parentheses)
 #define RICCI_CAIRO_MEMBER(name) decltype(&cairo_##name) name = nullptr;
   RICCI_CAIRO_FUNCTIONS(RICCI_CAIRO_MEMBER)
 #undef RICCI_CAIRO_MEMBER
