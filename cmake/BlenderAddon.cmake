@@ -30,12 +30,7 @@ target_sources(ricci PRIVATE apps/ricci/blender_addon_command.cpp
 # libzip is opened when the command runs (dlopen), not loaded with the program: it brings
 # libcrypto, whose relocations cost every other command about 3 ms of start-up. Its headers
 # give the functions' types; its soname, from the library found here, is what is opened.
-file(REAL_PATH "${LIBZIP_LINK_LIBRARIES}" ricci_libzip_file)
-get_filename_component(ricci_libzip_name "${ricci_libzip_file}" NAME)
-string(REGEX MATCH "^libzip\\.so\\.[0-9]+" ricci_libzip_soname "${ricci_libzip_name}")
-if(NOT ricci_libzip_soname)
-  set(ricci_libzip_soname "libzip.so")
-endif()
+ricci_runtime_library("${LIBZIP_LINK_LIBRARIES}" ricci_libzip_soname ricci_libzip_file)
 target_include_directories(ricci PRIVATE ${LIBZIP_INCLUDE_DIRS})
 target_link_libraries(ricci PRIVATE ${CMAKE_DL_LIBS})
 target_compile_definitions(ricci PRIVATE RICCI_HAVE_BLENDER_ADDON=1
