@@ -12,9 +12,8 @@
 #include "ricci/errors.hpp"
 
 #ifdef RICCI_HAVE_MPI
-#include <dlfcn.h>
-
 #include "mpi_transport.hpp"
+#include "numerics/detail/shared_library.hpp"
 #endif
 
 namespace ricci::cli {
@@ -66,15 +65,11 @@ const RicciMpiTransport* load_mpi_transport() {
   for (const fs::path& candidate : candidates) {
     if (!fs::exists(candidate, ec)) continue;
     // RTLD_LOCAL: Open MPI's own plugins are loaded by Open MPI itself, with its libraries.
-    void* handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      const char* error = dlerror();
-      why = error != nullptr ? error : "dlopen failed";
-      continue;
-    }
-    const auto entry =
-        reinterpret_cast<RicciMpiTransportEntry>(dlsym(handle, "ricci_mpi_transport"));
-    const RicciMpiTransport* transport = entry != nullptr ? entry() : nullptr;
+    void* handle = shared_library::open({candidate.c_str()}, RTLD_NOW | RTLD_LOCAL, why);
+    if (handle == nullptr) continue;
+    RicciMpiTransportEntry entry = nullptr;
+    const RicciMpiTransport* transport =
+        shared_library::find(handle, "ricci_mpi_transport", entry) ? entry() : nullptr;
     if (transport != nullptr && transport->version == kRicciMpiTransportVersion) return transport;
     why = candidate.string() + " is not this ricci's MPI module";
   }

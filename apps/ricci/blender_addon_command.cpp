@@ -1,7 +1,6 @@
 // `ricci blender-addon`: the Blender add-on ricci_uv as a zip that Blender installs (Preferences >
 // Add-ons > Install): the add-on's Python files (blender/ricci_uv, compiled into this program) and
 // the compiled ricci module for Blender's Python, found beside this program or in its build tree.
-#include <dlfcn.h>
 #include <zip.h>
 
 #include <CLI/CLI.hpp>
@@ -10,10 +9,10 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "commands.hpp"
+#include "numerics/detail/shared_library.hpp"
 #include "ricci/errors.hpp"
 
 // The add-on's files (cmake/BlenderAddon.cmake writes them with cmake/embed_files.cmake).
@@ -112,16 +111,15 @@ struct Libzip {
 /// Opens libzip once (kept open for the process). \throw IoError naming what is missing
 const Libzip& libzip() {
   static const Libzip zip = [] {
-    void* handle = dlopen(RICCI_LIBZIP_SONAME, RTLD_NOW | RTLD_LOCAL);
+    std::string why;
+    void* handle = shared_library::open({RICCI_LIBZIP_SONAME}, RTLD_NOW | RTLD_LOCAL, why);
     if (handle == nullptr) {
-      const char* why = dlerror();
       throw IoError(std::string("blender-addon: cannot open libzip (") + RICCI_LIBZIP_SONAME +
-                    "): " + (why ? why : "not found") + "; install it (apt install libzip4)");
+                    "): " + why + "; install it (apt install libzip4)");
     }
     Libzip z;
     const auto find = [&](auto& function, const char* name) {
-      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(handle, name));
-      if (function == nullptr) {
+      if (!shared_library::find(handle, name, function)) {
         throw IoError(std::string("blender-addon: libzip (") + RICCI_LIBZIP_SONAME + ") has no " +
                       name);
       }

@@ -4,7 +4,9 @@
 #include <mutex>
 
 #ifndef RICCI_CHOLMOD_LINKED
-#include <dlfcn.h>
+#include <string>
+
+#include "numerics/detail/shared_library.hpp"
 #endif
 
 namespace ricci::cholmod_detail {
@@ -19,12 +21,6 @@ Library load_library() {
           &cholmod_solve, &cholmod_free_factor, &cholmod_free_dense};
 }
 #else
-template <class Function>
-bool find(void* handle, const char* name, Function& function) {
-  function = reinterpret_cast<Function>(dlsym(handle, name));
-  return function != nullptr;
-}
-
 Library load_library() {
   // RTLD_GLOBAL: OpenBLAS's and OpenMP's controls (sparse_cholesky.cpp) and whoever else in the
   // process asks for them find them by name. RTLD_DEEPBIND (above) is left out under the
@@ -34,9 +30,10 @@ Library load_library() {
   flags |= RTLD_DEEPBIND;
 #endif
   // The soname first (the library the system has now), then the file CMake found at build time.
-  void* handle = dlopen(RICCI_CHOLMOD_SONAME, flags);
-  if (handle == nullptr) handle = dlopen(RICCI_CHOLMOD_PATH, flags);
+  std::string error;  // no CHOLMOD: Eigen's solver, nothing to report
+  void* handle = shared_library::open({RICCI_CHOLMOD_SONAME, RICCI_CHOLMOD_PATH}, flags, error);
   if (handle == nullptr) return {};
+  using shared_library::find;
   Library l;
   const bool all = find(handle, "cholmod_start", l.start) &&
                    find(handle, "cholmod_finish", l.finish) &&

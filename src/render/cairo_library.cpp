@@ -1,36 +1,29 @@
 #include "render/detail/cairo_library.hpp"
 
-#include <dlfcn.h>
-
 #include <mutex>
 #include <string>
 
+#include "numerics/detail/shared_library.hpp"
 #include "ricci/errors.hpp"
 
 namespace ricci::render_detail {
 
 namespace {
 
-template <class Function>
-Function find(void* handle, const char* name) {
-  return reinterpret_cast<Function>(dlsym(handle, name));
-}
-
 /// Opens Cairo; the error, when it cannot, in `error`.
 CairoLibrary open_cairo(std::string& error) {
   // The soname first (the library the system has now), then the file CMake found at build time.
-  void* handle = dlopen(RICCI_CAIRO_SONAME, RTLD_NOW | RTLD_LOCAL);
-  if (handle == nullptr) handle = dlopen(RICCI_CAIRO_PATH, RTLD_NOW | RTLD_LOCAL);
+  std::string why;
+  void* handle =
+      shared_library::open({RICCI_CAIRO_SONAME, RICCI_CAIRO_PATH}, RTLD_NOW | RTLD_LOCAL, why);
   if (handle == nullptr) {
-    const char* why = dlerror();
     error = std::string("pictures need Cairo, which cannot be opened (") + RICCI_CAIRO_SONAME +
-            "): " + (why != nullptr ? why : "not found") + "; install it (apt install libcairo2)";
+            "): " + why + "; install it (apt install libcairo2)";
     return {};
   }
   CairoLibrary l;
 #define RICCI_CAIRO_FIND(name)                                                     \
-  l.name = find<decltype(&cairo_##name)>(handle, "cairo_" #name);                  \
-  if (l.name == nullptr) {                                                         \
+  if (!shared_library::find(handle, "cairo_" #name, l.name)) {                     \
     error = std::string("Cairo (") + RICCI_CAIRO_SONAME + ") has no cairo_" #name; \
     return {};                                                                     \
   }
