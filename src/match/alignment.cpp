@@ -669,7 +669,10 @@ DomainAlignment align_tori(const CanonicalDomain& a, const CanonicalDomain& b,
       for (std::size_t c = 0; c < 2; ++c) {
         auto [value, t] = starts[c];
         descend(exact_cost, t, value, 1e-2, 1e-7);
-        const Eigen::Vector2d fitted = levenberg_marquardt(residuals, t, 50);
+        // (Its start copied a coordinate at a time: GCC 12 with AVX reads the copy of a Vector2d
+        // into a VectorXd as a 4-double packet and warns, falsely, of an access out of bounds.)
+        const Eigen::Vector2d fitted =
+            levenberg_marquardt(residuals, Eigen::VectorXd{{t.x(), t.y()}}, 50);
         if (const double v = exact_cost(fitted); v < value) {
           value = v;
           t = fitted;

@@ -28,7 +28,7 @@ BoundedLeastSquaresResult least_norm_with_sum(double total, const Eigen::VectorX
 
 TEST(BoundedLeastSquares, UnconstrainedOptimumInsideTheBox) {
   const Eigen::MatrixXd M = spd3();
-  const Eigen::VectorXd r = Eigen::Vector3d(1, -2, 0.5);
+  const Eigen::VectorXd r = Eigen::VectorXd{{1, -2, 0.5}};
   const Eigen::VectorXd expected = M.ldlt().solve(-r);
   const BoundedLeastSquaresResult result = bounded_least_squares(
       M, r, Eigen::VectorXd::Constant(3, -10), Eigen::VectorXd::Constant(3, 10));
@@ -40,8 +40,8 @@ TEST(BoundedLeastSquares, UnconstrainedOptimumInsideTheBox) {
 TEST(BoundedLeastSquares, ActiveBoundsOfADiagonalProgramme) {
   // Separable: each x_i = clamp(-r_i / M_ii).
   const Eigen::MatrixXd M = Eigen::Vector3d(1, 2, 4).asDiagonal();
-  const Eigen::VectorXd r = Eigen::Vector3d(-3, 4, -2);  // unbounded optimum (3, -2, 0.5)
-  const Eigen::VectorXd lo = Eigen::Vector3d(-1, -1, -1), hi = Eigen::Vector3d(1, 1, 1);
+  const Eigen::VectorXd r = Eigen::VectorXd{{-3, 4, -2}};  // unbounded optimum (3, -2, 0.5)
+  const Eigen::VectorXd lo = Eigen::VectorXd{{-1, -1, -1}}, hi = Eigen::VectorXd{{1, 1, 1}};
   const BoundedLeastSquaresResult result = bounded_least_squares(M, r, lo, hi);
   ASSERT_TRUE(result.feasible);
   EXPECT_NEAR(result.x[0], 1, kTolerance);
@@ -61,7 +61,7 @@ TEST(BoundedLeastSquares, SumConstraintAndItsMultiplier) {
 TEST(BoundedLeastSquares, SumConstraintWithAnActiveBound) {
   // min 1/2 |x|^2 with sum x = 3 and x_0 <= 0.5: x_0 at its bound, the rest share 2.5.
   const BoundedLeastSquaresResult result =
-      least_norm_with_sum(3, Eigen::VectorXd::Constant(3, -5), Eigen::Vector3d(0.5, 5, 5));
+      least_norm_with_sum(3, Eigen::VectorXd::Constant(3, -5), Eigen::VectorXd{{0.5, 5, 5}});
   ASSERT_TRUE(result.feasible);
   EXPECT_NEAR(result.x[0], 0.5, kTolerance);
   EXPECT_NEAR(result.x[1], 1.25, kTolerance);
@@ -88,7 +88,7 @@ TEST(BoundedLeastSquares, DegenerateCases) {
   Eigen::MatrixXd rank_one(2, 2);
   rank_one << 1, 1, 1, 1;
   const BoundedLeastSquaresResult flat = bounded_least_squares(
-      rank_one, Eigen::Vector2d(1, -1), Eigen::Vector2d(-2, -2), Eigen::Vector2d(3, 3));
+      rank_one, Eigen::VectorXd{{1, -1}}, Eigen::VectorXd{{-2, -2}}, Eigen::VectorXd{{3, 3}});
   ASSERT_TRUE(flat.feasible);
   EXPECT_NEAR(flat.x[0], -2.0, kTolerance);
   EXPECT_NEAR(flat.x[1], 3.0, kTolerance);
@@ -98,7 +98,7 @@ TEST(BoundedLeastSquares, DegenerateCases) {
   options.total = 1;
   const BoundedLeastSquaresResult pinned =
       bounded_least_squares(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2),
-                            Eigen::Vector2d(0.25, -5), Eigen::Vector2d(0.25, 5), options);
+                            Eigen::VectorXd{{0.25, -5}}, Eigen::VectorXd{{0.25, 5}}, options);
   ASSERT_TRUE(pinned.feasible);
   EXPECT_NEAR(pinned.x[0], 0.25, kTolerance);
   EXPECT_NEAR(pinned.x[1], 0.75, kTolerance);

@@ -95,14 +95,14 @@ TEST(RenderMesh, HomogeneousWeightsInterpolateProjectively) {
   const RenderResult linear = render_textured_mesh(mesh, mesh.triangles, uv, options);
   EXPECT_TRUE(is_light_square(pixel_at(linear, {0.3, 0.1, 0})));
   EXPECT_TRUE(is_dark_square(pixel_at(linear, {0.6, 0.1, 0})));
-  options.uv_weights = Eigen::Vector3d(1, 4, 1);
+  options.uv_weights = Eigen::VectorXd{{1, 4, 1}};
   const RenderResult projective = render_textured_mesh(mesh, mesh.triangles, uv, options);
   EXPECT_TRUE(is_dark_square(pixel_at(projective, {0.3, 0.1, 0})));
   // At (0.04, 0.1): b = (0.86, 0.04, 0.1), u = 0.16 / 1.12 = 0.14, v = 0.09: the first square.
   EXPECT_TRUE(is_light_square(pixel_at(projective, {0.04, 0.1, 0})));
-  options.uv_weights = Eigen::Vector3d(1, -1, 1);
+  options.uv_weights = Eigen::VectorXd{{1, -1, 1}};
   EXPECT_THROW(render_textured_mesh(mesh, mesh.triangles, uv, options), InvalidInput);
-  options.uv_weights = Eigen::Vector2d(1, 1);
+  options.uv_weights = Eigen::VectorXd{{1, 1}};
   EXPECT_THROW(render_textured_mesh(mesh, mesh.triangles, uv, options), InvalidInput);
 }
 
