@@ -35,11 +35,6 @@ constexpr double kBacktrackFactor = 0.5;
 /// The BFGS update is skipped unless s.y exceeds this times |s| |y| (curvature condition, with
 /// room for rounding): keeps B positive definite.
 constexpr double kCurvatureCondition = 1e-12;
-/// Stop once a step lowers F by at most this, relative to 1 + |F|. (1e-8 took the last two or
-/// three iterations of most fits for no change a map shows: on the 48 reference rows E moved by
-/// at most 1e-4 relative and angle distortion by at most 1e-4, and choosing the cones took 5-12 %
-/// less time.)
-constexpr double kRelativeDecrease = 1e-6;
 
 }  // namespace
 
@@ -334,7 +329,7 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     k = k_new;
     g = g_new;
     value = value_new;
-    if (decrease <= kRelativeDecrease * (1 + std::abs(value))) break;
+    if (decrease <= objective.relative_decrease * (1 + std::abs(value))) break;
   }
   return finish();
 }

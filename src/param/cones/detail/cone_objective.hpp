@@ -89,6 +89,9 @@ struct ConeObjective {
   double u0_rhs0 = 0;
   /// A^-1 restricted to S (green(i, j) = g_j at S_i): u at the cones without u.
   const Eigen::MatrixXd* green = nullptr;
+  /// minimise_cone_objective stops once a step lowers the objective by at most this, relative to
+  /// 1 + |F| (the selection's choice: cone_selection_steps.cpp, cone_objective).
+  double relative_decrease = 1e-8;
 
   bool has_columns() const { return !S.empty() && columns.size() == S.size(); }
   /// Whether evaluate works on the faces alone.
