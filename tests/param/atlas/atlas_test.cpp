@@ -80,9 +80,7 @@ void expect_valid_atlas(const FlattenedWithAtlas& f, bool expect_unflipped,
         // Side A is the central chart; side B is the central chart moved by the transition.
         Complex central = uv_of(f.layout, f.cut_mesh.triangles(face, k));
         if (chart.side[i]) central = chart.rotation * central + chart.translation;
-        // (To rounding, not bit for bit: the compiler may fuse the transition's multiply-adds
-        // here and in the atlas differently.)
-        EXPECT_LE(std::abs(corner(chart, i, k) - central), 1e-12 * (1 + std::abs(central)));
+        EXPECT_EQ(corner(chart, i, k), central);
       }
       if (expect_unflipped) {
         const Complex a = corner(chart, i, 0), b = corner(chart, i, 1), c = corner(chart, i, 2);
