@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <iomanip>
 #include <limits>
 #include <numbers>
@@ -214,7 +213,7 @@ void refine_few_cones(ParamRun& run) {
   const auto measure_level = [&] {
     return refine_cone_curvatures(problem, level_cones, level_flow, measure_only);
   };
-  std::future<CurvatureRefinement> placed_beside;
+  parallel::Task<CurvatureRefinement> placed_beside;
   if (!options.flow.start_preconditioner) placed_beside = parallel::run_beside(measure_level);
   const CurvatureRefinement selected =
       refine_cone_curvatures(problem, run.cones, selected_flow, measure_only);
@@ -415,7 +414,7 @@ struct FlowStage {
   bool kept_topology = false;
   /// When the flow cannot change the connectivity (no subdivision possible) the cut runs beside
   /// it, on a core the flow's factorisation leaves idle.
-  std::future<CutStage> cut_ahead;
+  parallel::Task<CutStage> cut_ahead;
 
   MeshFlowResult run(bool& kept) const {
     return mesh_flow_internal::flow_mesh_keeping_topology(*problem, options, kept);
@@ -786,9 +785,7 @@ void run_pipeline(const Mesh& input, const ParamOptions& options, Topology t0,
   start_where_linearised(run, stage);
   const bool may_subdivide = options.modify_connectivity && !run.flips && !run.cones.empty();
   if (cut_first) {
-    std::promise<CutStage> made;
-    made.set_value(std::move(*cut_first));
-    stage.cut_ahead = made.get_future();
+    stage.cut_ahead = parallel::Task<CutStage>::ready(std::move(*cut_first));
   } else if (!may_subdivide) {
     // (The cones are copied: the rounds of stage 3b may choose others while this runs.)
     stage.cut_ahead = parallel::run_beside(

@@ -157,7 +157,7 @@ void NewtonSystem::start_analysis() {
 
 void NewtonSystem::finish_analysis(FlowTimings& timings, bool keep) {
   if (!pending_analysis_.valid()) return;
-  std::future<double> pending = std::move(pending_analysis_);
+  parallel::Task<double> pending = std::move(pending_analysis_);
   if (!keep) {
     pending.wait();
     return;

@@ -7,13 +7,13 @@
 /// conjugate gradients preconditioned with an earlier factorisation.
 
 #include <functional>
-#include <future>
 #include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "numerics/detail/parallel.hpp"
 #include "ricci/flow/ricci_flow.hpp"
 #include "ricci/flow/target.hpp"
 #include "ricci/mesh/topology.hpp"
@@ -149,7 +149,7 @@ class NewtonSystem {
 
   // The symbolic analysis running beside the flow (new_pattern); last, so that it is destroyed,
   // which waits for the analysis, before H and the Cholesky object it reads.
-  std::future<double> pending_analysis_;
+  parallel::Task<double> pending_analysis_;
 };
 
 /// When a Newton iteration is a chord step: next to the solution the Hessian barely changes

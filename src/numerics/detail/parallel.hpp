@@ -15,13 +15,17 @@
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
-#include <future>
+#include <functional>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <system_error>
 #include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "numerics/detail/helper_threads.hpp"
 
 namespace ricci::parallel {
 
@@ -29,9 +33,11 @@ namespace ricci::parallel {
 /// more threads than this rarely help.
 constexpr int kDefaultMaxThreads = 8;
 
-/// Elements per thread below which a loop stays on the calling thread (starting a thread costs
-/// tens of microseconds; a light per-element kernel takes a few nanoseconds).
-constexpr int kDefaultMinChunk = 32768;
+/// Elements per thread below which a loop stays on the calling thread. A light per-element
+/// kernel takes a few nanoseconds, and a helper thread at hand (helper_threads.hpp) takes a
+/// chunk within a microsecond or two; a loop whose chunks found no helper waits for no sleeping
+/// one (it runs them itself). 32768 when every chunk started a thread of its own (40-50 us).
+constexpr int kDefaultMinChunk = 4096;
 
 /// Threads loops and tasks may use (>= 1).
 inline int max_threads() {
@@ -52,8 +58,9 @@ inline int num_chunks(std::int64_t n, std::int64_t min_chunk = kDefaultMinChunk)
 }
 
 /// Calls body(begin, end, chunk) on `chunks` consecutive chunks [begin, end) covering [0, n),
-/// chunk 0 on the calling thread and the others on threads of their own (on the calling thread
-/// too when no thread can be started), and returns once all are done. An exception thrown by a
+/// chunk 0 on the calling thread and the others on helper threads (helper_threads.hpp), or on
+/// the calling thread when no helper is free (the other cores are busy then: a thread started
+/// for the chunk would only share one); returns once all are done. An exception thrown by a
 /// body is rethrown here (the lowest chunk's).
 template <class Body>
 void run_chunks(std::int64_t n, int chunks, Body&& body) {
@@ -70,20 +77,22 @@ void run_chunks(std::int64_t n, int chunks, Body&& body) {
       errors[static_cast<std::size_t>(c)] = std::current_exception();
     }
   };
-  std::vector<std::thread> workers;
-  workers.reserve(static_cast<std::size_t>(chunks - 1));
-  int inline_from = chunks;  // chunks that found no thread run here, after chunk 0
-  for (int c = 1; c < chunks; ++c) {
-    try {
-      workers.emplace_back(run, c);
-    } catch (const std::system_error&) {
-      inline_from = c;
-      break;
-    }
+  using Run = decltype(run);
+  const auto size = static_cast<std::size_t>(chunks - 1);
+  std::unique_ptr<helper_threads::Job[]> jobs(new helper_threads::Job[size]);
+  int posted = 0;  // chunks 1 .. posted went to helpers
+  const int helpers = max_threads() - 1;
+  while (posted + 1 < chunks) {
+    helper_threads::Job& job = jobs[static_cast<std::size_t>(posted)];
+    job.fn = [](void* context, int index) { (*static_cast<Run*>(context))(index); };
+    job.context = &run;
+    job.index = posted + 1;
+    if (!helper_threads::post_job(job, helpers)) break;
+    ++posted;
   }
   run(0);
-  for (int c = inline_from; c < chunks; ++c) run(c);
-  for (std::thread& w : workers) w.join();
+  for (int c = posted + 1; c < chunks; ++c) run(c);
+  for (int j = 0; j < posted; ++j) helper_threads::finish_job(jobs[static_cast<std::size_t>(j)]);
   for (const std::exception_ptr& e : errors) {
     if (e) std::rethrow_exception(e);
   }
@@ -157,20 +166,133 @@ double max_of(std::int64_t n, Value&& value, double initial,
   return m;
 }
 
-/// Runs `work` beside the calling thread; get() on the returned future waits for it and
-/// rethrows what it threw. With one thread (RICCI_NUM_THREADS=1, or no thread to be had) it runs
-/// on the calling thread at get() instead. The future's destructor waits for the work.
-template <class Work>
-auto run_beside(Work&& work) -> std::future<std::invoke_result_t<std::decay_t<Work>>> {
-  std::decay_t<Work> task(std::forward<Work>(work));
-  if (max_threads() > 1) {
-    try {
-      return std::async(std::launch::async, task);
-    } catch (const std::system_error&) {
-      // no thread: run it deferred below
-    }
+/// The result of run_beside. get() waits for the task (running it on the calling thread when no
+/// helper has taken it yet: a sleeping helper never holds it up) and returns what it returned,
+/// or rethrows what it threw. A task dropped before get() (destroyed, or assigned over) that no
+/// thread has started is not run at all; one that has started is waited for, as std::async's
+/// future waits.
+template <class T>
+class Task {
+ public:
+  Task() = default;
+  /// A task done already, holding `value`.
+  template <class Value>
+  static Task ready(Value&& value) {
+    Task task;
+    task.state_ = std::make_unique<State>();
+    task.state_->value.emplace(std::forward<Value>(value));
+    task.state_->mode = Mode::Finished;
+    return task;
   }
-  return std::async(std::launch::deferred, std::move(task));
+  Task(Task&& other) noexcept = default;
+  Task& operator=(Task&& other) noexcept {
+    if (this != &other) {
+      drop();
+      state_ = std::move(other.state_);
+    }
+    return *this;
+  }
+  Task(const Task&) = delete;
+  Task& operator=(const Task&) = delete;
+  ~Task() { drop(); }
+
+  bool valid() const { return state_ != nullptr; }
+  /// Waits until the task has run (running it here when no thread has taken it).
+  void wait() {
+    if (state_) state_->finish();
+  }
+  T get() {
+    wait();
+    const std::unique_ptr<State> done = std::move(state_);
+    if (done->error) std::rethrow_exception(done->error);
+    if constexpr (!std::is_void_v<T>) return std::move(*done->value);
+  }
+
+ private:
+  template <class Work>
+  friend Task<std::invoke_result_t<std::decay_t<Work>>> run_beside(Work&& work);
+
+  enum class Mode { Posted, OwnThread, Deferred, Finished };
+  struct State {
+    std::function<T()> work;
+    std::conditional_t<std::is_void_v<T>, char, std::optional<T>> value{};
+    std::exception_ptr error;
+    helper_threads::Job job;
+    std::thread thread;
+    Mode mode = Mode::Deferred;
+
+    void run() {
+      try {
+        if constexpr (std::is_void_v<T>) {
+          work();
+        } else {
+          value.emplace(work());
+        }
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    void finish() {
+      switch (mode) {
+        case Mode::Posted:
+          helper_threads::finish_job(job);
+          break;
+        case Mode::OwnThread:
+          thread.join();
+          break;
+        case Mode::Deferred:
+          run();
+          break;
+        case Mode::Finished:
+          break;
+      }
+      mode = Mode::Finished;
+    }
+  };
+
+  void drop() {
+    if (!state_) return;
+    if (state_->mode == Mode::Posted) {
+      helper_threads::withdraw_job(state_->job);
+    } else if (state_->mode == Mode::OwnThread) {
+      state_->thread.join();
+    }
+    state_.reset();
+  }
+
+  std::unique_ptr<State> state_;
+};
+
+/// Runs `work` beside the calling thread: on a helper thread (helper_threads.hpp) when one is
+/// free, else on a thread of its own; with one thread (RICCI_NUM_THREADS=1, or no thread to be
+/// had) on the calling thread at get() instead.
+template <class Work>
+Task<std::invoke_result_t<std::decay_t<Work>>> run_beside(Work&& work) {
+  using T = std::invoke_result_t<std::decay_t<Work>>;
+  using State = typename Task<T>::State;
+  using Mode = typename Task<T>::Mode;
+  Task<T> task;
+  task.state_ = std::make_unique<State>();
+  State& state = *task.state_;
+  state.work = std::forward<Work>(work);
+  if (max_threads() <= 1) return task;  // (Deferred)
+  state.job.fn = [](void* context, int) { static_cast<State*>(context)->run(); };
+  state.job.context = &state;
+  if (helper_threads::post_job(state.job, max_threads() - 1)) {
+    state.mode = Mode::Posted;
+    return task;
+  }
+  try {
+    helper_threads::task_beside_started();
+    state.thread = std::thread([&state] {
+      state.run();
+      helper_threads::task_beside_finished();
+    });
+    state.mode = Mode::OwnThread;
+  } catch (const std::system_error&) {
+    helper_threads::task_beside_finished();  // (Deferred: no thread to be had)
+  }
+  return task;
 }
 
 }  // namespace ricci::parallel

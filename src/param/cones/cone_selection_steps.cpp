@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <numbers>
 #include <utility>
@@ -553,8 +552,8 @@ WithoutCone fit_without_cone(ConeSelector& s, const Eigen::VectorXd& k, int i) {
 /// `ahead` (when valid): the first half of this exchange, computed beside the one before on a
 /// copy of the state this exchange starts from. `next` gets the first half of exchange i + 1 on
 /// this state (what that exchange starts from when this one is not kept), computed beside.
-bool exchange_cone(ConeSelector& s, SetFit& fit, int i, std::future<WithoutCone>& ahead,
-                   std::future<WithoutCone>& next) {
+bool exchange_cone(ConeSelector& s, SetFit& fit, int i, parallel::Task<WithoutCone>& ahead,
+                   parallel::Task<WithoutCone>& next) {
   if (i + 1 < static_cast<int>(s.S.size())) {
     next = parallel::run_beside([copy = s, k = fit.k, i]() mutable {
       take_out_cone(copy, i + 1);
@@ -597,9 +596,9 @@ bool exchange_cones(ConeSelector& selector, SetFit& fit) {
     // Each exchange's first half is fitted beside the exchange before it, on the state that one
     // leaves when it is not kept (most are not); kept, the look-ahead is dropped. The same
     // exchanges, in the same order, as one after the other.
-    std::future<WithoutCone> ahead;
+    parallel::Task<WithoutCone> ahead;
     for (int i = 0; i < static_cast<int>(selector.S.size()); ++i) {
-      std::future<WithoutCone> next;
+      parallel::Task<WithoutCone> next;
       if (exchange_cone(selector, fit, i, ahead, next)) {
         improved = true;
         next = {};  // (waits for the look-ahead: it read the state before this exchange)

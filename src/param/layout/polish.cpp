@@ -409,9 +409,11 @@ VertexEnergy relax_vertex(Drawing& d, int i, std::vector<Term>& terms) {
   return {e0, e, terms.size(), moved};
 }
 
-/// Minimum free vertices per thread in a colour class: a visit takes about a microsecond and a
-/// thread tens of microseconds to start.
-constexpr int kMinVerticesPerThread = 512;
+/// Minimum free vertices per thread in a colour class: a visit takes about a microsecond, and a
+/// helper thread at hand a microsecond or two to take a chunk (parallel.hpp). With a thread
+/// started per chunk (40-50 us) this was 512, and spot's classes (under 500 vertices) ran on one
+/// core.
+constexpr int kMinVerticesPerThread = 64;
 
 /// The free vertices in classes no two of whose vertices share a face (greedy colouring in the
 /// order of `free`, each class in that order): a vertex's relaxation reads only its faces'
