@@ -292,9 +292,12 @@ class CholmodFactorisation {
   cholmod_factor* factor_ = nullptr;
 };
 
-/// Factors of at least this many values solve on two threads (supernodal_split.hpp: below it a
-/// solve sits in the cache and a second thread gains nothing).
-constexpr double kSplitSolveValues = 2e6;
+/// Factors of at least this many values solve on two threads (supernodal_split.hpp), and their
+/// approximate solves in single precision. 2e6 while the second thread was started for each
+/// solve (40-50 us); with a helper at hand (numerics/detail/helper_threads.hpp), param with 4
+/// cones ran 1.09x as fast on bunny (a factor of 5.2e5 values), 1.06x on camelhead (3.8e5) and
+/// 1.10x on face (7.1e5), paired.
+constexpr double kSplitSolveValues = 2e5;
 
 }  // namespace
 #endif
