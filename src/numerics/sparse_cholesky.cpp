@@ -4,11 +4,13 @@
 
 #ifdef RICCI_HAVE_CHOLMOD
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <optional>
 
 #include "numerics/detail/cholmod_library.hpp"
+#include "numerics/detail/parallel.hpp"
 #include "numerics/detail/supernodal_split.hpp"
 #endif
 
@@ -532,7 +534,17 @@ Eigen::VectorXd SparseCholesky::solve_approximately(const Eigen::VectorXd& b) co
 }
 
 Eigen::MatrixXd SparseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
-  return solve_dense(*impl_, B);
+  if (impl_->use_cholmod || B.cols() < 2) return solve_dense(*impl_, B);
+  // Eigen's solver substitutes one column after the other: the columns split across threads
+  // give the same bits (spot's first cone, 8 candidates: 2 ms of a 45 ms run on one thread).
+  Eigen::MatrixXd X(B.rows(), B.cols());
+  parallel::for_chunks(
+      B.cols(),
+      [&](std::int64_t begin, std::int64_t end, int) {
+        X.middleCols(begin, end - begin) = impl_->eigen.solve(B.middleCols(begin, end - begin));
+      },
+      1);
+  return X;
 }
 
 }  // namespace ricci

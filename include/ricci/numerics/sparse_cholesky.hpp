@@ -62,7 +62,8 @@ class SparseCholesky {
   Eigen::VectorXd solve_approximately(const Eigen::VectorXd& b) const;
   /// Solves A X = B for every column of B at once: CHOLMOD's supernodal solve then works on
   /// blocks of columns (BLAS 3), several times faster per column than one solve each; a column
-  /// may differ from solve()'s in the last bits.
+  /// may differ from solve()'s in the last bits. Eigen's solver takes the columns on several
+  /// threads (each column's bits the same).
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
 
   bool analyzed() const;
