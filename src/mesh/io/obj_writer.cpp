@@ -23,36 +23,42 @@ void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* 
     }
     // (Numbers by std::to_chars, shortest round trip: the same doubles as %.17g read back,
     // written several times faster.)
-    for (int v = 0; v < mesh.num_vertices(); ++v) out.number_line("v ", mesh.positions.row(v));
-    for (Eigen::Index t = 0; textured && t < uv.rows(); ++t) out.number_line("vt ", uv.row(t));
+    append_lines(out, mesh.num_vertices(), [&](int v, std::string& bytes) {
+      append_number_line(bytes, "v ", mesh.positions.row(v));
+    });
+    if (textured) {
+      append_lines(out, static_cast<int>(uv.rows()), [&](int t, std::string& bytes) {
+        append_number_line(bytes, "vt ", uv.row(t));
+      });
+    }
     if (textured && !material.library.empty()) {
       const std::string statement = "usemtl " + material.name + "\n";
       out.append(statement.data(), static_cast<int>(statement.size()));
     }
     // One corner " v" or " v/vt" (1-based).
-    auto corner = [&](int f, int k) {
-      out.text(" ");
-      out.integer(mesh.triangles(f, k) + 1);
+    auto corner = [&](int f, int k, std::string& bytes) {
+      bytes.push_back(' ');
+      append_integer(bytes, mesh.triangles(f, k) + 1);
       if (textured) {
-        out.text("/");
-        out.integer((*uv_triangles)(f, k) + 1);
+        bytes.push_back('/');
+        append_integer(bytes, (*uv_triangles)(f, k) + 1);
       }
     };
     if (polygons.empty()) {
-      for (int f = 0; f < mesh.num_faces(); ++f) {
-        out.append("f", 1);
-        for (int k = 0; k < 3; ++k) corner(f, k);
-        out.append("\n", 1);
-      }
+      append_lines(out, mesh.num_faces(), [&](int f, std::string& bytes) {
+        bytes.push_back('f');
+        for (int k = 0; k < 3; ++k) corner(f, k, bytes);
+        bytes.push_back('\n');
+      });
       return;
     }
-    for (int p = 0; p < polygons.num_polygons(); ++p) {
-      out.append("f", 1);
+    append_lines(out, polygons.num_polygons(), [&](int p, std::string& bytes) {
+      bytes.push_back('f');
       for (int i = polygons.corner_start[p]; i < polygons.corner_start[p + 1]; ++i) {
-        corner(polygons.corners[i] / 3, polygons.corners[i] % 3);
+        corner(polygons.corners[i] / 3, polygons.corners[i] % 3, bytes);
       }
-      out.append("\n", 1);
-    }
+      bytes.push_back('\n');
+    });
   });
 }
 

@@ -5,11 +5,15 @@
 /// checked the indices and coordinates before.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "numerics/detail/parallel.hpp"
 #include "ricci/mesh/io.hpp"
 #include "ricci/mesh/mesh.hpp"
 #include "ricci/mesh/textured_mesh.hpp"
@@ -60,6 +64,11 @@ class BlockOutput {
   void text(std::string_view s) { bytes_.append(s); }
   /// The block being filled, for binary values appended directly; call end_of_item after each.
   std::string& bytes() { return bytes_; }
+  /// Writes what is held, then `text` (a block formatted elsewhere) without copying it.
+  void write_through(std::string_view text) {
+    write();
+    out_.write(text.data(), static_cast<std::streamsize>(text.size()));
+  }
   /// Writes the block once it is large.
   void end_of_item() {
     if (bytes_.size() >= (1u << 20)) write();
@@ -73,6 +82,51 @@ class BlockOutput {
   std::ostream& out_;
   std::string bytes_;
 };
+
+/// Appends x in the shortest text that reads back as the same double (as BlockOutput::number).
+inline void append_number(std::string& bytes, double x) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+  bytes.append(text, static_cast<std::size_t>(end - text));
+}
+/// Appends i in decimal.
+inline void append_integer(std::string& bytes, long long i) {
+  char text[24];
+  const auto end = std::to_chars(text, text + sizeof text, i).ptr;
+  bytes.append(text, static_cast<std::size_t>(end - text));
+}
+/// Appends `prefix`, the row's numbers separated by spaces and a newline.
+template <class Row>
+void append_number_line(std::string& bytes, std::string_view prefix, const Row& row) {
+  bytes.append(prefix);
+  for (Eigen::Index c = 0; c < row.size(); ++c) {
+    if (c > 0) bytes.push_back(' ');
+    append_number(bytes, row(c));
+  }
+  bytes.push_back('\n');
+}
+
+/// Lines 0 .. count - 1, line(i, bytes) appending line i to `bytes`, formatted on several threads
+/// a batch at a time and written in order: formatting numbers is most of a writer's time (an
+/// OBJ of bunny's 14k vertices and 28k faces: 5 ms on one thread).
+template <class Line>
+void append_lines(BlockOutput& out, int count, Line&& line) {
+  constexpr int kBatch = 1 << 16;        // lines in memory at once
+  constexpr int kMinLinesPerThread = 2048;  // a line takes 50-100 ns
+  constexpr std::size_t kLineBytes = 64;    // room reserved per line (a v line of 17-digit numbers: 56)
+  std::vector<std::string> parts;
+  for (int start = 0; start < count; start += kBatch) {
+    const int n = std::min(kBatch, count - start);
+    const int chunks = parallel::num_chunks(n, kMinLinesPerThread);
+    parts.assign(static_cast<std::size_t>(chunks), std::string());
+    parallel::run_chunks(n, chunks, [&](std::int64_t begin, std::int64_t end, int c) {
+      std::string& bytes = parts[static_cast<std::size_t>(c)];
+      bytes.reserve(static_cast<std::size_t>(end - begin) * kLineBytes);
+      for (std::int64_t i = begin; i < end; ++i) line(start + static_cast<int>(i), bytes);
+    });
+    for (const std::string& part : parts) out.write_through(part);
+  }
+}
 
 /// The checks of the writers before anything is written: every vertex index of a face in range;
 /// with uv_triangles (not null) one row per face, every uv index in range, every uv row finite.
