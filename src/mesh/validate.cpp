@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -18,6 +19,7 @@
 #include "mesh/detail/orientation.hpp"
 #include "mesh/detail/zero_area.hpp"
 #include "numerics/detail/bucket_sort.hpp"
+#include "numerics/detail/parallel.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/numerics/disjoint_sets.hpp"
 
@@ -48,6 +50,13 @@ class DefectCollector {
   void add(DefectKind kind, int element, MessageFn&& message) {
     const int k = static_cast<int>(kind);
     if (counts_[k]++ < max_per_kind_) defects_.push_back({kind, element, message()});
+  }
+
+  /// Takes in the defects another collector found (of other kinds than this one's).
+  void merge(DefectCollector&& other) {
+    for (int k = 0; k < kNumKinds; ++k) counts_[k] += other.counts_[k];
+    defects_.insert(defects_.end(), std::make_move_iterator(other.defects_.begin()),
+                    std::make_move_iterator(other.defects_.end()));
   }
 
   ValidationReport finish() {
@@ -382,11 +391,18 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
   DefectCollector out(options.max_defects_per_kind);
   const std::vector<char> finite = check_coordinates(P, out);
   const FaceUse use = check_indices(T, mesh.num_vertices(), out);
-  check_duplicate_faces(T, use.usable, out);
+  // Duplicate faces and zero areas beside the edges, fans and orientation (a quarter of the
+  // work: bunny's 28k faces, 7.8 ms on one thread); each kind is found by one of the two.
+  parallel::Task<DefectCollector> beside = parallel::run_beside([&] {
+    DefectCollector found(options.max_defects_per_kind);
+    check_duplicate_faces(T, use.usable, found);
+    check_zero_area(P, T, use.usable, finite, options.zero_area_tolerance, found);
+    return found;
+  });
   const std::vector<int> twin = check_edges(T, use.usable, mesh.num_vertices(), out);
   check_fans(T, twin, use.usable, mesh.num_vertices(), out);
   check_orientation(T, twin, use.usable, out);
-  check_zero_area(P, T, use.usable, finite, options.zero_area_tolerance, out);
+  out.merge(beside.get());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (use.referenced[v]) continue;
     out.add(DefectKind::UnreferencedVertex, v,
