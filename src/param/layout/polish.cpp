@@ -179,33 +179,6 @@ void check_polish_inputs(const Mesh& mesh, const Triangles& uv_triangles, const 
   }
 }
 
-/// The uv vertices on a boundary edge of the uv mesh (an edge of one face there: the seams and
-/// the mesh boundary; also edges of three or more faces).
-std::vector<char> uv_boundary_vertices(const Triangles& uv_triangles, int num_uv) {
-  const int num_faces = static_cast<int>(uv_triangles.rows());
-  std::vector<char> fixed(num_uv, 0);
-  std::vector<std::uint64_t> edges;
-  edges.reserve(3 * static_cast<size_t>(num_faces));
-  for (int f = 0; f < num_faces; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const auto i = static_cast<std::uint64_t>(uv_triangles(f, k));
-      const auto j = static_cast<std::uint64_t>(uv_triangles(f, (k + 1) % 3));
-      edges.push_back(std::min(i, j) << 32 | std::max(i, j));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  for (size_t s = 0; s < edges.size();) {
-    size_t e = s;
-    while (e < edges.size() && edges[e] == edges[s]) ++e;
-    if (e - s != 2) {
-      fixed[edges[s] >> 32] = 1;
-      fixed[edges[s] & 0xffffffffu] = 1;
-    }
-    s = e;
-  }
-  return fixed;
-}
-
 /// The corners (3 f + k) around each uv vertex, in compressed rows: those of vertex i are
 /// corners[offset[i]] .. corners[offset[i + 1] - 1].
 struct Incidence {
@@ -225,6 +198,43 @@ Incidence incident_corners(const Triangles& uv_triangles, int num_uv) {
     for (int k = 0; k < 3; ++k) in.corners[next[uv_triangles(f, k)]++] = 3 * f + k;
   }
   return in;
+}
+
+/// Minimum free vertices per thread in a colour class: a visit takes about a microsecond, and a
+/// helper thread at hand a microsecond or two to take a chunk (parallel.hpp). With a thread
+/// started per chunk (40-50 us) this was 512, and spot's classes (under 500 vertices) ran on one
+/// core.
+constexpr int kMinVerticesPerThread = 64;
+
+/// The uv vertices on a boundary edge of the uv mesh (an edge of one face there: the seams and
+/// the mesh boundary; also edges of three or more faces): those with a neighbour that the faces
+/// around them name other than twice. In parallel over the vertices (a sort of all edges took
+/// 4 ms of bunny's 35 ms polish).
+std::vector<char> uv_boundary_vertices(const Triangles& uv_triangles, const Incidence& in) {
+  const int num_uv = static_cast<int>(in.offset.size()) - 1;
+  std::vector<char> fixed(num_uv, 0);
+  parallel::for_chunks(
+      num_uv,
+      [&](std::int64_t begin, std::int64_t end, int) {
+        std::vector<int> neighbours;
+        for (std::int64_t i = begin; i < end; ++i) {
+          neighbours.clear();
+          for (int s = in.offset[i]; s < in.offset[i + 1]; ++s) {
+            const int f = in.corners[s] / 3, k = in.corners[s] % 3;
+            neighbours.push_back(uv_triangles(f, (k + 1) % 3));
+            neighbours.push_back(uv_triangles(f, (k + 2) % 3));
+          }
+          std::sort(neighbours.begin(), neighbours.end());
+          for (std::size_t r = 0; r < neighbours.size() && !fixed[i];) {
+            std::size_t e = r;
+            while (e < neighbours.size() && neighbours[e] == neighbours[r]) ++e;
+            fixed[i] = e - r != 2;
+            r = e;
+          }
+        }
+      },
+      kMinVerticesPerThread);
+  return fixed;
 }
 
 /// The layout being polished with its faces' coefficients: what every step reads.
@@ -409,11 +419,6 @@ VertexEnergy relax_vertex(Drawing& d, int i, std::vector<Term>& terms) {
   return {e0, e, terms.size(), moved};
 }
 
-/// Minimum free vertices per thread in a colour class: a visit takes about a microsecond, and a
-/// helper thread at hand a microsecond or two to take a chunk (parallel.hpp). With a thread
-/// started per chunk (40-50 us) this was 512, and spot's classes (under 500 vertices) ran on one
-/// core.
-constexpr int kMinVerticesPerThread = 64;
 
 /// The free vertices in classes no two of whose vertices share a face (greedy colouring in the
 /// order of `free`, each class in that order): a vertex's relaxation reads only its faces'
@@ -517,7 +522,7 @@ PolishResult polish_angles(const Mesh& mesh, const Triangles& uv_triangles, cons
     d.faces[f] = detail::face_coefficients(detail::plane_triangle(p1 - p0, p2 - p0));
   }
   // Free vertices: on no boundary edge of the uv mesh, on no degenerate or flipped face.
-  std::vector<char> fixed = uv_boundary_vertices(uv_triangles, num_uv);
+  std::vector<char> fixed = uv_boundary_vertices(uv_triangles, d.incidence);
   result.angle_distortion_before = d.mean_ratio();
   std::vector<char> moved(num_uv, 0);
   if (options.enabled) result.untangled_faces = unflip_faces(d, fixed, moved);
