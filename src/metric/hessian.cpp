@@ -1,6 +1,8 @@
 #include "ricci/metric/hessian.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "numerics/detail/parallel.hpp"
@@ -63,19 +65,65 @@ void edge_weights(const Topology& topology, const Eigen::VectorXd& halfedge_weig
 
 Eigen::SparseMatrix<double> curvature_hessian(const Topology& topology,
                                               const Eigen::VectorXd& edge_weights) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(4 * topology.num_edges);
-  for (int e = 0; e < topology.num_edges; ++e) {
+  // Built in compressed columns directly (setFromTriplets sorted 4 triplets per edge: 4 ms of
+  // bunny's run). Every entry sums its terms in the order setFromTriplets took them, edge after
+  // edge, (i, j), (j, i), (i, i), (j, j) within one: the same bits. Several edges may join two
+  // vertices, or a vertex to itself, in an intrinsic triangulation.
+  const int nv = topology.num_vertices, ne = topology.num_edges;
+  struct Term {
+    int row;
+    double value;
+  };
+  std::vector<int> start(nv + 1, 0);
+  for (int e = 0; e < ne; ++e) {
+    const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
+    start[i + 1] += 2, start[j + 1] += 2;
+  }
+  for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+  // Each column's terms in the order setFromTriplets sums them.
+  std::vector<Term> terms(static_cast<std::size_t>(start[nv]));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int e = 0; e < ne; ++e) {
     const int i = topology.edge_vertices(e, 0), j = topology.edge_vertices(e, 1);
     const double w = edge_weights[e];
-    triplets.emplace_back(i, j, -w);
-    triplets.emplace_back(j, i, -w);
-    triplets.emplace_back(i, i, w);
-    triplets.emplace_back(j, j, w);
+    terms[fill[j]++] = {i, -w};  // (i, j)
+    terms[fill[i]++] = {j, -w};  // (j, i)
+    terms[fill[i]++] = {i, w};   // (i, i)
+    terms[fill[j]++] = {j, w};   // (j, j)
   }
-  Eigen::SparseMatrix<double> L(topology.num_vertices, topology.num_vertices);
-  L.setFromTriplets(triplets.begin(), triplets.end());
-  return L;
+  // Per column: the terms stably sorted by row, equal rows summed in order.
+  std::vector<int> entries(nv, 0);
+  parallel::for_chunks(
+      nv,
+      [&](std::int64_t begin, std::int64_t end, int) {
+        for (std::int64_t v = begin; v < end; ++v) {
+          Term* first = terms.data() + start[v];
+          Term* last = terms.data() + start[v + 1];
+          std::stable_sort(first, last, [](const Term& a, const Term& b) { return a.row < b.row; });
+          int kept = 0;
+          for (Term* t = first; t != last; ++t) {
+            if (kept > 0 && first[kept - 1].row == t->row) {
+              first[kept - 1].value += t->value;
+            } else {
+              first[kept++] = *t;
+            }
+          }
+          entries[v] = kept;
+        }
+      },
+      parallel::kDefaultMinChunk / 4);
+  std::vector<int> outer(nv + 1, 0);
+  for (int v = 0; v < nv; ++v) outer[v + 1] = outer[v] + entries[v];
+  std::vector<int> inner(static_cast<std::size_t>(outer[nv]));
+  std::vector<double> values(static_cast<std::size_t>(outer[nv]));
+  for (int v = 0; v < nv; ++v) {
+    for (int k = 0; k < entries[v]; ++k) {
+      inner[outer[v] + k] = terms[start[v] + k].row;
+      values[outer[v] + k] = terms[start[v] + k].value;
+    }
+  }
+  return Eigen::Map<const Eigen::SparseMatrix<double>>(nv, nv, outer[nv], outer.data(),
+                                                       inner.data(), values.data());
 }
 
 }  // namespace ricci

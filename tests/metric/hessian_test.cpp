@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -32,6 +33,45 @@ Eigen::MatrixXd hessian_at(const Topology& t, const ConformalStructure& s,
 
 // dK/du from the closed form against central differences of K(u); the step 1e-5 leaves a
 // truncation error of order 1e-10 and a rounding error of order 1e-11, far below 1e-6.
+TEST(Hessian, AssemblySumsAsTripletsDoBitForBit) {
+  // Edges as an intrinsic triangulation may have them: several between two vertices, and loops
+  // at one vertex. The compressed columns built directly hold what setFromTriplets made of the
+  // four triplets per edge, to the last bit.
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> vertex(0, 39);
+  std::uniform_real_distribution<double> weight(-1.0, 3.0);
+  Topology t;
+  t.num_vertices = 40;
+  t.num_edges = 400;
+  t.edge_vertices.resize(t.num_edges, 2);
+  Eigen::VectorXd w(t.num_edges);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int e = 0; e < t.num_edges; ++e) {
+    const int a = vertex(random), b = e % 50 == 0 ? a : vertex(random);
+    t.edge_vertices(e, 0) = std::min(a, b);
+    t.edge_vertices(e, 1) = std::max(a, b);
+    w[e] = weight(random);
+    const int i = t.edge_vertices(e, 0), j = t.edge_vertices(e, 1);
+    triplets.emplace_back(i, j, -w[e]);
+    triplets.emplace_back(j, i, -w[e]);
+    triplets.emplace_back(i, i, w[e]);
+    triplets.emplace_back(j, j, w[e]);
+  }
+  Eigen::SparseMatrix<double> expected(t.num_vertices, t.num_vertices);
+  expected.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::SparseMatrix<double> built = curvature_hessian(t, w);
+  ASSERT_EQ(built.nonZeros(), expected.nonZeros());
+  for (int c = 0; c < t.num_vertices; ++c) {
+    Eigen::SparseMatrix<double>::InnerIterator a(built, c), b(expected, c);
+    for (; b; ++a, ++b) {
+      ASSERT_TRUE(a);
+      EXPECT_EQ(a.row(), b.row());
+      EXPECT_EQ(a.value(), b.value()) << "entry (" << b.row() << ", " << c << ")";
+    }
+    EXPECT_FALSE(a);
+  }
+}
+
 TEST(Hessian, MatchesFiniteDifferencesForEveryScheme) {
   std::mt19937 rng(11);
   const std::vector<testing::NamedMesh> meshes = {

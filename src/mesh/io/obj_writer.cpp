@@ -27,9 +27,8 @@ void write_obj_file(const std::string& path, const Mesh& mesh, const Triangles* 
       append_number_line(bytes, "v ", mesh.positions.row(v));
     });
     if (textured) {
-      append_lines(out, static_cast<int>(uv.rows()), [&](int t, std::string& bytes) {
-        append_number_line(bytes, "vt ", uv.row(t));
-      });
+      append_lines(out, static_cast<int>(uv.rows()),
+                   [&](int t, std::string& bytes) { append_number_line(bytes, "vt ", uv.row(t)); });
     }
     if (textured && !material.library.empty()) {
       const std::string statement = "usemtl " + material.name + "\n";

@@ -419,7 +419,6 @@ VertexEnergy relax_vertex(Drawing& d, int i, std::vector<Term>& terms) {
   return {e0, e, terms.size(), moved};
 }
 
-
 /// The free vertices in classes no two of whose vertices share a face (greedy colouring in the
 /// order of `free`, each class in that order): a vertex's relaxation reads only its faces'
 /// vertices, so one class's vertices relax independently, in parallel, and give the same

@@ -111,9 +111,10 @@ void append_number_line(std::string& bytes, std::string_view prefix, const Row& 
 /// OBJ of bunny's 14k vertices and 28k faces: 5 ms on one thread).
 template <class Line>
 void append_lines(BlockOutput& out, int count, Line&& line) {
-  constexpr int kBatch = 1 << 16;        // lines in memory at once
+  constexpr int kBatch = 1 << 16;           // lines in memory at once
   constexpr int kMinLinesPerThread = 2048;  // a line takes 50-100 ns
-  constexpr std::size_t kLineBytes = 64;    // room reserved per line (a v line of 17-digit numbers: 56)
+  constexpr std::size_t kLineBytes =
+      64;  // room reserved per line (a v line of 17-digit numbers: 56)
   std::vector<std::string> parts;
   for (int start = 0; start < count; start += kBatch) {
     const int n = std::min(kBatch, count - start);
