@@ -393,16 +393,20 @@ ValidationReport find_defects(const Mesh& mesh, const ValidationOptions& options
   const FaceUse use = check_indices(T, mesh.num_vertices(), out);
   // Duplicate faces and zero areas beside the edges, fans and orientation (a quarter of the
   // work: bunny's 28k faces, 7.8 ms on one thread); each kind is found by one of the two.
-  parallel::Task<DefectCollector> beside = parallel::run_beside([&] {
+  auto duplicates_and_areas = [&] {
     DefectCollector found(options.max_defects_per_kind);
     check_duplicate_faces(T, use.usable, found);
     check_zero_area(P, T, use.usable, finite, options.zero_area_tolerance, found);
     return found;
-  });
+  };
+  // (Below some thousands of faces the checks take well under a millisecond: all here.)
+  constexpr int kMinFacesBeside = 4096;
+  parallel::Task<DefectCollector> beside;
+  if (mesh.num_faces() >= kMinFacesBeside) beside = parallel::run_beside(duplicates_and_areas);
   const std::vector<int> twin = check_edges(T, use.usable, mesh.num_vertices(), out);
   check_fans(T, twin, use.usable, mesh.num_vertices(), out);
   check_orientation(T, twin, use.usable, out);
-  out.merge(beside.get());
+  out.merge(beside.valid() ? beside.get() : duplicates_and_areas());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (use.referenced[v]) continue;
     out.add(DefectKind::UnreferencedVertex, v,

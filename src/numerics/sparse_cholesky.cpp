@@ -534,7 +534,11 @@ Eigen::VectorXd SparseCholesky::solve_approximately(const Eigen::VectorXd& b) co
 }
 
 Eigen::MatrixXd SparseCholesky::solve_columns(const Eigen::MatrixXd& B) const {
-  if (impl_->use_cholmod || B.cols() < 2) return solve_dense(*impl_, B);
+  // (A small factor's solves take microseconds: not worth a second thread.)
+  constexpr Eigen::Index kSplitColumnsMinRows = 2000;
+  if (impl_->use_cholmod || B.cols() < 2 || B.rows() < kSplitColumnsMinRows) {
+    return solve_dense(*impl_, B);
+  }
   // Eigen's solver substitutes one column after the other: the columns split across threads
   // give the same bits (spot's first cone, 8 candidates: 2 ms of a 45 ms run on one thread).
   Eigen::MatrixXd X(B.rows(), B.cols());
