@@ -34,8 +34,8 @@ struct Pool {
   std::atomic<bool> forked{false};
   std::atomic<int> tasks_beside{0};
   /// Helpers beyond the other cores would poll on a core someone else needs.
-  int capacity =
-      std::clamp(static_cast<int>(std::thread::hardware_concurrency()) - 1, 0, kMaxHelpers);
+  std::atomic<int> capacity{
+      std::clamp(static_cast<int>(std::thread::hardware_concurrency()) - 1, 0, kMaxHelpers)};
 };
 
 Pool& pool() {
@@ -100,7 +100,7 @@ void helper_loop(Helper& h) {
 
 /// Claims an idle helper (starting one when fewer than `max_helpers` run), or nullptr.
 Helper* claim(Pool& p, int max_helpers) {
-  const int wanted = std::min(max_helpers, p.capacity);
+  const int wanted = std::min(max_helpers, p.capacity.load(std::memory_order_relaxed));
   int running = std::min(p.started.load(std::memory_order_acquire), wanted);
   for (int i = 0; i < running; ++i) {
     int idle = 0;
@@ -118,7 +118,7 @@ Helper* claim(Pool& p, int max_helpers) {
     std::thread(helper_loop, std::ref(h)).detach();
   } catch (const std::system_error&) {
     h.claimed.store(0, std::memory_order_relaxed);
-    p.capacity = running;  // (under the lock; no further helper is tried)
+    p.capacity.store(running, std::memory_order_relaxed);  // (no further helper is tried)
     return nullptr;
   }
   p.started.store(running + 1, std::memory_order_release);

@@ -276,6 +276,15 @@ std::vector<Row> generated_rows() {
        "0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n",
        {Thrown::Io, {"malformed.ply", "line 12", "'zero'", "vertex 2"}},
        {}},
+      {"ListLengthBeyondItsTypePly",
+       "long_list.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+       "0 0 0\n1 0 0\n0 1 0\n" +
+           std::string(120, '5') + " 0 1 2\n",
+       {Thrown::Io,
+        {"long_list.ply", "line 13", "list length beyond 2^63", "face 0", "largest value", "255"}},
+       {}},
       {"FaceWithTwoCorners",
        "short.obj",
        "v 0 0 0\nv 1 0 0\nf 1 2\n",

@@ -243,8 +243,22 @@ std::string item_name(const PlyElement& element, std::int64_t item) {
 }
 
 void check_list_length(const std::string& path, Where where, const PlyElement& element,
-                       std::int64_t item, double count) {
+                       std::int64_t item, const PlyProperty& property, double count) {
   if (count < 0) io_error(path, where, "negative list length in " + item_name(element, item));
+  // An ASCII length is not bounded by its storage: one beyond its type's range is malformed
+  // (a 100-digit length read as the largest integer overflowed the count's conversion).
+  const double largest = with_ply_type(property.count_type, [](auto stored) {
+    return static_cast<double>(std::numeric_limits<decltype(stored)>::max());
+  });
+  if (count > largest) {
+    // (Integers past 2^63 were read as 2^63: not the file's digits, so not quoted.)
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.0f", count);
+    io_error(path, where,
+             "list length " + (count < 9e18 ? std::string(buffer) : std::string("beyond 2^63")) +
+                 " in " + item_name(element, item) + " exceeds the largest value of its type (" +
+                 std::to_string(static_cast<long long>(largest)) + ")");
+  }
 }
 
 void check_ply_corner_count(const std::string& path, Where here, int face, double count) {
@@ -344,7 +358,8 @@ void read_ply_binary(const std::string& path, std::string_view data, const PlyHe
         need(ply_size(property.count_type), item);
         const double count = ply_load(property.count_type, data.data() + pos, swap);
         pos += ply_size(property.count_type);
-        check_list_length(path, Where{static_cast<std::int64_t>(pos), true}, element, item, count);
+        check_list_length(path, Where{static_cast<std::int64_t>(pos), true}, element, item,
+                          property, count);
         const int size = ply_size(property.type);
         need(static_cast<std::size_t>(count) * size, item);
         if (is_face && roles.corners == static_cast<int>(p)) {
@@ -416,7 +431,7 @@ void read_ply_ascii(const std::string& path, std::string_view data, const PlyHea
         const double count = next_number(true);
         if (item_line < 0) item_line = tokens.line();
         const Where here{item_line, false};
-        check_list_length(path, here, element, item, count);
+        check_list_length(path, here, element, item, property, count);
         const bool corners = is_face && roles.corners == static_cast<int>(p);
         const bool strip = is_strip && roles.strip_corners == static_cast<int>(p);
         if (corners) check_ply_corner_count(path, here, static_cast<int>(item), count);
