@@ -137,6 +137,16 @@ void wait_until_done(const Job& job) {
   }
 }
 
+/// Takes a posted job back from its helper's slot, which then is free again: true when the
+/// helper had not taken it (it will never run it).
+bool take_back(Job& job) {
+  Helper& h = *job.helper;
+  Job* mine = &job;
+  if (!h.slot.compare_exchange_strong(mine, nullptr, std::memory_order_acq_rel)) return false;
+  h.claimed.store(0, std::memory_order_release);
+  return true;
+}
+
 }  // namespace
 
 bool post_job(Job& job, int max_helpers) {
@@ -152,11 +162,8 @@ bool post_job(Job& job, int max_helpers) {
 }
 
 void finish_job(Job& job) {
-  Helper& h = *job.helper;
-  Job* mine = &job;
-  if (h.slot.compare_exchange_strong(mine, nullptr, std::memory_order_acq_rel)) {
+  if (take_back(job)) {
     // Not taken yet (the helper sleeps or is still finishing something): run it here.
-    h.claimed.store(0, std::memory_order_release);
     job.fn(job.context, job.index);
     job.done.store(1, std::memory_order_release);
     return;
@@ -165,13 +172,7 @@ void finish_job(Job& job) {
 }
 
 void withdraw_job(Job& job) {
-  Helper& h = *job.helper;
-  Job* mine = &job;
-  if (h.slot.compare_exchange_strong(mine, nullptr, std::memory_order_acq_rel)) {
-    h.claimed.store(0, std::memory_order_release);
-    return;
-  }
-  wait_until_done(job);
+  if (!take_back(job)) wait_until_done(job);
 }
 
 void task_beside_started() {

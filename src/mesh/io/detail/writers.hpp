@@ -20,6 +20,30 @@
 
 namespace ricci::io_detail {
 
+/// Appends x in the shortest text that reads back as the same double (std::to_chars: at most 17
+/// significant digits, like %.17g, but several times faster and often shorter).
+inline void append_number(std::string& bytes, double x) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+  bytes.append(text, static_cast<std::size_t>(end - text));
+}
+/// Appends i in decimal.
+inline void append_integer(std::string& bytes, long long i) {
+  char text[24];
+  const auto end = std::to_chars(text, text + sizeof text, i).ptr;
+  bytes.append(text, static_cast<std::size_t>(end - text));
+}
+/// Appends `prefix`, the row's numbers separated by spaces and a newline.
+template <class Row>
+void append_number_line(std::string& bytes, std::string_view prefix, const Row& row) {
+  bytes.append(prefix);
+  for (Eigen::Index c = 0; c < row.size(); ++c) {
+    if (c > 0) bytes.push_back(' ');
+    append_number(bytes, row(c));
+  }
+  bytes.push_back('\n');
+}
+
 /// A writer's output handed to the stream in blocks of about 1 MiB: one write per block rather
 /// than per line, without holding the whole file in memory.
 class BlockOutput {
@@ -35,29 +59,15 @@ class BlockOutput {
     bytes_.append(data, static_cast<std::size_t>(count));
     end_of_item();
   }
-  /// Appends x in the shortest text that reads back as the same double (std::to_chars: at
-  /// most 17 significant digits, like %.17g, but several times faster and often shorter).
-  void number(double x) {
-    char text[32];
-    const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-    bytes_.append(text, static_cast<std::size_t>(end - text));
-  }
+  /// Appends x in the shortest text that reads back as the same double (append_number).
+  void number(double x) { append_number(bytes_, x); }
   /// Appends i in decimal.
-  void integer(long long i) {
-    char text[24];
-    const auto end = std::to_chars(text, text + sizeof text, i).ptr;
-    bytes_.append(text, static_cast<std::size_t>(end - text));
-  }
+  void integer(long long i) { append_integer(bytes_, i); }
   /// One line: `prefix` (e.g. "v "; may be empty), the row's numbers separated by spaces, a
   /// newline (an item).
   template <class Row>
   void number_line(std::string_view prefix, const Row& row) {
-    bytes_.append(prefix);
-    for (Eigen::Index c = 0; c < row.size(); ++c) {
-      if (c > 0) bytes_.push_back(' ');
-      number(row(c));
-    }
-    bytes_.push_back('\n');
+    append_number_line(bytes_, prefix, row);
     end_of_item();
   }
   /// Appends a piece of text (no end_of_item: a line's pieces end with one).
@@ -82,29 +92,6 @@ class BlockOutput {
   std::ostream& out_;
   std::string bytes_;
 };
-
-/// Appends x in the shortest text that reads back as the same double (as BlockOutput::number).
-inline void append_number(std::string& bytes, double x) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-  bytes.append(text, static_cast<std::size_t>(end - text));
-}
-/// Appends i in decimal.
-inline void append_integer(std::string& bytes, long long i) {
-  char text[24];
-  const auto end = std::to_chars(text, text + sizeof text, i).ptr;
-  bytes.append(text, static_cast<std::size_t>(end - text));
-}
-/// Appends `prefix`, the row's numbers separated by spaces and a newline.
-template <class Row>
-void append_number_line(std::string& bytes, std::string_view prefix, const Row& row) {
-  bytes.append(prefix);
-  for (Eigen::Index c = 0; c < row.size(); ++c) {
-    if (c > 0) bytes.push_back(' ');
-    append_number(bytes, row(c));
-  }
-  bytes.push_back('\n');
-}
 
 /// Lines 0 .. count - 1, line(i, bytes) appending line i to `bytes`, formatted on several threads
 /// a batch at a time and written in order: formatting numbers is most of a writer's time (an
