@@ -17,6 +17,7 @@ packages=(
   # setuptools and wheel, and venv.
   python3-pip python3-setuptools python3-wheel python3-venv
   libcairo2-dev
+  libpng-dev
   # The web viewer inlines Debian's three.js; its test opens the pages in headless Chromium.
   libjs-three chromium
   # glTF binary output (--format glb) and its read-back test.

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "cairo_support.hpp"
+#include "render/detail/indexed_png.hpp"
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
 
@@ -62,6 +65,11 @@ std::string encode_png(const Image& image) {
     throw InvalidInput("encode_png: the image holds " + std::to_string(image.pixels.size()) +
                        " pixels, not " + std::to_string(image.width) + " x " +
                        std::to_string(image.height));
+  }
+  // Few colours (the checkerboard texture, flat plots): a palette image, much smaller and
+  // faster to write than Cairo's RGBA.
+  if (std::optional<std::string> indexed = render_detail::encode_indexed_png(image)) {
+    return std::move(*indexed);
   }
   // Cairo reads the pixels only; the copy keeps the const promise without a cast.
   Image copy = image;

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "ricci/errors.hpp"
 #include "ricci/mesh/io.hpp"
@@ -57,14 +59,21 @@ Image checkerboard_texture(int pixels, int squares) {
   const RenderOptions colours;
   const std::uint32_t light = pack_rgb(colours.checker_light);
   const std::uint32_t dark = pack_rgb(colours.checker_dark);
-  Image image = make_image(pixels, pixels, colours.checker_light);
+  // Two kinds of row, the squares' columns starting light or dark: each row is a copy of one.
+  std::vector<std::uint32_t> rows[2];
+  for (int x = 0; x < pixels; ++x) {
+    const int column = static_cast<int>((static_cast<long>(x) * squares) / pixels);
+    rows[0].push_back(column & 1 ? dark : light);
+    rows[1].push_back(column & 1 ? light : dark);
+  }
+  Image image;
+  image.width = image.height = pixels;
+  image.pixels.resize(static_cast<std::size_t>(pixels) * pixels);
   for (int y = 0; y < pixels; ++y) {
     // Row 0 is the top of the image, v = 1: squares counted from v = 0 as render_mesh does.
     const int row = static_cast<int>((static_cast<long>(pixels - 1 - y) * squares) / pixels);
-    for (int x = 0; x < pixels; ++x) {
-      const int column = static_cast<int>((static_cast<long>(x) * squares) / pixels);
-      image.pixels[static_cast<std::size_t>(y) * pixels + x] = (row + column) & 1 ? dark : light;
-    }
+    std::copy(rows[row & 1].begin(), rows[row & 1].end(),
+              image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * pixels);
   }
   return image;
 }

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "render_test_support.hpp"
 #include "ricci/errors.hpp"
@@ -37,6 +40,60 @@ TEST(Image, PngRoundTripKeepsSizeAndPixels) {
   for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
     EXPECT_EQ(entry.path().filename().string().find(".round_trip.png.tmp"), std::string::npos);
   }
+}
+
+/// The PNG's bit depth and colour type (IHDR, the first chunk: bytes 24 and 25 of the file).
+std::pair<int, int> png_depth_and_type(const std::string& bytes) {
+  EXPECT_GE(bytes.size(), 26u);
+  if (bytes.size() < 26) return {0, 0};
+  return {static_cast<unsigned char>(bytes[24]), static_cast<unsigned char>(bytes[25])};
+}
+
+/// An image of `colours` distinct opaque colours, in runs and scattered.
+Image image_of_colours(int colours) {
+  Image image = make_image(61, 47, {0, 0, 0});
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const auto c = static_cast<std::uint32_t>((i * 7 / 5) % static_cast<std::size_t>(colours));
+    image.pixels[i] = 0xFF000000u | (c * 0x010307u & 0xFFFFFFu);
+  }
+  return image;
+}
+
+Image png_round_trip(const Image& image, const std::string& name) {
+  const auto path = testing::render_tmp_dir() / name;
+  write_png(path.string(), image);
+  return read_png(path.string());
+}
+
+// Few colours: a palette image at the smallest bit depth that holds them (1 bit for the
+// checkerboard texture), the pixels given back exactly; more colours: RGB as Cairo writes it,
+// with alpha where a pixel is translucent, also exact.
+TEST(Image, PngWithFewColoursIsAPaletteImageAndRoundTrips) {
+  for (const auto& [colours, depth] : std::vector<std::pair<int, int>>{{1, 1},
+                                                                       {2, 1},
+                                                                       {3, 2},
+                                                                       {4, 2},
+                                                                       {5, 4},
+                                                                       {16, 4},
+                                                                       {17, 8},
+                                                                       {256, 8},
+                                                                       {257, 8},
+                                                                       {1000, 8}}) {
+    SCOPED_TRACE(colours);
+    const Image image = image_of_colours(colours);
+    const std::string bytes = encode_png(image);
+#ifdef RICCI_HAVE_LIBPNG
+    const int type = colours <= 256 ? 3 : 2;  // palette, or RGB
+    EXPECT_EQ(png_depth_and_type(bytes), std::make_pair(depth, type));
+#endif
+    const Image back = png_round_trip(image, "colours.png");
+    EXPECT_EQ(back.width, image.width);
+    EXPECT_EQ(back.pixels, image.pixels);
+  }
+  Image translucent = image_of_colours(2);
+  translucent.pixels[3] = 0x80402010u;  // premultiplied: half transparent
+  EXPECT_EQ(png_depth_and_type(encode_png(translucent)).second, 6);
+  EXPECT_EQ(png_round_trip(translucent, "translucent.png").pixels, translucent.pixels);
 }
 
 TEST(Image, RejectsBadSizesAndMissingFiles) {

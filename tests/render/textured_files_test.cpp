@@ -44,6 +44,15 @@ TEST(TexturedFiles, CheckerboardSquaresStartLightAtTheOrigin) {
   EXPECT_EQ(image.at(0, 47), dark);
   EXPECT_EQ(image.at(16, 47), light);
   EXPECT_EQ(image.at(63, 0), light);  // (3 + 3) even
+  // Squares that do not divide the pixels: pixel (x, y) is in column floor(x N / P) and row
+  // floor((P - 1 - y) N / P), as render_mesh counts them.
+  const Image odd = checkerboard_texture(100, 7);
+  for (int y = 0; y < 100; ++y) {
+    for (int x = 0; x < 100; ++x) {
+      const int parity = (x * 7 / 100 + (99 - y) * 7 / 100) & 1;
+      ASSERT_EQ(odd.at(x, y), parity ? dark : light) << x << ", " << y;
+    }
+  }
   EXPECT_THROW(checkerboard_texture(4, 2), InvalidInput);
   EXPECT_THROW(checkerboard_texture(64, 0), InvalidInput);
 }
