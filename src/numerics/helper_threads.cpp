@@ -161,6 +161,10 @@ bool post_job(Job& job, int max_helpers) {
   return true;
 }
 
+int capacity() {
+  return pool().capacity.load(std::memory_order_relaxed);
+}
+
 void finish_job(Job& job) {
   if (take_back(job)) {
     // Not taken yet (the helper sleeps or is still finishing something): run it here.

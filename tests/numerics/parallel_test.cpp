@@ -147,6 +147,38 @@ TEST(Parallel, RunBesideReturnsRethrowsAndWaits) {
   }
 }
 
+// With every helper busy, a task beside starts no thread of its own (it would share a busy core):
+// it runs on the calling thread at get(), and a dropped one never runs.
+TEST(Parallel, TaskBesideBusyHelpersRunsOnTheCallerAtGet) {
+  const int helpers = parallel::helper_threads::capacity();
+  if (helpers < 1 || parallel::max_threads() != helpers + 1) {
+    GTEST_SKIP() << "needs the default thread count on 2 or more cores";
+  }
+  std::atomic<bool> release{false};
+  std::atomic<int> busy{0};
+  std::vector<parallel::Task<void>> blockers;
+  for (int i = 0; i < helpers; ++i) {
+    blockers.push_back(parallel::run_beside([&] {
+      ++busy;
+      while (!release) std::this_thread::yield();
+    }));
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (busy < helpers && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::yield();
+  }
+  ASSERT_EQ(busy.load(), helpers);
+  auto where = parallel::run_beside([] { return std::this_thread::get_id(); });
+  std::atomic<int> ran{0};
+  {
+    auto dropped = parallel::run_beside([&] { ++ran; });
+  }
+  EXPECT_EQ(where.get(), std::this_thread::get_id());
+  EXPECT_EQ(ran.load(), 0);
+  release = true;
+  for (auto& b : blockers) b.get();
+}
+
 TEST(HelperThreads, AJobRunsOnceWhetherAHelperOrThePosterTakesIt) {
   // Many short jobs from two posters at once, some finished at once (often taken back before a
   // helper wakes), some after a pause (taken by a helper): each runs exactly once.

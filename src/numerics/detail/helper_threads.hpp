@@ -36,6 +36,10 @@ struct Job {
 /// passed to finish_job before it goes out of scope.
 bool post_job(Job& job, int max_helpers);
 
+/// Helpers there may be at most: the cores beyond the calling thread's (at most 7), less where
+/// a thread could not be started.
+int capacity();
+
 /// Waits until a posted job has run: runs it on the calling thread when its helper has not
 /// taken it yet.
 void finish_job(Job& job);

@@ -264,8 +264,9 @@ class Task {
 };
 
 /// Runs `work` beside the calling thread: on a helper thread (helper_threads.hpp) when one is
-/// free, else on a thread of its own; with one thread (RICCI_NUM_THREADS=1, or no thread to be
-/// had) on the calling thread at get() instead.
+/// free; when none is, on the calling thread at get() (or, with RICCI_NUM_THREADS above the
+/// helpers there can be, on a thread of its own); with one thread (RICCI_NUM_THREADS=1, or no
+/// thread to be had) on the calling thread at get() too.
 template <class Work>
 Task<std::invoke_result_t<std::decay_t<Work>>> run_beside(Work&& work) {
   using T = std::invoke_result_t<std::decay_t<Work>>;
@@ -282,6 +283,12 @@ Task<std::invoke_result_t<std::decay_t<Work>>> run_beside(Work&& work) {
     state.mode = Mode::Posted;
     return task;
   }
+  // Every helper is busy. Where there are as many helpers as threads allowed beside the caller,
+  // every core has work, so a thread of its own would share one and only add its start (40-50
+  // us): the task runs on the calling thread at get(). (camelhead, 4 cones, started 17 threads
+  // for halves of split solves while the cut ran beside the flow.) Only threads asked for beyond
+  // the helpers (RICCI_NUM_THREADS above the cores) start threads of their own.
+  if (helper_threads::capacity() + 1 >= max_threads()) return task;  // (Deferred)
   try {
     helper_threads::task_beside_started();
     state.thread = std::thread([&state] {
