@@ -7,15 +7,10 @@
 #include <Eigen/Dense>
 
 #include "numerics/detail/parallel.hpp"
+#include "numerics/detail/tree_split.hpp"
 
 namespace ricci::supernodal {
 namespace {
-
-/// The top separators are taken off the tree while one subtree holds more than this share of
-/// the work left: what remains splits into parts of comparable size.
-constexpr double kDominantShare = 0.6;
-/// Each group must hold at least this share of the work, else the split is not worth a thread.
-constexpr double kSmallestGroupShare = 0.25;
 
 template <class Scalar>
 struct Block {
@@ -122,66 +117,23 @@ std::optional<Split> split_factor(const Factor& f, double min_values) {
   for (int s = 0; s < f.num_super; ++s) {
     for (int k = f.super[s]; k < f.super[s + 1]; ++k) super_of_column[k] = s;
   }
-  // The supernodal elimination tree (CHOLMOD numbers supernodes in postorder: a subtree is the
-  // range from its first descendant to its root) and the work (values) of each subtree.
-  std::vector<int> parent(f.num_super, -1), first(f.num_super);
-  std::vector<double> own(f.num_super), subtree(f.num_super);
-  std::vector<std::vector<int>> children(f.num_super);
-  std::vector<int> frontier;
+  // The supernodal elimination tree and the work (values) of each supernode.
+  std::vector<int> parent(f.num_super, -1);
+  std::vector<double> own(f.num_super);
   Split split;
   for (int s = 0; s < f.num_super; ++s) {
     const Block<double> b = block_of(f, f.values, s);
-    own[s] = subtree[s] = static_cast<double>(b.values.size());
-    first[s] = s;
+    own[s] = static_cast<double>(b.values.size());
     split.widest_below = std::max(split.widest_below, b.rows_below);
     if (b.rows_below > 0) parent[s] = super_of_column[b.below[0]];
   }
-  for (int s = 0; s < f.num_super; ++s) {
-    if (parent[s] < 0) {
-      frontier.push_back(s);
-      continue;
-    }
-    subtree[parent[s]] += subtree[s];
-    first[parent[s]] = std::min(first[parent[s]], first[s]);
-    children[parent[s]].push_back(s);
-  }
-  double left = 0;
-  for (int r : frontier) left += subtree[r];
-  std::vector<char> is_top(f.num_super, 0);
-  for (;;) {
-    const auto largest = std::max_element(frontier.begin(), frontier.end(),
-                                          [&](int a, int b) { return subtree[a] < subtree[b]; });
-    if (largest == frontier.end() || subtree[*largest] <= kDominantShare * left) break;
-    const int t = *largest;
-    frontier.erase(largest);
-    is_top[t] = 1;
-    left -= own[t];
-    frontier.insert(frontier.end(), children[t].begin(), children[t].end());
-  }
-  // Largest subtrees first, each to the lighter group.
-  std::sort(frontier.begin(), frontier.end(), [&](int a, int b) {
-    return subtree[a] != subtree[b] ? subtree[a] > subtree[b] : a < b;
-  });
-  std::vector<int> roots[2];
-  double weight[2] = {0, 0};
-  for (int r : frontier) {
-    const int g = weight[0] <= weight[1] ? 0 : 1;
-    roots[g].push_back(r);
-    weight[g] += subtree[r];
-  }
-  const double total = subtree.empty() ? 0 : weight[0] + weight[1];
-  if (std::min(weight[0], weight[1]) < kSmallestGroupShare * total) return std::nullopt;
-  std::vector<int>* groups[2] = {&split.first, &split.second};
-  for (int g = 0; g < 2; ++g) {
-    std::sort(roots[g].begin(), roots[g].end());
-    for (int r : roots[g]) {
-      for (int s = first[r]; s <= r; ++s) groups[g]->push_back(s);
-    }
-  }
+  std::optional<tree_split::Parts> parts = tree_split::split(parent, own);
+  if (!parts) return std::nullopt;
+  split.first = std::move(parts->first);
+  split.second = std::move(parts->second);
+  split.top = std::move(parts->top);
   split.top_column.assign(static_cast<std::size_t>(f.n), 0);
-  for (int s = 0; s < f.num_super; ++s) {
-    if (!is_top[s]) continue;
-    split.top.push_back(s);
+  for (int s : split.top) {
     for (int k = f.super[s]; k < f.super[s + 1]; ++k) split.top_column[k] = 1;
   }
   return split;
