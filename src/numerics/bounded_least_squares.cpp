@@ -102,15 +102,21 @@ bool solve_free(const ActiveSet& set, Eigen::VectorXd& x, double& lambda) {
   return y.allFinite();
 }
 
-/// The active-set iterations from all variables free; `batched`: violated bounds among the free
-/// variables become active all at once. The optimum is unique (M is positive definite), so the
-/// path does not change it, but a batch can leave the sum constraint a single free variable it
-/// cannot meet; then the caller runs the one-at-a-time path. Returns whether it reached the
-/// optimum (then in k and multiplier).
-bool run_active_set(ActiveSet& set, bool batched, Eigen::VectorXd& k, double& multiplier) {
+/// The active-set iterations from `start` (all variables free when it is empty); `batched`:
+/// violated bounds among the free variables become active all at once. The optimum is unique
+/// (M is positive definite), so neither the start nor the path changes it, but a batch can leave
+/// the sum constraint a single free variable it cannot meet; then the caller runs the
+/// one-at-a-time path. Returns whether it reached the optimum (then in k and multiplier, and its
+/// active set in set.state).
+bool run_active_set(ActiveSet& set, bool batched, const std::vector<int>& start, Eigen::VectorXd& k,
+                    double& multiplier) {
   const int m = set.m;
   std::vector<int>& state = set.state;
-  std::fill(state.begin(), state.end(), 0);
+  if (start.empty()) {
+    std::fill(state.begin(), state.end(), 0);
+  } else {
+    state = start;
+  }
   Eigen::VectorXd x;
   double lambda = 0;
   for (int iteration = 0; iteration < 4 * m + 8; ++iteration) {
@@ -186,12 +192,27 @@ BoundedLeastSquaresResult bounded_least_squares(const Eigen::MatrixXd& M, const 
   const bool sum_unreachable =
       options.sum_constraint && (lo.sum() > options.total || hi.sum() < options.total);
   if (!sum_unreachable) {
-    if (m > options.batched_above && run_active_set(set, true, result.x, result.multiplier)) {
+    // A neighbouring programme's active set first: the quasi-Newton steps of the cone selection
+    // keep most of theirs from one step to the next (eight with 32 cones: 5.4 iterations a
+    // programme from all free).
+    const std::vector<int>& start = options.start_state;
+    const bool warm =
+        static_cast<int>(start.size()) == m &&
+        std::all_of(start.begin(), start.end(), [](int s) { return s >= -1 && s <= 1; });
+    if (warm && run_active_set(set, false, start, result.x, result.multiplier)) {
       result.feasible = true;
+      result.state = set.state;
       return result;
     }
-    if (run_active_set(set, false, result.x, result.multiplier)) {
+    const std::vector<int> cold;
+    if (m > options.batched_above && run_active_set(set, true, cold, result.x, result.multiplier)) {
       result.feasible = true;
+      result.state = set.state;
+      return result;
+    }
+    if (run_active_set(set, false, cold, result.x, result.multiplier)) {
+      result.feasible = true;
+      result.state = set.state;
       return result;
     }
   }

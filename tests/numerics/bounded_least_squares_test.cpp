@@ -1,5 +1,8 @@
 #include "ricci/numerics/bounded_least_squares.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
@@ -125,6 +128,42 @@ TEST(BoundedLeastSquares, BatchedPathReachesTheSameOptimum) {
   EXPECT_NEAR(a.x.sum(), -60, kTolerance);
   EXPECT_GE(a.x.minCoeff(), -1 - kTolerance);
   EXPECT_LE(a.x.maxCoeff(), 1 + kTolerance);
+}
+
+// The active set the minimiser ends with is returned, and any start (the right set, a wrong
+// one, a malformed one) reaches the same minimiser: the same bits as from all free whenever it
+// ends on the same active set.
+TEST(BoundedLeastSquares, StartStateChangesTheWorkNotTheMinimiser) {
+  const int m = 12;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(m, m) * 3;
+  for (int i = 0; i + 1 < m; ++i) M(i, i + 1) = M(i + 1, i) = 0.7;
+  Eigen::VectorXd r(m);
+  for (int i = 0; i < m; ++i) r[i] = i % 3 == 0 ? -4.0 : (i % 3 == 1 ? 5.0 : 0.1 * i);
+  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(m, -1), hi = Eigen::VectorXd::Constant(m, 1);
+  BoundedLeastSquaresOptions options;
+  options.sum_constraint = true;
+  options.total = 0.5;
+  const BoundedLeastSquaresResult cold = bounded_least_squares(M, r, lo, hi, options);
+  ASSERT_TRUE(cold.feasible);
+  ASSERT_EQ(static_cast<int>(cold.state.size()), m);
+  for (int i = 0; i < m; ++i) {
+    if (cold.state[i] < 0) {
+      EXPECT_EQ(cold.x[i], lo[i]) << i;
+    } else if (cold.state[i] > 0) {
+      EXPECT_EQ(cold.x[i], hi[i]) << i;
+    }
+  }
+  EXPECT_GT(std::count(cold.state.begin(), cold.state.end(), 1), 0);
+  EXPECT_GT(std::count(cold.state.begin(), cold.state.end(), -1), 0);
+  for (const std::vector<int>& start : {cold.state, std::vector<int>(m, -1), std::vector<int>(m, 1),
+                                        std::vector<int>(3, 1), std::vector<int>(m, 7)}) {
+    options.start_state = start;
+    const BoundedLeastSquaresResult warm = bounded_least_squares(M, r, lo, hi, options);
+    ASSERT_TRUE(warm.feasible);
+    EXPECT_EQ(warm.state, cold.state);
+    EXPECT_TRUE((warm.x.array() == cold.x.array()).all());
+    EXPECT_EQ(warm.multiplier, cold.multiplier);
+  }
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 /// A small dense quadratic programme with box bounds and an optional sum constraint, solved by
 /// an active-set method: the cone selection's curvature fits and quasi-Newton steps.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 namespace ricci {
@@ -16,6 +18,10 @@ struct BoundedLeastSquaresOptions {
   /// their lower bounds took 900 factorisations per programme: 149 s for its selection); when
   /// that fails, the one-at-a-time path runs.
   int batched_above = 64;
+  /// Where the active-set iterations start: per variable -1 (at lo), +1 (at hi) or 0 (free), as
+  /// BoundedLeastSquaresResult::state of a neighbouring programme returns it; all free when
+  /// empty (or not of size m). The optimum does not depend on it, the work does.
+  std::vector<int> start_state;
 };
 
 struct BoundedLeastSquaresResult {
@@ -24,6 +30,9 @@ struct BoundedLeastSquaresResult {
   bool feasible = false;
   Eigen::VectorXd x;      ///< the minimiser (#variables)
   double multiplier = 0;  ///< the sum constraint's Lagrange multiplier (0 without it)
+  /// When feasible: the bounds active at the minimiser (-1 at lo, +1 at hi, 0 free), for
+  /// BoundedLeastSquaresOptions::start_state of the next programme.
+  std::vector<int> state;
 };
 
 /// min 1/2 x^T M x + r^T x subject to lo <= x <= hi and, with options.sum_constraint,

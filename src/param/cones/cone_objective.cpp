@@ -296,13 +296,17 @@ Eigen::VectorXd minimise_cone_objective(const ConeObjective& objective, const Ei
     if (start.llt().info() != Eigen::Success) start = model_hessian;
   }
   B = std::move(start);
+  // Each step's programme starts from the bounds active at the step before.
+  std::vector<int> active;
   for (int iteration = 0; iteration < kObjectiveIterations; ++iteration) {
     const Eigen::VectorXd linear = g - B * k;
     BoundedLeastSquaresOptions sum;
     sum.sum_constraint = closed;
     sum.total = total;
-    const BoundedLeastSquaresResult step_target = bounded_least_squares(B, linear, lo, hi, sum);
+    sum.start_state = std::move(active);
+    BoundedLeastSquaresResult step_target = bounded_least_squares(B, linear, lo, hi, sum);
     if (!step_target.feasible) break;
+    active = std::move(step_target.state);
     const Eigen::VectorXd direction = step_target.x - k;
     if (direction.cwiseAbs().maxCoeff() < kSmallestStep) break;
     const double slope = g.dot(direction);
