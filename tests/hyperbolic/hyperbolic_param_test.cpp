@@ -2,6 +2,7 @@
 // deck transformations of the cut segments, and the Fuchsian group's canonical generators with
 // the surface-group relation a1 b1 a1^-1 b1^-1 ... ag bg ag^-1 bg^-1 = identity.
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -86,7 +87,12 @@ void expect_flipped_parameterization_on_input_faces(const Mesh& mesh,
   EXPECT_LT(r.refinement.max_error_after, refined);
   EXPECT_EQ(r.group.genus, genus);
   EXPECT_LT(r.group.relation_residual, 1e-10);
-  EXPECT_LT(r.group.node_residual, 1e-10);
+  // The segment maps come from disk positions, whose rounding grows as 1 / (1 - |z|)^2 towards
+  // the boundary: genus 5 at resolution 24 reaches |z| = 0.99984, and its node words closed to
+  // 2.3e-10 on one machine of this project's kind (below 1e-10 on another with the same code;
+  // 1e-13 or less on every other case here).
+  const double reach = 1 / (1 - r.uv.rowwise().norm().maxCoeff());
+  EXPECT_LT(r.group.node_residual, std::max(1e-10, 1e-16 * reach * reach));
   for (const SegmentIsometry& s : r.layout.segment_maps) {
     EXPECT_LT(s.mismatch, 1e-8) << "segment " << s.segment;
   }
