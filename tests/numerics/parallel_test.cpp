@@ -157,6 +157,7 @@ TEST(Parallel, TaskBesideBusyHelpersRunsOnTheCallerAtGet) {
   std::atomic<bool> release{false};
   std::atomic<int> busy{0};
   std::vector<parallel::Task<void>> blockers;
+  blockers.reserve(static_cast<std::size_t>(helpers));
   for (int i = 0; i < helpers; ++i) {
     blockers.push_back(parallel::run_beside([&] {
       ++busy;

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -133,7 +134,7 @@ TEST(SimplicialSplit, AZeroPivotIsANumericalIssue) {
   EXPECT_EQ(split.info(), eigen.info());
   if (eigen.info() == Eigen::Success) expect_eigens_factor(split, eigen);
   // Row and column 0 explicit zeros: that pivot is exactly 0.
-  Eigen::SparseMatrix<double> zero = A;
+  Eigen::SparseMatrix<double> zero = std::move(A);
   for (int k = 0; k < zero.outerSize(); ++k) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(zero, k); it; ++it) {
       if (it.row() == 0 || it.col() == 0) it.valueRef() = 0;
