@@ -199,20 +199,14 @@ BoundedLeastSquaresResult bounded_least_squares(const Eigen::MatrixXd& M, const 
     const bool warm =
         static_cast<int>(start.size()) == m &&
         std::all_of(start.begin(), start.end(), [](int s) { return s >= -1 && s <= 1; });
-    if (warm && run_active_set(set, false, start, result.x, result.multiplier)) {
-      result.feasible = true;
-      result.state = set.state;
-      return result;
-    }
     const std::vector<int> cold;
-    if (m > options.batched_above && run_active_set(set, true, cold, result.x, result.multiplier)) {
-      result.feasible = true;
-      result.state = set.state;
-      return result;
-    }
-    if (run_active_set(set, false, cold, result.x, result.multiplier)) {
-      result.feasible = true;
-      result.state = set.state;
+    const auto reached = [&](bool batched, const std::vector<int>& from) {
+      result.feasible = run_active_set(set, batched, from, result.x, result.multiplier);
+      if (result.feasible) result.state = set.state;
+      return result.feasible;
+    };
+    if ((warm && reached(false, start)) || (m > options.batched_above && reached(true, cold)) ||
+        reached(false, cold)) {
       return result;
     }
   }

@@ -100,11 +100,8 @@ void SplitLdlt::factorize_split(const Eigen::SparseMatrix<double>& A) {
   ap.selfadjointView<Eigen::Upper>() = A.selfadjointView<Eigen::Lower>().twistedBy(m_P);
   m_diag.resize(n);
   bool ok_first = true, ok_second = true, ok_top = true;
-  {
-    auto second = parallel::run_beside([&] { factorize_rows(ap, second_, ok_second); });
-    factorize_rows(ap, first_, ok_first);
-    second.get();
-  }
+  parallel::run_pair([&] { factorize_rows(ap, first_, ok_first); },
+                     [&] { factorize_rows(ap, second_, ok_second); });
   if (ok_first && ok_second) factorize_rows(ap, top_, ok_top);
   const bool ok = ok_first && ok_second && ok_top;
   m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
@@ -149,23 +146,16 @@ Eigen::VectorXd SplitLdlt::solve_split(const Eigen::VectorXd& b) const {
   const auto forward_group = [&](const std::vector<int>& columns) {
     for (const int j : columns) forward(x, j, Lp[j], first_top_entry_[j]);
   };
-  {
-    auto second = parallel::run_beside([&] { forward_group(second_); });
-    forward_group(first_);
-    second.get();
-  }
+  parallel::run_pair([&] { forward_group(first_); }, [&] { forward_group(second_); });
   // ... then every column updates the top rows, in column order as Eigen's loop does.
   for (int j = 0; j < n; ++j) forward(x, j, is_top_[j] ? Lp[j] : first_top_entry_[j], Lp[j + 1]);
   x = m_diag.asDiagonal().inverse() * x;
   // Backward: the top rows first, then each group's beside the other's.
   for (auto j = top_.rbegin(); j != top_.rend(); ++j) backward(x, *j);
-  {
-    auto second = parallel::run_beside([&] {
-      for (auto j = second_.rbegin(); j != second_.rend(); ++j) backward(x, *j);
-    });
-    for (auto j = first_.rbegin(); j != first_.rend(); ++j) backward(x, *j);
-    second.get();
-  }
+  const auto backward_group = [&](const std::vector<int>& columns) {
+    for (auto j = columns.rbegin(); j != columns.rend(); ++j) backward(x, *j);
+  };
+  parallel::run_pair([&] { backward_group(first_); }, [&] { backward_group(second_); });
   return m_Pinv * x;
 }
 

@@ -77,15 +77,15 @@ Eigen::VectorXd solve_in(const Factor& f, const Scalar* values, const Split& spl
   // The second group's updates of the top columns, added after the first group's.
   Vector<Scalar> elsewhere = Vector<Scalar>::Zero(f.n);
   Vector<Scalar> work_first(split.widest_below), work_second(split.widest_below);
-  {
-    auto second = parallel::run_beside([&] {
-      for (int s : split.second) {
-        forward(f, values, s, x.data(), elsewhere.data(), &split.top_column, work_second);
-      }
-    });
-    for (int s : split.first) forward(f, values, s, x.data(), nullptr, nullptr, work_first);
-    second.get();
-  }
+  parallel::run_pair(
+      [&] {
+        for (int s : split.first) forward(f, values, s, x.data(), nullptr, nullptr, work_first);
+      },
+      [&] {
+        for (int s : split.second) {
+          forward(f, values, s, x.data(), elsewhere.data(), &split.top_column, work_second);
+        }
+      });
   for (int s : split.top) {
     for (int k = f.super[s]; k < f.super[s + 1]; ++k) x[k] += elsewhere[k];
   }
@@ -93,17 +93,11 @@ Eigen::VectorXd solve_in(const Factor& f, const Scalar* values, const Split& spl
   for (auto s = split.top.rbegin(); s != split.top.rend(); ++s) {
     backward(f, values, *s, x.data(), work_first);
   }
-  {
-    auto second = parallel::run_beside([&] {
-      for (auto s = split.second.rbegin(); s != split.second.rend(); ++s) {
-        backward(f, values, *s, x.data(), work_second);
-      }
-    });
-    for (auto s = split.first.rbegin(); s != split.first.rend(); ++s) {
-      backward(f, values, *s, x.data(), work_first);
-    }
-    second.get();
-  }
+  const auto backward_group = [&](const std::vector<int>& group, Vector<Scalar>& work) {
+    for (auto s = group.rbegin(); s != group.rend(); ++s) backward(f, values, *s, x.data(), work);
+  };
+  parallel::run_pair([&] { backward_group(split.first, work_first); },
+                     [&] { backward_group(split.second, work_second); });
   Eigen::VectorXd out(f.n);
   for (int k = 0; k < f.n; ++k) out[f.perm[k]] = static_cast<double>(x[k]);
   return out;

@@ -98,6 +98,20 @@ void run_chunks(std::int64_t n, int chunks, Body&& body) {
   }
 }
 
+/// Runs `first` on the calling thread and `second` beside it (on a helper when one is free, else
+/// after `first`); returns once both are done, rethrowing first's exception, else second's. For
+/// two pieces of work that touch disjoint data (the groups of an elimination tree's split).
+template <class First, class Second>
+void run_pair(First&& first, Second&& second) {
+  run_chunks(2, 2, [&](std::int64_t begin, std::int64_t, int) {
+    if (begin == 0) {
+      first();
+    } else {
+      second();
+    }
+  });
+}
+
 /// run_chunks with num_chunks(n, min_chunk) chunks.
 template <class Body>
 void for_chunks(std::int64_t n, Body&& body, std::int64_t min_chunk = kDefaultMinChunk) {

@@ -47,7 +47,7 @@ struct Split {
 std::optional<Split> split_factor(const Factor& factor, double min_values);
 
 /// x = A^-1 b = P^T L^-T L^-1 P b with the factor's current values, the two groups beside each
-/// other when a thread is available (parallel::run_beside).
+/// other when a thread is available (parallel::run_pair).
 Eigen::VectorXd solve(const Factor& factor, const Split& split, const Eigen::VectorXd& b);
 
 /// The factor's values rounded to single precision (for solve_single).
