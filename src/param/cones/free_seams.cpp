@@ -1,11 +1,13 @@
 #include "ricci/param/cones/free_seams.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "numerics/detail/parallel.hpp"
 #include "param/cones/detail/cone_selection_steps.hpp"
 #include "param/cones/detail/linear_flow.hpp"
 #include "ricci/errors.hpp"
@@ -74,7 +76,9 @@ double seam_area_energy(const cone_steps::LinearFlow& linear, const Topology& t,
 /// and the multipliers solve the sparse positive definite system
 ///     (L M^-1 L / 8 + diag(free) / (2 beta)) lambda = K - (k on the prescribed rows, 0 else),
 /// whose pattern does not depend on which vertices are free: one symbolic analysis serves every
-/// cut the cone selection tries.
+/// cut the cone selection tries, and the final Dirichlet system (its pattern is within this one).
+/// Two factorisations share that pattern, so that two cuts can be solved side by side (the two
+/// candidate roots), and the second is left for the Dirichlet system.
 class SeamSystem {
  public:
   SeamSystem(const cone_steps::LinearFlow& linear, const Topology& t, double smoothness)
@@ -90,13 +94,21 @@ class SeamSystem {
     identity.setIdentity();
     base_ += identity * 0.0;
     beta_ = smoothness / std::max(1, t.num_faces);
-    cholesky_.analyze(base_);
+    // Both analyses at once: without a free helper the second runs after the first, and it would
+    // have been the Dirichlet system's own analysis anyway.
+    parallel::run_pair([&] { factors_[0].analyze(base_); }, [&] { factors_[1].analyze(base_); });
   }
+
+  /// The pattern every system of this mesh is factorised in (explicit zeros included).
+  const Eigen::SparseMatrix<double>& pattern() const { return base_; }
+  /// Factorisation `which` (0 or 1), analysed for pattern().
+  SparseCholesky& factor(int which) { return factors_.at(static_cast<std::size_t>(which)); }
 
   /// The target for these free vertices; `multiplier` (optional) gets lambda on the prescribed
   /// vertices (how much freeing each would lower the objective, to first order), 0 elsewhere.
+  /// Uses factorisation `which`: calls with different ones may run at once.
   FreeSeamTarget solve(std::vector<char> free, const Target& prescribed,
-                       Eigen::VectorXd* multiplier) {
+                       Eigen::VectorXd* multiplier, int which = 0) {
     const auto start = Clock::now();
     const int nv = t_.num_vertices;
     FreeSeamTarget result;
@@ -116,8 +128,9 @@ class SeamSystem {
         rhs[v] -= prescribed.curvature[v];
       }
     }
-    cholesky_.factorize(system);
-    const Eigen::VectorXd lambda = cholesky_.solve(rhs);
+    SparseCholesky& cholesky = factor(which);
+    cholesky.factorize(system);
+    const Eigen::VectorXd lambda = cholesky.solve(rhs);
     if (!lambda.allFinite()) {
       throw SolverError(
           "free_seam_target: the system of the seams' curvature gave no finite "
@@ -145,7 +158,7 @@ class SeamSystem {
   const Topology& t_;
   Eigen::SparseMatrix<double> base_;
   double beta_ = 0;
-  SparseCholesky cholesky_;
+  std::array<SparseCholesky, 2> factors_;
 };
 
 /// The minimiser with the Dirichlet energy for the angles (the file comment's problem):
@@ -155,9 +168,11 @@ class SeamSystem {
 /// the positive definite (4M + sL + C^T C / delta) u = C^T b / delta: the same solution, and the
 /// pattern of L L, which CHOLMOD's supernodal factorisation takes (the quasi-definite system in
 /// a simplicial LDL^T took 3.8 s on kitten, this 0.4 s, with a residual of the system as small).
+/// With `analysed`, the system is factorised in its pattern (that of L L too), by its second
+/// factorisation, without an analysis of its own.
 FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topology& t,
-                               std::vector<char> free, const Target& prescribed,
-                               double smoothness) {
+                               std::vector<char> free, const Target& prescribed, double smoothness,
+                               SeamSystem* analysed = nullptr) {
   const auto start = Clock::now();
   const int nv = t.num_vertices;
   FreeSeamTarget result;
@@ -185,15 +200,25 @@ FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topol
   for (int v = 0; v < nv; ++v) system.coeffRef(v, v) = 4 * std::max(linear.area[v], 1e-300);
   system += smooth * L;
   system += Eigen::SparseMatrix<double>(L * weight.asDiagonal() * L);
-  SparseCholesky cholesky;
+  SparseCholesky own;
+  SparseCholesky* cholesky = &own;
+  if (analysed != nullptr) {
+    // Its zeros kept where L L has entries: then the two patterns are one (unless L L lost an
+    // entry to an exact cancellation, when this system is analysed afresh).
+    Eigen::SparseMatrix<double> embedded = system + 0.0 * analysed->pattern();
+    if (embedded.nonZeros() == analysed->pattern().nonZeros()) {
+      system = std::move(embedded);
+      cholesky = &analysed->factor(1);
+    }
+  }
   try {
-    cholesky.factorize(system);
+    cholesky->factorize(system);
   } catch (const SolverError&) {
     throw SolverError(
         "free_seam_target: the system of the seams' curvature could not be "
         "factorised");
   }
-  Eigen::VectorXd u = cholesky.solve(L * weight.cwiseProduct(b));
+  Eigen::VectorXd u = cholesky->solve(L * weight.cwiseProduct(b));
   if (!u.allFinite()) {
     throw SolverError(
         "free_seam_target: the system of the seams' curvature gave no finite "
@@ -278,19 +303,24 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
       if (lowest < 0 || linear.curvature[v] < linear.curvature[lowest]) lowest = v;
       if (highest < 0 || linear.curvature[v] > linear.curvature[highest]) highest = v;
     }
-    double best = INFINITY;
-    for (const int root : {lowest, highest}) {
-      cutting.root_vertex = root;
-      CutGraph cut = cut_graph(t, problem.input_lengths, cutting);
-      Eigen::VectorXd root_multiplier;
-      FreeSeamTarget seams =
-          system.solve(free_vertices(t, cut, prescribed), prescribed, &root_multiplier);
-      if (seams.linear_area_energy < best) {
-        best = seams.linear_area_energy;
-        result.root = root;
-        // The first round's cut and solve (no cones yet, this root): kept, not made again.
-        first_round = FirstRound{std::move(cut), std::move(seams), std::move(root_multiplier)};
-      }
+    // The two candidates' cuts and solves side by side, each with its own factorisation.
+    std::array<FirstRound, 2> candidates;
+    const std::array<int, 2> roots = {lowest, highest};
+    const auto try_root = [&](int which) {
+      CutGraphOptions rooted = cutting;
+      rooted.root_vertex = roots.at(which);
+      FirstRound& c = candidates.at(which);
+      c.cut = cut_graph(t, problem.input_lengths, rooted);
+      c.seams = system.solve(free_vertices(t, c.cut, prescribed), prescribed, &c.multiplier, which);
+    };
+    parallel::run_pair([&] { try_root(0); }, [&] { try_root(1); });
+    // The first round's cut and solve (no cones yet, this root): kept, not made again. (The
+    // lower energy; the first on a tie, as the loop this replaces.)
+    const int better =
+        candidates[1].seams.linear_area_energy < candidates[0].seams.linear_area_energy ? 1 : 0;
+    if (candidates.at(better).seams.linear_area_energy < INFINITY) {
+      result.root = roots.at(better);
+      first_round = std::move(candidates.at(better));
     }
     cutting.root_vertex = result.root;
   }
@@ -316,18 +346,30 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
       component.num_boundary_loops == 0, 2 - 2 * component.genus - component.num_boundary_loops);
   std::vector<int> rings(t.num_vertices);
   const std::vector<std::vector<int>> neighbours = cone_steps::vertex_neighbours(t);
+  // The final cut's curvature with the Dirichlet energy (below), when the round that reaches a
+  // fixed count solved it beside its own system.
+  std::optional<FreeSeamTarget> dirichlet;
   for (;;) {
+    const int have = static_cast<int>(cutting.cones.size());
     if (first_round && cutting.cones.empty()) {
       result.cut = std::move(first_round->cut);
       result.seams = std::move(first_round->seams);
       multiplier = std::move(first_round->multiplier);
       first_round.reset();
+    } else if (count > 0 && have >= count) {
+      // The last round: its cut is final, so the Dirichlet solve need not wait for its own.
+      result.cut = cut_graph(t, problem.input_lengths, cutting);
+      const std::vector<char> free = free_vertices(t, result.cut, prescribed);
+      parallel::run_pair([&] { result.seams = system.solve(free, prescribed, &multiplier); },
+                         [&] {
+                           dirichlet = solve_dirichlet(linear, t, free, prescribed,
+                                                       options.smoothness, &system);
+                         });
     } else {
       result.cut = cut_graph(t, problem.input_lengths, cutting);
       result.seams =
           system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
     }
-    const int have = static_cast<int>(cutting.cones.size());
     if (count > 0) {
       if (have >= count) break;
     } else {
@@ -387,10 +429,12 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   for (int v : cutting.cones) result.cones.push_back(v);
   // The final cut's curvature with the Dirichlet energy; the selection's own where that distorts
   // more in the model (a guard on the penalised system's accuracy).
-  FreeSeamTarget dirichlet =
-      solve_dirichlet(linear, t, result.seams.free, prescribed, options.smoothness);
-  if (dirichlet.linear_area_energy <= 10 * result.seams.linear_area_energy) {
-    result.seams = std::move(dirichlet);
+  if (!dirichlet) {
+    dirichlet =
+        solve_dirichlet(linear, t, result.seams.free, prescribed, options.smoothness, &system);
+  }
+  if (dirichlet->linear_area_energy <= 10 * result.seams.linear_area_energy) {
+    result.seams = std::move(*dirichlet);
   }
   result.seams.seconds = seconds_since(start);
   return result;
