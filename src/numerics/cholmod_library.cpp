@@ -17,8 +17,9 @@ std::atomic<bool> g_loaded{false};
 
 #ifdef RICCI_CHOLMOD_LINKED
 Library load_library() {
-  return {&cholmod_start, &cholmod_finish,      &cholmod_analyze,   &cholmod_factorize_p,
-          &cholmod_solve, &cholmod_free_factor, &cholmod_free_dense};
+  return {&cholmod_start,       &cholmod_finish,        &cholmod_analyze,
+          &cholmod_factorize_p, &cholmod_solve,         &cholmod_free_factor,
+          &cholmod_free_dense,  &cholmod_change_factor, &cholmod_updown};
 }
 #else
 Library load_library() {
@@ -41,7 +42,9 @@ Library load_library() {
                    find(handle, "cholmod_factorize_p", l.factorize_p) &&
                    find(handle, "cholmod_solve", l.solve) &&
                    find(handle, "cholmod_free_factor", l.free_factor) &&
-                   find(handle, "cholmod_free_dense", l.free_dense);
+                   find(handle, "cholmod_free_dense", l.free_dense) &&
+                   find(handle, "cholmod_change_factor", l.change_factor) &&
+                   find(handle, "cholmod_updown", l.updown);
   // Kept loaded for the process's lifetime either way (factors may outlive any owner here).
   return all ? l : Library{};
 }

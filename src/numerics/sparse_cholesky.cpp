@@ -1,5 +1,9 @@
 #include "ricci/numerics/sparse_cholesky.hpp"
 
+#include <cmath>
+#include <utility>
+#include <vector>
+
 #include <Eigen/SparseCholesky>
 
 #ifdef RICCI_HAVE_CHOLMOD
@@ -229,6 +233,63 @@ class CholmodFactorisation {
     const int ok = lib_->factorize_p(&view, beta, nullptr, 0, factor_, &common_);
     return ok != 0 && factor_->minor == factor_->n;
   }
+  /// The factor of A + diag(d), d given at `changes` (SparseCholesky::update_diagonal): the
+  /// updates first, so that the matrix stays positive definite through the downdates. False
+  /// when CHOLMOD fails (the factor is then not to be used).
+  bool update_diagonal(const std::vector<std::pair<int, double>>& changes) {
+    if (factor_ == nullptr || factor_->xtype != CHOLMOD_REAL || factor_->itype != CHOLMOD_INT) {
+      return false;
+    }
+    // (A supernodal L L^T becomes a simplicial LDL^T, the kind CHOLMOD modifies.)
+    if ((factor_->is_super || factor_->is_ll) &&
+        lib_->change_factor(CHOLMOD_REAL, /*to_ll=*/0, /*to_super=*/0, /*to_packed=*/0,
+                            /*to_monotonic=*/0, factor_, &common_) == 0) {
+      return false;
+    }
+    // C's rows are L's, the permuted ones: row k of L is row Perm[k] of A.
+    const int n = static_cast<int>(factor_->n);
+    const int* perm = static_cast<const int*>(factor_->Perm);
+    std::vector<int> row_of(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) row_of[static_cast<std::size_t>(perm == nullptr ? k : perm[k])] = k;
+    for (const bool update : {true, false}) {
+      // One column sqrt|d_i| e_i a change: a sparse n x m matrix, one entry a column.
+      std::vector<int> p{0}, rows;
+      std::vector<double> values;
+      for (const auto& [index, d] : changes) {
+        if (index < 0 || index >= n || !std::isfinite(d)) return false;
+        if (d == 0 || (d > 0) != update) continue;
+        rows.push_back(row_of[static_cast<std::size_t>(index)]);
+        values.push_back(std::sqrt(std::abs(d)));
+        p.push_back(static_cast<int>(rows.size()));
+      }
+      if (rows.empty()) continue;
+      cholmod_sparse c{};
+      c.nrow = static_cast<std::size_t>(n);
+      c.ncol = rows.size();
+      c.nzmax = rows.size();
+      c.p = p.data();
+      c.i = rows.data();
+      c.x = values.data();
+      c.stype = 0;
+      c.itype = CHOLMOD_INT;
+      c.xtype = CHOLMOD_REAL;
+      c.dtype = CHOLMOD_DOUBLE;
+      c.sorted = 1;
+      c.packed = 1;
+      if (lib_->updown(update ? 1 : 0, &c, factor_, &common_) == 0 ||
+          factor_->minor != factor_->n || factor_->xtype != CHOLMOD_REAL) {
+        return false;
+      }
+    }
+    // CHOLMOD's LDL^T takes a negative D as it comes: a downdate too large shows there.
+    const int* column_start = static_cast<const int*>(factor_->p);
+    const double* values = static_cast<const double*>(factor_->x);
+    for (int j = 0; j < n; ++j) {
+      if (!(values[column_start[j]] > 0)) return false;
+    }
+    return true;
+  }
+
   /// A X = B (column-major B); throws SolverError when CHOLMOD fails.
   Eigen::MatrixXd solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
     cholmod_dense b;
@@ -319,6 +380,11 @@ struct SparseCholesky::Impl {
   /// The backend of the current analysis (decided by analyze()).
   bool use_cholmod = false;
   bool analyzed = false;
+  /// A factorisation of the analysed pattern is in hand (or one modified from it).
+  bool factorised = false;
+  /// update_diagonal changed the factor (a simplicial one now): the next factorisation
+  /// analyses afresh.
+  bool modified = false;
   /// Eigen's factor, factorised and solved on two threads where its tree splits.
   simplicial::SplitLdlt eigen;
 #ifdef RICCI_HAVE_CHOLMOD
@@ -431,6 +497,8 @@ bool SparseCholesky::solves_on_two_threads() const {
 
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
   impl_->analyzed = false;
+  impl_->factorised = false;
+  impl_->modified = false;
 #ifdef RICCI_HAVE_CHOLMOD
   const CholeskyBackend wanted = impl_->requested;
   const bool large =
@@ -462,8 +530,33 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
   impl_->analyzed = true;
 }
 
+bool SparseCholesky::update_diagonal(const std::vector<std::pair<int, double>>& changes) {
+#ifdef RICCI_HAVE_CHOLMOD
+  if (!impl_->analyzed || !impl_->use_cholmod || !impl_->factorised) return false;
+  bool ok = false;
+  {
+    const std::lock_guard<std::mutex> one_call(impl_->solve_mutex);  // (CHOLMOD's workspace)
+    ok = impl_->cholmod->update_diagonal(changes);
+  }
+  {
+    const std::lock_guard<std::mutex> lock(impl_->single_mutex);
+    impl_->single.reset();
+  }
+  // The factor is simplicial now (or lost): no split solves, and the next factorisation analyses
+  // afresh, for CHOLMOD's supernodes again.
+  impl_->split.reset();
+  impl_->modified = true;
+  impl_->factorised = ok;
+  return ok;
+#else
+  (void)changes;
+  return false;
+#endif
+}
+
 void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
-  if (!impl_->analyzed) analyze(A);
+  if (!impl_->analyzed || impl_->modified) analyze(A);
+  impl_->factorised = false;
 #ifdef RICCI_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
     bool ok = false;
@@ -486,6 +579,7 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
       if (factor) impl_->split = supernodal::split_factor(*factor, kSplitSolveValues);
       impl_->split_checked = true;
     }
+    impl_->factorised = true;
     return;
   }
 #endif
@@ -493,6 +587,7 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   if (impl_->eigen.info() != Eigen::Success || (impl_->eigen.vectorD().array() <= 0).any()) {
     throw SolverError("SparseCholesky::factorize: the matrix is not positive definite");
   }
+  impl_->factorised = true;
 }
 
 namespace {

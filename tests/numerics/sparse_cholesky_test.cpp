@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iterator>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -51,6 +52,56 @@ TEST(SparseCholesky, SolvesBothBackends) {
     // Condition number of this Laplacian about 1e3: residual at round-off.
     EXPECT_LT((A * x - b).cwiseAbs().maxCoeff(), 1e-11) << cholesky.backend();
   }
+}
+
+/// A + diag(d), d given at `changes`.
+Eigen::SparseMatrix<double> with_diagonal(Eigen::SparseMatrix<double> A,
+                                          const std::vector<std::pair<int, double>>& changes) {
+  for (const auto& [i, d] : changes) A.coeffRef(i, i) += d;
+  return A;
+}
+
+// Rank-one updates and downdates of CHOLMOD's factor solve as a factorisation of the modified
+// matrix does, round after round (each changing the previous round's matrix), and the factor
+// can be factorised afresh afterwards (for the supernodes again).
+TEST(SparseCholesky, DiagonalUpdatesSolveAsAFactorisationOfTheNewMatrix) {
+  if (!SparseCholesky::cholmod_available()) GTEST_SKIP() << "built without CHOLMOD";
+  Eigen::SparseMatrix<double> A = torus_laplacian(120);  // 7199 rows
+  const Eigen::VectorXd b = sine_rhs(A.rows());
+  SparseCholesky updated(CholeskyBackend::Cholmod);
+  updated.factorize(A);
+  ASSERT_TRUE(updated.solves_on_two_threads());
+  const std::vector<std::vector<std::pair<int, double>>> rounds = {
+      {{5, 3.0}, {4000, 0.5}, {7198, 2.0}},               // updates only
+      {{5, -3.0}, {17, 1.0}, {4000, -0.25}, {900, 7.0}},  // and downdates of the last round's
+      {{17, -1.0}, {900, -7.0}, {4000, -0.25}, {6000, 1e3}},
+  };
+  for (std::size_t r = 0; r < rounds.size(); ++r) {
+    A = with_diagonal(A, rounds[r]);
+    ASSERT_TRUE(updated.update_diagonal(rounds[r])) << "round " << r;
+    EXPECT_FALSE(updated.solves_on_two_threads());  // a simplicial factor now
+    SparseCholesky fresh(CholeskyBackend::Cholmod);
+    fresh.factorize(A);
+    const Eigen::VectorXd x = fresh.solve(b), y = updated.solve(b);
+    EXPECT_LT((y - x).cwiseAbs().maxCoeff(), 1e-10 * x.cwiseAbs().maxCoeff()) << "round " << r;
+    EXPECT_LT((A * y - b).cwiseAbs().maxCoeff(), 1e-10) << "round " << r;
+  }
+  // A downdate past positive definiteness is refused; a factorisation afterwards starts over.
+  EXPECT_FALSE(updated.update_diagonal({{10, -1e6}}));
+  updated.factorize(A);
+  EXPECT_TRUE(updated.solves_on_two_threads());
+  EXPECT_LT((A * updated.solve(b) - b).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// Eigen's backend has no updates: it says so and keeps its factor.
+TEST(SparseCholesky, DiagonalUpdatesAreRefusedByEigensBackend) {
+  const Eigen::SparseMatrix<double> A = torus_laplacian(20);
+  const Eigen::VectorXd b = sine_rhs(A.rows());
+  SparseCholesky cholesky(CholeskyBackend::Eigen);
+  EXPECT_FALSE(cholesky.update_diagonal({{0, 1.0}}));  // nothing factorised yet
+  cholesky.factorize(A);
+  EXPECT_FALSE(cholesky.update_diagonal({{0, 1.0}}));
+  EXPECT_LT((A * cholesky.solve(b) - b).cwiseAbs().maxCoeff(), 1e-11);
 }
 
 TEST(SparseCholesky, RefusesAnIndefiniteMatrix) {

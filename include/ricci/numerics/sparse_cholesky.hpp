@@ -11,6 +11,8 @@
 /// OpenBLAS's threaded kernels sum in an order that depends on the thread count.
 
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -52,6 +54,16 @@ class SparseCholesky {
   /// Numeric factorisation of A (same pattern as analysed).
   /// \throw SolverError when A is not positive definite
   void factorize(const Eigen::SparseMatrix<double>& A);
+  /// The factor of A + diag(d) from the last factorisation's, of A, where d is 0 but at
+  /// `changes` (index, d_i): CHOLMOD's rank-one updates (d_i > 0) and downdates (d_i < 0) of
+  /// the factor (Davis and Hager), which touch only the columns on each index's path to the
+  /// root of the elimination tree. A few changes on a large factor cost a small fraction of a
+  /// factorisation; the factor is then a simplicial LDL^T, solved by CHOLMOD on one thread, and
+  /// the next factorize() analyses afresh. Returns false when it cannot: Eigen's backend (the
+  /// factor stays A's), no factorisation yet, or CHOLMOD refused (a downdate that leaves the
+  /// matrix not positive definite; the factor is then lost): the caller factorises the new
+  /// matrix instead.
+  bool update_diagonal(const std::vector<std::pair<int, double>>& changes);
   /// Solves A x = b with the last factorisation.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   /// A^-1 b to about single precision (1e-7 relative), for preconditioners: a large CHOLMOD

@@ -17,7 +17,7 @@
 
 namespace ricci::cholmod_detail {
 
-/// The seven functions SparseCholesky calls (int indices, cholmod_common's defaults otherwise).
+/// The functions SparseCholesky calls (int indices, cholmod_common's defaults otherwise).
 struct Library {
   decltype(&cholmod_start) start = nullptr;
   decltype(&cholmod_finish) finish = nullptr;
@@ -26,6 +26,8 @@ struct Library {
   decltype(&cholmod_solve) solve = nullptr;
   decltype(&cholmod_free_factor) free_factor = nullptr;
   decltype(&cholmod_free_dense) free_dense = nullptr;
+  decltype(&cholmod_change_factor) change_factor = nullptr;
+  decltype(&cholmod_updown) updown = nullptr;
 };
 
 /// CHOLMOD's functions, loaded at the first call (once per process, thread-safe); nullptr when

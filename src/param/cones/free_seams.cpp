@@ -101,35 +101,52 @@ class SeamSystem {
 
   /// The pattern every system of this mesh is factorised in (explicit zeros included).
   const Eigen::SparseMatrix<double>& pattern() const { return base_; }
-  /// Factorisation `which` (0 or 1), analysed for pattern().
-  SparseCholesky& factor(int which) { return factors_.at(static_cast<std::size_t>(which)); }
+  /// Factorisation `which` (0 or 1), for a system other than solve()'s (the Dirichlet one): it
+  /// no longer holds a free set's.
+  SparseCholesky& take_factor(int which) {
+    held_.at(static_cast<std::size_t>(which)).clear();
+    return factors_.at(static_cast<std::size_t>(which));
+  }
 
   /// The target for these free vertices; `multiplier` (optional) gets lambda on the prescribed
   /// vertices (how much freeing each would lower the objective, to first order), 0 elsewhere.
-  /// Uses factorisation `which`: calls with different ones may run at once.
+  /// Uses factorisation `which`: calls with different ones may run at once. When it holds the
+  /// system of another free set, the rounds' usual case (a cone's path to the cut freed, a few
+  /// vertices of the cut moved), that factor is modified (SparseCholesky::update_diagonal)
+  /// instead of factorised afresh.
   FreeSeamTarget solve(std::vector<char> free, const Target& prescribed,
                        Eigen::VectorXd* multiplier, int which = 0) {
     const auto start = Clock::now();
     const int nv = t_.num_vertices;
     FreeSeamTarget result;
     result.free = std::move(free);
-    Eigen::SparseMatrix<double> system = base_;
     Eigen::VectorXd rhs = linear_.curvature;
     // A free vertex's curvature costs beta k^2; beta = 0 (no smoothing) is approached.
     const double weight = 1.0 / (2 * std::max(beta_, 1e-12));
     for (int v = 0; v < nv; ++v) {
       if (t_.vertex_component[v] < 0) {
-        system.coeffRef(v, v) += 1;  // a vertex of no face: lambda = 0
-        rhs[v] = 0;
+        rhs[v] = 0;  // a vertex of no face: lambda = 0
       } else if (result.free[v]) {
         ++result.free_vertices;
-        system.coeffRef(v, v) += weight;
       } else {
         rhs[v] -= prescribed.curvature[v];
       }
     }
-    SparseCholesky& cholesky = factor(which);
-    cholesky.factorize(system);
+    SparseCholesky& cholesky = factors_.at(static_cast<std::size_t>(which));
+    std::vector<char>& held = held_.at(static_cast<std::size_t>(which));
+    if (!update_held(held, result.free, weight, cholesky)) {
+      Eigen::SparseMatrix<double> system = base_;
+      for (int v = 0; v < nv; ++v) {
+        if (t_.vertex_component[v] < 0) {
+          system.coeffRef(v, v) += 1;
+        } else if (result.free[v]) {
+          system.coeffRef(v, v) += weight;
+        }
+      }
+      held.clear();
+      cholesky.factorize(system);
+    }
+    held = result.free;
     const Eigen::VectorXd lambda = cholesky.solve(rhs);
     if (!lambda.allFinite()) {
       throw SolverError(
@@ -157,8 +174,31 @@ class SeamSystem {
   const cone_steps::LinearFlow& linear_;
   const Topology& t_;
   Eigen::SparseMatrix<double> base_;
+  /// Modifies `cholesky`, which holds the system of the free set `held`, into the system of
+  /// `free`: false (nothing changed, or the factor lost) when it holds none, when too many
+  /// vertices change for updates to pay, or when the backend cannot.
+  bool update_held(const std::vector<char>& held, const std::vector<char>& free, double weight,
+                   SparseCholesky& cholesky) const {
+    if (held.size() != free.size()) return false;
+    std::vector<std::pair<int, double>> changes;
+    for (int v = 0; v < t_.num_vertices; ++v) {
+      if (t_.vertex_component[v] >= 0 && free[v] != held[v]) {
+        changes.emplace_back(v, free[v] ? weight : -weight);
+      }
+    }
+    // A change costs about the columns on its path to the elimination tree's root, a
+    // factorisation about their sum over every column: on meshes, the break-even grows like
+    // sqrt(#V) (bob, 5.3k vertices: 0.07 ms a change against 10-13 ms, about 150; kitten, 53k:
+    // 1-1.5 ms against 240 ms, about 180-200).
+    const auto limit = static_cast<std::size_t>(std::sqrt(static_cast<double>(t_.num_vertices)));
+    if (changes.size() > limit) return false;
+    return changes.empty() || cholesky.update_diagonal(changes);
+  }
+
   double beta_ = 0;
   std::array<SparseCholesky, 2> factors_;
+  /// The free set whose system each factorisation holds (empty: none, or another system).
+  std::array<std::vector<char>, 2> held_;
 };
 
 /// The minimiser with the Dirichlet energy for the angles (the file comment's problem):
@@ -168,11 +208,11 @@ class SeamSystem {
 /// the positive definite (4M + sL + C^T C / delta) u = C^T b / delta: the same solution, and the
 /// pattern of L L, which CHOLMOD's supernodal factorisation takes (the quasi-definite system in
 /// a simplicial LDL^T took 3.8 s on kitten, this 0.4 s, with a residual of the system as small).
-/// With `analysed`, the system is factorised in its pattern (that of L L too), by its second
-/// factorisation, without an analysis of its own.
+/// With `analysed`, the system is factorised in its pattern (that of L L too), by its
+/// factorisation `dirichlet_factor`, without an analysis of its own.
 FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topology& t,
                                std::vector<char> free, const Target& prescribed, double smoothness,
-                               SeamSystem* analysed = nullptr) {
+                               SeamSystem* analysed = nullptr, int dirichlet_factor = 1) {
   const auto start = Clock::now();
   const int nv = t.num_vertices;
   FreeSeamTarget result;
@@ -208,7 +248,7 @@ FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topol
     Eigen::SparseMatrix<double> embedded = system + 0.0 * analysed->pattern();
     if (embedded.nonZeros() == analysed->pattern().nonZeros()) {
       system = std::move(embedded);
-      cholesky = &analysed->factor(1);
+      cholesky = &analysed->take_factor(dirichlet_factor);
     }
   }
   try {
@@ -291,6 +331,9 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
     Eigen::VectorXd multiplier;
   };
   std::optional<FirstRound> first_round;
+  // The factorisation the rounds solve with (each modifying the last round's system), and the
+  // other, which the final Dirichlet system takes.
+  int rounds_factor = 0;
   if (cutting.root_vertex < 0 && t.components.at(0).genus > 0) {
     // One root for every round: the homology generators all pass through it, and a root that
     // moved with the cones (cut_graph's default) would change the cut's loops from round to
@@ -321,6 +364,7 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
     if (candidates.at(better).seams.linear_area_energy < INFINITY) {
       result.root = roots.at(better);
       first_round = std::move(candidates.at(better));
+      rounds_factor = better;
     }
     cutting.root_vertex = result.root;
   }
@@ -360,15 +404,16 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
       // The last round: its cut is final, so the Dirichlet solve need not wait for its own.
       result.cut = cut_graph(t, problem.input_lengths, cutting);
       const std::vector<char> free = free_vertices(t, result.cut, prescribed);
-      parallel::run_pair([&] { result.seams = system.solve(free, prescribed, &multiplier); },
-                         [&] {
-                           dirichlet = solve_dirichlet(linear, t, free, prescribed,
-                                                       options.smoothness, &system);
-                         });
+      parallel::run_pair(
+          [&] { result.seams = system.solve(free, prescribed, &multiplier, rounds_factor); },
+          [&] {
+            dirichlet = solve_dirichlet(linear, t, free, prescribed, options.smoothness, &system,
+                                        1 - rounds_factor);
+          });
     } else {
       result.cut = cut_graph(t, problem.input_lengths, cutting);
-      result.seams =
-          system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier);
+      result.seams = system.solve(free_vertices(t, result.cut, prescribed), prescribed, &multiplier,
+                                  rounds_factor);
     }
     if (count > 0) {
       if (have >= count) break;
@@ -430,8 +475,8 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   // The final cut's curvature with the Dirichlet energy; the selection's own where that distorts
   // more in the model (a guard on the penalised system's accuracy).
   if (!dirichlet) {
-    dirichlet =
-        solve_dirichlet(linear, t, result.seams.free, prescribed, options.smoothness, &system);
+    dirichlet = solve_dirichlet(linear, t, result.seams.free, prescribed, options.smoothness,
+                                &system, 1 - rounds_factor);
   }
   if (dirichlet->linear_area_energy <= 10 * result.seams.linear_area_energy) {
     result.seams = std::move(*dirichlet);

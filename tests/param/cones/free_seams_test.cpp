@@ -238,9 +238,10 @@ TEST(FreeSeams, SelectionsFinalCurvatureIsTheTargetOfItsCut) {
       const FreeSeamCones chosen = select_free_seam_cones(problem, prescribed, count, 0.5, {});
       // (The small mesh runs out of vertices away from the cut at 3 cones: its Dirichlet system
       // is solved after the rounds, not beside the last one.)
-      if (count > 0)
+      if (count > 0) {
         EXPECT_EQ(static_cast<int>(chosen.cones.size()),
                   resolution < 28 ? std::min(count, 3) : count);
+      }
       const FreeSeamTarget fresh = free_seam_target(problem, chosen.cut, prescribed);
       ASSERT_EQ(fresh.free, chosen.seams.free);
       ASSERT_GT(fresh.free_vertices, 0);
