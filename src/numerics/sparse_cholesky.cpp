@@ -26,7 +26,6 @@
 #include <link.h>
 
 #include <string>
-#include <vector>
 #define RICCI_PIN_BLAS_THREADS 1
 #endif
 

@@ -247,7 +247,7 @@ FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topol
     // entry to an exact cancellation, when this system is analysed afresh).
     Eigen::SparseMatrix<double> embedded = system + 0.0 * analysed->pattern();
     if (embedded.nonZeros() == analysed->pattern().nonZeros()) {
-      system = std::move(embedded);
+      system.swap(embedded);
       cholesky = &analysed->take_factor(dirichlet_factor);
     }
   }
