@@ -286,7 +286,8 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                 {"curvature_total", one.seam_curvature.total},
                 {"curvature_max", one.seam_curvature.max},
                 {"choice_seconds", one.seam_curvature.free_seconds},
-                {"linear_area_energy", one.seam_curvature.linear_area_energy}};
+                {"linear_area_energy", one.seam_curvature.linear_area_energy},
+                {"capped_vertices", one.seam_curvature.capped_vertices}};
   // (Few cones on chi < 0: two candidate sets, the better refined on the flow; said for a mesh
   // of one component also when charts stood in for its exact map.)
   if (r.routes.size() == 1 && r.routes.front().pipeline.cone_refinement.ran) {

@@ -56,6 +56,8 @@ void bind_param(py::module_& m) {
       .readonly("free_seconds", &SeamCurvature::free_seconds, "Free: time to choose it")
       .readonly("linear_area_energy", &SeamCurvature::linear_area_energy,
                 "Free: E of the linearised choice")
+      .readonly("capped_vertices", &SeamCurvature::capped_vertices,
+                "Free: vertices whose chosen curvature was held at 1.5 pi")
       .repr();
 
   StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")

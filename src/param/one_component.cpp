@@ -676,6 +676,7 @@ TargetSpec free_seams_spec(FreeSeamTarget chosen, ParamResult& result, Eigen::Ve
   linear_u = std::move(chosen.linear_u);
   result.seam_curvature.free_seconds = chosen.seconds;
   result.seam_curvature.linear_area_energy = chosen.linear_area_energy;
+  result.seam_curvature.capped_vertices = chosen.capped_vertices;
   TargetSpec spec;
   spec.kind = TargetKind::Values;
   spec.values = std::move(chosen.target.curvature);

@@ -247,6 +247,8 @@ struct SeamCurvature {
   double max = 0;                 ///< largest |K| among them
   double free_seconds = 0;        ///< SeamMode::Free: time to choose it (free_seam_target)
   double linear_area_energy = 0;  ///< SeamMode::Free: E of the linearised choice
+  /// SeamMode::Free: vertices whose chosen curvature was held at 1.5 pi (kMaxFreeCurvature)
+  int capped_vertices = 0;
 };
 
 /// Few automatic cones on a closed surface of chi < 0, refined on the flow

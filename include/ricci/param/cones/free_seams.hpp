@@ -30,6 +30,10 @@
 
 namespace ricci {
 
+/// The most curvature a free vertex is given: 1.5 pi, a cone angle of at least pi / 2, as
+/// ConeSelectionOptions::max_curvature.
+inline constexpr double kMaxFreeCurvature = 4.71238898038469;
+
 /// Options of free_seam_target.
 struct FreeSeamOptions {
   /// Weight of the Dirichlet energy of u (the angle distortion's stand-in) per face, as
@@ -46,6 +50,10 @@ struct FreeSeamTarget {
   Target target;
   std::vector<char> free;  ///< #V: vertices of the cut and of a free boundary
   int free_vertices = 0;
+  /// Free vertices whose chosen curvature came out above kMaxFreeCurvature and is held there
+  /// (the model linearised at needle-shaped triangles can ask for more than 2 pi, which no
+  /// metric gives; the excess goes to the other free vertices).
+  int capped_vertices = 0;
   Eigen::VectorXd linear_u;       ///< #V: the minimiser u of the linearised flow (mean 0)
   double linear_area_energy = 0;  ///< E of linear_u (eq. 9 with u_f the corners' mean)
   double seconds = 0;
