@@ -57,7 +57,7 @@ void bind_param(py::module_& m) {
       .readonly("linear_area_energy", &SeamCurvature::linear_area_energy,
                 "Free: E of the linearised choice")
       .readonly("capped_vertices", &SeamCurvature::capped_vertices,
-                "Free: vertices whose chosen curvature was held at 1.5 pi")
+                "Free: vertices whose chosen curvature was held at 1.75 pi")
       .repr();
 
   StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")

@@ -247,7 +247,7 @@ struct SeamCurvature {
   double max = 0;                 ///< largest |K| among them
   double free_seconds = 0;        ///< SeamMode::Free: time to choose it (free_seam_target)
   double linear_area_energy = 0;  ///< SeamMode::Free: E of the linearised choice
-  /// SeamMode::Free: vertices whose chosen curvature was held at 1.5 pi (kMaxFreeCurvature)
+  /// SeamMode::Free: vertices whose chosen curvature was held at 1.75 pi (kMaxFreeCurvature)
   int capped_vertices = 0;
 };
 
