@@ -239,6 +239,10 @@ class CholmodFactorisation {
     if (factor_ == nullptr || factor_->xtype != CHOLMOD_REAL || factor_->itype != CHOLMOD_INT) {
       return false;
     }
+    const int n = static_cast<int>(factor_->n);
+    for (const auto& [index, d] : changes) {
+      if (index < 0 || index >= n || !std::isfinite(d)) return false;  // (the factor untouched)
+    }
     // (A supernodal L L^T becomes a simplicial LDL^T, the kind CHOLMOD modifies.)
     if ((factor_->is_super || factor_->is_ll) &&
         lib_->change_factor(CHOLMOD_REAL, /*to_ll=*/0, /*to_super=*/0, /*to_packed=*/0,
@@ -246,7 +250,6 @@ class CholmodFactorisation {
       return false;
     }
     // C's rows are L's, the permuted ones: row k of L is row Perm[k] of A.
-    const int n = static_cast<int>(factor_->n);
     const int* perm = static_cast<const int*>(factor_->Perm);
     std::vector<int> row_of(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) row_of[static_cast<std::size_t>(perm == nullptr ? k : perm[k])] = k;
@@ -255,7 +258,6 @@ class CholmodFactorisation {
       std::vector<int> p{0}, rows;
       std::vector<double> values;
       for (const auto& [index, d] : changes) {
-        if (index < 0 || index >= n || !std::isfinite(d)) return false;
         if (d == 0 || (d > 0) != update) continue;
         rows.push_back(row_of[static_cast<std::size_t>(index)]);
         values.push_back(std::sqrt(std::abs(d)));

@@ -381,7 +381,7 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
     };
     parallel::run_pair([&] { try_root(0); }, [&] { try_root(1); });
     // The first round's cut and solve (no cones yet, this root): kept, not made again. (The
-    // lower energy; the first on a tie, as the loop this replaces.)
+    // lower energy; the first on a tie.)
     const int better =
         candidates[1].seams.linear_area_energy < candidates[0].seams.linear_area_energy ? 1 : 0;
     if (candidates.at(better).seams.linear_area_energy < INFINITY) {
