@@ -42,9 +42,14 @@ Library load_library() {
                    find(handle, "cholmod_factorize_p", l.factorize_p) &&
                    find(handle, "cholmod_solve", l.solve) &&
                    find(handle, "cholmod_free_factor", l.free_factor) &&
-                   find(handle, "cholmod_free_dense", l.free_dense) &&
-                   find(handle, "cholmod_change_factor", l.change_factor) &&
-                   find(handle, "cholmod_updown", l.updown);
+                   find(handle, "cholmod_free_dense", l.free_dense);
+  // Optional: a CHOLMOD built without its GPL Modify module (NGPL) has no updates, and must still
+  // factorise (SparseCholesky::update_diagonal then says no).
+  if (all && !(find(handle, "cholmod_change_factor", l.change_factor) &&
+               find(handle, "cholmod_updown", l.updown))) {
+    l.change_factor = nullptr;
+    l.updown = nullptr;
+  }
   // Kept loaded for the process's lifetime either way (factors may outlive any owner here).
   return all ? l : Library{};
 }

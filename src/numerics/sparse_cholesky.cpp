@@ -232,11 +232,14 @@ class CholmodFactorisation {
     const int ok = lib_->factorize_p(&view, beta, nullptr, 0, factor_, &common_);
     return ok != 0 && factor_->minor == factor_->n;
   }
+  /// Whether this CHOLMOD has its Modify module (update_diagonal).
+  bool can_update() const { return lib_->updown != nullptr && lib_->change_factor != nullptr; }
   /// The factor of A + diag(d), d given at `changes` (SparseCholesky::update_diagonal): the
   /// updates first, so that the matrix stays positive definite through the downdates. False
   /// when CHOLMOD fails (the factor is then not to be used).
   bool update_diagonal(const std::vector<std::pair<int, double>>& changes) {
-    if (factor_ == nullptr || factor_->xtype != CHOLMOD_REAL || factor_->itype != CHOLMOD_INT) {
+    if (!can_update() || factor_ == nullptr || factor_->xtype != CHOLMOD_REAL ||
+        factor_->itype != CHOLMOD_INT) {
       return false;
     }
     const int n = static_cast<int>(factor_->n);
@@ -533,7 +536,10 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
 
 bool SparseCholesky::update_diagonal(const std::vector<std::pair<int, double>>& changes) {
 #ifdef RICCI_HAVE_CHOLMOD
-  if (!impl_->analyzed || !impl_->use_cholmod || !impl_->factorised) return false;
+  if (!impl_->analyzed || !impl_->use_cholmod || !impl_->factorised ||
+      !impl_->cholmod->can_update()) {
+    return false;  // (the factor stays the last factorisation's)
+  }
   bool ok = false;
   {
     const std::lock_guard<std::mutex> one_call(impl_->solve_mutex);  // (CHOLMOD's workspace)

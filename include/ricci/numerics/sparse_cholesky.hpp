@@ -59,10 +59,10 @@ class SparseCholesky {
   /// the factor (Davis and Hager), which touch only the columns on each index's path to the
   /// root of the elimination tree. A few changes on a large factor cost a small fraction of a
   /// factorisation; the factor is then a simplicial LDL^T, solved by CHOLMOD on one thread, and
-  /// the next factorize() analyses afresh. Returns false when it cannot: Eigen's backend (the
-  /// factor stays A's), no factorisation yet, or CHOLMOD refused (a downdate that leaves the
-  /// matrix not positive definite; the factor is then lost): the caller factorises the new
-  /// matrix instead.
+  /// the next factorize() analyses afresh. Returns false when it cannot: Eigen's backend or a
+  /// CHOLMOD built without its Modify module (the factor stays A's), no factorisation yet, or
+  /// CHOLMOD refused (a downdate that leaves the matrix not positive definite; the factor is
+  /// then lost): the caller factorises the new matrix instead.
   bool update_diagonal(const std::vector<std::pair<int, double>>& changes);
   /// Solves A x = b with the last factorisation.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;

@@ -26,6 +26,7 @@ struct Library {
   decltype(&cholmod_solve) solve = nullptr;
   decltype(&cholmod_free_factor) free_factor = nullptr;
   decltype(&cholmod_free_dense) free_dense = nullptr;
+  // The Modify module's, for rank-one updates: nullptr (both) where CHOLMOD was built without it.
   decltype(&cholmod_change_factor) change_factor = nullptr;
   decltype(&cholmod_updown) updown = nullptr;
 };
