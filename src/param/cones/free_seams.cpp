@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "numerics/detail/parallel.hpp"
+#include "numerics/detail/weighted_square.hpp"
 #include "param/cones/detail/cone_selection_steps.hpp"
 #include "param/cones/detail/linear_flow.hpp"
 #include "ricci/errors.hpp"
@@ -107,15 +108,12 @@ class SeamSystem {
   SeamSystem(const cone_steps::LinearFlow& linear, const Topology& t, double smoothness)
       : linear_(linear), t_(t) {
     const int nv = t.num_vertices;
-    // A vertex of no face has an empty row of L: its area floor keeps M invertible.
-    Eigen::VectorXd inverse_area(nv);
-    for (int v = 0; v < nv; ++v) inverse_area[v] = 1.0 / std::max(linear.area[v], 1e-300);
-    const Eigen::SparseMatrix<double> scaled = inverse_area.asDiagonal() * linear.L;
-    base_ = (linear.L * scaled).pruned() * (1.0 / 8);
-    // The diagonal is in the pattern whatever is free.
-    Eigen::SparseMatrix<double> identity(nv, nv);
-    identity.setIdentity();
-    base_ += identity * 0.0;
+    // A vertex of no face has an empty row of L: its area floor keeps M invertible. (The
+    // pattern holds the whole diagonal, whatever is free.)
+    Eigen::VectorXd weight(nv);
+    for (int v = 0; v < nv; ++v) weight[v] = 1.0 / (8 * std::max(linear.area[v], 1e-300));
+    base_ = numerics_detail::square_pattern(linear.L);
+    numerics_detail::set_weighted_square(linear.L, weight, base_);
     beta_ = smoothness / std::max(1, t.num_faces);
     // Both analyses at once: without a free helper the second runs after the first, and it would
     // have been the Dirichlet system's own analysis anyway.
@@ -257,23 +255,15 @@ FreeSeamTarget solve_dirichlet(const cone_steps::LinearFlow& linear, const Topol
       b[v] = prescribed.curvature[v] - linear.curvature[v];
     }
   }
+  // In L L's pattern (the seam system's, when it is given): L W L, then s L, then the diagonal.
   // A vertex of no face keeps u = 0 by its area term alone (its L row is empty).
-  Eigen::SparseMatrix<double> system(nv, nv);
-  system.setIdentity();
-  for (int v = 0; v < nv; ++v) system.coeffRef(v, v) = 4 * std::max(linear.area[v], 1e-300);
-  system += smooth * L;
-  system += Eigen::SparseMatrix<double>(L * weight.asDiagonal() * L);
+  Eigen::SparseMatrix<double> system =
+      analysed != nullptr ? analysed->pattern() : numerics_detail::square_pattern(L);
+  numerics_detail::set_weighted_square(L, weight, system);
+  numerics_detail::add_into_pattern(L, smooth, system);
+  for (int v = 0; v < nv; ++v) system.coeffRef(v, v) += 4 * std::max(linear.area[v], 1e-300);
   SparseCholesky own;
-  SparseCholesky* cholesky = &own;
-  if (analysed != nullptr) {
-    // Its zeros kept where L L has entries: then the two patterns are one (unless L L lost an
-    // entry to an exact cancellation, when this system is analysed afresh).
-    Eigen::SparseMatrix<double> embedded = system + 0.0 * analysed->pattern();
-    if (embedded.nonZeros() == analysed->pattern().nonZeros()) {
-      system.swap(embedded);
-      cholesky = &analysed->take_factor(dirichlet_factor);
-    }
-  }
+  SparseCholesky* cholesky = analysed != nullptr ? &analysed->take_factor(dirichlet_factor) : &own;
   try {
     cholesky->factorize(system);
   } catch (const SolverError&) {
