@@ -195,6 +195,14 @@ LinearFlow linearise_flow(const FlowProblem& problem, const char* who) {
   return linear;
 }
 
+parallel::Task<void> load_cholmod_beside(int rows, int row_nonzeros) {
+  const bool large = rows >= SparseCholesky::kCholmodMinRows ||
+                     (rows >= SparseCholesky::kCholmodDenseMinRows &&
+                      row_nonzeros > SparseCholesky::kCholmodDenseRowNonzeros);
+  if (!large || SparseCholesky::cholmod_loaded()) return {};
+  return parallel::run_beside([] { SparseCholesky::cholmod_available(); });
+}
+
 }  // namespace cone_steps
 
 ConeModel::ConeModel(std::unique_ptr<Data> data) : data_(std::move(data)) {}
@@ -213,6 +221,8 @@ ConeModel build_cone_model(const FlowProblem& problem) {
                        " connected components; choose cones for each on its own");
   }
   const int nv = model.nv = t.num_vertices;
+  // (A mesh Laplacian: about 7 entries a row.)
+  parallel::Task<void> loading = cone_steps::load_cholmod_beside(nv, 7);
   LinearFlow linear = linearise_flow(problem, "select_cones");
   const Eigen::SparseMatrix<double>& L = linear.L;
   model.angles = std::move(linear.angles);

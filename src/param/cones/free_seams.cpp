@@ -332,6 +332,8 @@ FreeSeamCones select_free_seam_cones(const FlowProblem& problem, const Target& p
   const auto start = Clock::now();
   const Topology& t = problem.topology;
   check_sizes(t, prescribed, options, "select_free_seam_cones");
+  // (The squared Laplacian: about 19 entries a row.)
+  parallel::Task<void> loading = cone_steps::load_cholmod_beside(t.num_vertices, 19);
   const cone_steps::LinearFlow linear =
       cone_steps::linearise_flow(problem, "select_free_seam_cones");
   SeamSystem system(linear, t, options.selection_smoothness);

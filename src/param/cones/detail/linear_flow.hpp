@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "numerics/detail/parallel.hpp"
 #include "ricci/flow/flow_problem.hpp"
 #include "ricci/metric/angles.hpp"
 
@@ -30,5 +31,12 @@ Eigen::VectorXd face_areas(const Mesh& mesh, const Topology& t);
 /// \throw InvalidInput when the initial metric breaks a triangle inequality (`who` names the
 ///        caller in the message)
 LinearFlow linearise_flow(const FlowProblem& problem, const char* who);
+
+/// Loads CHOLMOD on a helper thread when the systems that follow (`rows` rows, about
+/// `row_nonzeros` entries a row) will take it (SparseCholesky's Automatic choice) and it is not
+/// loaded yet: the load, 3-5 ms with its BLAS, then overlaps the linearisation instead of
+/// coming before the first analysis. The caller drops the task or waits for it; a load no
+/// helper has started by then is left to the first analysis.
+parallel::Task<void> load_cholmod_beside(int rows, int row_nonzeros);
 
 }  // namespace ricci::cone_steps
