@@ -287,7 +287,10 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
                 {"curvature_max", one.seam_curvature.max},
                 {"choice_seconds", one.seam_curvature.free_seconds},
                 {"linear_area_energy", one.seam_curvature.linear_area_energy},
-                {"capped_vertices", one.seam_curvature.capped_vertices}};
+                {"capped_vertices", one.seam_curvature.capped_vertices},
+                {"rigid_kept", one.seam_curvature.rigid_kept},
+                {"free_area_energy", one.seam_curvature.free_area_energy},
+                {"rigid_area_energy", one.seam_curvature.rigid_area_energy}};
   // (Few cones on chi < 0: two candidate sets, the better refined on the flow; said for a mesh
   // of one component also when charts stood in for its exact map.)
   if (r.routes.size() == 1 && r.routes.front().pipeline.cone_refinement.ran) {
@@ -303,6 +306,9 @@ nlohmann::json param_report(const MeshParamResult& r, const ParamOptions& option
   nlohmann::json warnings = nlohmann::json::array();
   for (const ComponentRoute& route : r.routes) {
     if (!route.pipeline.too_few_cones.empty()) warnings.push_back(route.pipeline.too_few_cones);
+    if (!route.pipeline.free_seams_note.empty()) {
+      warnings.push_back(route.pipeline.free_seams_note);
+    }
   }
   if (!warnings.empty()) j["warnings"] = warnings;
   j["timings"] = {{"cones", r.timings.cones},       {"flow", r.timings.flow},

@@ -597,6 +597,11 @@ int run_param(const ParamArgs& args) {
     std::cerr << "warning: " << args.mesh << ": " << route.pipeline.too_few_cones << "\n"
               << "  try: --seams free, or --cones auto\n";
   }
+  for (const ComponentRoute& route : result.routes) {
+    if (route.pipeline.free_seams_note.empty()) continue;
+    std::cerr << "note: " << args.mesh << ": " << route.pipeline.free_seams_note << "\n"
+              << "  try: more cones (--cones N) for free seams that distort less\n";
+  }
   // A layout that folds is not a success, whatever the flow did (--fold-free untangle or none
   // leave it as it is; the refinement written beside it is fold-free).
   const bool open_layout =

@@ -58,6 +58,13 @@ void bind_param(py::module_& m) {
                 "Free: E of the linearised choice")
       .readonly("capped_vertices", &SeamCurvature::capped_vertices,
                 "Free: vertices whose chosen curvature was held at 1.75 pi")
+      .readonly("rigid_kept", &SeamCurvature::rigid_kept,
+                "Free: the rigid map, made because the free one was in doubt, distorted less "
+                "and is the result")
+      .readonly("free_area_energy", &SeamCurvature::free_area_energy,
+                "Free, when the rigid map was made: the free map's E")
+      .readonly("rigid_area_energy", &SeamCurvature::rigid_area_energy,
+                "Free, when the rigid map was made: the rigid map's E")
       .repr();
 
   StructBinding<ParamTimings>(m, "ParamTimings", "Wall time of each stage of parameterize.")
@@ -387,6 +394,11 @@ void bind_param(py::module_& m) {
                 "ConeRefinementReport: few cones on chi < 0 refined on the flow")
       .readonly("seam_curvature", &PipelineDiagnostics::seam_curvature,
                 "SeamCurvature: what the seams carry (about 0 with rigid seams)")
+      .readonly("too_few_cones", &PipelineDiagnostics::too_few_cones,
+                "rigid seams on genus >= 1: the cones asked for are too few (empty otherwise)")
+      .readonly("free_seams_note", &PipelineDiagnostics::free_seams_note,
+                "free seams that gave way to the rigid map, or whose map distorts strongly "
+                "(empty otherwise)")
       .repr();
 
   StructBinding<ParamResult, Parameterization, PipelineDiagnostics>(

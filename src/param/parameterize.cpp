@@ -157,6 +157,93 @@ bool passes_checks(const ParamResult& p, const ParamOptions& options, std::strin
   return true;
 }
 
+/// Free seams' maps in doubt (kFreeSeamsCheckEnergy): E above twice the linearised choice's
+/// promise, when above this floor (a flat map's E of 1e-20 may well be twice its promise).
+constexpr double kFreeSeamsBreakdownRatio = 2;
+constexpr double kFreeSeamsBreakdownFloor = 0.05;
+/// The rigid map may distort angles this much more (relative, mean) and still replace the free
+/// seams' map with its lower E: the rigid map of a torus or a free boundary can be as conformal.
+constexpr double kRigidAngleSlack = 0.05;
+
+/// (A map that fails its checks is left to the routes that stand in for it: unfolded in its own
+/// shape or as charts, CAD parts get maps of E 1e-28 where their rigid maps have 1 to 3.)
+bool free_map_in_doubt(const ParamResult& p, const ParamOptions& options) {
+  if (options.seams != SeamMode::Free || !p.converged) return false;
+  const double e = p.distortion.area_distortion_energy;
+  return e > kFreeSeamsCheckEnergy ||
+         (e > kFreeSeamsBreakdownFloor &&
+          e > kFreeSeamsBreakdownRatio * p.seam_curvature.linear_area_energy);
+}
+
+/// The pipeline's exact map of one component; with free seams in doubt (free_map_in_doubt), also
+/// the rigid map of the same cone option, kept when it passes its checks and distorts less
+/// (kFreeSeamsCheckEnergy). A rigid map the options cannot make (too few cones for its
+/// curvature) leaves the free one as it was. `unfolds_after`: a component of a larger mesh,
+/// whose map gives way to its own shape when far from conformal (unfold_if_distorted): a free
+/// map that will is left to it (the small gears of a CAD part: E 1e-29 unfolded, 0.024 rigid).
+ParamResult exact_map(const Mesh& mesh, const ParamOptions& options, const Topology& topology,
+                      bool unfolds_after) {
+  ParamResult free = parameterize_one_component(mesh, options, topology);
+  if (!free_map_in_doubt(free, options)) return free;
+  if (unfolds_after && free.distortion.angle_distortion_max > kUnfoldAbove &&
+      develop_patches(mesh, options.polygons).num_patches == 1) {
+    return free;
+  }
+  ParamOptions rigid_options = options;
+  rigid_options.seams = SeamMode::Rigid;
+  // Said when the free map stays, though it distorts strongly.
+  const auto keep_free = [&](ParamResult& kept) {
+    const double e = kept.distortion.area_distortion_energy;
+    if (kept.converged && e > kFreeSeamsCheckEnergy) {
+      std::ostringstream note;
+      note << std::setprecision(3) << "the map with free seams distorts strongly (E " << e
+           << ", where the linearised choice of their curvature promised "
+           << kept.seam_curvature.linear_area_energy
+           << "), and no rigid map with the same cone option does better";
+      kept.free_seams_note = note.str();
+    }
+    return std::move(kept);
+  };
+  ParamResult rigid;
+  try {
+    rigid = parameterize_one_component(mesh, rigid_options, topology);
+  } catch (const Error&) {
+    return keep_free(free);
+  }
+  free.seam_curvature.free_area_energy = free.distortion.area_distortion_energy;
+  free.seam_curvature.rigid_area_energy = rigid.distortion.area_distortion_energy;
+  std::string why;
+  const bool free_passes = passes_checks(free, options, why);
+  const bool rigid_passes = passes_checks(rigid, rigid_options, why);
+  const Distortion& f = free.distortion;
+  const Distortion& r = rigid.distortion;
+  const bool keep_rigid =
+      free_passes && rigid_passes && r.area_distortion_energy < f.area_distortion_energy &&
+      r.angle_distortion_mean <= (1 + kRigidAngleSlack) * f.angle_distortion_mean;
+  if (!keep_rigid) {
+    free.seconds += rigid.seconds;
+    return keep_free(free);
+  }
+  SeamCurvature& s = rigid.seam_curvature;
+  s.rigid_kept = true;
+  s.free_seconds = free.seam_curvature.free_seconds;
+  s.linear_area_energy = free.seam_curvature.linear_area_energy;
+  s.capped_vertices = free.seam_curvature.capped_vertices;
+  s.free_area_energy = free.seam_curvature.free_area_energy;
+  s.rigid_area_energy = free.seam_curvature.rigid_area_energy;
+  // (Its word on too few cones for rigid seams does not hold: the free ones did worse.)
+  rigid.too_few_cones.clear();
+  std::ostringstream note;
+  note << std::setprecision(3) << "the map with free seams distorted more (E "
+       << f.area_distortion_energy << ", angle distortion " << f.angle_distortion_mean
+       << ") than the one with rigid seams and the same cone option (E " << r.area_distortion_energy
+       << ", angle distortion " << r.angle_distortion_mean
+       << "), which is kept: rigid seams are free seams that carry no curvature";
+  rigid.free_seams_note = note.str();
+  rigid.seconds += free.seconds;
+  return rigid;
+}
+
 /// FlowOptions::stall_iterations where the charts route may take over: a flow that has not
 /// halved its error in 30 Newton iterations is not converging (the corpus's converging flows
 /// halve it at nearly every iteration once past their first damped steps).
@@ -227,7 +314,9 @@ ExactMapOutcome run_exact_map(Piece& piece, const Mesh& sub, const Polygons& pol
     info.message = refusal;  // ... which was refused
   } else {
     try {
-      info.param = parameterize_one_component(sub, component_options);
+      info.param =
+          exact_map(sub, component_options, build_topology(sub.triangles, sub.num_vertices()),
+                    /*unfolds_after=*/true);
     } catch (const InvalidInput& e) {
       if (only_component && !may_replace_refusal(options)) throw;
       outcome.refused_choice = !may_replace_refusal(options);
@@ -836,7 +925,7 @@ MeshParamResult parameterize(const Mesh& mesh, const ParamOptions& user_options)
   std::string why;
   bool refused = false;
   try {
-    first = parameterize_one_component(mesh, options, topology);
+    first = exact_map(mesh, options, topology, /*unfolds_after=*/false);
   } catch (const InvalidInput& e) {
     if (!may_replace_refusal(options)) throw;
     why = e.what();
