@@ -764,6 +764,16 @@ expect_json "param --seams free report" param/free_seams.json \
   'd["converged"] and d["seams"]["mode"] == "free" and d["seams"]["curvature_max"] > 1e-3 and d["distortion"]["flipped_faces"] == 0'
 expect_json "param rigid seams carry nothing" param/torus.json \
   'd["seams"]["mode"] == "rigid" and d["seams"]["curvature_max"] < 1e-8'
+expect_json "param --seams free as promised: not compared with the rigid map" \
+  param/free_seams.json 'not d["seams"]["rigid_kept"] and d["seams"]["rigid_area_energy"] == 0'
+# Free seams whose map breaks down on needle-thin CAD faces give way to the rigid map, which
+# distorts less; said on stderr and in the report.
+ricci generate cad-cylinder -o param/cad_cylinder.obj
+ricci param param/cad_cylinder.obj --seams free -o param/cad_free.obj --report param/cad_free.json
+expect_rc "param --seams free on a CAD cylinder" 0
+expect_err "the rigid map kept is said" "note:" "rigid seams are free seams"
+expect_json "the report says which map was kept" param/cad_free.json \
+  'd["seams"]["rigid_kept"] and d["seams"]["rigid_area_energy"] < d["seams"]["free_area_energy"] and d["seams"]["curvature_max"] < 1e-8 and any("free seams" in w for w in d["warnings"])'
 # Two cones on genus 2, too few for the selection's bounds: two candidate sets measured on the
 # flow, the better one's curvatures refined there; the report says which and by how much.
 ricci generate surface --genus 2 --resolution 8 -o param/genus2.obj
