@@ -129,6 +129,27 @@ TEST(Parameterize, AutomaticConesAreChosenAgainWhenTheFlatMetricSpreadsPastTheBo
   EXPECT_GT(three.distortion.area_distortion_energy, 4 * r.distortion.area_distortion_energy);
 }
 
+// A round sphere meets the log-scale bound with three cones (the spread is measured away from
+// them), while the areas around them swell: E 4.1. On a closed surface of genus 0 the rounds
+// also add cones while E exceeds 0.5.
+TEST(Parameterize, AutomaticConesOnASphereAreChosenAgainWhileItsAreaDistortionIsLarge) {
+  const Mesh sphere = make_icosphere(3);
+  ParamOptions options;  // cones as needed: automatic on a sphere
+  const MeshParamResult r = parameterize(sphere, options);
+  expect_good(r, "icosphere");
+  EXPECT_GE(r.routes.front().pipeline.cone_rounds, 1);
+  EXPECT_GT(r.cones.size(), 3u);
+  EXPECT_LT(r.distortion.area_distortion_energy, 0.5);
+  EXPECT_EQ(r.distortion.flipped_faces, 0);
+  // The first selection's three cones, as many as it chose.
+  ParamOptions first = options;
+  first.cone_mode = ConeMode::Auto;
+  first.auto_cones.count = 3;
+  const MeshParamResult three = parameterize(sphere, first);
+  ASSERT_TRUE(three.converged);
+  EXPECT_GT(three.distortion.area_distortion_energy, 2.0);
+}
+
 // A CAD cylinder with 0.1-degree needles: cones picked next to each other made the bounded
 // least-squares problem infeasible, and its unbounded fallback asked curvatures of +-36 (the flow
 // then refused a cone angle below 0). The selection now returns the last cone set within its

@@ -385,6 +385,15 @@ double log_scale_spread(const ConeModel& model, const Eigen::VectorXd& u,
   return log_scale_spread(*data.topology, data.neighbours, data.area, u, cones);
 }
 
+double area_distortion_of(const ConeModel& model, const Eigen::VectorXd& u) {
+  const ConeModelData& data = model.data();
+  if (u.size() != data.nv) {
+    throw InvalidInput("area_distortion_of: " + std::to_string(u.size()) +
+                       " values for a model of " + std::to_string(data.nv) + " vertices");
+  }
+  return std::expm1(cone_steps::area_energy(*data.topology, data.face_area, u, nullptr));
+}
+
 std::vector<Cone> quantize_cones(const std::vector<Cone>& cones, double total) {
   const double quarter = std::numbers::pi / 2;
   const long target_units = std::lround(total / quarter);

@@ -167,6 +167,12 @@ double log_scale_spread(const Mesh& mesh, const Topology& topology, const Eigen:
 double log_scale_spread(const ConeModel& model, const Eigen::VectorXd& u,
                         const std::vector<int>& cones);
 
+/// Area distortion E (eq. 9) of log scale factors u with a cone model's areas, each face's
+/// share scaled by e^{2 u_f} (u_f its corners' mean): the measure ConeSelection::area_energy
+/// reports for the model's own u, here for a nonlinear flow's.
+/// \throw InvalidInput when u does not have #V entries
+double area_distortion_of(const ConeModel& model, const Eigen::VectorXd& u);
+
 /// Rounds cone curvatures to multiples of pi/2 keeping their sum (which must itself be a
 /// multiple of pi/2, as 2 pi chi minus a boundary total is for the flat targets): the cones with
 /// the largest rounding remainders are rounded the other way until the sum matches. Cones whose
