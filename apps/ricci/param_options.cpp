@@ -65,7 +65,9 @@ CLI::App* add_param_subcommand(CLI::App& app, ParamArgs& param) {
   param_cmd->add_flag("--quantize", param.quantize, "round cone curvatures to multiples of pi/2");
   param_cmd
       ->add_option("--max-log-scale", param.max_log_scale,
-                   "automatic cones: add cones until max |log area scale| is below this")
+                   "automatic cones: add cones until max |log area scale| away from the cones "
+                   "is below this (on a closed genus-0 surface also until the area distortion "
+                   "E is below 0.5)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   param_cmd
