@@ -499,17 +499,20 @@ bool SparseCholesky::solves_on_two_threads() const {
 #endif
 }
 
+bool SparseCholesky::automatic_takes_cholmod(Eigen::Index rows, Eigen::Index nonzeros) {
+  return rows >= kCholmodMinRows ||
+         (rows >= kCholmodDenseMinRows && nonzeros > kCholmodDenseRowNonzeros * rows);
+}
+
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
   impl_->analyzed = false;
   impl_->factorised = false;
   impl_->modified = false;
 #ifdef RICCI_HAVE_CHOLMOD
   const CholeskyBackend wanted = impl_->requested;
-  const bool large =
-      A.rows() >= kCholmodMinRows ||
-      (A.rows() >= kCholmodDenseMinRows && A.nonZeros() > kCholmodDenseRowNonzeros * A.rows());
   const cholmod_detail::Library* library =
-      wanted == CholeskyBackend::Cholmod || (wanted == CholeskyBackend::Automatic && large)
+      wanted == CholeskyBackend::Cholmod || (wanted == CholeskyBackend::Automatic &&
+                                             automatic_takes_cholmod(A.rows(), A.nonZeros()))
           ? cholmod_functions()
           : nullptr;
   impl_->use_cholmod = library != nullptr;

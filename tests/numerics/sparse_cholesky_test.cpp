@@ -340,6 +340,8 @@ TEST(SparseCholesky, AutomaticTakesCholmodForLargeMatricesOnly) {
     cholesky.analyze(*A);
     cholesky.factorize(*A);
     const bool cholmod_wanted = A == &large || A == &dense;
+    // (What callers read to load CHOLMOD ahead of the analysis: the same rule.)
+    EXPECT_EQ(SparseCholesky::automatic_takes_cholmod(A->rows(), A->nonZeros()), cholmod_wanted);
     EXPECT_STREQ(cholesky.backend(), cholmod_wanted ? large_backend : "eigen-simplicial-ldlt");
     const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A->rows(), -1.0, 1.0);
     const Eigen::VectorXd x = cholesky.solve(b);

@@ -79,6 +79,9 @@ class SparseCholesky {
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& B) const;
 
   bool analyzed() const;
+  /// Whether CholeskyBackend::Automatic takes CHOLMOD for a matrix of `rows` rows and
+  /// `nonzeros` stored entries (the rule above; whether CHOLMOD can be loaded is another matter).
+  static bool automatic_takes_cholmod(Eigen::Index rows, Eigen::Index nonzeros);
   /// Whether solve() runs on two threads: a CHOLMOD factor of at least 2M values whose
   /// elimination tree splits in two (src/numerics/detail/supernodal_split.hpp); the same bits
   /// on one thread or two either way.

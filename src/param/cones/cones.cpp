@@ -196,10 +196,11 @@ LinearFlow linearise_flow(const FlowProblem& problem, const char* who) {
 }
 
 parallel::Task<void> load_cholmod_beside(int rows, int row_nonzeros) {
-  const bool large = rows >= SparseCholesky::kCholmodMinRows ||
-                     (rows >= SparseCholesky::kCholmodDenseMinRows &&
-                      row_nonzeros > SparseCholesky::kCholmodDenseRowNonzeros);
-  if (!large || SparseCholesky::cholmod_loaded()) return {};
+  if (!SparseCholesky::automatic_takes_cholmod(rows,
+                                               static_cast<Eigen::Index>(rows) * row_nonzeros) ||
+      SparseCholesky::cholmod_loaded()) {
+    return {};
+  }
   return parallel::run_beside([] { SparseCholesky::cholmod_available(); });
 }
 
