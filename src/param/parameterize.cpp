@@ -165,8 +165,6 @@ constexpr double kFreeSeamsBreakdownFloor = 0.05;
 /// seams' map with its lower E: the rigid map of a torus or a free boundary can be as conformal.
 constexpr double kRigidAngleSlack = 0.05;
 
-/// (A map that fails its checks is left to the routes that stand in for it: unfolded in its own
-/// shape or as charts, CAD parts get maps of E 1e-28 where their rigid maps have 1 to 3.)
 bool free_map_in_doubt(const ParamResult& p, const ParamOptions& options) {
   if (options.seams != SeamMode::Free || !p.converged) return false;
   const double e = p.distortion.area_distortion_energy;
@@ -185,6 +183,10 @@ ParamResult exact_map(const Mesh& mesh, const ParamOptions& options, const Topol
                       bool unfolds_after) {
   ParamResult free = parameterize_one_component(mesh, options, topology);
   if (!free_map_in_doubt(free, options)) return free;
+  // One that fails its checks is left to the routes that stand in for it: unfolded in its own
+  // shape or as charts, CAD parts get maps of E 1e-28 where their rigid maps have 1 to 3.
+  std::string why;
+  if (!passes_checks(free, options, why)) return free;
   if (unfolds_after && free.distortion.angle_distortion_max > kUnfoldAbove &&
       develop_patches(mesh, options.polygons).num_patches == 1) {
     return free;
@@ -212,13 +214,11 @@ ParamResult exact_map(const Mesh& mesh, const ParamOptions& options, const Topol
   }
   free.seam_curvature.free_area_energy = free.distortion.area_distortion_energy;
   free.seam_curvature.rigid_area_energy = rigid.distortion.area_distortion_energy;
-  std::string why;
-  const bool free_passes = passes_checks(free, options, why);
-  const bool rigid_passes = passes_checks(rigid, rigid_options, why);
   const Distortion& f = free.distortion;
   const Distortion& r = rigid.distortion;
   const bool keep_rigid =
-      free_passes && rigid_passes && r.area_distortion_energy < f.area_distortion_energy &&
+      passes_checks(rigid, rigid_options, why) &&
+      r.area_distortion_energy < f.area_distortion_energy &&
       r.angle_distortion_mean <= (1 + kRigidAngleSlack) * f.angle_distortion_mean;
   if (!keep_rigid) {
     free.seconds += rigid.seconds;
